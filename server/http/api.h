@@ -1,0 +1,47 @@
+/* The request handler as a pure function of (method, path, headers, body) plus the daemon's
+ * state; the libmicrohttpd layer (http/mhd_adapter.c) only fills api_request, calls
+ * api_handle() and sends the api_response. Unit tests and fuzz drivers call api_handle()
+ * directly, without a socket. */
+#ifndef AALAB_API_H
+#define AALAB_API_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <sys/types.h>
+
+#include <jansson.h>
+
+typedef struct api_context api_context; /* daemon state: config, job pool, store, caches */
+
+typedef struct api_request {
+    const char *method;        /* "GET", "POST", ... */
+    const char *path;          /* URL path without query, e.g. "/v1/jobs/12" */
+    const char *query;         /* raw query string without '?', or NULL */
+    const char *content_type;  /* or NULL */
+    const char *host;          /* Host header, or NULL */
+    const char *authorization; /* Authorization header, or NULL */
+    const char *body;          /* not NUL-terminated; may be NULL when body_len == 0 */
+    size_t body_len;
+    bool via_tcp;    /* arrived on the TCP listener (static files, token and Host checks) */
+    bool peer_known; /* peer_uid is valid (SO_PEERCRED on the Unix socket) */
+    uid_t peer_uid;
+} api_request;
+
+typedef struct api_response {
+    int status;
+    const char *content_type; /* static string */
+    char *body;               /* malloc'd, owned by the response */
+    size_t body_len;
+    int retry_after; /* seconds, > 0 adds Retry-After */
+    const char *cache_control; /* static string or NULL */
+} api_response;
+
+void api_handle(api_context *ctx, const api_request *req, api_response *resp);
+void api_response_free(api_response *resp);
+
+/* Handler helpers. api_reply_json steals body. */
+void api_reply_json(api_response *resp, int status, json_t *body);
+void api_reply_error(api_response *resp, int status, const char *code, const char *field,
+                     const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+
+#endif

@@ -1,0 +1,50 @@
+/* A job kind is what the worker pool can run: optimize, family-sweep, random-stats, animation,
+ * compare, reference-convergence. Each kind validates its spec when the job is submitted (so a
+ * bad spec is a 400 naming the field, never a failed job) and runs on a worker thread, where it
+ * reports progress and its error-against-run-time trace through job_ctx and stops promptly when
+ * job_ctx_cancelled() becomes true. Kinds live in one file each (jobs/kind_*.c) and are listed
+ * in jobs/job_kinds.c. */
+#ifndef AALAB_JOB_KIND_H
+#define AALAB_JOB_KIND_H
+
+#include <stdbool.h>
+
+#include <jansson.h>
+
+#include "aa_error.h"
+
+typedef struct job_ctx job_ctx;
+
+typedef struct job_trace_point {
+    double seconds;     /* wall time since the job started running */
+    long iterations;    /* optimizer steps so far (all seeds) */
+    long evaluations;   /* E2 evaluations so far */
+    double best_e2;     /* best E2 so far */
+} job_trace_point;
+
+/* Progress 0..1 and, optionally, the best result so far (borrowed; NULL keeps the previous).
+ * Returns true if the job has been cancelled or the daemon is shutting down: stop then. */
+bool job_ctx_progress(job_ctx *ctx, double fraction, json_t *best_so_far);
+/* Appends a trace point; the context keeps every improvement but at most 10 points a second. */
+void job_ctx_trace(job_ctx *ctx, const job_trace_point *point);
+bool job_ctx_cancelled(const job_ctx *ctx);
+int job_ctx_workers(const job_ctx *ctx); /* threads a job may use for its own parallel work */
+/* Opaque pointer to daemon services a kind may need (tile store for renders); may be NULL. */
+void *job_ctx_services(job_ctx *ctx);
+
+typedef struct job_kind {
+    const char *name;
+    /* spec: the whole POST /v1/jobs body. On error fill err (field relative to the body, e.g.
+     * "seeds") and return a negative AA_E* code. */
+    int (*parse)(const json_t *spec, void **params, aa_error *err);
+    /* Runs on a worker. On success *result is the job result object (stolen). Return AA_OK,
+     * AA_ECANCELED when cancelled, or another negative code with err filled. */
+    int (*run)(void *params, job_ctx *ctx, json_t **result, aa_error *err);
+    void (*free_params)(void *params);
+} job_kind;
+
+const job_kind *job_kind_find(const char *name);
+/* NULL-terminated list of all kinds. */
+const job_kind *const *job_kinds_all(void);
+
+#endif
