@@ -36,19 +36,32 @@ int main(int argc, char **argv)
     pthread_sigmask(SIG_BLOCK, &stop, NULL);
     signal(SIGPIPE, SIG_IGN);
 
+    /* Claim the socket first: a second daemon must fail before it touches the job store. */
+    char msg[512];
+    int activated = sd_listen_fds(1);
+    int unix_fd = -1;
+    if (activated <= 0) {
+        unix_fd = http_unix_socket_open(cfg.socket_path, cfg.socket_group, msg, sizeof msg);
+        if (unix_fd < 0) {
+            fprintf(stderr, "aalabd: %s\n", msg);
+            return 1;
+        }
+    }
     aa_error err = {0};
     bool token_created = false;
     api_context *ctx = api_context_create(&cfg, &token_created, &err);
     if (!ctx) {
         fprintf(stderr, "aalabd: %s\n", err.message);
+        if (unix_fd >= 0) {
+            close(unix_fd);
+            unlink(cfg.socket_path);
+        }
         return 1;
     }
 
-    char msg[512];
     http_listener *listeners[MAX_LISTENERS] = {0};
     int nl = 0;
     bool own_socket = false, have_tcp = false;
-    int activated = sd_listen_fds(1);
     if (activated > 0) {
         for (int i = 0; i < activated && nl < MAX_LISTENERS; i++) {
             int fd = SD_LISTEN_FDS_START + i;
@@ -64,11 +77,7 @@ int main(int argc, char **argv)
         printf("aalabd %s: socket-activated with %d listening socket(s)\n", AALAB_VERSION,
                activated);
     } else {
-        int fd = http_unix_socket_open(cfg.socket_path, cfg.socket_group, msg, sizeof msg);
-        if (fd < 0) {
-            fprintf(stderr, "aalabd: %s\n", msg);
-            goto fail;
-        }
+        int fd = unix_fd;
         own_socket = true;
         listeners[nl] = http_listener_start(ctx, &cfg, fd, true, msg, sizeof msg);
         if (!listeners[nl]) {

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/random.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -25,6 +26,7 @@ struct api_context {
     struct tile_store *tiles;
     char token[65];
     struct timespec started;
+    int lock_fd; /* flock on <state-dir>/lock: one daemon per state directory */
 };
 
 /* mkdir -p with mode for the last component. */
@@ -88,11 +90,20 @@ api_context *api_context_create(const aalab_config *cfg, bool *token_created, aa
         return NULL;
     }
     ctx->cfg = *cfg;
+    ctx->lock_fd = -1;
     clock_gettime(CLOCK_MONOTONIC, &ctx->started);
     bool created = false;
     if (make_dirs(cfg->state_dir, 0700)) {
         aa_error_set(err, AA_EINVAL, "state_dir", "cannot create %s: %s", cfg->state_dir,
                      strerror(errno));
+        goto fail;
+    }
+    char lock_path[AALAB_PATH_MAX + 8];
+    snprintf(lock_path, sizeof lock_path, "%s/lock", cfg->state_dir);
+    ctx->lock_fd = open(lock_path, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
+    if (ctx->lock_fd < 0 || flock(ctx->lock_fd, LOCK_EX | LOCK_NB)) {
+        aa_error_set(err, AA_EINVAL, "state_dir", "state directory %s is in use by another aalabd",
+                     cfg->state_dir);
         goto fail;
     }
     if (load_or_create_token(cfg->state_dir, ctx->token, &created, err))
@@ -133,6 +144,8 @@ void api_context_destroy(api_context *ctx)
     tile_store_destroy(ctx->tiles);
 #endif
     eval_cache_destroy(ctx->cache);
+    if (ctx->lock_fd >= 0)
+        close(ctx->lock_fd);
     free(ctx);
 }
 
