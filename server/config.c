@@ -43,8 +43,7 @@ void config_defaults(aalab_config *cfg)
     else if (home && *home)
         set_path(cfg->state_dir, sizeof cfg->state_dir, home, "/.local/state/aalab");
     else
-        snprintf(cfg->state_dir, sizeof cfg->state_dir, "/tmp/aalab-%u/state",
-                 (unsigned)geteuid());
+        snprintf(cfg->state_dir, sizeof cfg->state_dir, "/tmp/aalab-%u/state", (unsigned)geteuid());
 
     snprintf(cfg->web_dir, sizeof cfg->web_dir, "%s", AALAB_DEFAULT_WEB_DIR);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);

@@ -20,7 +20,7 @@ typedef struct aalab_config {
     int user_quota;        /* queued + running jobs per user */
     size_t max_body;       /* request body limit in bytes (413 beyond) */
     int connection_limit;
-    int connection_timeout; /* seconds of inactivity */
+    int connection_timeout;   /* seconds of inactivity */
     size_t connection_memory; /* per-connection memory (headers and buffers) */
     size_t eval_cache;        /* entries of the evaluate cache, 0 = off */
     size_t tile_bytes;        /* tile store budget */

@@ -90,8 +90,8 @@ int main(int argc, char **argv)
     }
     if (cfg.tcp_port && !have_tcp) {
         int fd = http_tcp_socket_open(cfg.tcp_host, cfg.tcp_port, msg, sizeof msg);
-        if (fd < 0 || !(listeners[nl] = http_listener_start(ctx, &cfg, fd, false, msg,
-                                                            sizeof msg))) {
+        if (fd < 0 ||
+            !(listeners[nl] = http_listener_start(ctx, &cfg, fd, false, msg, sizeof msg))) {
             if (fd >= 0)
                 close(fd);
             fprintf(stderr, "aalabd: %s\n", msg);
@@ -108,8 +108,8 @@ int main(int argc, char **argv)
                "http://127.0.0.1:8765/\n");
     printf("state: %s (%d workers)\n", cfg.state_dir, cfg.workers);
     if (token_created)
-        printf("API token for TCP requests (shown once; stored in %s/token):\n%s\n",
-               cfg.state_dir, api_context_token(ctx));
+        printf("API token for TCP requests (shown once; stored in %s/token):\n%s\n", cfg.state_dir,
+               api_context_token(ctx));
     fflush(stdout);
     sd_notify(0, "READY=1\nSTATUS=serving");
 

@@ -178,8 +178,7 @@ double api_context_uptime(const api_context *ctx)
 {
     struct timespec now;
     clock_gettime(CLOCK_MONOTONIC, &now);
-    return (double)(now.tv_sec - ctx->started.tv_sec) +
-           (now.tv_nsec - ctx->started.tv_nsec) * 1e-9;
+    return (double)(now.tv_sec - ctx->started.tv_sec) + (now.tv_nsec - ctx->started.tv_nsec) * 1e-9;
 }
 
 /* --- pattern references --------------------------------------------------------------------- */
@@ -192,8 +191,7 @@ static int resolve_one(api_context *ctx, json_t *parent_obj, const char *key, js
     char jfield[128];
     snprintf(jfield, sizeof jfield, "%s.job", field);
     if (json_object_size(v) != 1)
-        return aa_error_set(err, AA_EINVAL, jfield,
-                            "a pattern reference is exactly {\"job\": ID}");
+        return aa_error_set(err, AA_EINVAL, jfield, "a pattern reference is exactly {\"job\": ID}");
     json_t *idj = json_object_get(v, "job");
     long long id = -1;
     if (json_is_integer(idj))
@@ -219,8 +217,7 @@ static int resolve_one(api_context *ctx, json_t *parent_obj, const char *key, js
     return AA_OK;
 }
 
-static int resolve_walk(api_context *ctx, json_t *node, const char *path, int depth,
-                        aa_error *err)
+static int resolve_walk(api_context *ctx, json_t *node, const char *path, int depth, aa_error *err)
 {
     if (depth > 32)
         return AA_OK;

@@ -12,8 +12,8 @@ typedef struct entry {
     uint64_t hash;
     char *key, *val;
     size_t key_len, val_len;
-    struct entry *prev, *next;  /* LRU list, most recent first */
-    struct entry *chain;        /* hash bucket */
+    struct entry *prev, *next; /* LRU list, most recent first */
+    struct entry *chain;       /* hash bucket */
 } entry;
 
 struct eval_cache {
@@ -137,8 +137,7 @@ static void bucket_remove(eval_cache *c, entry *e)
     }
 }
 
-void eval_cache_put(eval_cache *c, const char *key, size_t key_len, const char *val,
-                    size_t val_len)
+void eval_cache_put(eval_cache *c, const char *key, size_t key_len, const char *val, size_t val_len)
 {
     if (!c || key_len > EVAL_CACHE_MAX_KEY)
         return;

@@ -34,13 +34,11 @@ void handle_acuity(api_context *ctx, const api_request *req, api_response *resp)
 void handle_evaluate(api_context *ctx, const api_request *req, api_response *resp);
 void handle_jobs_post(api_context *ctx, const api_request *req, api_response *resp);
 void handle_jobs_list(api_context *ctx, const api_request *req, api_response *resp);
-void handle_job_get(api_context *ctx, const api_request *req, api_response *resp,
-                    const char *id);
+void handle_job_get(api_context *ctx, const api_request *req, api_response *resp, const char *id);
 void handle_job_delete(api_context *ctx, const api_request *req, api_response *resp,
                        const char *id);
 void handle_enumerate(api_context *ctx, const api_request *req, api_response *resp);
-void handle_export(api_context *ctx, const api_request *req, api_response *resp,
-                   const char *id);
+void handle_export(api_context *ctx, const api_request *req, api_response *resp, const char *id);
 void handle_static(api_context *ctx, const api_request *req, api_response *resp);
 /* POST /v1/render and GET /v1/tiles/{id}.png: resolve pattern refs, then the renderer's
  * handlers (501 when they are not built in). */

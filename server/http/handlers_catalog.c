@@ -8,8 +8,8 @@
 
 static json_t *preset_json(const aa_preset *pr, bool full)
 {
-    json_t *o = json_pack("{s:s,s:s,s:o,s:s}", "name", pr->name, "family", pr->family,
-                          "cost_spp", proto_real(pr->cost_spp), "source", pr->source);
+    json_t *o = json_pack("{s:s,s:s,s:o,s:s}", "name", pr->name, "family", pr->family, "cost_spp",
+                          proto_real(pr->cost_spp), "source", pr->source);
     if (pr->note)
         json_object_set_new(o, "note", json_string(pr->note));
     json_object_set_new(o, "published_e2",

@@ -71,8 +71,8 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
     if (!rc)
         rc = proto_decode_acuity(json_object_get(body, "acuity"), &acuity, "acuity", &err);
     if (!rc)
-        rc = proto_decode_angles(json_object_get(body, "angles"), &angles, &angle_count,
-                                 "angles", &err);
+        rc = proto_decode_angles(json_object_get(body, "angles"), &angles, &angle_count, "angles",
+                                 &err);
     if (!rc) {
         aa_metric_params mp = {.filter = &filter,
                                .acuity = &acuity,

@@ -33,7 +33,8 @@ static int uniform_pixel_count(const aa_pattern *p, size_t *order, const char **
         for (int i = 0; i < T; i++) {
             int c = 0;
             for (size_t s = 0; s < p->tile_count; s++) {
-                if ((int)floor(p->tile_samples[s].x) == i && (int)floor(p->tile_samples[s].y) == j) {
+                if ((int)floor(p->tile_samples[s].x) == i &&
+                    (int)floor(p->tile_samples[s].y) == j) {
                     order[n++] = s;
                     c++;
                 }
@@ -55,8 +56,8 @@ static int uniform_pixel_count(const aa_pattern *p, size_t *order, const char **
 
 static json_t *export_gpu(const aa_pattern *p, bool d3d12)
 {
-    json_t *o = json_pack("{s:s,s:s,s:o}", "api", d3d12 ? "d3d12" : "vulkan", "family",
-                          p->family, "cost_spp", proto_real(p->cost_spp));
+    json_t *o = json_pack("{s:s,s:s,s:o}", "api", d3d12 ? "d3d12" : "vulkan", "family", p->family,
+                          "cost_spp", proto_real(p->cost_spp));
     size_t *order = malloc((p->tile_count ? p->tile_count : 1) * sizeof *order);
     const char *why = NULL;
     int per = order ? uniform_pixel_count(p, order, &why) : 0;
@@ -77,8 +78,8 @@ static json_t *export_gpu(const aa_pattern *p, bool d3d12)
                 why = "a position is not on D3D12's 1/16 pixel grid within [-8, 7]";
                 break;
             }
-            json_array_append_new(locs, json_pack("{s:I,s:I}", "X", (json_int_t)X, "Y",
-                                                  (json_int_t)Y));
+            json_array_append_new(locs,
+                                  json_pack("{s:I,s:I}", "X", (json_int_t)X, "Y", (json_int_t)Y));
         } else {
             json_array_append_new(locs, json_pack("{s:f,s:f}", "x", fx, "y", fy));
         }
@@ -120,8 +121,8 @@ static char *export_utk(const aa_pattern *p, size_t *len)
                           p->cost_spp, p->tile);
     if (p->tile > 0) {
         for (size_t i = 0; i < p->tile_count; i++)
-            n += (size_t)snprintf(out + n, cap - n, "%.17g %.17g\n",
-                                  p->tile_samples[i].x / p->tile, p->tile_samples[i].y / p->tile);
+            n += (size_t)snprintf(out + n, cap - n, "%.17g %.17g\n", p->tile_samples[i].x / p->tile,
+                                  p->tile_samples[i].y / p->tile);
     } else {
         /* No tile: the first kernel's samples around the pixel centre. */
         const aa_kernel *k = &p->kernels[0];
@@ -167,8 +168,9 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
         return;
     }
     if (!strcmp(format, "json")) {
-        api_reply_json(resp, 200, json_pack("{s:I,s:o}", "job", (json_int_t)id, "pattern",
-                                            proto_encode_pattern(&p)));
+        api_reply_json(
+            resp, 200,
+            json_pack("{s:I,s:o}", "job", (json_int_t)id, "pattern", proto_encode_pattern(&p)));
     } else if (!strcmp(format, "utk")) {
         size_t len = 0;
         char *text = export_utk(&p, &len);

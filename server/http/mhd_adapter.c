@@ -209,9 +209,9 @@ static enum MHD_Result add_query_arg(void *cls, enum MHD_ValueKind kind, const c
 
 static enum MHD_Result send_response(struct MHD_Connection *conn, api_response *r)
 {
-    struct MHD_Response *resp = MHD_create_response_from_buffer(
-        r->body_len, r->body ? r->body : (void *)"", r->body ? MHD_RESPMEM_MUST_FREE
-                                                             : MHD_RESPMEM_PERSISTENT);
+    struct MHD_Response *resp =
+        MHD_create_response_from_buffer(r->body_len, r->body ? r->body : (void *)"",
+                                        r->body ? MHD_RESPMEM_MUST_FREE : MHD_RESPMEM_PERSISTENT);
     if (!resp) {
         api_response_free(r);
         return MHD_NO;
@@ -232,8 +232,8 @@ static enum MHD_Result send_response(struct MHD_Connection *conn, api_response *
     return ret;
 }
 
-static enum MHD_Result reply_simple_error(struct MHD_Connection *conn, int status,
-                                          const char *code, const char *message)
+static enum MHD_Result reply_simple_error(struct MHD_Connection *conn, int status, const char *code,
+                                          const char *message)
 {
     api_response r = {0};
     api_reply_error(&r, status, code, "", "%s", message);
@@ -241,9 +241,8 @@ static enum MHD_Result reply_simple_error(struct MHD_Connection *conn, int statu
 }
 
 static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const char *url,
-                                  const char *method, const char *version,
-                                  const char *upload_data, size_t *upload_data_size,
-                                  void **con_cls)
+                                  const char *method, const char *version, const char *upload_data,
+                                  size_t *upload_data_size, void **con_cls)
 {
     http_listener *l = cls;
     request_state *st = *con_cls;
@@ -252,8 +251,8 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
         if (!st)
             return MHD_NO;
         *con_cls = st;
-        const char *cl = MHD_lookup_connection_value(conn, MHD_HEADER_KIND,
-                                                     MHD_HTTP_HEADER_CONTENT_LENGTH);
+        const char *cl =
+            MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
         if (cl && strtoull(cl, NULL, 10) > l->max_body)
             return reply_simple_error(conn, 413, "payload_too_large",
                                       "the body exceeds the daemon's --max-body");
@@ -328,8 +327,8 @@ static void on_completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     }
 }
 
-http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, int fd,
-                                   bool is_unix, char *msg, size_t cap)
+http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, int fd, bool is_unix,
+                                   char *msg, size_t cap)
 {
     http_listener *l = calloc(1, sizeof *l);
     if (!l) {
@@ -345,12 +344,12 @@ http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, in
     unsigned int flags = MHD_USE_EPOLL_INTERNAL_THREAD | MHD_USE_ERROR_LOG | MHD_USE_ITC;
     l->daemon = MHD_start_daemon(
         flags, 0, NULL, NULL, on_request, l, MHD_OPTION_LISTEN_SOCKET, (MHD_socket)fd,
-        MHD_OPTION_THREAD_POOL_SIZE, (unsigned int)cfg->http_threads,
-        MHD_OPTION_CONNECTION_LIMIT, (unsigned int)cfg->connection_limit,
-        MHD_OPTION_CONNECTION_TIMEOUT, (unsigned int)cfg->connection_timeout,
-        MHD_OPTION_CONNECTION_MEMORY_LIMIT, cfg->connection_memory,
-        MHD_OPTION_UNESCAPE_CALLBACK, unescape_keep_nul, NULL, MHD_OPTION_NOTIFY_COMPLETED,
-        on_completed, NULL, MHD_OPTION_LISTEN_BACKLOG_SIZE, 128u, MHD_OPTION_END);
+        MHD_OPTION_THREAD_POOL_SIZE, (unsigned int)cfg->http_threads, MHD_OPTION_CONNECTION_LIMIT,
+        (unsigned int)cfg->connection_limit, MHD_OPTION_CONNECTION_TIMEOUT,
+        (unsigned int)cfg->connection_timeout, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
+        cfg->connection_memory, MHD_OPTION_UNESCAPE_CALLBACK, unescape_keep_nul, NULL,
+        MHD_OPTION_NOTIFY_COMPLETED, on_completed, NULL, MHD_OPTION_LISTEN_BACKLOG_SIZE, 128u,
+        MHD_OPTION_END);
     if (!l->daemon) {
         snprintf(msg, cap, "libmicrohttpd could not start on fd %d", fd);
         free(l);

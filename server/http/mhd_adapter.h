@@ -21,8 +21,8 @@ int http_tcp_socket_open(const char *host, int port, char *msg, size_t cap);
 
 /* Starts serving fd (already listening). is_unix enables SO_PEERCRED; via_tcp marks requests
  * for the Host/token checks and static files. */
-http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, int fd,
-                                   bool is_unix, char *msg, size_t cap);
+http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, int fd, bool is_unix,
+                                   char *msg, size_t cap);
 /* Stops accepting new connections (before the final drain). */
 void http_listener_quiesce(http_listener *l);
 void http_listener_stop(http_listener *l);

@@ -14,9 +14,8 @@ void route_render(api_context *ctx, const api_request *req, api_response *resp)
 #ifdef AALAB_HAVE_RENDER
     /* Rewrite the body only when it holds a reference; otherwise pass it through untouched so
      * the renderer reports its own parse errors. */
-    json_t *body = req->body_len ? json_loadb(req->body, req->body_len, JSON_REJECT_DUPLICATES,
-                                              NULL)
-                                 : NULL;
+    json_t *body =
+        req->body_len ? json_loadb(req->body, req->body_len, JSON_REJECT_DUPLICATES, NULL) : NULL;
     if (!body || !json_is_object(body)) {
         json_decref(body);
         handle_render(ctx, req, resp);

@@ -29,12 +29,10 @@ void job_live_clear(job_live *l)
 
 static void append_point(job_live *l, const job_trace_point *p)
 {
-    json_array_append_new(l->trace, json_pack("{s:f,s:I,s:I,s:o}", "seconds", p->seconds,
-                                              "iterations", (json_int_t)p->iterations,
-                                              "evaluations", (json_int_t)p->evaluations,
-                                              "best_e2", isfinite(p->best_e2)
-                                                             ? json_real(p->best_e2)
-                                                             : json_null()));
+    json_array_append_new(
+        l->trace, json_pack("{s:f,s:I,s:I,s:o}", "seconds", p->seconds, "iterations",
+                            (json_int_t)p->iterations, "evaluations", (json_int_t)p->evaluations,
+                            "best_e2", isfinite(p->best_e2) ? json_real(p->best_e2) : json_null()));
     l->last_point_seconds = p->seconds;
     l->last_point_best = p->best_e2;
 }

@@ -20,7 +20,7 @@ typedef struct job {
     double created, started;
     bool cancel_requested;
     char reason[160];
-    job_live live; /* progress, best, trace: guarded by jm->lock */
+    job_live live;    /* progress, best, trace: guarded by jm->lock */
     struct job *next; /* active list */
 } job;
 
@@ -148,8 +148,7 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
                           err && err->message[0] ? err->message : aa_strerror(rc), "field",
                           err ? err->field : "");
     }
-    job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason,
-                     jm_now());
+    job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason, jm_now());
     json_decref(best);
     json_decref(trace);
     json_decref(error);
@@ -223,8 +222,8 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
     void *params = NULL;
     aa_error err = {0};
     if (kind->parse(spec, &params, &err) != AA_OK) {
-        snprintf(reason, sizeof reason, "spec no longer valid after restart: %s (%s)",
-                 err.message, err.field);
+        snprintf(reason, sizeof reason, "spec no longer valid after restart: %s (%s)", err.message,
+                 err.field);
         job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL, reason,
                          jm_now());
         return;
@@ -255,8 +254,7 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
                      j->reason[0] ? j->reason : NULL, 0);
 }
 
-job_manager *job_manager_create(const char *state_dir, const job_manager_config *cfg,
-                                aa_error *err)
+job_manager *job_manager_create(const char *state_dir, const job_manager_config *cfg, aa_error *err)
 {
     job_manager *jm = calloc(1, sizeof *jm);
     if (!jm) {
@@ -364,8 +362,8 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     } else if (job_store_insert(jm->store, kind->name, spec, owner, j->created, &j->id, err)) {
         rc = JM_ESTORE;
     } else if (queue_push(jm, j) != AA_OK) {
-        job_store_finish(jm->store, j->id, JOB_FAILED, 0, NULL, NULL, NULL, NULL,
-                         "out of memory", jm_now());
+        job_store_finish(jm->store, j->id, JOB_FAILED, 0, NULL, NULL, NULL, NULL, "out of memory",
+                         jm_now());
         rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     } else {
         j->next = jm->active;

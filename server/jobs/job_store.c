@@ -14,7 +14,7 @@ struct job_store {
     pthread_mutex_t lock;
 };
 
-static const char *const state_names[JOB_STATE_COUNT] = {"queued", "running", "done",
+static const char *const state_names[JOB_STATE_COUNT] = {"queued", "running",   "done",
                                                          "failed", "cancelled", "interrupted"};
 
 const char *job_state_name(job_state s)
@@ -35,17 +35,16 @@ static job_state state_from_name(const char *n)
     return JOB_INTERRUPTED;
 }
 
-static const char schema_sql[] =
-    "CREATE TABLE IF NOT EXISTS jobs ("
-    " id INTEGER PRIMARY KEY AUTOINCREMENT,"
-    " kind TEXT NOT NULL,"
-    " owner_uid INTEGER,"
-    " state TEXT NOT NULL,"
-    " progress REAL NOT NULL DEFAULT 0,"
-    " spec TEXT NOT NULL,"
-    " best TEXT, trace TEXT, result TEXT, error TEXT, reason TEXT,"
-    " created REAL NOT NULL, started REAL, finished REAL);"
-    "CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state);";
+static const char schema_sql[] = "CREATE TABLE IF NOT EXISTS jobs ("
+                                 " id INTEGER PRIMARY KEY AUTOINCREMENT,"
+                                 " kind TEXT NOT NULL,"
+                                 " owner_uid INTEGER,"
+                                 " state TEXT NOT NULL,"
+                                 " progress REAL NOT NULL DEFAULT 0,"
+                                 " spec TEXT NOT NULL,"
+                                 " best TEXT, trace TEXT, result TEXT, error TEXT, reason TEXT,"
+                                 " created REAL NOT NULL, started REAL, finished REAL);"
+                                 "CREATE INDEX IF NOT EXISTS jobs_state ON jobs(state);";
 
 bool job_store_integrity_ok(job_store *st)
 {
@@ -73,9 +72,8 @@ job_store *job_store_open(const char *dir, aa_error *err)
         return NULL;
     }
     pthread_mutex_init(&st->lock, NULL);
-    int rc = sqlite3_open_v2(path, &st->db,
-                             SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
-                             NULL);
+    int rc = sqlite3_open_v2(
+        path, &st->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, NULL);
     if (rc != SQLITE_OK) {
         aa_error_set(err, AA_EINVAL, "state_dir", "cannot open %s: %s", path,
                      st->db ? sqlite3_errmsg(st->db) : sqlite3_errstr(rc));
@@ -164,8 +162,8 @@ int job_store_insert(job_store *st, const char *kind, const json_t *spec, long l
     }
     int out = AA_OK;
     if (rc != SQLITE_DONE)
-        out = aa_error_set(err, AA_EINVAL, "", "job store write failed: %s",
-                           sqlite3_errmsg(st->db));
+        out =
+            aa_error_set(err, AA_EINVAL, "", "job store write failed: %s", sqlite3_errmsg(st->db));
     else
         *id = sqlite3_last_insert_rowid(st->db);
     pthread_mutex_unlock(&st->lock);
@@ -267,9 +265,10 @@ static json_t *row_to_json(sqlite3_stmt *q, bool full)
     json_t *o = json_object();
     json_object_set_new(o, "id", json_integer(sqlite3_column_int64(q, 0)));
     json_object_set_new(o, "kind", json_string((const char *)sqlite3_column_text(q, 1)));
-    json_object_set_new(o, "owner_uid", sqlite3_column_type(q, 2) == SQLITE_NULL
-                                            ? json_null()
-                                            : json_integer(sqlite3_column_int64(q, 2)));
+    json_object_set_new(o, "owner_uid",
+                        sqlite3_column_type(q, 2) == SQLITE_NULL
+                            ? json_null()
+                            : json_integer(sqlite3_column_int64(q, 2)));
     json_object_set_new(o, "state", json_string((const char *)sqlite3_column_text(q, 3)));
     json_object_set_new(o, "progress", json_real(sqlite3_column_double(q, 4)));
     json_object_set_new(o, "created", column_number_or_null(q, 5));
@@ -298,7 +297,7 @@ static json_t *row_to_json(sqlite3_stmt *q, bool full)
 }
 
 #define JOB_COLUMNS                                                                                \
-    "id, kind, owner_uid, state, progress, created, started, finished, reason, error, best, "   \
+    "id, kind, owner_uid, state, progress, created, started, finished, reason, error, best, "      \
     "spec, trace, result"
 
 json_t *job_store_get(job_store *st, long long id, bool full)
@@ -306,8 +305,8 @@ json_t *job_store_get(job_store *st, long long id, bool full)
     pthread_mutex_lock(&st->lock);
     sqlite3_stmt *q;
     json_t *o = NULL;
-    if (sqlite3_prepare_v2(st->db, "SELECT " JOB_COLUMNS " FROM jobs WHERE id=?", -1, &q,
-                           NULL) == SQLITE_OK) {
+    if (sqlite3_prepare_v2(st->db, "SELECT " JOB_COLUMNS " FROM jobs WHERE id=?", -1, &q, NULL) ==
+        SQLITE_OK) {
         sqlite3_bind_int64(q, 1, id);
         if (sqlite3_step(q) == SQLITE_ROW)
             o = row_to_json(q, full);
@@ -366,14 +365,14 @@ int job_store_unfinished(job_store *st, job_store_visit_fn fn, void *user)
         while (sqlite3_step(q) == SQLITE_ROW) {
             json_t *spec = column_json(q, 2);
             json_array_append_new(
-                rows, json_pack("{s:I,s:s,s:o,s:I,s:s,s:f}", "id",
-                                (json_int_t)sqlite3_column_int64(q, 0), "kind",
-                                (const char *)sqlite3_column_text(q, 1), "spec", spec, "owner",
-                                (json_int_t)(sqlite3_column_type(q, 3) == SQLITE_NULL
-                                                 ? -1
-                                                 : sqlite3_column_int64(q, 3)),
-                                "state", (const char *)sqlite3_column_text(q, 4), "created",
-                                sqlite3_column_double(q, 5)));
+                rows,
+                json_pack("{s:I,s:s,s:o,s:I,s:s,s:f}", "id", (json_int_t)sqlite3_column_int64(q, 0),
+                          "kind", (const char *)sqlite3_column_text(q, 1), "spec", spec, "owner",
+                          (json_int_t)(sqlite3_column_type(q, 3) == SQLITE_NULL
+                                           ? -1
+                                           : sqlite3_column_int64(q, 3)),
+                          "state", (const char *)sqlite3_column_text(q, 4), "created",
+                          sqlite3_column_double(q, 5)));
         }
         sqlite3_finalize(q);
     }

@@ -96,8 +96,8 @@ static int sleep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     }
     if (p->fail)
         return aa_error_set(err, AA_EINVAL, "fail", "failed on request");
-    *result = json_pack("{s:f,s:I}", "slept_seconds", now_seconds() - t0, "steps",
-                        (json_int_t)steps);
+    *result =
+        json_pack("{s:f,s:I}", "slept_seconds", now_seconds() - t0, "steps", (json_int_t)steps);
     if (p->pattern)
         json_object_set(*result, "pattern", p->pattern);
     return AA_OK;
