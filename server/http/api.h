@@ -32,7 +32,7 @@ typedef struct api_response {
     const char *content_type; /* static string */
     char *body;               /* malloc'd, owned by the response */
     size_t body_len;
-    int retry_after;           /* seconds, > 0 adds Retry-After */
+    int retry_after; /* seconds, > 0 adds Retry-After */
     const char *cache_control; /* static string or NULL */
 } api_response;
 
