@@ -1,7 +1,9 @@
 /* Filter and acuity wire forms, angle lists. */
+#define _POSIX_C_SOURCE 200809L
 #include "codec_internal.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,11 +28,39 @@ static bool filter_takes(const char *name, const char *param)
     return false;
 }
 
+/* Building a filter's Chebyshev table costs tens of microseconds; the named filters with their
+ * default parameters are built once (read-only afterwards) and copied out. */
+#define NAMED_FILTER_MAX 16
+static aa_filter named_filters[NAMED_FILTER_MAX];
+static size_t named_filter_count;
+static pthread_once_t named_filters_once = PTHREAD_ONCE_INIT;
+
+static void build_named_filters(void)
+{
+    for (size_t i = 0; aa_filter_names[i] && named_filter_count < NAMED_FILTER_MAX; i++)
+        if (aa_filter_by_name(&named_filters[named_filter_count], aa_filter_names[i], NULL, NULL) ==
+            AA_OK)
+            named_filter_count++;
+}
+
+static bool copy_named_filter(const char *name, aa_filter *out)
+{
+    pthread_once(&named_filters_once, build_named_filters);
+    for (size_t i = 0; i < named_filter_count; i++) {
+        if (!strcmp(named_filters[i].name, name)) {
+            memcpy(out, &named_filters[i], sizeof *out);
+            return true;
+        }
+    }
+    return false;
+}
+
 int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefix, aa_error *err)
 {
     const char *prefix = field_prefix ? field_prefix : "";
     if (!j || json_is_null(j)) {
-        aa_filter_default(out);
+        if (!copy_named_filter("mitchell", out))
+            aa_filter_default(out);
         return AA_OK;
     }
     if (!json_is_object(j))
@@ -52,6 +82,7 @@ int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefi
             return proto_fail(err, AA_EINVAL, prefix, "name", "unknown filter");
     }
     aa_filter_params p = aa_filter_params_default();
+    bool defaults = true;
     struct {
         const char *key;
         double *dst;
@@ -66,7 +97,10 @@ int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefi
                               "not a parameter of this filter");
         if ((rc = proto_number(v, params[i].dst, err, prefix, params[i].key)))
             return rc;
+        defaults = false;
     }
+    if (defaults && copy_named_filter(name, out))
+        return AA_OK;
     rc = aa_filter_by_name(out, name, &p, err);
     if (rc)
         proto_prefix_error(err, prefix);
