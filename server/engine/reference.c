@@ -1,0 +1,199 @@
+/* Sparse jittered supersampling with the reference filter (reference.h). */
+#include "reference.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "raster_traverse.h"
+
+aa_reference_params aa_reference_params_default(void)
+{
+    aa_reference_params p = {1024, 1, NULL, true, NULL, NULL};
+    return p;
+}
+
+static uint64_t splitmix64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+static double uniform01(uint64_t *state)
+{
+    return (double)(splitmix64(state) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static uint64_t pixel_seed(uint64_t seed, int px, int py)
+{
+    uint64_t st = seed ^ 0x5851F42D4C957F2Dull;
+    uint64_t h = splitmix64(&st);
+    st = h ^ ((uint64_t)(uint32_t)px << 32 | (uint32_t)py);
+    return splitmix64(&st);
+}
+
+/* The 1-D filter: the Mitchell-Netravali cubic directly (hot loop), other kinds through
+ * aa_filter_eval. Scale is irrelevant: the estimator divides by the weight sum. */
+typedef struct filter_1d {
+    const aa_filter *f;
+    double B, C, to_unit; /* Mitchell: t = |x| * to_unit in [0, 2) */
+} filter_1d;
+
+static double filter_h(const filter_1d *f, double x)
+{
+    if (!f->f) {
+        double t = fabs(x) * f->to_unit, B = f->B, C = f->C;
+        if (t >= 2)
+            return 0;
+        if (t < 1)
+            return ((12 - 9 * B - 6 * C) * t * t * t + (-18 + 12 * B + 6 * C) * t * t +
+                    (6 - 2 * B)) /
+                   6;
+        return ((-B - 6 * C) * t * t * t + (6 * B + 30 * C) * t * t + (-12 * B - 48 * C) * t +
+                (8 * B + 24 * C)) /
+               6;
+    }
+    return aa_filter_eval(f->f, x);
+}
+
+typedef struct accumulator {
+    aa_rect reg;
+    size_t rw;
+    const uint8_t *mask;
+    double *num, *den;
+} accumulator;
+
+int aa_render_reference(const aa_scene *s, const aa_reference_params *rp, double off, aa_image *out,
+                        const aa_rect *region, aa_reference_stats *st, aa_error *err)
+{
+    aa_reference_stats local;
+    if (!st)
+        st = &local;
+    memset(st, 0, sizeof *st);
+    aa_reference_params defaults = aa_reference_params_default();
+    if (!rp)
+        rp = &defaults;
+    int m = (int)lround(sqrt((double)rp->spp));
+    if (rp->spp < 1 || rp->spp > AA_REFERENCE_MAX_SPP || m * m != rp->spp)
+        return aa_error_set(err, AA_EINVAL, "spp",
+                            "spp must be a square in 1..%d (16, 64, 256, "
+                            "1024, 4096)",
+                            AA_REFERENCE_MAX_SPP);
+    if (out->width != s->p.width || out->height != s->p.height)
+        return aa_error_set(err, AA_EINVAL, "", "image and scene sizes differ");
+    filter_1d h = {NULL, 1.0 / 3, 1.0 / 3, 1.0};
+    double R = 2;
+    if (rp->filter) {
+        R = rp->filter->radius;
+        if (rp->filter->kind == AA_FILTER_MITCHELL) {
+            h.B = rp->filter->B;
+            h.C = rp->filter->C;
+            h.to_unit = 2.0 / R;
+        } else {
+            h.f = rp->filter;
+        }
+    }
+    if (!(R > 0 && R <= 8))
+        return aa_error_set(err, AA_EINVAL, "filter", "reference filter radius must be in (0, 8]");
+    aa_rect reg = aa_image_rect(out);
+    if (region)
+        reg = aa_rect_intersect(reg, *region);
+    size_t area = aa_rect_area(reg);
+    st->pixels = area;
+    if (area == 0)
+        return AA_OK;
+
+    /* Input pixels [ix0, ix1) x [iy0, iy1) cover every footprint of the region. */
+    int pad = (int)ceil(R) + 1;
+    int ix0 = reg.x0 - pad, iy0 = reg.y0 - pad, ix1 = reg.x1 + pad, iy1 = reg.y1 + pad;
+    size_t iw = (size_t)(ix1 - ix0), ih = (size_t)(iy1 - iy0);
+    accumulator acc = {reg, (size_t)(reg.x1 - reg.x0), NULL, NULL, NULL};
+    uint8_t *mask = malloc(area), *need = calloc(iw * ih, 1);
+    acc.num = calloc(area, sizeof *acc.num);
+    acc.den = calloc(area, sizeof *acc.den);
+    int rc = AA_OK;
+    if (!mask || !need || !acc.num || !acc.den) {
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        goto done;
+    }
+    acc.mask = mask;
+    st->pixels_supersampled = aa_traverse_footprints(s, reg, off, R, rp->skip, out, mask);
+    if (st->pixels_supersampled == 0)
+        goto done;
+    /* Mark the input pixels that meet the open footprint (o - R, o + R)^2 of a marked pixel. */
+    for (int j = reg.y0; j < reg.y1; j++) {
+        for (int i = reg.x0; i < reg.x1; i++) {
+            if (!mask[(size_t)(j - reg.y0) * acc.rw + (size_t)(i - reg.x0)])
+                continue;
+            int px0 = (int)floor(i + off - R), px1 = (int)ceil(i + off + R);
+            int py0 = (int)floor(j + off - R), py1 = (int)ceil(j + off + R);
+            for (int py = py0; py < py1; py++)
+                memset(need + (size_t)(py - iy0) * iw + (size_t)(px0 - ix0), 1,
+                       (size_t)(px1 - px0));
+        }
+    }
+    double hx[20], hy[20];
+    for (int py = iy0; py < iy1; py++) {
+        if (rp->progress && rp->progress(rp->user, (double)(py - iy0) / (double)ih)) {
+            rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
+            goto done;
+        }
+        for (int px = ix0; px < ix1; px++) {
+            if (!need[(size_t)(py - iy0) * iw + (size_t)(px - ix0)])
+                continue;
+            st->input_pixels++;
+            uint64_t rng = pixel_seed(rp->seed, px, py);
+            for (int b = 0; b < m; b++) {
+                for (int a = 0; a < m; a++) {
+                    double sx = px + (a + uniform01(&rng)) / m;
+                    double sy = py + (b + uniform01(&rng)) / m;
+                    double v = aa_scene_value(s, sx, sy);
+                    /* Output pixels with |s - o| < R. */
+                    int i0 = (int)floor(sx - off - R) + 1, i1 = (int)ceil(sx - off + R) - 1;
+                    int j0 = (int)floor(sy - off - R) + 1, j1 = (int)ceil(sy - off + R) - 1;
+                    if (i0 < reg.x0)
+                        i0 = reg.x0;
+                    if (i1 > reg.x1 - 1)
+                        i1 = reg.x1 - 1;
+                    if (j0 < reg.y0)
+                        j0 = reg.y0;
+                    if (j1 > reg.y1 - 1)
+                        j1 = reg.y1 - 1;
+                    if (i0 > i1 || j0 > j1)
+                        continue;
+                    for (int i = i0; i <= i1; i++)
+                        hx[i - i0] = filter_h(&h, sx - (i + off));
+                    for (int j = j0; j <= j1; j++)
+                        hy[j - j0] = filter_h(&h, sy - (j + off));
+                    for (int j = j0; j <= j1; j++) {
+                        size_t row = (size_t)(j - reg.y0) * acc.rw;
+                        for (int i = i0; i <= i1; i++) {
+                            size_t k = row + (size_t)(i - reg.x0);
+                            if (!mask[k])
+                                continue;
+                            double w = hx[i - i0] * hy[j - j0];
+                            acc.num[k] += w * v;
+                            acc.den[k] += w;
+                        }
+                    }
+                }
+            }
+            st->samples += (size_t)rp->spp;
+        }
+    }
+    for (int j = reg.y0; j < reg.y1; j++)
+        for (int i = reg.x0; i < reg.x1; i++) {
+            size_t k = (size_t)(j - reg.y0) * acc.rw + (size_t)(i - reg.x0);
+            if (mask[k])
+                out->px[(size_t)j * out->width + i] =
+                    acc.den[k] != 0 ? (float)(acc.num[k] / acc.den[k]) : 0.0f;
+        }
+done:
+    free(mask);
+    free(need);
+    free(acc.num);
+    free(acc.den);
+    return rc;
+}
