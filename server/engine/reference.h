@@ -2,15 +2,20 @@
  * B = C = 1/3 over 4 x 4 pixels by default) at the same output points as the pattern render
  * (offset 0.5 for odd K, 1 for even K; raster.h).
  *
- * Estimator: every input pixel that some supersampled output pixel's footprint overlaps gets
- * spp jittered samples (a sqrt(spp) x sqrt(spp) stratified grid, one uniform point per stratum);
- * each sample is evaluated once and contributes h(dx) h(dy) to every output pixel whose
- * footprint holds it; an output pixel is sum(h v) / sum(h), so it is exact for constant
- * regions and consistent. Jitter depends only on (seed, input pixel, stratum): the same seed
- * gives the same image whatever the region or traversal order.
+ * Estimator, for an output pixel o an edge's footprint crosses: the sum over the input pixels
+ * p its footprint meets of
+ *  - v * (G(p.x1 - o.x) - G(p.x0 - o.x)) * (G(p.y1 - o.y) - G(p.y0 - o.y)), exactly, when the
+ *    scene is constant (v) on p (G the filter's CDF), else
+ *  - (1/spp) sum over spp jittered samples s of p (a sqrt(spp) x sqrt(spp) stratified grid,
+ *    one uniform point per stratum) of h(s.x - o.x) h(s.y - o.y) v(s).
+ * Unbiased; each sample is evaluated once and feeds every output pixel whose footprint holds
+ * it. Jitter depends only on (seed, input pixel, stratum): the same seed gives the same image
+ * whatever the region or traversal order.
  *
  * Left out: output pixels whose footprint no edge crosses get the exact constant with no
- * sampling (raster_traverse.h); cost grows with edge length, not area. */
+ * sampling, and input pixels no edge crosses are integrated exactly (raster_traverse.h); the
+ * cost grows with edge length, not area. skip = false samples every input pixel of every
+ * output pixel (the baseline). */
 #ifndef AA_REFERENCE_H
 #define AA_REFERENCE_H
 
