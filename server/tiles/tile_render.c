@@ -51,8 +51,7 @@ static int get_int(json_t *v, const char *prefix, const char *key, long long lo,
     return AA_OK;
 }
 
-static int get_number(json_t *v, const char *prefix, const char *key, double *out,
-                      aa_error *err)
+static int get_number(json_t *v, const char *prefix, const char *key, double *out, aa_error *err)
 {
     if (!json_is_number(v) || !isfinite(json_number_value(v)))
         return field_error(err, prefix, key, "must be a finite number");
@@ -258,8 +257,7 @@ int tile_decode_crop(const json_t *j, int width, int height, tile_crop *out, con
     return AA_OK;
 }
 
-int tile_pattern_from_preset_name(const json_t *j, aa_pattern *p, const char *field,
-                                  aa_error *err)
+int tile_pattern_from_preset_name(const json_t *j, aa_pattern *p, const char *field, aa_error *err)
 {
     if (!json_is_string(j))
         return 1;
@@ -274,9 +272,8 @@ json_t *tile_encode_scene(const aa_scene_params *p)
 {
     json_t *o = json_pack("{s:s, s:I, s:I, s:f, s:f, s:I, s:b, s:b}", "name",
                           aa_scene_kind_name(p->kind), "width", (json_int_t)p->width, "height",
-                          (json_int_t)p->height, "zoom", p->zoom, "angle", p->angle_deg,
-                          "wedges", (json_int_t)p->wedges, "mirror_x", p->mirror_x, "mirror_y",
-                          p->mirror_y);
+                          (json_int_t)p->height, "zoom", p->zoom, "angle", p->angle_deg, "wedges",
+                          (json_int_t)p->wedges, "mirror_x", p->mirror_x, "mirror_y", p->mirror_y);
     if (o && aa_scene_kind_is_animation(p->kind)) {
         json_object_set_new(o, "frames", json_integer(p->frames));
         json_object_set_new(o, "frame", json_integer(p->frame));
@@ -293,9 +290,8 @@ json_t *tile_encode_diff(const aa_diff_stats *d)
         json_array_append_new(hist, json_integer((json_int_t)d->histogram[i]));
         json_array_append_new(pen, json_real(d->penalised[i]));
     }
-    return json_pack("{s:f, s:f, s:I, s:o, s:o}", "rmse", d->rmse, "max_dev", d->max_dev,
-                     "pixels", (json_int_t)d->pixels, "histogram", hist, "penalised_histogram",
-                     pen);
+    return json_pack("{s:f, s:f, s:I, s:o, s:o}", "rmse", d->rmse, "max_dev", d->max_dev, "pixels",
+                     (json_int_t)d->pixels, "histogram", hist, "penalised_histogram", pen);
 }
 
 json_t *tile_put_gray8(tile_store *ts, const uint8_t *px, int width, int height, aa_error *err)
@@ -311,8 +307,8 @@ json_t *tile_put_gray8(tile_store *ts, const uint8_t *px, int width, int height,
         return NULL;
     char url[64];
     snprintf(url, sizeof url, "/v1/tiles/%s.png", id);
-    return json_pack("{s:s, s:s, s:I, s:I, s:I}", "id", id, "url", url, "width",
-                     (json_int_t)width, "height", (json_int_t)height, "bytes", (json_int_t)len);
+    return json_pack("{s:s, s:s, s:I, s:I, s:I}", "id", id, "url", url, "width", (json_int_t)width,
+                     "height", (json_int_t)height, "bytes", (json_int_t)len);
 }
 
 json_t *tile_put_image(tile_store *ts, const aa_image *img, aa_error *err)
@@ -328,8 +324,7 @@ json_t *tile_put_image(tile_store *ts, const aa_image *img, aa_error *err)
     return o;
 }
 
-json_t *tile_put_difference(tile_store *ts, const aa_image *a, const aa_image *ref,
-                            aa_error *err)
+json_t *tile_put_difference(tile_store *ts, const aa_image *a, const aa_image *ref, aa_error *err)
 {
     uint8_t *px = malloc((size_t)a->width * (size_t)a->height);
     if (!px) {
@@ -357,8 +352,8 @@ static json_t *put_crop(tile_store *ts, const uint8_t *full, int width, const ti
     return o;
 }
 
-json_t *tile_put_render_images(tile_store *ts, const aa_image *pattern,
-                               const aa_image *reference, const tile_crop *crop, aa_error *err)
+json_t *tile_put_render_images(tile_store *ts, const aa_image *pattern, const aa_image *reference,
+                               const tile_crop *crop, aa_error *err)
 {
     size_t n = (size_t)pattern->width * (size_t)pattern->height;
     uint8_t *g[3] = {malloc(n), malloc(n), malloc(n)};
@@ -406,9 +401,8 @@ fail:
     return NULL;
 }
 
-json_t *tile_render_result_json(tile_store *ts, const aa_render_params *rp,
-                                const aa_pattern *p, const aa_render_result *r,
-                                const tile_crop *crop, aa_error *err)
+json_t *tile_render_result_json(tile_store *ts, const aa_render_params *rp, const aa_pattern *p,
+                                const aa_render_result *r, const tile_crop *crop, aa_error *err)
 {
     json_t *tiles = tile_put_render_images(ts, &r->pattern, &r->reference, crop, err);
     if (!tiles)
@@ -422,10 +416,9 @@ json_t *tile_render_result_json(tile_store *ts, const aa_render_params *rp,
         (json_int_t)p->kernel_size, "border", p->border, "reference", "spp",
         (json_int_t)rp->reference.spp, "seed", (json_int_t)rp->reference.seed, "filter",
         f ? f->name : "mitchell", "e2", r->e2, "stats", tile_encode_diff(&r->diff), "times",
-        "pattern_seconds", r->pattern_seconds, "reference_seconds", r->reference_seconds,
-        "pixels", "total", (json_int_t)r->ref.pixels, "pattern_sampled",
-        (json_int_t)r->raster.pixels_sampled, "pattern_coverage_samples",
-        (json_int_t)r->raster.samples_evaluated, "supersampled",
+        "pattern_seconds", r->pattern_seconds, "reference_seconds", r->reference_seconds, "pixels",
+        "total", (json_int_t)r->ref.pixels, "pattern_sampled", (json_int_t)r->raster.pixels_sampled,
+        "pattern_coverage_samples", (json_int_t)r->raster.samples_evaluated, "supersampled",
         (json_int_t)r->ref.pixels_supersampled, "reference_input_pixels_sampled",
         (json_int_t)r->ref.input_pixels, "reference_samples", (json_int_t)r->ref.samples, "tiles",
         tiles);

@@ -44,26 +44,22 @@ int tile_decode_crop(const json_t *j, int width, int height, tile_crop *out, con
                      aa_error *err);
 /* If j is a string, builds the preset of that name (AA_EINVAL naming field if unknown) and
  * returns AA_OK; returns 1 (nothing done) when j is not a string. */
-int tile_pattern_from_preset_name(const json_t *j, aa_pattern *p, const char *field,
-                                  aa_error *err);
+int tile_pattern_from_preset_name(const json_t *j, aa_pattern *p, const char *field, aa_error *err);
 
 json_t *tile_encode_scene(const aa_scene_params *p);
 /* {"rmse", "max_dev", "pixels", "histogram": [256], "penalised_histogram": [256]} */
 json_t *tile_encode_diff(const aa_diff_stats *d);
 
 /* Stores PNGs and returns {"id", "url", "width", "height"}; NULL with err on failure. */
-json_t *tile_put_gray8(tile_store *ts, const uint8_t *px, int width, int height,
-                       aa_error *err);
+json_t *tile_put_gray8(tile_store *ts, const uint8_t *px, int width, int height, aa_error *err);
 json_t *tile_put_image(tile_store *ts, const aa_image *img, aa_error *err);
-json_t *tile_put_difference(tile_store *ts, const aa_image *a, const aa_image *ref,
-                            aa_error *err);
+json_t *tile_put_difference(tile_store *ts, const aa_image *a, const aa_image *ref, aa_error *err);
 /* {"pattern", "reference", "difference"} (and "crop": {...} of the three when enabled). */
-json_t *tile_put_render_images(tile_store *ts, const aa_image *pattern,
-                               const aa_image *reference, const tile_crop *crop, aa_error *err);
+json_t *tile_put_render_images(tile_store *ts, const aa_image *pattern, const aa_image *reference,
+                               const tile_crop *crop, aa_error *err);
 
 /* The whole answer for one tile render. */
-json_t *tile_render_result_json(tile_store *ts, const aa_render_params *rp,
-                                const aa_pattern *p, const aa_render_result *r,
-                                const tile_crop *crop, aa_error *err);
+json_t *tile_render_result_json(tile_store *ts, const aa_render_params *rp, const aa_pattern *p,
+                                const aa_render_result *r, const tile_crop *crop, aa_error *err);
 
 #endif

@@ -15,7 +15,7 @@
 typedef struct tile_entry {
     char id[TILE_ID_LEN + 1];
     size_t len;
-    void *data; /* NULL: on disk only (found at start-up, not read yet) */
+    void *data;                     /* NULL: on disk only (found at start-up, not read yet) */
     struct tile_entry *prev, *next; /* LRU list: head = most recent */
 } tile_entry;
 

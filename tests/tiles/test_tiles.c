@@ -235,9 +235,9 @@ static void test_render_result_json_and_tiles(void **state)
     json_t *c = json_object_get(json_object_get(tiles, "crop"), "pattern");
     assert_int_equal(json_integer_value(json_object_get(c, "width")), 64);
     assert_int_equal(json_integer_value(json_object_get(c, "height")), 48);
-    assert_int_equal(json_array_size(json_object_get(json_object_get(out, "stats"),
-                                                     "penalised_histogram")),
-                     256);
+    assert_int_equal(
+        json_array_size(json_object_get(json_object_get(out, "stats"), "penalised_histogram")),
+        256);
     json_decref(out);
     aa_render_result_free(&r);
     aa_pattern_free(&p);
