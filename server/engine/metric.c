@@ -74,7 +74,7 @@ static int projection_cmp(const void *pa, const void *pb)
 
 static void sort_projections(aa_projection *v, size_t n)
 {
-    if (n > 48) {
+    if (n > 160) {
         qsort(v, n, sizeof *v, projection_cmp);
         return;
     }
@@ -101,14 +101,25 @@ static void segment_integral(const aa_filter *f, int j, double c, double u, doub
         *lin += d * len;
         return;
     }
-    double half = 0.5 * len, mid = 0.5 * (u + v), s2 = 0, s1 = 0;
-    for (int k = 0; k <= f->degree; k++) {
-        double d = c - aa_filter_cdf_in_piece(f, j, mid + half * f->rule_node[k]);
+    /* Map the rule's nodes straight into the piece's Chebyshev variable: t = alpha + beta*x. */
+    double lo = f->knot[j], hi = f->knot[j + 1], inv = 1.0 / (hi - lo);
+    double alpha = (u + v - lo - hi) * inv, beta = len * inv;
+    const double *cf = f->cheb[j];
+    int deg = f->degree;
+    double s2 = 0, s1 = 0;
+    for (int k = 0; k <= deg; k++) {
+        double t = alpha + beta * f->rule_node[k], t2 = 2 * t, b1 = 0, b2 = 0;
+        for (int m = deg; m >= 1; m--) {
+            double b0 = t2 * b1 - b2 + cf[m];
+            b2 = b1;
+            b1 = b0;
+        }
+        double d = c - (t * b1 - b2 + cf[0]);
         s2 += f->rule_weight[k] * d * d;
         s1 += f->rule_weight[k] * d;
     }
-    *sq += s2 * half;
-    *lin += s1 * half;
+    *sq += s2 * 0.5 * len;
+    *lin += s1 * 0.5 * len;
 }
 
 /* The sweep. Fills ws->proj (sorted) and, when tail is wanted, ws->tail[k] = integral of
