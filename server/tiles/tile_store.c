@@ -157,7 +157,8 @@ static void index_disk(tile_store *ts)
         files[n++] = f;
     }
     closedir(d);
-    qsort(files, n, sizeof *files, by_mtime_desc);
+    if (n > 1)
+        qsort(files, n, sizeof *files, by_mtime_desc);
     for (size_t i = 0; i < n; i++) {
         tile_entry *e = calloc(1, sizeof *e);
         if (!e)
