@@ -8,6 +8,8 @@
 
 #include "raster_traverse.h"
 
+#define AA_RASTER_MAX_CACHE (1 << 26) /* coverage cache entries (256 MiB of floats) */
+
 double aa_output_offset(int kernel_size)
 {
     return kernel_size / 2.0 - (kernel_size - 1) / 2;
@@ -51,11 +53,12 @@ static double shared_pixel(shared_render *r, int i, int j)
         size_t t = ker->tile_index[n];
         int a = ci + r->da[r->first[k] + n], b = cj + r->db[r->first[k] + n];
         size_t idx = ((size_t)(b - r->cy0) * r->ncx + (size_t)(a - r->cx0)) * r->p->tile_count + t;
-        float v = r->cache[idx];
+        float v = r->cache ? r->cache[idx] : NAN;
         if (isnan(v)) {
             v = (float)aa_scene_value(r->scene, r->p->tile_samples[t].x + (double)T * a,
                                       r->p->tile_samples[t].y + (double)T * b);
-            r->cache[idx] = v;
+            if (r->cache)
+                r->cache[idx] = v;
             r->evaluated++;
         }
         sum += ker->samples[n].w * v;
@@ -95,13 +98,12 @@ static int render_shared(const aa_scene *s, const aa_pattern *p, aa_image *out, 
     r.cy0 = floor_div(reg.y0, r.T) + bmin;
     r.ncx = floor_div(reg.x1 - 1, r.T) + amax - r.cx0 + 1;
     r.ncy = floor_div(reg.y1 - 1, r.T) + bmax - r.cy0 + 1;
-    size_t cells = (size_t)r.ncx * (size_t)r.ncy * p->tile_count;
-    r.cache = malloc(cells * sizeof *r.cache);
-    if (!r.cache) {
-        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
-        goto done;
-    }
-    for (size_t c = 0; c < cells; c++)
+    /* Kernels reaching far beyond the region would need a huge cache: evaluate those samples
+     * per read instead (same values, only shared evaluation is lost). */
+    double cells_d = (double)r.ncx * (double)r.ncy * (double)p->tile_count;
+    size_t cells = cells_d <= AA_RASTER_MAX_CACHE ? (size_t)cells_d : 0;
+    r.cache = cells ? malloc(cells * sizeof *r.cache) : NULL;
+    for (size_t c = 0; r.cache && c < cells; c++)
         r.cache[c] = NAN;
     size_t rw = (size_t)(reg.x1 - reg.x0);
     for (int j = reg.y0; j < reg.y1; j++)

@@ -96,6 +96,17 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
         reply_engine_error(resp, &err);
         goto done;
     }
+    size_t widest = 0;
+    for (size_t k = 0; k < pattern.kernel_count; k++)
+        widest = pattern.kernels[k].count > widest ? pattern.kernels[k].count : widest;
+    if ((double)rp.scene.width * rp.scene.height * (double)widest >
+        (double)RENDER_MAX_KERNEL_WORK) {
+        api_reply_error(resp, 400, "too_large", "pattern",
+                        "%zu samples per kernel on %d x %d pixels is too much work here; use a "
+                        "compare job",
+                        widest, rp.scene.width, rp.scene.height);
+        goto done;
+    }
     rp.reference = ref.params;
     rp.acuity = &acuity;
     double deadline = aa_seconds_now() + RENDER_TIME_BUDGET_SECONDS;

@@ -360,6 +360,75 @@ static void test_diff_stats_and_difference_image(void **state)
     aa_image_free(&r);
 }
 
+/* Even kernels reconstruct at pixel corners (L&A Fig. 3): a P(4,4,16) pattern with weights
+ * from the filter matches the reference on the shifted grid, and clearly not on the
+ * unshifted one. */
+static void test_even_kernel_uses_shifted_output_grid(void **state)
+{
+    (void)state;
+    aa_filter f;
+    aa_filter_default(&f);
+    aa_point pts[4 * 16];
+    for (int k = 0; k < 64; k++)
+        pts[k] = (aa_point){(k % 8 + 0.5) / 4, (k / 8 + 0.5) / 4}; /* 4 x 4 per pixel */
+    aa_tile_spec spec = {2, 2, false, 64, pts, NULL, NULL, &f};
+    aa_pattern p;
+    assert_int_equal(aa_pattern_from_tile(&p, &spec, 0, NULL), AA_OK);
+    assert_int_equal(p.kernel_size, 2);
+    assert_float_equal(aa_output_offset(2), 1.0, 0);
+    aa_scene_params sp = aa_scene_params_default(AA_SCENE_HALF_PLANE);
+    sp.width = sp.height = 24;
+    sp.angle_deg = 30;
+    aa_scene s = make_scene(sp);
+    aa_image pat, ref;
+    assert_int_equal(aa_image_init(&pat, 24, 24, NULL), AA_OK);
+    assert_int_equal(aa_image_init(&ref, 24, 24, NULL), AA_OK);
+    assert_int_equal(aa_render_pattern(&s, &p, true, &pat, NULL, NULL, NULL), AA_OK);
+    aa_reference_params rp = aa_reference_params_default();
+    rp.spp = 256;
+    aa_diff_stats good, bad;
+    assert_int_equal(aa_render_reference(&s, &rp, 1.0, &ref, NULL, NULL, NULL), AA_OK);
+    aa_diff_init(&good);
+    aa_diff_add(&good, &pat, &ref);
+    aa_diff_finish(&good);
+    assert_int_equal(aa_render_reference(&s, &rp, 0.5, &ref, NULL, NULL, NULL), AA_OK);
+    aa_diff_init(&bad);
+    aa_diff_add(&bad, &pat, &ref);
+    aa_diff_finish(&bad);
+    print_message("P(4,4,16) filter weights: RMSE %.2f on the shifted grid, %.2f unshifted\n",
+                  good.rmse, bad.rmse);
+    assert_true(good.rmse < 0.4 * bad.rmse);
+    aa_image_free(&pat);
+    aa_image_free(&ref);
+    aa_pattern_free(&p);
+}
+
+/* s not a square: kernels cycle over the pixels in row-major order, nothing shared. */
+static void test_unshared_kernels_cycle_over_pixels(void **state)
+{
+    (void)state;
+    const aa_sample k0[] = {{0, 0, 1}}, k1[] = {{0.3, 0, 1}}, k2[] = {{-0.3, 0, 1}};
+    const aa_sample *ks[] = {k0, k1, k2};
+    const size_t counts[] = {1, 1, 1};
+    aa_pattern p;
+    assert_int_equal(aa_pattern_from_kernels(&p, ks, counts, 3, 0, NULL), AA_OK);
+    assert_int_equal(p.tile, 0);
+    aa_scene_params sp = aa_scene_params_default(AA_SCENE_HALF_PLANE);
+    sp.width = sp.height = 8;
+    sp.offset = 0.75; /* edge at x = 4.75: value 1 left of it */
+    aa_scene s = make_scene(sp);
+    aa_image img;
+    assert_int_equal(aa_image_init(&img, 8, 8, NULL), AA_OK);
+    assert_int_equal(aa_render_pattern(&s, &p, true, &img, NULL, NULL, NULL), AA_OK);
+    for (int j = 0; j < 8; j++) {
+        size_t k = ((size_t)j * 8 + 4) % 3; /* kernel of pixel (4, j), centre 4.5 */
+        float want = k == 1 ? 0.0f : 1.0f;  /* 4.8 is past the edge, 4.2 and 4.5 are not */
+        assert_float_equal(img.px[j * 8 + 4], want, 0);
+    }
+    aa_image_free(&img);
+    aa_pattern_free(&p);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -372,6 +441,8 @@ int main(void)
         cmocka_unit_test(test_every_scene_with_every_preset),
         cmocka_unit_test(test_reference_is_deterministic_and_spp_validated),
         cmocka_unit_test(test_diff_stats_and_difference_image),
+        cmocka_unit_test(test_even_kernel_uses_shifted_output_grid),
+        cmocka_unit_test(test_unshared_kernels_cycle_over_pixels),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
