@@ -35,11 +35,11 @@ static uint64_t pixel_seed(uint64_t seed, int px, int py)
 }
 
 /* The 1-D filter: the Mitchell-Netravali cubic directly (hot loop), other kinds through
- * aa_filter_eval; both have unit integral (the estimator is not renormalised). */
+ * aa_filter_eval, both scaled to unit integral (the estimator is not renormalised). */
 typedef struct filter_1d {
     const aa_filter *f;   /* NULL: the Mitchell-Netravali fast path below */
     double B, C, to_unit; /* Mitchell: t = |x| * to_unit in [0, 2) */
-    double norm;          /* Mitchell: 2 / radius, for unit integral */
+    double norm;          /* factor for unit integral */
 } filter_1d;
 
 static double filter_h(const filter_1d *f, double x)
@@ -58,7 +58,22 @@ static double filter_h(const filter_1d *f, double x)
                 (8 * B + 24 * C)) /
                6;
     }
-    return aa_filter_eval(f->f, x);
+    return f->norm * aa_filter_eval(f->f, x);
+}
+
+/* 1 / integral of aa_filter_eval over [-R, R] (composite Simpson, 4096 intervals), so that
+ * the sampled part of the estimator matches the exact CDF part whatever scale the filter's
+ * impulse response is stored with. */
+static double impulse_norm(const aa_filter *f)
+{
+    const int n = 4096;
+    double R = f->radius, h = 2 * R / n, sum = 0;
+    for (int k = 0; k <= n; k++) {
+        double w = (k == 0 || k == n) ? 1 : (k % 2 ? 4 : 2);
+        sum += w * aa_filter_eval(f, -R + k * h);
+    }
+    sum *= h / 3;
+    return sum > 0 ? 1.0 / sum : 1.0;
 }
 
 typedef struct accumulator {
@@ -171,6 +186,8 @@ int aa_render_reference(const aa_scene *s, const aa_reference_params *rp, double
     if (!(R > 0 && R <= 8))
         return aa_error_set(err, AA_EINVAL, "filter", "reference filter radius must be in (0, 8]");
     filter_1d h = {f, 0, 0, 0, 1};
+    if (f->kind != AA_FILTER_MITCHELL)
+        h.norm = impulse_norm(f);
     if (f->kind == AA_FILTER_MITCHELL) {
         /* The classic cubic has support 2 and unit integral; scale it to the radius. */
         h.f = NULL;
