@@ -23,7 +23,9 @@ static bool known_key(const char *key)
 static void reply_engine_error(api_response *resp, const aa_error *err)
 {
     int status = err->code == AA_ENOMEM ? 503 : 400;
-    const char *code = err->code == AA_ENOMEM ? "unavailable" : "invalid";
+    const char *code = err->code == AA_ENOMEM   ? "internal"
+                       : err->code == AA_ERANGE ? "out_of_range"
+                                                : "invalid_field";
     api_reply_error(resp, status, code, err->field, "%s", err->message);
 }
 
@@ -38,7 +40,7 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
 {
     tile_store *ts = api_context_tiles(ctx);
     if (!ts) {
-        api_reply_error(resp, 503, "unavailable", "", "the tile store is not configured");
+        api_reply_error(resp, 500, "internal", "", "the tile store is not configured");
         return;
     }
     json_error_t jerr;
@@ -61,13 +63,13 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
     const char *key;
     json_t *v;
     if (!json_is_object(root)) {
-        api_reply_error(resp, 400, "invalid", "", "body must be a JSON object");
+        api_reply_error(resp, 400, "invalid_field", "", "body must be a JSON object");
         goto done;
     }
     json_object_foreach(root, key, v)
     {
         if (!known_key(key)) {
-            api_reply_error(resp, 400, "invalid", key, "unknown field");
+            api_reply_error(resp, 400, "invalid_field", key, "unknown field");
             goto done;
         }
     }
@@ -76,14 +78,14 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
         goto done;
     }
     if ((long long)rp.scene.width * rp.scene.height > RENDER_MAX_PIXELS) {
-        api_reply_error(resp, 400, "too_large", "scene.width",
+        api_reply_error(resp, 400, "out_of_range", "scene.width",
                         "at most %d pixels per tile here; use a compare job for larger renders",
                         RENDER_MAX_PIXELS);
         goto done;
     }
     json_t *pj = json_object_get(root, "pattern");
     if (!pj) {
-        api_reply_error(resp, 400, "invalid", "pattern", "a pattern is required");
+        api_reply_error(resp, 400, "invalid_field", "pattern", "a pattern is required");
         goto done;
     }
     int rc = tile_pattern_from_preset_name(pj, &pattern, "pattern", &err);
@@ -101,7 +103,7 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
         widest = pattern.kernels[k].count > widest ? pattern.kernels[k].count : widest;
     if ((double)rp.scene.width * rp.scene.height * (double)widest >
         (double)RENDER_MAX_KERNEL_WORK) {
-        api_reply_error(resp, 400, "too_large", "pattern",
+        api_reply_error(resp, 400, "out_of_range", "pattern",
                         "%zu samples per kernel on %d x %d pixels is too much work here; use a "
                         "compare job",
                         widest, rp.scene.width, rp.scene.height);
@@ -114,7 +116,7 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
     rp.reference.user = &deadline;
     rc = aa_render_tile(&rp, &pattern, &result, &err);
     if (rc == AA_ECANCELED) {
-        api_reply_error(resp, 422, "too_expensive", "reference.spp",
+        api_reply_error(resp, 422, "out_of_range", "reference.spp",
                         "the reference exceeded %.0f s; lower spp or submit a compare job",
                         RENDER_TIME_BUDGET_SECONDS);
         goto done;
@@ -128,7 +130,7 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
     rp.reference.user = NULL;
     json_t *out = tile_render_result_json(ts, &rp, &pattern, &result, &crop, &err);
     if (!out) {
-        api_reply_error(resp, 503, "unavailable", "", "%s", err.message);
+        api_reply_error(resp, 503, "internal", "", "%s", err.message);
         goto done;
     }
     json_t *enc = proto_encode_pattern(&pattern);
@@ -147,7 +149,7 @@ void handle_tile(api_context *ctx, const api_request *req, api_response *resp, c
     (void)req;
     tile_store *ts = api_context_tiles(ctx);
     if (!ts) {
-        api_reply_error(resp, 503, "unavailable", "", "the tile store is not configured");
+        api_reply_error(resp, 500, "internal", "", "the tile store is not configured");
         return;
     }
     char bare[TILE_ID_LEN + 1];
@@ -155,7 +157,8 @@ void handle_tile(api_context *ctx, const api_request *req, api_response *resp, c
     if (n == TILE_ID_LEN + 4 && strcmp(id + TILE_ID_LEN, ".png") == 0)
         n = TILE_ID_LEN;
     if (n != TILE_ID_LEN) {
-        api_reply_error(resp, 400, "invalid", "id", "a tile id is %d hex characters", TILE_ID_LEN);
+        api_reply_error(resp, 400, "invalid_field", "id", "a tile id is %d hex characters",
+                        TILE_ID_LEN);
         return;
     }
     memcpy(bare, id, TILE_ID_LEN);
@@ -164,8 +167,8 @@ void handle_tile(api_context *ctx, const api_request *req, api_response *resp, c
     size_t len;
     int rc = tile_store_get(ts, bare, &data, &len);
     if (rc == AA_EINVAL) {
-        api_reply_error(resp, 400, "invalid", "id", "a tile id is %d lowercase hex characters",
-                        TILE_ID_LEN);
+        api_reply_error(resp, 400, "invalid_field", "id",
+                        "a tile id is %d lowercase hex characters", TILE_ID_LEN);
         return;
     }
     if (rc == TILE_ENOENT) {
@@ -176,7 +179,7 @@ void handle_tile(api_context *ctx, const api_request *req, api_response *resp, c
         return;
     }
     if (rc) {
-        api_reply_error(resp, 503, "unavailable", "", "out of memory");
+        api_reply_error(resp, 503, "internal", "", "out of memory");
         return;
     }
     resp->status = 200;
