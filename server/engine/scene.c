@@ -309,8 +309,8 @@ static bool polygon_box(const aa_scene *s, double x0, double y0, double x1, doub
 }
 
 /* Radial scenes: constant inside the disc of s->radius when k_lo == k_hi. */
-static bool radial_box(const aa_scene *s, double dmin, double dmax, long long k_lo, long long k_hi,
-                       double inner, double *value)
+static bool radial_box(const aa_scene *s, double dmax, long long k_lo, long long k_hi, double inner,
+                       double *value)
 {
     if (k_lo != k_hi)
         return false;
@@ -368,12 +368,12 @@ static bool box_uniform(const aa_scene *s, double x0, double y0, double x1, doub
         if (s->p.kind == AA_SCENE_SIEMENS_STAR) {
             long long lo = floor_ll((amin - s->angle0) / s->sector);
             long long hi = floor_ll((amax - s->angle0) / s->sector);
-            return radial_box(s, dmin, dmax, lo, hi, 1.0 - parity_value(lo), value);
+            return radial_box(s, dmax, lo, hi, 1.0 - parity_value(lo), value);
         }
         double ph_lo = 2.0 * (dmin / s->pitch - amax / (2 * PI)) - MARGIN;
         double ph_hi = 2.0 * (dmax / s->pitch - amin / (2 * PI)) + MARGIN;
         long long lo = floor_ll(ph_lo), hi = floor_ll(ph_hi);
-        return radial_box(s, dmin, dmax, lo, hi, parity_value(lo), value);
+        return radial_box(s, dmax, lo, hi, parity_value(lo), value);
     }
     case AA_SCENE_RINGS:
     case AA_SCENE_TRANSLATING_CIRCLE: {
