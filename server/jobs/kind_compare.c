@@ -144,13 +144,14 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
     aa_image img;
     memset(&img, 0, sizeof img);
     rc = aa_image_init(&img, cp->scene.width, cp->scene.height, err);
-    double steps = (double)cp->count + 2;
+    /* Work units: each reference render and each pattern render is one; progress only grows. */
+    double steps = (double)cp->count + 2, units = 0;
     for (size_t i = 0; i < cp->count && !rc; i++) {
         const aa_pattern *p = &cp->patterns[i];
         int s = p->kernel_size % 2 == 0;
         double off = aa_output_offset(p->kernel_size);
         if (!slot[s].done) {
-            cancel_probe probe = {ctx, (double)i / steps, 1.0 / steps};
+            cancel_probe probe = {ctx, units / steps, 1.0 / steps};
             aa_reference_params rp = cp->ref.params;
             rp.progress = reference_progress;
             rp.user = &probe;
@@ -162,6 +163,7 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
             if (rc)
                 break;
             slot[s].done = true;
+            units += 1;
             if (ts && cp->tiles)
                 slot[s].tile = tile_put_image(ts, &slot[s].img, NULL);
             json_array_append_new(
@@ -198,7 +200,8 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
                                 json_pack("{s:o*, s:o*}", "pattern", tp, "difference", td));
         }
         json_array_append_new(rows, row);
-        if (job_ctx_progress(ctx, (i + 2.0) / steps, NULL))
+        units += 1;
+        if (job_ctx_progress(ctx, units / steps, NULL))
             rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
     }
     if (!rc) {

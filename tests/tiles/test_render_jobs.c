@@ -85,12 +85,19 @@ static void test_compare_rows(void **state)
     int rc = run(&job_kind_compare,
                  "{\"kind\":\"compare\",\"scene\":{\"name\":\"siemens-star\",\"width\":48,"
                  "\"height\":48},\"reference\":{\"spp\":64},\"patterns\":[\"centroid\","
-                 "\"flipquad\",{\"preset\":\"rgss\"},{\"kernels\":[[[0,0,1]]]}]}",
+                 "\"flipquad\",{\"preset\":\"rgss\"},{\"kernels\":[[[0,0,1]]]},"
+                 "{\"tile\":{\"size\":1,\"kernel\":2,\"samples\":[[0.25,0.25],[0.75,0.25],"
+                 "[0.25,0.75],[0.75,0.75]]}}]}",
                  &ctx, &res, &err);
     assert_int_equal(rc, AA_OK);
     json_t *rows = json_object_get(res, "rows");
-    assert_int_equal(json_array_size(rows), 4);
+    assert_int_equal(json_array_size(rows), 5);
+    /* Odd and even kernels are compared against references on their own output grids. */
+    assert_int_equal(json_array_size(json_object_get(json_object_get(res, "reference"), "renders")),
+                     2);
     json_t *centroid = json_array_get(rows, 0), *flipquad = json_array_get(rows, 1);
+    assert_true(json_real_value(json_object_get(json_array_get(rows, 4), "rmse")) <
+                json_real_value(json_object_get(centroid, "rmse")));
     assert_string_equal(json_string_value(json_object_get(centroid, "name")), "centroid");
     assert_string_equal(json_string_value(json_object_get(flipquad, "name")), "flipquad");
     assert_float_equal(json_real_value(json_object_get(flipquad, "samples_per_pixel")), 2, 0);
