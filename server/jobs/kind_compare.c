@@ -10,6 +10,7 @@
 #include "codec.h"
 #include "job_kind.h"
 #include "render.h"
+#include "tile_parallel.h"
 #include "tile_render.h"
 #include "tile_store.h"
 
@@ -158,7 +159,8 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
             rc = aa_image_init(&slot[s].img, cp->scene.width, cp->scene.height, err);
             double t0 = aa_seconds_now();
             if (!rc)
-                rc = aa_render_reference(&scene, &rp, off, &slot[s].img, NULL, &slot[s].st, err);
+                rc = tile_reference_parallel(&scene, &rp, off, &slot[s].img, job_ctx_workers(ctx),
+                                             &slot[s].st, err);
             slot[s].seconds = aa_seconds_now() - t0;
             if (rc)
                 break;

@@ -10,6 +10,7 @@
 #include "job_kind.h"
 #include "raster.h"
 #include "render.h"
+#include "tile_parallel.h"
 #include "tile_render.h"
 
 #define CONVERGENCE_MAX_LEVELS 8
@@ -126,7 +127,8 @@ static int render_level(const aa_scene *scene, const convergence_params *cp, int
     rp.progress = reference_progress;
     rp.user = probe;
     double t0 = aa_seconds_now();
-    int rc = aa_render_reference(scene, &rp, aa_output_offset(cp->kernel_size), img, NULL, st, err);
+    int rc = tile_reference_parallel(scene, &rp, aa_output_offset(cp->kernel_size), img,
+                                     job_ctx_workers(probe->ctx), st, err);
     *seconds = aa_seconds_now() - t0;
     return rc;
 }

@@ -47,7 +47,7 @@ bool job_ctx_cancelled(const job_ctx *ctx)
 int job_ctx_workers(const job_ctx *ctx)
 {
     (void)ctx;
-    return 1;
+    return 2; /* exercises the banded reference */
 }
 
 void *job_ctx_services(job_ctx *ctx)

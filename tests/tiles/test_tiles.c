@@ -16,6 +16,7 @@
 
 #include "png_encode.h"
 #include "presets.h"
+#include "tile_parallel.h"
 #include "tile_render.h"
 #include "tile_store.h"
 
@@ -244,6 +245,39 @@ static void test_render_result_json_and_tiles(void **state)
     tile_store_destroy(ts);
 }
 
+static int stop_at_half(void *user, double fraction)
+{
+    (void)user;
+    return fraction > 0.5;
+}
+
+/* Bands on threads give the very image one call gives; cancellation stops all bands. */
+static void test_parallel_reference_is_identical(void **state)
+{
+    (void)state;
+    aa_scene_params sp = aa_scene_params_default(AA_SCENE_CHECKERBOARD);
+    sp.width = 40;
+    sp.height = 50;
+    aa_scene s;
+    assert_int_equal(aa_scene_init(&s, &sp, NULL), AA_OK);
+    aa_image a, b;
+    assert_int_equal(aa_image_init(&a, 40, 50, NULL), AA_OK);
+    assert_int_equal(aa_image_init(&b, 40, 50, NULL), AA_OK);
+    aa_reference_params rp = aa_reference_params_default();
+    rp.spp = 16;
+    aa_reference_stats one, many;
+    assert_int_equal(aa_render_reference(&s, &rp, 0.5, &a, NULL, &one, NULL), AA_OK);
+    assert_int_equal(tile_reference_parallel(&s, &rp, 0.5, &b, 3, &many, NULL), AA_OK);
+    assert_memory_equal(a.px, b.px, sizeof(float) * 40 * 50);
+    assert_int_equal(one.pixels_supersampled, many.pixels_supersampled);
+    assert_true(many.input_pixels >= one.input_pixels);
+    rp.progress = stop_at_half;
+    aa_error err = {0};
+    assert_int_equal(tile_reference_parallel(&s, &rp, 0.5, &b, 3, NULL, &err), AA_ECANCELED);
+    aa_image_free(&a);
+    aa_image_free(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -253,6 +287,7 @@ int main(void)
         cmocka_unit_test(test_store_is_thread_safe),
         cmocka_unit_test(test_decoding_names_fields),
         cmocka_unit_test(test_render_result_json_and_tiles),
+        cmocka_unit_test(test_parallel_reference_is_identical),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
