@@ -24,7 +24,9 @@
 
 typedef struct aa_raster_stats {
     size_t pixels;            /* output pixels computed (the region) */
-    size_t pixels_sampled;    /* of which an edge crosses the kernel footprint */
+    size_t pixels_sampled;    /* of which the traversal could not settle (an edge crosses the
+                               * kernel footprint; for a one-point kernel the box test is the
+                               * sample itself, so this can be 0) */
     size_t samples_evaluated; /* distinct global samples whose coverage was evaluated */
 } aa_raster_stats;
 
