@@ -42,12 +42,15 @@ static void test_box_uniform_is_conservative(void **state)
 {
     (void)state;
     uint64_t rng = 7;
-    for (int kind = 0; kind < AA_SCENE_KIND_COUNT; kind++) {
+    for (int pass = 0; pass < 2 * AA_SCENE_KIND_COUNT; pass++) {
+        int kind = pass % AA_SCENE_KIND_COUNT;
         aa_scene_params p = aa_scene_params_default((aa_scene_kind)kind);
         p.width = 64;
         p.height = 48;
         p.angle_deg = 13;
         p.frame = 3;
+        p.mirror_x = pass >= AA_SCENE_KIND_COUNT; /* mirrored boxes too */
+        p.mirror_y = pass >= AA_SCENE_KIND_COUNT && kind % 2;
         aa_scene s;
         assert_int_equal(aa_scene_init(&s, &p, NULL), AA_OK);
         int uniform = 0;
