@@ -1,0 +1,31 @@
+#define _POSIX_C_SOURCE 200809L
+#include "socket_path.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+
+#define SYSTEM_SOCKET "/run/aalab/aalabd.sock"
+
+static int copy_path(const char *src, char *out, size_t cap)
+{
+    int n = snprintf(out, cap, "%s", src);
+    return n < 0 || (size_t)n >= cap ? -1 : 0;
+}
+
+int socket_path_resolve(const char *explicit_path, char *out, size_t cap)
+{
+    if (explicit_path && *explicit_path)
+        return copy_path(explicit_path, out, cap);
+    const char *env = getenv("AALAB_SOCKET");
+    if (env && *env)
+        return copy_path(env, out, cap);
+    const char *runtime = getenv("XDG_RUNTIME_DIR");
+    if (runtime && *runtime) {
+        int n = snprintf(out, cap, "%s/aalab/aalabd.sock", runtime);
+        struct stat st;
+        if (n > 0 && (size_t)n < cap && stat(out, &st) == 0 && S_ISSOCK(st.st_mode))
+            return 0;
+    }
+    return copy_path(SYSTEM_SOCKET, out, cap);
+}
