@@ -97,8 +97,10 @@ int cli_call_raw(cli_session *s, const char *method, const char *path, http_resp
 
 const char *fmt_number(char *buf, size_t cap, const json_t *v, int decimals)
 {
-    if (json_is_integer(v))
+    if (json_is_integer(v) && decimals == 0)
         snprintf(buf, cap, "%lld", (long long)json_integer_value(v));
+    else if (json_is_integer(v)) /* same column format whether the server wrote 2 or 2.0 */
+        snprintf(buf, cap, "%.*f", decimals, (double)json_integer_value(v));
     else if (json_is_real(v) && isfinite(json_real_value(v)))
         snprintf(buf, cap, "%.*f", decimals, json_real_value(v));
     else if (json_is_string(v))
