@@ -1,10 +1,30 @@
-/* Local pattern check. Uses the shared codec (proto/codec.h) so that the client and the daemon
- * accept exactly the same files. */
+/* Local pattern check with the shared codec (proto/codec.h): the client accepts exactly the
+ * files the daemon accepts and names the same JSON path ("pattern.kernels[0][1][2]"). */
 #include "pattern_source.h"
 
 #include <stdio.h>
 #include <string.h>
 
+#ifdef AALAB_HAVE_PROTO
+#include "codec.h"
+
+int pattern_check(const json_t *pattern, char *err, size_t errcap)
+{
+    aa_pattern p;
+    aa_error e = {0};
+    int rc = proto_decode_pattern(pattern, 0, &p, "pattern", &e);
+    if (rc == AA_OK) {
+        aa_pattern_free(&p);
+        return 0;
+    }
+    if (e.field[0])
+        snprintf(err, errcap, "field %s: %s", e.field, e.message[0] ? e.message : aa_strerror(rc));
+    else
+        snprintf(err, errcap, "%s", e.message[0] ? e.message : aa_strerror(rc));
+    return -1;
+}
+#else
+/* Until the codec is in the tree: the structural rule only (exactly one wire form). */
 int pattern_check(const json_t *pattern, char *err, size_t errcap)
 {
     static const char *const FORMS[] = {"preset", "kernels", "mirrored", "tile"};
@@ -12,8 +32,9 @@ int pattern_check(const json_t *pattern, char *err, size_t errcap)
     for (size_t i = 0; i < sizeof FORMS / sizeof FORMS[0]; i++)
         forms += json_object_get(pattern, FORMS[i]) != NULL;
     if (forms != 1) {
-        snprintf(err, errcap, "a pattern has exactly one of preset, kernels, mirrored, tile");
+        snprintf(err, errcap, "field pattern: give exactly one of preset, kernels, mirrored, tile");
         return -1;
     }
     return 0;
 }
+#endif

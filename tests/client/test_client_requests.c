@@ -140,6 +140,32 @@ static void bad_files_are_local_errors(void **state)
     assert_non_null(strstr(err, "/nonexistent/p.json"));
 }
 
+/* With the shared codec the local check names the same JSON path the daemon would. */
+static void codec_names_the_field(void **state)
+{
+#ifdef AALAB_HAVE_PROTO
+    char *path = write_temp("{\"kernels\":[[[0,0,0.5],[0.25,0.25,\"x\"]]]}");
+    cli_args a = {.command = CMD_EVAL, .target = path};
+    json_t *req;
+    char err[400] = "";
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
+    if (!strstr(err, "pattern.kernels[0][1][2]"))
+        fail_msg("'%s' lacks the field path", err);
+    unlink(path);
+    free(path);
+    /* an encoded pattern (informational keys included) is accepted */
+    path = write_temp("{\"family\":\"P(1,1,1)\",\"cost_spp\":1,\"form\":\"kernels\","
+                      "\"kernels\":[[[0,0,1]]]}");
+    a.target = path;
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    json_decref(req);
+    unlink(path);
+    free(path);
+#else
+    skip();
+#endif
+}
+
 static void filter_arguments(void **state)
 {
     json_t *f;
@@ -224,6 +250,7 @@ int main(void)
         cmocka_unit_test(eval_pattern_file),
         cmocka_unit_test(eval_request_file_with_override),
         cmocka_unit_test(bad_files_are_local_errors),
+        cmocka_unit_test(codec_names_the_field),
         cmocka_unit_test(filter_arguments),
         cmocka_unit_test(angle_arguments),
         cmocka_unit_test(optimize_bodies),
