@@ -266,6 +266,21 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
     return 0;
 }
 
+bool job_id_valid(const char *id)
+{
+    size_t n = strlen(id);
+    if (n == 0 || n > 64)
+        return false;
+    for (size_t i = 0; i < n; i++) {
+        char c = id[i];
+        bool ok = (c >= '0' && c <= '9') || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                  c == '-' || c == '_';
+        if (!ok)
+            return false;
+    }
+    return true;
+}
+
 /* Checks that need the whole command line: required positionals and option combinations. */
 static int check_command(cli_args *a, char *err, size_t cap)
 {
@@ -280,11 +295,9 @@ static int check_command(cli_args *a, char *err, size_t cap)
         if (!a->target)
             return fail(err, cap, "'%s' needs %s", name,
                         a->command == CMD_EVAL ? "a preset NAME or a FILE.json" : "a job ID");
-        if (a->command != CMD_EVAL) {
-            long id;
-            if (parse_long(a->target, 1, LONG_MAX, &id))
-                return fail(err, cap, "'%s' wants a positive job ID, got '%s'", name, a->target);
-        }
+        if (a->command != CMD_EVAL && !job_id_valid(a->target))
+            return fail(err, cap, "'%s' wants a job ID (letters, digits, '-', '_'), got '%s'", name,
+                        a->target);
         break;
     case CMD_OPTIMIZE:
         if (!a->family == !a->pattern)

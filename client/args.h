@@ -63,6 +63,8 @@ cli_command cli_command_from_name(const char *name);
 /* Strict number parsing: whole string, in range. Return 0 or -1. */
 int parse_long(const char *s, long min, long max, long *out);
 int parse_double(const char *s, double min, double max, double *out);
+/* Job ids are opaque to the client: 1..64 of [A-Za-z0-9_-] (so never a path). */
+bool job_id_valid(const char *id);
 /* "256x256" -> 256, 256 (1..16384 each). */
 int parse_size(const char *s, int *w, int *h);
 

@@ -28,7 +28,7 @@ int write_output(FILE *out, FILE *err, const char *path, const char *data, size_
 
 int cmd_export(cli_session *s)
 {
-    char path[96];
+    char path[160];
     snprintf(path, sizeof path, "/v1/patterns/%s/export?format=%s", s->args->target,
              s->args->format);
     http_response resp;

@@ -1,5 +1,8 @@
 /* aalab jobs | aalab job ID | aalab cancel ID */
+#define _POSIX_C_SOURCE 200809L
 #include "commands.h"
+
+#include <time.h>
 
 #include <stdio.h>
 
@@ -11,6 +14,18 @@ static const json_t *first_of(const json_t *obj, const char *a, const char *b)
 {
     const json_t *v = json_object_get(obj, a);
     return v ? v : json_object_get(obj, b);
+}
+
+/* Epoch seconds as "2026-11-23 01:20:07" (UTC), so the column reads without a calculator. */
+static const char *fmt_time(char *buf, size_t cap, const json_t *v)
+{
+    if (!json_is_number(v))
+        return fmt_number(buf, cap, v, 0);
+    time_t t = (time_t)json_number_value(v);
+    struct tm tm;
+    if (!gmtime_r(&t, &tm) || strftime(buf, cap, "%Y-%m-%d %H:%M:%S", &tm) == 0)
+        snprintf(buf, cap, "-");
+    return buf;
 }
 
 void jobs_print(FILE *out, const json_t *resp)
@@ -36,7 +51,7 @@ void jobs_print(FILE *out, const json_t *resp)
             progress,
             fmt_number(owner, sizeof owner, first_of(job, "owner", "owner_uid"), 0),
             fmt_number(e2, sizeof e2, job_best_e2(job), 6),
-            fmt_number(created, sizeof created, first_of(job, "created", "created_at"), 0)};
+            fmt_time(created, sizeof created, first_of(job, "created", "created_at"))};
         table_add_row(t, cells);
     }
     table_print(t, out);
@@ -76,8 +91,8 @@ int cmd_jobs(cli_session *s)
 
 static int job_call(cli_session *s, const char *method)
 {
-    char path[64];
-    snprintf(path, sizeof path, "/v1/jobs/%s", s->args->target); /* digits only (args.c) */
+    char path[128];
+    snprintf(path, sizeof path, "/v1/jobs/%s", s->args->target); /* [A-Za-z0-9_-] (args.c) */
     json_t *resp;
     int code = cli_call(s, method, path, NULL, &resp);
     if (code != EXIT_OK)

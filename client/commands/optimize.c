@@ -73,10 +73,10 @@ static void sleep_seconds(double s)
 }
 
 /* Polls GET /v1/jobs/ID until the job ends; a bar on stderr when stderr is a terminal. */
-static int wait_for_job(cli_session *s, long long id)
+static int wait_for_job(cli_session *s, const char *id)
 {
-    char path[64];
-    snprintf(path, sizeof path, "/v1/jobs/%lld", id);
+    char path[128];
+    snprintf(path, sizeof path, "/v1/jobs/%s", id);
     bool tty = isatty(fileno(s->err));
     json_t *job = NULL;
     const char *state = "";
@@ -108,7 +108,7 @@ static int wait_for_job(cli_session *s, long long id)
     }
     int code = strcmp(state, "done") == 0 ? EXIT_OK : EXIT_JOB_FAILED;
     if (code != EXIT_OK)
-        fprintf(s->err, "aalab: job %lld ended %s\n", id, state);
+        fprintf(s->err, "aalab: job %s ended %s\n", id, state);
     json_decref(job);
     return code;
 }
@@ -126,12 +126,16 @@ int cmd_optimize(cli_session *s)
     if (code != EXIT_OK)
         return code;
     json_t *id = json_object_get(resp, "id");
-    if (!json_is_integer(id)) {
-        fprintf(s->err, "aalab: the daemon's answer has no job id\n");
+    char job_id[80];
+    if (json_is_integer(id))
+        snprintf(job_id, sizeof job_id, "%lld", (long long)json_integer_value(id));
+    else if (json_is_string(id) && job_id_valid(json_string_value(id)))
+        snprintf(job_id, sizeof job_id, "%s", json_string_value(id));
+    else {
+        fprintf(s->err, "aalab: the daemon's answer has no valid job id\n");
         json_decref(resp);
         return EXIT_SERVER_5XX;
     }
-    long long job_id = json_integer_value(id);
     if (s->args->wait) {
         json_decref(resp);
         return wait_for_job(s, job_id);
@@ -139,7 +143,7 @@ int cmd_optimize(cli_session *s)
     if (s->args->json)
         cli_print_json(s->out, resp);
     else
-        fprintf(s->out, "job %lld queued\n", job_id);
+        fprintf(s->out, "job %s queued\n", job_id);
     json_decref(resp);
     return EXIT_OK;
 }

@@ -150,7 +150,7 @@ id=$(jq -r .id <<<"$out")
 expect 0 "jobs" -- A jobs
 has "optimize" "jobs table lists the optimize job"
 expect 0 "jobs --json" -- A jobs --json
-jq -e --argjson id "$id" '(.jobs // .) | map(select(.id == $id)) | length == 1' <<<"$out" >/dev/null &&
+jq -e --arg id "$id" '(.jobs // .) | map(select((.id | tostring) == $id)) | length == 1' <<<"$out" >/dev/null &&
   ok "jobs JSON has job $id" || bad "jobs JSON: ${out:0:400}"
 expect 0 "job ID" -- A job "$id"
 has "done" "job table shows done"
@@ -173,7 +173,7 @@ expect 2 "export of an unknown job" -- A export 999999 --format json
 expect 2 "job of an unknown id" -- A job 999999
 
 # --- cancel: a waiting client sees the job end cancelled, exit 5 ----------------------------------
-A --json optimize --family 'P(4,1+,3)' --seeds 2000 --max-seconds 120 --rng-seed 1 --wait --poll 0.05 \
+A --json optimize --family 'P(4,1+,2)' --seeds 5000 --max-seconds 120 --rng-seed 1 --wait --poll 0.05 \
   >"$tmp/wait.out" 2>"$tmp/wait.err" &
 waiter=$!
 long=""

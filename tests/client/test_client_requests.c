@@ -223,12 +223,12 @@ static void render_bodies(void **state)
     json_t *req;
     char err[256];
     assert_int_equal(render_request(&a, &req, err, sizeof err), 0);
-    assert_json(req, "{\"pattern\":{\"preset\":\"quincunx\"},\"scene\":\"siemens-star\","
-                     "\"size\":[256,128]}");
+    assert_json(req, "{\"pattern\":{\"preset\":\"quincunx\"},\"scene\":{\"name\":"
+                     "\"siemens-star\",\"width\":256,\"height\":128}}");
     json_decref(req);
     cli_args b = {.command = CMD_RENDER, .pattern = "rgss", .scene = "circles"};
     assert_int_equal(render_request(&b, &req, err, sizeof err), 0);
-    assert_json(req, "{\"pattern\":{\"preset\":\"rgss\"},\"scene\":\"circles\"}");
+    assert_json(req, "{\"pattern\":{\"preset\":\"rgss\"},\"scene\":{\"name\":\"circles\"}}");
     json_decref(req);
 }
 

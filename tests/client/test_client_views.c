@@ -89,13 +89,14 @@ static void jobs_table(void **state)
 {
     json_t *r = doc("{\"jobs\":[{\"id\":3,\"kind\":\"optimize\",\"state\":\"running\","
                     "\"progress\":0.425,\"owner\":1000,\"best\":{\"e2\":0.3712}},"
-                    "{\"id\":4,\"kind\":\"render\",\"state\":\"queued\",\"progress\":0}]}");
+                    "{\"id\":\"4\",\"kind\":\"render\",\"state\":\"queued\",\"progress\":0,"
+                    "\"owner_uid\":0,\"created\":1763861207.5}]}");
     capture c;
     jobs_print(capture_begin(&c), r);
     const char *text = capture_end(&c);
     contains(text, "id  kind      state    progress  owner   best_e2  created\n");
-    contains(text, " 3  optimize  running       42%   1000  0.371200        -\n");
-    contains(text, " 4  render    queued         0%      -         -        -\n");
+    contains(text, " 3  optimize  running       42%   1000  0.371200  -\n");
+    contains(text, " 4  render    queued         0%      0         -  2025-11-23 01:26:47\n");
     capture_free(&c);
     json_decref(r);
 }
