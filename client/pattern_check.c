@@ -5,7 +5,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#ifdef AALAB_HAVE_PROTO
 #include "codec.h"
 
 int pattern_check(const json_t *pattern, char *err, size_t errcap)
@@ -23,18 +22,3 @@ int pattern_check(const json_t *pattern, char *err, size_t errcap)
         snprintf(err, errcap, "%s", e.message[0] ? e.message : aa_strerror(rc));
     return -1;
 }
-#else
-/* Until the codec is in the tree: the structural rule only (exactly one wire form). */
-int pattern_check(const json_t *pattern, char *err, size_t errcap)
-{
-    static const char *const FORMS[] = {"preset", "kernels", "mirrored", "tile"};
-    size_t forms = 0;
-    for (size_t i = 0; i < sizeof FORMS / sizeof FORMS[0]; i++)
-        forms += json_object_get(pattern, FORMS[i]) != NULL;
-    if (forms != 1) {
-        snprintf(err, errcap, "field pattern: give exactly one of preset, kernels, mirrored, tile");
-        return -1;
-    }
-    return 0;
-}
-#endif

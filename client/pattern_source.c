@@ -5,6 +5,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "args.h"
+
 bool pattern_argument_is_file(const char *arg)
 {
     size_t n = strlen(arg);
@@ -18,6 +20,14 @@ int pattern_argument_load(const char *arg, json_t **pattern, json_t **extras, ch
     *pattern = NULL;
     if (extras)
         *extras = NULL;
+    if (strncmp(arg, "job:", 4) == 0) { /* the best pattern of a job, resolved by the daemon */
+        if (!job_id_valid(arg + 4)) {
+            snprintf(err, errcap, "'%s': job:ID wants a job ID", arg);
+            return -1;
+        }
+        *pattern = json_pack("{s:s}", "job", arg + 4);
+        return *pattern ? 0 : -1;
+    }
     if (!pattern_argument_is_file(arg)) {
         *pattern = json_pack("{s:s}", "preset", arg);
         return *pattern ? 0 : -1;

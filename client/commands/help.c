@@ -12,6 +12,7 @@ static const char OVERVIEW[] =
     "  eval NAME|FILE.json   E2 of a preset or a pattern file (checked locally first)\n"
     "  presets [NAME]        the classic patterns, or one of them\n"
     "  optimize ...          submit an optimization job (--wait to follow it)\n"
+    "  (a pattern argument is a preset NAME, a FILE.json, or job:ID for a job's best)\n"
     "  jobs                  list jobs\n"
     "  job ID                one job: state, progress, best so far, trace summary\n"
     "  cancel ID             cancel a queued or running job (owner or root)\n"

@@ -143,7 +143,6 @@ static void bad_files_are_local_errors(void **state)
 /* With the shared codec the local check names the same JSON path the daemon would. */
 static void codec_names_the_field(void **state)
 {
-#ifdef AALAB_HAVE_PROTO
     char *path = write_temp("{\"kernels\":[[[0,0,0.5],[0.25,0.25,\"x\"]]]}");
     cli_args a = {.command = CMD_EVAL, .target = path};
     json_t *req;
@@ -161,9 +160,6 @@ static void codec_names_the_field(void **state)
     json_decref(req);
     unlink(path);
     free(path);
-#else
-    skip();
-#endif
 }
 
 static void filter_arguments(void **state)
@@ -226,6 +222,12 @@ static void render_bodies(void **state)
     assert_json(req, "{\"pattern\":{\"preset\":\"quincunx\"},\"scene\":{\"name\":"
                      "\"siemens-star\",\"width\":256,\"height\":128}}");
     json_decref(req);
+    cli_args j = {.command = CMD_RENDER, .pattern = "job:17"};
+    assert_int_equal(render_request(&j, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"job\":\"17\"},\"scene\":{\"name\":\"siemens-star\"}}");
+    json_decref(req);
+    j.pattern = "job:../x";
+    assert_int_equal(render_request(&j, &req, err, sizeof err), -1);
     cli_args b = {.command = CMD_RENDER, .pattern = "rgss", .scene = "circles"};
     assert_int_equal(render_request(&b, &req, err, sizeof err), 0);
     assert_json(req, "{\"pattern\":{\"preset\":\"rgss\"},\"scene\":{\"name\":\"circles\"}}");
