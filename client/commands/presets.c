@@ -9,6 +9,19 @@
 #include "../table.h"
 #include "view_util.h"
 
+/* published_e2 is a number, or {"laine-aila-table-2": 0.439} naming its source. */
+static const json_t *published_e2(const json_t *preset)
+{
+    const json_t *v = json_object_get(preset, "published_e2");
+    if (json_is_object(v)) {
+        const char *key;
+        json_t *inner;
+        json_object_foreach((json_t *)v, key, inner) if (json_is_number(inner)) return inner;
+        return NULL;
+    }
+    return v;
+}
+
 void presets_print(FILE *out, const json_t *resp)
 {
     const char *headers[] = {"name", "family", "cost_spp", "published_e2", "source"};
@@ -23,7 +36,7 @@ void presets_print(FILE *out, const json_t *resp)
         const char *cells[] = {fmt_string(json_object_get(p, "name")),
                                fmt_string(json_object_get(p, "family")),
                                fmt_number(cost, sizeof cost, json_object_get(p, "cost_spp"), 2),
-                               fmt_number(e2, sizeof e2, json_object_get(p, "published_e2"), 3),
+                               fmt_number(e2, sizeof e2, published_e2(p), 3),
                                fmt_string(json_object_get(p, "source"))};
         table_add_row(t, cells);
     }

@@ -68,13 +68,15 @@ static void presets_table(void **state)
     json_t *r = doc("{\"presets\":[{\"name\":\"quincunx\",\"family\":\"P(1,1,2)\","
                     "\"cost_spp\":2,\"published_e2\":0.518,\"source\":\"NVIDIA\"},"
                     "{\"name\":\"flipquad\",\"family\":\"P(4,1+,2)\",\"cost_spp\":2.0,"
-                    "\"published_e2\":null,\"source\":\"Akenine-Moller\"}]}");
+                    "\"published_e2\":null,\"source\":\"Akenine-Moller\"},"
+                    "{\"name\":\"fliptri\",\"published_e2\":{\"laine-aila-table-2\":0.636}}]}");
     capture c;
     presets_print(capture_begin(&c), r);
     const char *text = capture_end(&c);
     contains(text, "name      family     cost_spp  published_e2  source\n");
     contains(text, "quincunx  P(1,1,2)       2.00         0.518  NVIDIA\n");
     contains(text, "flipquad  P(4,1+,2)      2.00             -  Akenine-Moller\n");
+    contains(text, "fliptri   -                 -         0.636  -\n");
     capture_free(&c);
     json_decref(r);
     /* a bare array works too */
