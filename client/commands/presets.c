@@ -16,7 +16,11 @@ static const json_t *published_e2(const json_t *preset)
     if (json_is_object(v)) {
         const char *key;
         json_t *inner;
-        json_object_foreach((json_t *)v, key, inner) if (json_is_number(inner)) return inner;
+        json_object_foreach((json_t *)v, key, inner)
+        {
+            if (json_is_number(inner))
+                return inner;
+        }
         return NULL;
     }
     return v;
