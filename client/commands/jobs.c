@@ -1,8 +1,5 @@
 /* aalab jobs | aalab job ID | aalab cancel ID */
-#define _POSIX_C_SOURCE 200809L
 #include "commands.h"
-
-#include <time.h>
 
 #include <stdio.h>
 
@@ -14,18 +11,6 @@ static const json_t *first_of(const json_t *obj, const char *a, const char *b)
 {
     const json_t *v = json_object_get(obj, a);
     return v ? v : json_object_get(obj, b);
-}
-
-/* Epoch seconds as "2026-11-23 01:20:07" (UTC), so the column reads without a calculator. */
-static const char *fmt_time(char *buf, size_t cap, const json_t *v)
-{
-    if (!json_is_number(v))
-        return fmt_number(buf, cap, v, 0);
-    time_t t = (time_t)json_number_value(v);
-    struct tm tm;
-    if (!gmtime_r(&t, &tm) || strftime(buf, cap, "%Y-%m-%d %H:%M:%S", &tm) == 0)
-        snprintf(buf, cap, "-");
-    return buf;
 }
 
 void jobs_print(FILE *out, const json_t *resp)

@@ -1,8 +1,11 @@
 #define _POSIX_C_SOURCE 200809L
 #include "view_util.h"
 
+#include <stdbool.h>
+
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "../cli.h"
 #include "../table.h"
@@ -13,6 +16,25 @@ const json_t *list_member(const json_t *resp, const char *member)
         return resp;
     const json_t *v = json_object_get(resp, member);
     return json_is_array(v) ? v : NULL;
+}
+
+const char *fmt_time(char *buf, size_t cap, const json_t *v)
+{
+    if (!json_is_number(v))
+        return fmt_number(buf, cap, v, 0);
+    time_t t = (time_t)json_number_value(v);
+    struct tm tm;
+    if (!gmtime_r(&t, &tm) || strftime(buf, cap, "%Y-%m-%d %H:%M:%S", &tm) == 0)
+        snprintf(buf, cap, "-");
+    return buf;
+}
+
+/* Members that hold Unix times in the job schema (proto/schemas/job.json). */
+static bool is_time_key(const char *key)
+{
+    size_t n = strlen(key);
+    return !strcmp(key, "created") || !strcmp(key, "started") || !strcmp(key, "finished") ||
+           (n > 3 && !strcmp(key + n - 3, "_at"));
 }
 
 typedef struct flat_list {
@@ -58,6 +80,8 @@ static void flatten(flat_list *l, const char *prefix, const json_t *obj, int dep
             flat_add(l, name, json_is_true(v) ? "true" : "false");
         } else if (json_is_null(v)) {
             flat_add(l, name, "-");
+        } else if (json_is_number(v) && is_time_key(key)) {
+            flat_add(l, name, fmt_time(buf, sizeof buf, v));
         } else if (json_is_real(v)) {
             snprintf(buf, sizeof buf, "%.6g", json_real_value(v));
             flat_add(l, name, buf);

@@ -11,6 +11,8 @@
 const json_t *list_member(const json_t *resp, const char *member);
 /* Prints every scalar of obj (nested objects as "a.b"), one "key  value" line each, in order. */
 void print_flat(FILE *out, const json_t *obj);
+/* Epoch seconds as "2026-11-23 01:20:07" (UTC); other values as fmt_number. */
+const char *fmt_time(char *buf, size_t cap, const json_t *v);
 /* Best E2 of a job: best.e2, best_so_far.e2, result.e2 or best_e2, whichever is present. */
 const json_t *job_best_e2(const json_t *job);
 

@@ -105,14 +105,15 @@ static void jobs_table(void **state)
 
 static void one_job(void **state)
 {
-    json_t *j =
-        doc("{\"id\":9,\"state\":\"done\",\"result\":{\"e2\":0.33,\"family\":\"P(4,1+,2)\"},"
-            "\"trace\":[{\"seconds\":0.1,\"best_e2\":0.5},{\"seconds\":1.25,"
-            "\"best_e2\":0.33}]}");
+    json_t *j = doc("{\"id\":9,\"state\":\"done\",\"finished\":1763861207,\"result\":{\"e2\":0.33,"
+                    "\"family\":\"P(4,1+,2)\"},"
+                    "\"trace\":[{\"seconds\":0.1,\"best_e2\":0.5},{\"seconds\":1.25,"
+                    "\"best_e2\":0.33}]}");
     capture c;
     job_print(capture_begin(&c), j);
     const char *text = capture_end(&c);
     contains(text, "id             9\n");
+    contains(text, "finished       2025-11-23 01:26:47\n");
     contains(text, "result.e2      0.33\n");
     contains(text, "result.family  P(4,1+,2)\n");
     contains(text, "trace  2 points, last at 1.25 s with E2 0.330000\n");
