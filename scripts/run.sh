@@ -14,14 +14,16 @@ scripts/install-deps.sh
 cmake -S . -B "$build" -G "Unix Makefiles" -DCMAKE_BUILD_TYPE=Release -DAALAB_WEB_TESTS=OFF >/dev/null
 cmake --build "$build" -j"$(nproc)" --target aalabd aalab >/dev/null
 
-# The same default as aalabd (and the aalab client): $XDG_RUNTIME_DIR/aalab, or /run/aalab as
-# root. Shown here so the path is on screen before the daemon's own log starts.
+# The same default as aalabd (and the aalab client): /run/aalab as root, else
+# $XDG_RUNTIME_DIR/aalab, else /tmp/aalab-UID. Passed explicitly so what is printed is what is used.
 if [ -n "${AALAB_SOCKET:-}" ]; then
   socket=$AALAB_SOCKET
 elif [ "$(id -u)" -eq 0 ]; then
   socket=/run/aalab/aalabd.sock
+elif [ -n "${XDG_RUNTIME_DIR:-}" ]; then
+  socket=$XDG_RUNTIME_DIR/aalab/aalabd.sock
 else
-  socket=${XDG_RUNTIME_DIR:-/tmp}/aalab/aalabd.sock
+  socket=/tmp/aalab-$(id -u)/aalabd.sock
 fi
 [ "$#" -gt 0 ] && [ "$1" = "--" ] && shift
 
