@@ -179,7 +179,7 @@ int main(void)
     /* N per size: the midpoint rule's error comes from the jumps of ghat (O(h) each), so more
      * samples need more points for the same ~1e-6. */
     size_result r4 = bench_size(&f, 4, 1L << 21);
-    size_result r16 = bench_size(&f, 16, 1L << 20);
+    size_result r16 = bench_size(&f, 16, 1L << 21);
     size_result r64 = bench_size(&f, 64, 1L << 20);
     (void)r16;
 
