@@ -389,13 +389,152 @@ static void test_sites(void **state)
     aa_pattern_free(&p);
 }
 
+/* ---------- tile form against an independent enumeration of periodic images ---------- */
+
+typedef struct img {
+    double x, y; /* absolute position of the image */
+    double w;
+} img;
+
+static int cmp_img_yx(const void *a, const void *b)
+{
+    const img *u = a, *v = b;
+    if (fabs(u->y - v->y) > 1e-9)
+        return u->y < v->y ? -1 : 1;
+    if (fabs(u->x - v->x) > 1e-9)
+        return u->x < v->x ? -1 : 1;
+    return 0;
+}
+
+static bool in_block(double v, double lo, int K, bool border)
+{
+    const double e = 1e-9;
+    return border ? (v >= lo - e && v <= lo + K + e) : (v >= lo - e && v < lo + K - e);
+}
+
+/* Images of the tile samples inside pixel (i, j)'s block, in canonical order (y, then x). */
+static size_t block_images(const aa_point *pts, size_t count, int T, int K, bool border, int i,
+                           int j, img *out)
+{
+    double lx = i - (K - 1) / 2, ly = j - (K - 1) / 2;
+    size_t n = 0;
+    for (size_t t = 0; t < count; t++)
+        for (int a = -3; a <= 3; a++)
+            for (int b = -3; b <= 3; b++) {
+                double x = pts[t].x + a * T, y = pts[t].y + b * T;
+                if (in_block(x, lx, K, border) && in_block(y, ly, K, border))
+                    out[n++] = (img){x, y, 0.0};
+            }
+    qsort(out, n, sizeof *out, cmp_img_yx);
+    return n;
+}
+
+static void test_tile_form_against_enumeration(void **state)
+{
+    (void)state;
+    rng_state = 99;
+    int cases = 0;
+    for (int T = 1; T <= 4; T++) {
+        for (int K = 1; K <= 4; K++) {
+            for (int border = 0; border <= 1; border++) {
+                /* 2 jittered samples per pixel, plus an edge and a corner sample per tile */
+                aa_point pts[40];
+                size_t count = 0;
+                for (int j = 0; j < T; j++)
+                    for (int i = 0; i < T; i++)
+                        for (int q = 0; q < 2; q++)
+                            pts[count++] = (aa_point){i + rng_uniform(0.05, 0.95),
+                                                      j + rng_uniform(0.05, 0.95)};
+                pts[count++] = (aa_point){0.0, rng_uniform(0.1, 0.9)};
+                pts[count++] = (aa_point){0.0, 0.0};
+                int s = T * T;
+                static img blocks[16][2048];
+                static double wbuf[16][2048];
+                const double *wp[16];
+                size_t wc[16];
+                for (int j = 0; j < T; j++)
+                    for (int i = 0; i < T; i++) {
+                        int k = j * T + i;
+                        wc[k] = block_images(pts, count, T, K, border, i, j, blocks[k]);
+                        for (size_t m = 0; m < wc[k]; m++)
+                            wbuf[k][m] = blocks[k][m].w = 1.0 + m + 0.01 * k; /* distinct */
+                        wp[k] = wbuf[k];
+                    }
+                aa_tile_spec spec = {.tile = T,
+                                     .kernel_size = K,
+                                     .border = border,
+                                     .count = count,
+                                     .samples = pts,
+                                     .weights = wp,
+                                     .weight_counts = wc};
+                aa_pattern p;
+                aa_error err;
+                memset(&err, 0, sizeof err);
+                int rc = aa_pattern_from_tile(&p, &spec, AA_PATTERN_NORMALIZE, &err);
+                if (rc != AA_OK) {
+                    print_error("T=%d K=%d border=%d: %d %s (%s)\n", T, K, border, rc, err.message,
+                                err.field);
+                    fail();
+                }
+                assert_int_equal(p.kernel_count, (size_t)s);
+                assert_int_equal(p.tile_count, count);
+                assert_true(fabs(p.cost_spp - (double)count / s) < 1e-12);
+                char label[48];
+                aa_family_label(label, sizeof label, (size_t)s, K, border, (double)count / s);
+                /* '+' only matters when a border sample is actually read twice: compare the
+                 * rest of the label */
+                assert_true(strncmp(p.family, label, 4) == 0);
+                for (int j = 0; j < T; j++)
+                    for (int i = 0; i < T; i++) {
+                        int k = j * T + i;
+                        const aa_kernel *ker = &p.kernels[k];
+                        double ox = i - (K - 1) / 2 + K / 2.0, oy = j - (K - 1) / 2 + K / 2.0;
+                        assert_true(fabs(ker->out_x - ox) < 1e-12 && fabs(ker->out_y - oy) < 1e-12);
+                        if (ker->count != wc[k]) {
+                            print_error("T=%d K=%d border=%d kernel %d: %zu samples, expected "
+                                        "%zu\n",
+                                        T, K, border, k, ker->count, wc[k]);
+                            fail();
+                        }
+                        double wsum = 0.0;
+                        for (size_t m = 0; m < wc[k]; m++)
+                            wsum += wbuf[k][m];
+                        /* each engine sample is one of my images, with that image's weight */
+                        for (size_t m = 0; m < ker->count; m++) {
+                            double ax = ox + ker->samples[m].x, ay = oy + ker->samples[m].y;
+                            bool found = false;
+                            for (size_t q = 0; q < wc[k] && !found; q++)
+                                found = fabs(blocks[k][q].x - ax) < 1e-9 &&
+                                        fabs(blocks[k][q].y - ay) < 1e-9 &&
+                                        fabs(blocks[k][q].w / wsum - ker->samples[m].w) < 1e-12;
+                            if (!found) {
+                                print_error("T=%d K=%d border=%d kernel %d: sample (%g, %g) w %g "
+                                            "not expected\n",
+                                            T, K, border, k, ax, ay, ker->samples[m].w);
+                                fail();
+                            }
+                        }
+                    }
+                aa_pattern_free(&p);
+                cases++;
+            }
+        }
+    }
+    assert_int_equal(cases, 32);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_weight_sum),    cmocka_unit_test(test_non_finite_and_range),
-        cmocka_unit_test(test_too_many),      cmocka_unit_test(test_negative_weights_accepted),
-        cmocka_unit_test(test_tile_errors),   cmocka_unit_test(test_tile_p14),
-        cmocka_unit_test(test_tile_p16_16_4), cmocka_unit_test(test_sites),
+        cmocka_unit_test(test_weight_sum),
+        cmocka_unit_test(test_non_finite_and_range),
+        cmocka_unit_test(test_too_many),
+        cmocka_unit_test(test_negative_weights_accepted),
+        cmocka_unit_test(test_tile_errors),
+        cmocka_unit_test(test_tile_p14),
+        cmocka_unit_test(test_tile_p16_16_4),
+        cmocka_unit_test(test_sites),
+        cmocka_unit_test(test_tile_form_against_enumeration),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
