@@ -65,7 +65,9 @@ int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefi
     }
     if (!json_is_object(j))
         return proto_fail(err, AA_EINVAL, prefix, "", "a filter is an object {\"name\": ...}");
-    static const char *const keys[] = {"name", "B", "C", "radius", "sigma", "a", NULL};
+    /* cdf_error_bound is informational (written by proto_encode_filter) and ignored. */
+    static const char *const keys[] = {"name", "B", "C", "radius", "sigma", "a", "cdf_error_bound",
+                                       NULL};
     int rc = proto_check_keys(j, keys, err, prefix);
     if (rc)
         return rc;
