@@ -20,7 +20,7 @@ static bool filter_takes(const char *name, const char *param)
     if (!strcmp(param, "radius"))
         return strcmp(name, "lanczos") != 0;
     if (!strcmp(param, "B") || !strcmp(param, "C"))
-        return !strcmp(name, "mitchell");
+        return is_mitchell_family(name); /* fixed for the named members: checked below */
     if (!strcmp(param, "sigma"))
         return !strcmp(name, "gaussian");
     if (!strcmp(param, "a"))
@@ -65,9 +65,9 @@ int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefi
     }
     if (!json_is_object(j))
         return proto_fail(err, AA_EINVAL, prefix, "", "a filter is an object {\"name\": ...}");
-    /* cdf_error_bound is informational (written by proto_encode_filter) and ignored. */
-    static const char *const keys[] = {"name", "B", "C", "radius", "sigma", "a", "cdf_error_bound",
-                                       NULL};
+    /* cdf_error_bound and default are informational (GET /v1/filters) and ignored. */
+    static const char *const keys[] = {
+        "name", "B", "C", "radius", "sigma", "a", "cdf_error_bound", "default", NULL};
     int rc = proto_check_keys(j, keys, err, prefix);
     if (rc)
         return rc;
@@ -101,6 +101,25 @@ int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefi
             return rc;
         defaults = false;
     }
+    /* catmull-rom, bspline and notch fix B and C (the encoder writes them): only the fixed
+     * values are accepted, other values need "mitchell". */
+    static const struct {
+        const char *name;
+        double B, C;
+    } fixed[] = {{"catmull-rom", 0, 0.5}, {"bspline", 1, 0}, {"notch", 1.5, -0.25}};
+    for (size_t i = 0; i < sizeof fixed / sizeof fixed[0]; i++) {
+        if (strcmp(name, fixed[i].name))
+            continue;
+        if (!isnan(p.B) && fabs(p.B - fixed[i].B) > 1e-12)
+            return proto_fail(err, AA_EINVAL, prefix, "B",
+                              "this filter fixes B; use name \"mitchell\" for other values");
+        if (!isnan(p.C) && fabs(p.C - fixed[i].C) > 1e-12)
+            return proto_fail(err, AA_EINVAL, prefix, "C",
+                              "this filter fixes C; use name \"mitchell\" for other values");
+        p.B = p.C = NAN;
+    }
+    if (isnan(p.B) && isnan(p.C) && isnan(p.radius) && isnan(p.sigma) && isnan(p.a))
+        defaults = true;
     if (defaults && copy_named_filter(name, out))
         return AA_OK;
     rc = aa_filter_by_name(out, name, &p, err);

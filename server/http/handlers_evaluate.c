@@ -111,9 +111,8 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
         if (rc == AA_OK) {
             have_ev = true;
             rc = check_finite(&pattern, &ev, &err);
-        }
-        else if (err.field[0] && strncmp(err.field, "angles", 6) && strcmp(err.field, "lp") &&
-                 strncmp(err.field, "pattern", 7)) {
+        } else if (err.field[0] && strncmp(err.field, "angles", 6) && strcmp(err.field, "lp") &&
+                   strncmp(err.field, "pattern", 7)) {
             char f[sizeof err.field];
             proto_join_field(f, sizeof f, "pattern", err.field);
             memcpy(err.field, f, sizeof f);

@@ -382,11 +382,13 @@ static void overlay_live(json_t *o, const job *j)
 {
     json_object_set_new(o, "state", json_string(job_state_name(j->state)));
     json_object_set_new(o, "progress", json_real(j->live.progress));
+    /* Copies, never shared references: jansson's reference counts are not meant to be
+     * touched from two threads (the worker keeps updating live.best). */
     if (j->live.best) {
-        json_object_set(o, "best", j->live.best);
+        json_object_set_new(o, "best", json_deep_copy(j->live.best));
         json_t *e2 = json_is_object(j->live.best) ? json_object_get(j->live.best, "e2") : NULL;
         if (json_is_number(e2))
-            json_object_set(o, "best_e2", e2);
+            json_object_set_new(o, "best_e2", json_real(json_number_value(e2)));
     }
     if (json_object_get(o, "trace"))
         json_object_set_new(o, "trace", json_deep_copy(j->live.trace));
