@@ -33,6 +33,7 @@ struct job_manager {
     size_t q_len, q_cap;
     job *active; /* every queued or running job */
     int running, busy;
+    size_t admitting; /* submissions between admission and their store insert */
     bool stopping;
     pthread_t *threads;
     int thread_count;
@@ -349,30 +350,49 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     j->state = JOB_QUEUED;
     j->created = jm_now();
 
+    /* Admission under the lock; the store insert (an fsync) outside it, so workers reporting
+     * progress never wait for a disk. The job joins the active list first (id 0, invisible
+     * to lookups) so it counts against the quota and the queue bound meanwhile. */
     pthread_mutex_lock(&jm->lock);
     if (jm->stopping) {
         rc = aa_error_set(err, JM_EQUEUE_FULL, "", "the daemon is shutting down");
-    } else if ((int)jm->q_len >= jm->cfg.queue_size) {
+    } else if ((int)(jm->q_len + jm->admitting) >= jm->cfg.queue_size) {
         rc = aa_error_set(err, JM_EQUEUE_FULL, "", "the job queue is full (%d queued)",
                           (int)jm->q_len);
     } else if (owner >= 0 && owner_load(jm, owner) >= jm->cfg.user_quota) {
         rc = aa_error_set(err, JM_EQUOTA, "",
                           "uid %lld already has %d queued or running jobs (the limit)", owner,
                           jm->cfg.user_quota);
-    } else if (job_store_insert(jm->store, kind->name, spec, owner, j->created, &j->id, err)) {
-        rc = JM_ESTORE;
-    } else if (queue_push(jm, j) != AA_OK) {
-        job_store_finish(jm->store, j->id, JOB_FAILED, 0, NULL, NULL, NULL, NULL, "out of memory",
-                         jm_now());
-        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     } else {
         j->next = jm->active;
         jm->active = j;
-        *id = j->id;
-        pthread_cond_signal(&jm->wake);
-        j = NULL;
+        jm->admitting++;
     }
     pthread_mutex_unlock(&jm->lock);
+    if (rc) {
+        job_free(j);
+        return rc;
+    }
+    long long new_id = 0;
+    if (job_store_insert(jm->store, kind->name, spec, owner, j->created, &new_id, err))
+        rc = JM_ESTORE;
+    pthread_mutex_lock(&jm->lock);
+    jm->admitting--;
+    if (!rc && queue_push(jm, j) != AA_OK)
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    if (rc) {
+        active_remove(jm, j);
+    } else {
+        j->id = new_id;
+        *id = new_id;
+        pthread_cond_signal(&jm->wake);
+    }
+    pthread_mutex_unlock(&jm->lock);
+    if (rc == AA_ENOMEM)
+        job_store_finish(jm->store, new_id, JOB_FAILED, 0, NULL, NULL, NULL, NULL, "out of memory",
+                         jm_now());
+    if (!rc)
+        j = NULL;
     job_free(j);
     return rc;
 }
