@@ -10,6 +10,8 @@
 
 #include "job_ctx_impl.h"
 
+#define COUNTS_MAX_AGE 0.25 /* seconds */
+
 typedef struct job {
     long long id;
     const job_kind *kind;
@@ -34,6 +36,9 @@ struct job_manager {
     job *active; /* every queued or running job */
     int running, busy;
     size_t admitting; /* submissions between admission and their store insert */
+    pthread_mutex_t counts_lock;
+    long long counts[JOB_STATE_COUNT]; /* jobs by state, cached for COUNTS_MAX_AGE */
+    double counts_at;
     bool stopping;
     pthread_t *threads;
     int thread_count;
@@ -266,6 +271,8 @@ job_manager *job_manager_create(const char *state_dir, const job_manager_config 
     if (jm->cfg.workers < 1)
         jm->cfg.workers = 1;
     pthread_mutex_init(&jm->lock, NULL);
+    pthread_mutex_init(&jm->counts_lock, NULL);
+    jm->counts_at = -1e300;
     pthread_cond_init(&jm->wake, NULL);
     jm->store = job_store_open(state_dir, err);
     if (!jm->store) {
@@ -316,6 +323,7 @@ void job_manager_destroy(job_manager *jm)
     free(jm->threads);
     job_store_close(jm->store);
     pthread_cond_destroy(&jm->wake);
+    pthread_mutex_destroy(&jm->counts_lock);
     pthread_mutex_destroy(&jm->lock);
     free(jm);
 }
@@ -517,7 +525,16 @@ json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why
 void job_manager_stats_get(job_manager *jm, job_manager_stats *out)
 {
     memset(out, 0, sizeof *out);
-    job_store_counts(jm->store, out->by_state);
+    /* Counting by state scans the table: refresh at most every COUNTS_MAX_AGE seconds so
+     * health probes stay cheap with a long job history. */
+    double now = jm_now();
+    pthread_mutex_lock(&jm->counts_lock);
+    if (now - jm->counts_at > COUNTS_MAX_AGE || now < jm->counts_at) {
+        job_store_counts(jm->store, jm->counts);
+        jm->counts_at = now;
+    }
+    memcpy(out->by_state, jm->counts, sizeof out->by_state);
+    pthread_mutex_unlock(&jm->counts_lock);
     pthread_mutex_lock(&jm->lock);
     out->workers = jm->cfg.workers;
     out->busy = jm->busy;
