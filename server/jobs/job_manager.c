@@ -439,9 +439,9 @@ json_t *job_manager_get(job_manager *jm, long long id)
     return o;
 }
 
-json_t *job_manager_list(job_manager *jm, int limit)
+json_t *job_manager_list(job_manager *jm, int limit, int state)
 {
-    json_t *a = job_store_list(jm->store, limit);
+    json_t *a = job_store_list(jm->store, limit, state);
     pthread_mutex_lock(&jm->lock);
     size_t i;
     json_t *o;

@@ -316,16 +316,19 @@ json_t *job_store_get(job_store *st, long long id, bool full)
     return o;
 }
 
-json_t *job_store_list(job_store *st, int limit)
+json_t *job_store_list(job_store *st, int limit, int state)
 {
     pthread_mutex_lock(&st->lock);
     sqlite3_stmt *q;
     json_t *a = json_array();
     if (sqlite3_prepare_v2(st->db,
                            "SELECT id, kind, owner_uid, state, progress, created, started, "
-                           "finished, reason, error, best FROM jobs ORDER BY id DESC LIMIT ?",
+                           "finished, reason, error, best FROM jobs WHERE ?2 IS NULL OR "
+                           "state = ?2 ORDER BY id DESC LIMIT ?1",
                            -1, &q, NULL) == SQLITE_OK) {
         sqlite3_bind_int(q, 1, limit);
+        if (state >= 0)
+            sqlite3_bind_text(q, 2, job_state_name((job_state)state), -1, SQLITE_STATIC);
         while (sqlite3_step(q) == SQLITE_ROW)
             json_array_append_new(a, row_to_json(q, false));
         sqlite3_finalize(q);

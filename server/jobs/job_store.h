@@ -45,8 +45,8 @@ int job_store_finish(job_store *st, long long id, job_state state, double progre
 
 /* The job as the API shows it; full adds spec, best, trace, result. NULL if absent. */
 json_t *job_store_get(job_store *st, long long id, bool full);
-/* Newest first, at most limit, summaries. */
-json_t *job_store_list(job_store *st, int limit);
+/* Newest first, at most limit, summaries; state < 0 = every state. */
+json_t *job_store_list(job_store *st, int limit, int state);
 /* Jobs by state counts into counts[JOB_STATE_COUNT]. */
 int job_store_counts(job_store *st, long long counts[JOB_STATE_COUNT]);
 

@@ -103,6 +103,10 @@ def test_jobs(d):
     check(j["result"]["pattern"]["kernels"], j)
     lst = d.get("/v1/jobs").json()["jobs"]
     check(any(x["id"] == jid for x in lst), lst)
+    lst = d.get("/v1/jobs?state=done&limit=1").json()["jobs"]
+    check(len(lst) == 1 and lst[0]["id"] == jid, lst)
+    expect_error(d.get("/v1/jobs?state=sleepy"), 400, "state")
+    expect_error(d.get("/v1/jobs?limit=0"), 400, "limit")
 
     # export in every format
     r = d.get("/v1/patterns/%d/export?format=json" % jid)
