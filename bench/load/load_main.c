@@ -17,7 +17,9 @@ int main(int argc, char **argv)
     load_config c = {.connections = 2, .requests = 200000, .seconds = 10};
     snprintf(c.method, sizeof c.method, "POST");
     snprintf(c.path, sizeof c.path, "/v1/evaluate");
-    c.body = "{\"pattern\":{\"preset\":\"rgss\"}}";
+    /* RGSS, the 4-sample rotated grid, sent as explicit samples. */
+    c.body = "{\"pattern\":{\"kernels\":[[[-0.375,0.125,0.25],[0.125,0.375,0.25],"
+             "[0.375,-0.125,0.25],[-0.125,-0.375,0.25]]]}}";
     c.has_body = true;
     bool only = false;
     for (int i = 1; i < argc; i++) {
