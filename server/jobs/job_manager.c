@@ -11,6 +11,7 @@
 #include "job_ctx_impl.h"
 
 #define COUNTS_MAX_AGE 0.25 /* seconds */
+#define JOB_MAX_CRASHES 3   /* abnormal daemon exits while running one job before giving up */
 
 typedef struct job {
     long long id;
@@ -224,6 +225,19 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
         job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL, reason,
                          jm_now());
         return;
+    }
+    /* A job that keeps taking the daemon down with it must not do so forever. */
+    if (state == JOB_RUNNING) {
+        int crashes = job_store_bump_crashes(jm->store, id);
+        if (crashes >= JOB_MAX_CRASHES) {
+            snprintf(reason, sizeof reason,
+                     "the daemon stopped abnormally %d times while running this job; not "
+                     "re-queued again",
+                     crashes);
+            job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL, reason,
+                             jm_now());
+            return;
+        }
     }
     void *params = NULL;
     aa_error err = {0};

@@ -93,6 +93,9 @@ job_store *job_store_open(const char *dir, aa_error *err)
         sqlite3_free(msg);
         goto fail;
     }
+    /* Added after the first schema: ignore "duplicate column" on databases that have it. */
+    sqlite3_exec(st->db, "ALTER TABLE jobs ADD COLUMN crashes INTEGER NOT NULL DEFAULT 0", NULL,
+                 NULL, NULL);
     if (!job_store_integrity_ok(st)) {
         aa_error_set(err, AA_EINVAL, "state_dir", "%s failed PRAGMA integrity_check", path);
         goto fail;
@@ -191,6 +194,23 @@ int job_store_set_state(job_store *st, long long id, job_state state, double whe
     }
     pthread_mutex_unlock(&st->lock);
     return rc;
+}
+
+int job_store_bump_crashes(job_store *st, long long id)
+{
+    pthread_mutex_lock(&st->lock);
+    sqlite3_stmt *q;
+    int n = -1;
+    if (sqlite3_prepare_v2(st->db,
+                           "UPDATE jobs SET crashes = crashes + 1 WHERE id=? RETURNING crashes", -1,
+                           &q, NULL) == SQLITE_OK) {
+        sqlite3_bind_int64(q, 1, id);
+        if (sqlite3_step(q) == SQLITE_ROW)
+            n = sqlite3_column_int(q, 0);
+        sqlite3_finalize(q);
+    }
+    pthread_mutex_unlock(&st->lock);
+    return n;
 }
 
 int job_store_update_progress(job_store *st, long long id, double progress, const json_t *best,
