@@ -41,6 +41,26 @@ static int check_finite(const aa_pattern *p, const aa_evaluation *ev, aa_error *
                         "the error integral overflows for this kernel (weights too large)");
 }
 
+/* Evaluate runs on an HTTP thread: bound its work (kernel samples x angles; 2^23 is about half
+ * a second here) so that no request holds a thread for long. Larger studies belong in jobs. */
+#define EVALUATE_MAX_WORK (1L << 23)
+
+static int check_work(const aa_pattern *p, const aa_acuity *a, size_t angle_count, aa_error *err)
+{
+    size_t angles = angle_count;
+    if (!angles) {
+        static _Thread_local double buf[AA_MAX_ANGLES];
+        angles = aa_acuity_default_angles(a, buf, AA_MAX_ANGLES);
+    }
+    double work = (double)aa_pattern_total_kernel_samples(p) * (double)angles;
+    if (work <= (double)EVALUATE_MAX_WORK)
+        return AA_OK;
+    return aa_error_set(err, AA_ERANGE, angle_count ? "angles" : "pattern",
+                        "%zu kernel samples x %zu angles is more than a synchronous evaluate "
+                        "does (%ld); use fewer angles or samples",
+                        aa_pattern_total_kernel_samples(p), angles, EVALUATE_MAX_WORK);
+}
+
 void handle_evaluate(api_context *ctx, const api_request *req, api_response *resp)
 {
     eval_cache *cache = api_context_eval_cache(ctx);
@@ -101,6 +121,8 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
     if (!rc)
         rc = proto_decode_angles(json_object_get(body, "angles"), &angles, &angle_count, "angles",
                                  &err);
+    if (!rc)
+        rc = check_work(&pattern, &acuity, angle_count, &err);
     if (!rc) {
         aa_metric_params mp = {.filter = &filter,
                                .acuity = &acuity,
