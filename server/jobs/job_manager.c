@@ -155,7 +155,13 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
                           err && err->message[0] ? err->message : aa_strerror(rc), "field",
                           err ? err->field : "");
     }
-    job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason, jm_now());
+    double now = jm_now();
+    job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason, now);
+    /* One line per finished run for the journal. */
+    fprintf(stderr, "aalabd: job %lld (%s, uid %lld) %s after %.2f s%s%s\n", j->id, j->kind->name,
+            j->owner, shutdown_stop ? "checkpointed as queued" : job_state_name(st),
+            now - j->started, st == JOB_FAILED && err ? ": " : "",
+            st == JOB_FAILED && err ? err->message : "");
     json_decref(best);
     json_decref(trace);
     json_decref(error);
