@@ -160,6 +160,8 @@ int tile_decode_scene_request(const json_t *request, aa_scene_params *out, aa_er
     }
     if (!rc) {
         rc = tile_decode_scene(obj, out, "scene", err);
+        if (rc && err && json_is_string(scene) && !strcmp(err->field, "scene.name"))
+            snprintf(err->field, sizeof err->field, "scene");
         if (rc && size && err) {
             if (!strcmp(err->field, "scene.width"))
                 snprintf(err->field, sizeof err->field, "size[0]");
