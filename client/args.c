@@ -60,8 +60,8 @@ static const opt_spec OPTIONS[] = {
     {"max-seconds", 0, true, BIT(CMD_OPTIMIZE), OPT_MAX_SECONDS},
     {"rng-seed", 0, true, BIT(CMD_OPTIMIZE), OPT_RNG_SEED},
     {"mode", 0, true, BIT(CMD_OPTIMIZE), OPT_MODE},
-    {"wait", 'w', false, BIT(CMD_OPTIMIZE), OPT_WAIT},
-    {"poll", 0, true, BIT(CMD_OPTIMIZE), OPT_POLL},
+    {"wait", 'w', false, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_WAIT},
+    {"poll", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_POLL},
     {"scene", 0, true, BIT(CMD_RENDER), OPT_SCENE},
     {"size", 0, true, BIT(CMD_RENDER), OPT_SIZE},
     {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT), OPT_OUTPUT},
@@ -74,9 +74,9 @@ static const struct {
     cli_command id;
 } COMMANDS[] = {
     {"help", CMD_HELP},       {"version", CMD_VERSION},   {"eval", CMD_EVAL},
-    {"presets", CMD_PRESETS}, {"optimize", CMD_OPTIMIZE}, {"jobs", CMD_JOBS},
-    {"job", CMD_JOB},         {"cancel", CMD_CANCEL},     {"render", CMD_RENDER},
-    {"export", CMD_EXPORT},   {"health", CMD_HEALTH},
+    {"presets", CMD_PRESETS}, {"optimize", CMD_OPTIMIZE}, {"submit", CMD_SUBMIT},
+    {"jobs", CMD_JOBS},       {"job", CMD_JOB},           {"cancel", CMD_CANCEL},
+    {"render", CMD_RENDER},   {"export", CMD_EXPORT},     {"health", CMD_HEALTH},
 };
 
 const char *cli_command_name(cli_command c)
@@ -289,13 +289,16 @@ static int check_command(cli_args *a, char *err, size_t cap)
     case CMD_NONE:
         return fail(err, cap, "no command given (try 'aalab help')");
     case CMD_EVAL:
+    case CMD_SUBMIT:
     case CMD_JOB:
     case CMD_CANCEL:
     case CMD_EXPORT:
         if (!a->target)
             return fail(err, cap, "'%s' needs %s", name,
-                        a->command == CMD_EVAL ? "a preset NAME or a FILE.json" : "a job ID");
-        if (a->command != CMD_EVAL && !job_id_valid(a->target))
+                        a->command == CMD_EVAL     ? "a preset NAME or a FILE.json"
+                        : a->command == CMD_SUBMIT ? "a job spec FILE.json (or - for stdin)"
+                                                   : "a job ID");
+        if (a->command != CMD_EVAL && a->command != CMD_SUBMIT && !job_id_valid(a->target))
             return fail(err, cap, "'%s' wants a job ID (letters, digits, '-', '_'), got '%s'", name,
                         a->target);
         break;

@@ -13,6 +13,7 @@ typedef enum cli_command {
     CMD_EVAL,
     CMD_PRESETS,
     CMD_OPTIMIZE,
+    CMD_SUBMIT,
     CMD_JOBS,
     CMD_JOB,
     CMD_CANCEL,
@@ -27,7 +28,7 @@ typedef struct cli_args {
     const char *socket_path; /* NULL: default resolution */
     bool json;
     double timeout_s; /* per request, default 30 */
-    /* positional: eval NAME|FILE, job/cancel/export ID, help COMMAND */
+    /* positional: eval NAME|FILE, submit FILE|-, job/cancel/export ID, help COMMAND */
     const char *target;
     /* eval */
     const char *filter; /* NAME[:B=..,C=..] or a JSON object */

@@ -19,6 +19,8 @@ static command_fn command_for(cli_command c)
         return cmd_presets;
     case CMD_OPTIMIZE:
         return cmd_optimize;
+    case CMD_SUBMIT:
+        return cmd_submit;
     case CMD_JOBS:
         return cmd_jobs;
     case CMD_JOB:

@@ -1,6 +1,7 @@
 /* Turning a command-line pattern argument into the wire form: a preset NAME becomes
- * {"preset":NAME}, job:ID becomes {"job":"ID"} (that job's best pattern); a FILE.json is read strictly and checked locally with the shared codec
- * (aalab_proto) so a typo is reported with its field path before anything is sent. */
+ * {"preset":NAME}, job:ID becomes {"job":"ID"} (that job's best pattern); a FILE.json is read
+ * strictly and checked locally with the shared codec (aalab_proto) so a typo is reported with its
+ * field path before anything is sent. */
 #ifndef AALAB_PATTERN_SOURCE_H
 #define AALAB_PATTERN_SOURCE_H
 

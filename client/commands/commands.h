@@ -14,6 +14,7 @@
 int cmd_eval(cli_session *s);
 int cmd_presets(cli_session *s);
 int cmd_optimize(cli_session *s);
+int cmd_submit(cli_session *s);
 int cmd_jobs(cli_session *s);
 int cmd_job(cli_session *s);
 int cmd_cancel(cli_session *s);
@@ -26,10 +27,17 @@ void cmd_help(FILE *out, const char *command); /* command NULL: overview */
 int eval_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 int optimize_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 int render_request(const cli_args *a, json_t **req, char *err, size_t errcap);
+/* submit: the spec file (or stdin) as it is, checked to be an object with a kind. */
+int submit_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 /* --filter NAME[:B=..,C=..] | JSON; --acuity NAME | FILE.json | JSON. */
 int filter_argument(const char *arg, json_t **filter, char *err, size_t errcap);
 int acuity_argument(const char *arg, json_t **acuity, char *err, size_t errcap);
 int angles_argument(const char *arg, json_t **angles, char *err, size_t errcap);
+
+/* After POST /v1/jobs (resp stolen): prints the id, or follows the job with --wait. */
+int job_submitted(cli_session *s, json_t *resp);
+/* Polls GET /v1/jobs/ID until it ends; exit 0 if done, 5 if failed/cancelled/interrupted. */
+int job_wait(cli_session *s, const char *id);
 
 /* Writes len bytes to path, or to out when path is NULL or "-"; returns an exit code. */
 int write_output(FILE *out, FILE *err, const char *path, const char *data, size_t len);

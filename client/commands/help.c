@@ -12,7 +12,7 @@ static const char OVERVIEW[] =
     "  eval NAME|FILE.json   E2 of a preset or a pattern file (checked locally first)\n"
     "  presets [NAME]        the classic patterns, or one of them\n"
     "  optimize ...          submit an optimization job (--wait to follow it)\n"
-    "  (a pattern argument is a preset NAME, a FILE.json, or job:ID for a job's best)\n"
+    "  submit SPEC.json|-    submit a job of any kind from its JSON spec (--wait)\n"
     "  jobs                  list jobs\n"
     "  job ID                one job: state, progress, best so far, trace summary\n"
     "  cancel ID             cancel a queued or running job (owner or root)\n"
@@ -27,6 +27,8 @@ static const char OVERVIEW[] =
     "                        else /run/aalab/aalabd.sock)\n"
     "      --json            print the daemon's JSON instead of tables\n"
     "      --timeout S       per-request timeout in seconds (default 30)\n"
+    "\n"
+    "A pattern argument is a preset NAME, a FILE.json, or job:ID (a job's best pattern).\n"
     "\n"
     "exit codes: 0 ok, 1 usage or invalid local file, 2 server answered 4xx,\n"
     "            3 server answered 5xx, 4 cannot connect, 5 job failed/cancelled (--wait)\n";
@@ -47,6 +49,9 @@ static const struct {
                  "                      [--mode weights|positions|both] [--wait] [--poll S]\n"
                  "Prints the job id. With --wait, follows the job with a progress bar on\n"
                  "stderr, prints the finished job and exits 5 if it failed or was cancelled.\n"},
+    {"submit", "usage: aalab submit SPEC.json|- [--wait] [--poll S]\n"
+               "SPEC is the POST /v1/jobs body, e.g. {\"kind\":\"family-sweep\",...}.\n"
+               "With --wait: progress bar on stderr, exit 5 if the job fails or is cancelled.\n"},
     {"jobs", "usage: aalab jobs\n"},
     {"job", "usage: aalab job ID\n"},
     {"cancel", "usage: aalab cancel ID\n"},

@@ -105,7 +105,7 @@ expect 2 "unknown preset is a 4xx" -- A presets no-such-pattern
 for pe in "quincunx 0.518" "rgss 0.439" "flipquad 0.364" "fliptri 0.636"; do
   set -- $pe
   expect 0 "eval $1" -- A --json eval "$1"
-  near "$(jq -r .e2 <<<"$out")" "$2" 0.0015 "E2($1)"
+  near "$(jq -r '."e2"' <<<"$out")" "$2" 0.0015 "E2($1)"
 done
 expect 0 "eval table" -- A eval quincunx
 has "E2" "eval table has E2"
@@ -120,13 +120,13 @@ cat >"$tmp/grid.json" <<'JSON'
 {"kernels":[[[-0.25,-0.25,0.25],[0.25,-0.25,0.25],[-0.25,0.25,0.25],[0.25,0.25,0.25]]]}
 JSON
 expect 0 "eval FILE.json" -- A --json eval "$tmp/grid.json"
-near "$(jq -r .e2 <<<"$out")" 0.698 0.0015 "E2(2x2 grid file)"
+near "$(jq -r '."e2"' <<<"$out")" 0.698 0.0015 "E2(2x2 grid file)"
 # a saved request file with options, overridden from the command line
 jq '{pattern: ., acuity: {name: "uniform"}}' "$tmp/grid.json" >"$tmp/request.json"
 expect 0 "eval request file" -- A --json eval "$tmp/request.json"
-uniform=$(jq -r .e2 <<<"$out")
+uniform=$(jq -r '."e2"' <<<"$out")
 expect 0 "eval request file, --acuity overrides" -- A --json eval "$tmp/request.json" --acuity naiman
-near "$(jq -r .e2 <<<"$out")" 0.698 0.0015 "E2 with naiman from the command line"
+near "$(jq -r '."e2"' <<<"$out")" 0.698 0.0015 "E2 with naiman from the command line"
 awk -v u="$uniform" 'BEGIN { exit !(u >= 0.698) }' && ok "uniform acuity weighs no angle down (E2 $uniform >= 0.698)" ||
   bad "uniform acuity E2 $uniform < naiman's 0.698"
 
@@ -159,8 +159,8 @@ job_before=$(jq -c 'del(.progress_updated_at)' <<<"$out")
 
 expect 0 "export json" -- A export "$id" --format json -o "$tmp/best.json"
 expect 0 "eval the exported pattern" -- A --json eval "$tmp/best.json"
-exported_e2=$(jq -r .e2 <<<"$out")
-best_e2=$(jq -r '.result.e2 // .best.e2 // .best_so_far.e2 // .best_e2' <<<"$job_before")
+exported_e2=$(jq -r '."e2"' <<<"$out")
+best_e2=$(jq -r '.result."e2" // .best."e2" // .best_so_far."e2" // .best_e2' <<<"$job_before")
 near "$exported_e2" "$best_e2" 1e-9 "E2 of the exported pattern equals the job's best"
 awk -v e="$exported_e2" 'BEGIN { exit !(e < 0.364 + 1e-6) }' && ok "optimized P(4,1+,2) is at least as good as FLIPQUAD ($exported_e2)" ||
   bad "optimized P(4,1+,2) E2 $exported_e2 worse than FLIPQUAD's 0.364"

@@ -200,6 +200,20 @@ static void double_dash_ends_options(void **state)
     assert_string_equal(a.target, "-odd-name.json");
 }
 
+static void submit_forms(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "submit", "spec.json", "--wait", "--poll", "0.5"), 0);
+    assert_int_equal(a.command, CMD_SUBMIT);
+    assert_string_equal(a.target, "spec.json");
+    assert_true(a.wait && a.poll_s == 0.5);
+    assert_int_equal(PARSE(&a, "submit", "-"), 0);
+    assert_int_equal(PARSE(&a, "submit"), -1);
+    assert_non_null(strstr(err, "job spec"));
+    assert_int_equal(PARSE(&a, "submit", "s.json", "--seeds", "3"), -1);
+}
+
 static void number_helpers(void **state)
 {
     long l;
@@ -236,6 +250,7 @@ int main(void)
         cmocka_unit_test(render_size_and_output),
         cmocka_unit_test(help_forms),
         cmocka_unit_test(double_dash_ends_options),
+        cmocka_unit_test(submit_forms),
         cmocka_unit_test(number_helpers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -234,6 +234,41 @@ static void render_bodies(void **state)
     json_decref(req);
 }
 
+static void submit_specs(void **state)
+{
+    char *path = write_temp("{\"kind\":\"sleep\",\"seconds\":1}");
+    cli_args a = {.command = CMD_SUBMIT, .target = path};
+    json_t *req;
+    char err[400] = "";
+    assert_int_equal(submit_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"kind\":\"sleep\",\"seconds\":1}");
+    json_decref(req);
+    unlink(path);
+    free(path);
+    static const char *const BAD[][2] = {
+        {"{\"seconds\":1}", "\"kind\""},
+        {"[]", "\"kind\""},
+        {"{\"kind\":\"a\",\"kind\":\"b\"}", "duplicate"},
+        {"{\"kind\":\"sleep\",\"pattern\":{\"mirrored\":[[0,0]]}}", "pattern.mirrored[0]"},
+    };
+    for (size_t i = 0; i < sizeof BAD / sizeof BAD[0]; i++) {
+        path = write_temp(BAD[i][0]);
+        a.target = path;
+        assert_int_equal(submit_request(&a, &req, err, sizeof err), -1);
+        if (!strstr(err, BAD[i][1]))
+            fail_msg("case %zu: '%s' lacks '%s'", i, err, BAD[i][1]);
+        unlink(path);
+        free(path);
+    }
+    /* a job reference is left to the daemon */
+    path = write_temp("{\"kind\":\"compare\",\"pattern\":{\"job\":\"3\"}}");
+    a.target = path;
+    assert_int_equal(submit_request(&a, &req, err, sizeof err), 0);
+    json_decref(req);
+    unlink(path);
+    free(path);
+}
+
 static void file_or_preset(void **state)
 {
     assert_false(pattern_argument_is_file("quincunx"));
@@ -257,6 +292,7 @@ int main(void)
         cmocka_unit_test(angle_arguments),
         cmocka_unit_test(optimize_bodies),
         cmocka_unit_test(render_bodies),
+        cmocka_unit_test(submit_specs),
         cmocka_unit_test(file_or_preset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
