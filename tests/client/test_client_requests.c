@@ -111,6 +111,21 @@ static void eval_request_file_with_override(void **state)
     free(path);
 }
 
+static void eval_exported_file(void **state)
+{
+    char *path = write_temp("{\"job\":12,\"pattern\":{\"family\":\"P(1,1,1)\",\"form\":"
+                            "\"kernels\",\"kernels\":[[[0,0,1]]]}}");
+    cli_args a = {.command = CMD_EVAL, .target = path};
+    json_t *req;
+    char err[256];
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"family\":\"P(1,1,1)\",\"form\":\"kernels\","
+                     "\"kernels\":[[[0,0,1]]]}}");
+    json_decref(req);
+    unlink(path);
+    free(path);
+}
+
 static void bad_files_are_local_errors(void **state)
 {
     static const char *const CASES[][2] = {
@@ -286,6 +301,7 @@ int main(void)
         cmocka_unit_test(eval_json_literals),
         cmocka_unit_test(eval_pattern_file),
         cmocka_unit_test(eval_request_file_with_override),
+        cmocka_unit_test(eval_exported_file),
         cmocka_unit_test(bad_files_are_local_errors),
         cmocka_unit_test(codec_names_the_field),
         cmocka_unit_test(filter_arguments),
