@@ -92,13 +92,16 @@ static void jobs_table(void **state)
     json_t *r = doc("{\"jobs\":[{\"id\":3,\"kind\":\"optimize\",\"state\":\"running\","
                     "\"progress\":0.425,\"owner\":1000,\"best\":{\"e2\":0.3712}},"
                     "{\"id\":\"4\",\"kind\":\"render\",\"state\":\"queued\",\"progress\":0,"
-                    "\"owner_uid\":0,\"created\":1763861207.5}]}");
+                    "\"owner_uid\":0,\"created\":1763861207.5},"
+                    "{\"id\":5,\"kind\":\"sleep\",\"state\":\"done\",\"progress\":1,"
+                    "\"trace\":[{\"best_e2\":0.5},{\"best_e2\":0.25}]}]}");
     capture c;
     jobs_print(capture_begin(&c), r);
     const char *text = capture_end(&c);
     contains(text, "id  kind      state    progress  owner   best_e2  created\n");
     contains(text, " 3  optimize  running       42%   1000  0.371200  -\n");
     contains(text, " 4  render    queued         0%      0         -  2025-11-23 01:26:47\n");
+    contains(text, " 5  sleep     done         100%      -  0.250000  -\n");
     capture_free(&c);
     json_decref(r);
 }
@@ -139,7 +142,8 @@ static void progress_bar(void **state)
 static void health_listing(void **state)
 {
     json_t *r = doc("{\"version\":\"0.1.0\",\"uptime_s\":12.5,\"workers\":2,"
-                    "\"jobs\":{\"queued\":1,\"done\":4}}");
+                    "\"jobs\":{\"queued\":1,\"done\":4},\"job_kinds\":[\"sleep\",\"optimize\"],"
+                    "\"big\":[[1],[2]]}");
     capture c;
     health_print(capture_begin(&c), r);
     const char *text = capture_end(&c);
@@ -147,6 +151,8 @@ static void health_listing(void **state)
     contains(text, "uptime_s     12.5\n");
     contains(text, "jobs.queued  1\n");
     contains(text, "jobs.done    4\n");
+    contains(text, "job_kinds    sleep, optimize\n");
+    contains(text, "big          [2 items]\n");
     capture_free(&c);
     json_decref(r);
 }
