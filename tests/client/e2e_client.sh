@@ -229,7 +229,7 @@ if jq -e '.render == true' <<<"$health" >/dev/null; then
   expect 0 "render -o tile.png" -- A render --pattern quincunx --scene siemens-star --size 64x64 -o "$tmp/tile.png"
   [ "$(head -c 8 "$tmp/tile.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] &&
     ok "tile.png is a PNG" || bad "tile.png is not a PNG"
-  has "rmse" "render prints the RMSE"
+  has "RMSE" "render prints the RMSE"
   expect 0 "render a pattern file, the difference image" -- A render --pattern "$tmp/grid.json" --size 32x32 --image difference -o "$tmp/diff.png"
   expect 0 "render a job's pattern" -- A --json render --pattern "job:$id" --size 32x32
   expect 2 "render an unknown scene" -- A render --pattern quincunx --scene no-such-scene -o "$tmp/x.png"

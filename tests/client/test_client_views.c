@@ -139,6 +139,29 @@ static void progress_bar(void **state)
     json_decref(j);
 }
 
+static void render_summary(void **state)
+{
+    json_t *r = doc("{\"scene\":{\"name\":\"siemens-star\",\"width\":128,\"height\":64},"
+                    "\"pattern\":{\"family\":\"P(1,1+,2)\"},\"e2\":0.518044,"
+                    "\"stats\":{\"rmse\":15.88041,\"max_dev\":128.272},"
+                    "\"times\":{\"pattern_seconds\":0.002,\"reference_seconds\":0.3126},"
+                    "\"pixels\":{\"total\":8192,\"supersampled\":4410},"
+                    "\"tiles\":{\"pattern\":{\"url\":\"/v1/tiles/a.png\"}}}");
+    capture c;
+    render_print(capture_begin(&c), r);
+    const char *text = capture_end(&c);
+    contains(text, "scene                siemens-star\n");
+    contains(text, "size                 128 x 64\n");
+    contains(text, "pattern              P(1,1+,2)\n");
+    contains(text, "E2                   0.518044\n");
+    contains(text, "RMSE (0..255)        15.880\n");
+    contains(text, "max deviation        128.272\n");
+    contains(text, "reference time       0.3126\n");
+    contains(text, "supersampled pixels  4410 of 8192\n");
+    capture_free(&c);
+    json_decref(r);
+}
+
 static void health_listing(void **state)
 {
     json_t *r = doc("{\"version\":\"0.1.0\",\"uptime_s\":12.5,\"workers\":2,"
@@ -241,6 +264,7 @@ int main(void)
         cmocka_unit_test(jobs_table),
         cmocka_unit_test(one_job),
         cmocka_unit_test(progress_bar),
+        cmocka_unit_test(render_summary),
         cmocka_unit_test(health_listing),
         cmocka_unit_test(error_lines),
         cmocka_unit_test(exit_codes),
