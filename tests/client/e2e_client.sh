@@ -55,7 +55,7 @@ near() {
 }
 
 start_daemon() {
-  "$aalabd" --socket "$sock" --state-dir "$state" --workers 2 >>"$tmp/daemon.log" 2>&1 &
+  "$aalabd" --socket "$sock" --state-dir "$state" --workers 2 --user-quota 4 >>"$tmp/daemon.log" 2>&1 &
   daemon_pid=$!
   for _ in $(seq 1 100); do
     A health >/dev/null 2>&1 && return 0
@@ -204,6 +204,17 @@ if [ -z "$long" ]; then bad "the long job never appeared"; kill "$waiter"; else
   expect 2 "cancelling a cancelled job is a 4xx" -- A cancel "$long"
 fi
 expect 2 "cancelling a finished job is a 4xx" -- A cancel "$id"
+
+# over quota (the daemon runs with --user-quota 4): 429, exit 2, and the Retry-After hint
+held=""
+for _ in 1 2 3 4; do
+  held="$held $(A --json submit - <<<'{"kind":"sleep","seconds":120}' | jq -r .id)"
+done
+expect 2 "a fifth job over the quota of 4 is refused" -- A submit - <<<'{"kind":"sleep","seconds":120}'
+out=$err
+has "429" "the refusal is a 429"
+has "retry after" "the client passes on Retry-After"
+for j in $held; do A cancel "$j" >/dev/null || bad "cancel $j"; done
 
 # --- what this build has: the optimizer's and the renderer's parts are tested when built -------
 # (CMake passes AALAB_E2E_EXPECT naming what must be there; the daemon's health says what is.)
