@@ -1,5 +1,6 @@
 #!/bin/bash
 # Installs what is missing, builds, and runs everything CI checks:
+#   0. the Release build scripts/run.sh uses compiles (-O3 finds other warnings)  build/release
 #   1. the whole ctest suite in a normal (RelWithDebInfo) build        build/ci
 #   2. the whole ctest suite with AddressSanitizer + UBSan            build/ci-sanitize
 #   3. tests labelled "tsan" in a ThreadSanitizer build (if any)      build/ci-tsan
@@ -51,6 +52,10 @@ suite() { # suite DIR [CTEST-ARGS...]
 
 has_label() { # has_label DIR LABEL: any test carries it?
   (cd "$1" && ctest -N -L "$2" 2>/dev/null | grep -q "Total Tests: [1-9]")
+}
+
+release() {
+  build build/release -DCMAKE_BUILD_TYPE=Release -DAALAB_WEB_TESTS=OFF
 }
 
 normal() {
@@ -116,6 +121,7 @@ systemd_security() {
 }
 
 scripts/install-deps.sh || { echo "install-deps failed"; exit 1; }
+stage release release
 stage normal normal
 stage sanitize sanitize
 stage tsan tsan
