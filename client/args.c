@@ -34,7 +34,8 @@ typedef enum opt_id {
     OPT_SIZE,
     OPT_OUTPUT,
     OPT_IMAGE,
-    OPT_FORMAT
+    OPT_FORMAT,
+    OPT_COST
 } opt_id;
 
 typedef struct opt_spec {
@@ -54,7 +55,8 @@ static const opt_spec OPTIONS[] = {
     {"acuity", 0, true, BIT(CMD_EVAL), OPT_ACUITY},
     {"angles", 0, true, BIT(CMD_EVAL), OPT_ANGLES},
     {"detail", 0, false, BIT(CMD_EVAL), OPT_DETAIL},
-    {"family", 0, true, BIT(CMD_OPTIMIZE), OPT_FAMILY},
+    {"family", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_ENUMERATE), OPT_FAMILY},
+    {"cost", 0, true, BIT(CMD_ENUMERATE), OPT_COST},
     {"pattern", 'p', true, BIT(CMD_OPTIMIZE) | BIT(CMD_RENDER), OPT_PATTERN},
     {"seeds", 0, true, BIT(CMD_OPTIMIZE), OPT_SEEDS},
     {"max-seconds", 0, true, BIT(CMD_OPTIMIZE), OPT_MAX_SECONDS},
@@ -77,6 +79,7 @@ static const struct {
     {"presets", CMD_PRESETS}, {"optimize", CMD_OPTIMIZE}, {"submit", CMD_SUBMIT},
     {"jobs", CMD_JOBS},       {"job", CMD_JOB},           {"cancel", CMD_CANCEL},
     {"render", CMD_RENDER},   {"export", CMD_EXPORT},     {"health", CMD_HEALTH},
+    {"filters", CMD_FILTERS}, {"acuity", CMD_ACUITY},     {"enumerate", CMD_ENUMERATE},
 };
 
 const char *cli_command_name(cli_command c)
@@ -257,6 +260,11 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
             return fail(err, cap, "--image wants pattern, reference or difference, got '%s'", v);
         a->image = v;
         break;
+    case OPT_COST:
+        if (parse_double(v, 0.001, 1e6, &a->cost))
+            return fail(err, cap, "--cost wants samples per pixel (> 0), got '%s'", v);
+        a->has_cost = true;
+        break;
     case OPT_FORMAT:
         if (!one_of(v, FORMATS))
             return fail(err, cap, "--format wants json, utk, vulkan or d3d12, got '%s'", v);
@@ -306,6 +314,10 @@ static int check_command(cli_args *a, char *err, size_t cap)
         if (!a->family == !a->pattern)
             return fail(err, cap, "'optimize' needs exactly one of --family or --pattern");
         break;
+    case CMD_ENUMERATE:
+        if (!a->family)
+            return fail(err, cap, "'enumerate' needs --family, e.g. 'P(4,1+,n)' --cost 1.25");
+        break;
     case CMD_RENDER:
         if (!a->pattern)
             return fail(err, cap, "'render' needs --pattern NAME|FILE");
@@ -315,9 +327,10 @@ static int check_command(cli_args *a, char *err, size_t cap)
     default:
         break;
     }
-    if (a->target &&
-        (a->command == CMD_JOBS || a->command == CMD_HEALTH || a->command == CMD_OPTIMIZE ||
-         a->command == CMD_RENDER || a->command == CMD_VERSION))
+    bool takes_argument = a->command == CMD_EVAL || a->command == CMD_SUBMIT ||
+                          a->command == CMD_JOB || a->command == CMD_CANCEL ||
+                          a->command == CMD_EXPORT || a->command == CMD_PRESETS;
+    if (a->target && !takes_argument)
         return fail(err, cap, "'%s' takes no argument, got '%s'", name, a->target);
     return 0;
 }

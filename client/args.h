@@ -19,7 +19,10 @@ typedef enum cli_command {
     CMD_CANCEL,
     CMD_RENDER,
     CMD_EXPORT,
-    CMD_HEALTH
+    CMD_HEALTH,
+    CMD_FILTERS,
+    CMD_ACUITY,
+    CMD_ENUMERATE
 } cli_command;
 
 typedef struct cli_args {
@@ -45,6 +48,9 @@ typedef struct cli_args {
     bool has_seeds, has_max_seconds, has_rng_seed;
     bool wait;
     double poll_s; /* --wait polling interval */
+    /* enumerate */
+    double cost;
+    bool has_cost;
     /* render */
     const char *scene;
     int width, height;

@@ -21,6 +21,9 @@ int cmd_cancel(cli_session *s);
 int cmd_render(cli_session *s);
 int cmd_export(cli_session *s);
 int cmd_health(cli_session *s);
+int cmd_filters(cli_session *s);
+int cmd_acuity(cli_session *s);
+int cmd_enumerate(cli_session *s);
 void cmd_help(FILE *out, const char *command); /* command NULL: overview */
 
 /* Request bodies. Return 0 with *req (new reference), or -1 with err (a usage error). */
@@ -49,6 +52,9 @@ void jobs_print(FILE *out, const json_t *resp);
 void job_print(FILE *out, const json_t *job);
 void render_print(FILE *out, const json_t *resp);
 void health_print(FILE *out, const json_t *resp);
+void filters_print(FILE *out, const json_t *resp);
+void acuity_print(FILE *out, const json_t *resp);
+void enumerate_print(FILE *out, const json_t *resp);
 /* "[#######.....]  58%  best E2 0.3712" into buf, width columns of bar. */
 void progress_line(char *buf, size_t cap, double fraction, const json_t *job, int width);
 

@@ -19,6 +19,9 @@ static const char OVERVIEW[] =
     "  render ...            render a test tile to a PNG\n"
     "  export ID             the best pattern of a job (json, utk, vulkan, d3d12)\n"
     "  health                daemon version, uptime, workers, queue\n"
+    "  filters               reference filters the metric accepts\n"
+    "  acuity                acuity tables (angle weights)\n"
+    "  enumerate ...         configurations of a family and cost\n"
     "  help [COMMAND]        this text, or a command's options\n"
     "\n"
     "global options:\n"
@@ -61,6 +64,10 @@ static const struct {
                "Prints the render statistics; -o - writes the PNG to stdout (stats to stderr).\n"},
     {"export", "usage: aalab export ID [--format json|utk|vulkan|d3d12] [-o FILE]\n"},
     {"health", "usage: aalab health\n"},
+    {"filters", "usage: aalab filters\n"},
+    {"acuity", "usage: aalab acuity\n"},
+    {"enumerate", "usage: aalab enumerate --family 'P(4,1+,n)' --cost 1.25\n"
+                  "       aalab enumerate --family 'P(4,1+,1.25)'\n"},
     {"help", "usage: aalab help [COMMAND]\n"},
     {"version", "usage: aalab version\n"},
 };

@@ -101,6 +101,15 @@ expect 0 "presets NAME" -- A presets flipquad
 has "P(4,1+,2)" "flipquad is P(4,1+,2)"
 expect 2 "unknown preset is a 4xx" -- A presets no-such-pattern
 
+expect 0 "filters" -- A filters
+has "mitchell" "filters lists mitchell"
+expect 0 "filters --json" -- A --json filters
+jq -e '.filters | map(select(.default == true)) | .[0].name == "mitchell"' <<<"$out" >/dev/null &&
+  ok "mitchell is the default filter" || bad "filters JSON: ${out:0:300}"
+expect 0 "acuity" -- A acuity
+has "0:3.93" "naiman's W(0) = 3.93"
+has "45:2.5" "naiman's W(45) = 2.5"
+
 # --- eval: presets against Laine & Aila Table 2 (checked numbers from the brief) -----------------
 for pe in "quincunx 0.518" "rgss 0.439" "flipquad 0.364" "fliptri 0.636"; do
   set -- $pe
@@ -235,6 +244,19 @@ if has_kind optimize; then
   has "job " "optimize prints the job id"
 elif expected optimize; then bad "this build should have the optimize kind (health: $(jq -c .job_kinds <<<"$health"))"
 else echo "skip optimize: no optimize kind in this build"; fi
+
+A --json enumerate --family 'P(4,1+,n)' --cost 1.25 >"$tmp/out" 2>"$tmp/err"
+rc=$?
+out=$(cat "$tmp/out")
+if [ $rc -eq 0 ]; then
+  jq -e '.count >= 1 and (.configurations | length) == .count' <<<"$out" >/dev/null &&
+    ok "enumerate P(4,1+,n) at 1.25 spp: $(jq .count <<<"$out") configurations" || bad "enumerate: ${out:0:300}"
+  expect 0 "enumerate table" -- A enumerate --family 'P(4,1+,1.25)'
+  has "count" "enumerate prints the count"
+elif [ $rc -eq 3 ] && grep -q not_implemented "$tmp/err" && ! expected optimize; then
+  echo "skip enumerate: not built into this daemon"
+else bad "enumerate: exit $rc: $(cat "$tmp/err")"; fi
+expect 2 "enumerate an impossible cost is a 4xx" -- A enumerate --family 'P(4,1+,n)' --cost 0.1
 
 if jq -e '.render == true' <<<"$health" >/dev/null; then
   expect 0 "render -o tile.png" -- A render --pattern quincunx --scene siemens-star --size 64x64 -o "$tmp/tile.png"

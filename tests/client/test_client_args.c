@@ -214,6 +214,24 @@ static void submit_forms(void **state)
     assert_int_equal(PARSE(&a, "submit", "s.json", "--seeds", "3"), -1);
 }
 
+static void enumerate_forms(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "enumerate", "--family", "P(4,1+,n)", "--cost", "1.25"), 0);
+    assert_int_equal(a.command, CMD_ENUMERATE);
+    assert_string_equal(a.family, "P(4,1+,n)");
+    assert_true(a.has_cost && a.cost == 1.25);
+    assert_int_equal(PARSE(&a, "enumerate", "--family", "P(4,1+,1.5)"), 0);
+    assert_false(a.has_cost);
+    assert_int_equal(PARSE(&a, "enumerate", "--cost", "1"), -1);
+    assert_int_equal(PARSE(&a, "enumerate", "--family", "F", "--cost", "0"), -1);
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--cost", "1"), -1);
+    assert_int_equal(PARSE(&a, "filters"), 0);
+    assert_int_equal(a.command, CMD_FILTERS);
+    assert_int_equal(PARSE(&a, "acuity", "naiman"), -1);
+}
+
 static void number_helpers(void **state)
 {
     long l;
@@ -251,6 +269,7 @@ int main(void)
         cmocka_unit_test(help_forms),
         cmocka_unit_test(double_dash_ends_options),
         cmocka_unit_test(submit_forms),
+        cmocka_unit_test(enumerate_forms),
         cmocka_unit_test(number_helpers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

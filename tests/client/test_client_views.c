@@ -162,6 +162,33 @@ static void render_summary(void **state)
     json_decref(r);
 }
 
+static void catalog_views(void **state)
+{
+    json_t *r = doc("{\"filters\":[{\"name\":\"mitchell\",\"radius\":2.0,\"B\":0.3333333,"
+                    "\"C\":0.3333333,\"default\":true},{\"name\":\"box\",\"radius\":0.5}]}");
+    capture c;
+    filters_print(capture_begin(&c), r);
+    const char *text = capture_end(&c);
+    contains(text, "mitchell    2.00  0.3333  0.3333  yes\n");
+    contains(text, "box         0.50       -       -\n"); /* no trailing blanks */
+    capture_free(&c);
+    json_decref(r);
+
+    r = doc("{\"tables\":[{\"name\":\"naiman\",\"default\":true,\"knots\":[[0,3.93],[45,2.5]]}]}");
+    acuity_print(capture_begin(&c), r);
+    contains(capture_end(&c), "naiman  yes      0:3.93 45:2.5\n");
+    capture_free(&c);
+    json_decref(r);
+
+    r = doc("{\"count\":2,\"configurations\":[{\"corners\":1},{\"edges\":2}]}");
+    enumerate_print(capture_begin(&c), r);
+    assert_string_equal(capture_end(&c), "count  2\n"
+                                         "   1  {\"corners\":1}\n"
+                                         "   2  {\"edges\":2}\n");
+    capture_free(&c);
+    json_decref(r);
+}
+
 static void health_listing(void **state)
 {
     json_t *r = doc("{\"version\":\"0.1.0\",\"uptime_s\":12.5,\"workers\":2,"
@@ -265,6 +292,7 @@ int main(void)
         cmocka_unit_test(one_job),
         cmocka_unit_test(progress_bar),
         cmocka_unit_test(render_summary),
+        cmocka_unit_test(catalog_views),
         cmocka_unit_test(health_listing),
         cmocka_unit_test(error_lines),
         cmocka_unit_test(exit_codes),
