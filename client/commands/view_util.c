@@ -93,7 +93,9 @@ static void flatten(flat_list *l, const char *prefix, const json_t *obj, int dep
     json_object_foreach((json_t *)obj, key, v)
     {
         char name[128], buf[64];
-        snprintf(name, sizeof name, "%s%s%s", prefix, *prefix ? "." : "", key);
+        int n = snprintf(name, sizeof name, "%s%s%s", prefix, *prefix ? "." : "", key);
+        if (n < 0 || (size_t)n >= sizeof name)
+            continue; /* a key path this long is not for a table; --json has it */
         if (json_is_object(v) && depth < 3) {
             flatten(l, name, v, depth + 1);
         } else if (json_is_array(v)) {
