@@ -18,6 +18,7 @@ typedef enum opt_id {
     OPT_JSON,
     OPT_TIMEOUT,
     OPT_HELP,
+    OPT_VERSION,
     OPT_FILTER,
     OPT_ACUITY,
     OPT_ANGLES,
@@ -51,6 +52,7 @@ static const opt_spec OPTIONS[] = {
     {"json", 0, false, ALL_COMMANDS, OPT_JSON},
     {"timeout", 0, true, ALL_COMMANDS, OPT_TIMEOUT},
     {"help", 'h', false, ALL_COMMANDS, OPT_HELP},
+    {"version", 'V', false, ALL_COMMANDS, OPT_VERSION},
     {"filter", 0, true, BIT(CMD_EVAL), OPT_FILTER},
     {"acuity", 0, true, BIT(CMD_EVAL), OPT_ACUITY},
     {"angles", 0, true, BIT(CMD_EVAL), OPT_ANGLES},
@@ -198,6 +200,7 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
             return fail(err, cap, "--timeout wants seconds in (0, 86400], got '%s'", v);
         break;
     case OPT_HELP: /* handled by cli_parse */
+    case OPT_VERSION:
         break;
     case OPT_FILTER:
         a->filter = v;
@@ -343,7 +346,7 @@ int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errc
     out->image = "pattern";
     out->format = "json";
     bool only_positionals = false;
-    bool help = false;
+    bool help = false, version = false;
 
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
@@ -396,6 +399,10 @@ int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errc
             help = true;
             continue;
         }
+        if (o->id == OPT_VERSION) {
+            version = true;
+            continue;
+        }
         /* Command-specific options are checked once the command is known (it may come later). */
         if (apply_option(out, o, value, err, errcap))
             return -1;
@@ -419,6 +426,11 @@ int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errc
         if (out->command != CMD_NONE && !(o->commands & BIT(out->command)))
             return fail(err, errcap, "option '--%s' does not apply to '%s'", o->long_name,
                         cli_command_name(out->command));
+    }
+    if (version && !help) {
+        out->command = CMD_VERSION;
+        out->target = NULL;
+        return 0;
     }
     if (help) {
         out->target = out->command == CMD_NONE || out->command == CMD_HELP

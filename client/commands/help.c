@@ -30,6 +30,7 @@ static const char OVERVIEW[] =
     "                        else /run/aalab/aalabd.sock)\n"
     "      --json            print the daemon's JSON instead of tables\n"
     "      --timeout S       per-request timeout in seconds (default 30)\n"
+    "  -V, --version         print the client's version\n"
     "\n"
     "A pattern argument is a preset NAME, a FILE.json, or job:ID (a job's best pattern).\n"
     "\n"

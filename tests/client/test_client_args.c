@@ -190,6 +190,10 @@ static void help_forms(void **state)
     assert_int_equal(PARSE(&a, "help", "render"), 0);
     assert_string_equal(a.target, "render");
     assert_int_equal(PARSE(&a, "help", "nope"), -1);
+    assert_int_equal(PARSE(&a, "--version"), 0);
+    assert_int_equal(a.command, CMD_VERSION);
+    assert_int_equal(PARSE(&a, "version"), 0);
+    assert_int_equal(a.command, CMD_VERSION);
 }
 
 static void double_dash_ends_options(void **state)
