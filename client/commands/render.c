@@ -15,15 +15,13 @@ int render_request(const cli_args *a, json_t **req, char *err, size_t errcap)
     json_t *pattern;
     if (pattern_argument_load(a->pattern, &pattern, NULL, err, errcap))
         return -1;
-    /* The renderer's scene object (server/tiles/tile_render.h): {"name","width","height"}. */
-    json_t *scene = json_pack("{s:s}", "name", a->scene ? a->scene : "siemens-star");
-    if (a->width > 0) {
-        json_object_set_new(scene, "width", json_integer(a->width));
-        json_object_set_new(scene, "height", json_integer(a->height));
-    }
+    /* Issue 4's wire form: "scene" by name and "size":[w,h] beside it (the renderer also takes
+     * a scene object with more parameters; see server/tiles/tile_render.h). */
     json_t *r = json_object();
     json_object_set_new(r, "pattern", pattern);
-    json_object_set_new(r, "scene", scene);
+    json_object_set_new(r, "scene", json_string(a->scene ? a->scene : "siemens-star"));
+    if (a->width > 0)
+        json_object_set_new(r, "size", json_pack("[ii]", a->width, a->height));
     *req = r;
     return 0;
 }

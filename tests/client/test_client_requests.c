@@ -234,18 +234,18 @@ static void render_bodies(void **state)
     json_t *req;
     char err[256];
     assert_int_equal(render_request(&a, &req, err, sizeof err), 0);
-    assert_json(req, "{\"pattern\":{\"preset\":\"quincunx\"},\"scene\":{\"name\":"
-                     "\"siemens-star\",\"width\":256,\"height\":128}}");
+    assert_json(req, "{\"pattern\":{\"preset\":\"quincunx\"},\"scene\":\"siemens-star\","
+                     "\"size\":[256,128]}");
     json_decref(req);
     cli_args j = {.command = CMD_RENDER, .pattern = "job:17"};
     assert_int_equal(render_request(&j, &req, err, sizeof err), 0);
-    assert_json(req, "{\"pattern\":{\"job\":\"17\"},\"scene\":{\"name\":\"siemens-star\"}}");
+    assert_json(req, "{\"pattern\":{\"job\":\"17\"},\"scene\":\"siemens-star\"}");
     json_decref(req);
     j.pattern = "job:../x";
     assert_int_equal(render_request(&j, &req, err, sizeof err), -1);
     cli_args b = {.command = CMD_RENDER, .pattern = "rgss", .scene = "circles"};
     assert_int_equal(render_request(&b, &req, err, sizeof err), 0);
-    assert_json(req, "{\"pattern\":{\"preset\":\"rgss\"},\"scene\":{\"name\":\"circles\"}}");
+    assert_json(req, "{\"pattern\":{\"preset\":\"rgss\"},\"scene\":\"circles\"}");
     json_decref(req);
 }
 
