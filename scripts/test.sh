@@ -87,8 +87,10 @@ tsan() {
 
 fuzz() {
   [ -f tests/fuzz/CMakeLists.txt ] || { echo "no tests/fuzz"; return 77; }
-  CC=clang build build/ci-fuzz -DCMAKE_BUILD_TYPE=Debug -DAALAB_FUZZ=ON -DAALAB_WEB_TESTS=OFF &&
-    suite build/ci-fuzz -L fuzz
+  CC=clang build build/ci-fuzz -DCMAKE_BUILD_TYPE=Debug -DAALAB_FUZZ=ON -DAALAB_WEB_TESTS=OFF ||
+    return 1
+  has_label build/ci-fuzz fuzz || { echo "no tests labelled fuzz"; return 77; }
+  suite build/ci-fuzz -L fuzz
 }
 
 units_dir=""
