@@ -1,0 +1,29 @@
+// Tiles view: render a tile and see the pattern, reference and difference images with stats.
+
+import { assert } from '../lib/check.mjs';
+
+export default async function tilesSuite({ page, base, step, shot }) {
+  await step('render Siemens star with Quincunx: three images and the statistics', async () => {
+    await page.goto(`${base}/#/tiles`);
+    await page.waitForSelector('#tile-pattern option[value="preset:quincunx"]', { state: 'attached' });
+    await page.selectOption('#tile-scene', 'siemens-star');
+    await page.selectOption('#tile-pattern', 'preset:quincunx');
+    await page.selectOption('#tile-size', '64');
+    await page.selectOption('#tile-ref', '256');
+    await page.click('#tile-render');
+    await page.waitForFunction(() => /rendered|render failed|with/.test(document.getElementById('tile-status').textContent), null, { timeout: 60000 });
+    const status = await page.textContent('#tile-status');
+    assert(!status.startsWith('render failed'), status);
+    for (const k of ['pattern', 'reference', 'difference']) {
+      const size = await page.$eval(`#tile-img-${k}`, (img) => [img.naturalWidth, img.naturalHeight, img.dataset.loaded]);
+      assert(size[0] === 64 && size[1] === 64 && size[2] === 'true', `${k} image: ${JSON.stringify(size)}`);
+    }
+    const rmse = await page.textContent('#tile-rmse');
+    assert(/^\d+\.\d{3}$/.test(rmse), `RMSE shown "${rmse}"`);
+    assert(await page.$('#tile-hist canvas'), 'no histogram chart');
+    await page.fill('#tile-zoom', '4');
+    const w = await page.$eval('#tile-img-difference', (img) => img.getBoundingClientRect().width);
+    assert(Math.abs(w - 256) < 1, `zoom 4× should show the 64 px tile 256 px wide, got ${w}`);
+    await shot('tiles');
+  });
+}

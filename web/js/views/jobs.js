@@ -1,0 +1,196 @@
+// Jobs: start an optimization, list jobs with state and progress, cancel, and for one job the
+// best-E2-against-seconds trace (log–log, uPlot), the best pattern and its exports.
+
+import uPlot from '../../vendor/uplot/uPlot.esm.js';
+import { apiPost, apiDelete, apiGetText } from '../api.js';
+import { ACTIVE_STATES, fmt } from '../model.js';
+import { loadJobs, loadJob } from '../store.js';
+import { PatternView } from '../pattern-view.js';
+import { isDrawable } from '../pattern-geometry.js';
+import { currentEvaluatePattern } from './evaluate-bridge.js';
+
+const $ = (id) => document.getElementById(id);
+const STATE_MARK = { queued: '… ', running: '▶ ', done: '✓ ', failed: '✗ ', cancelled: '⊘ ', interrupted: '! ' };
+
+let ctx = null;
+let timer = null;
+let visible = false;
+let selected = null;
+let chart = null;
+let chartJob = null;
+let bestView = null;
+let lastJobs = [];
+
+export async function init(context) {
+  ctx = context;
+  bestView = new PatternView($('jd-pattern'), { editable: false, label: 'Best pattern of the job' });
+  $('job-start').addEventListener('change', syncForm);
+  syncForm();
+  $('job-form').addEventListener('submit', async (e) => {
+    e.preventDefault();
+    const spec = { kind: 'optimize', seeds: +$('job-seeds').value, max_seconds: +$('job-seconds').value, rng_seed: +$('job-rng').value };
+    if ($('job-start').value === 'pattern') {
+      const p = currentEvaluatePattern();
+      if (!p) {
+        $('job-form-status').textContent = 'Evaluate has no pattern yet';
+        return;
+      }
+      spec.pattern = p;
+    } else spec.family = $('job-family').value.trim();
+    $('job-submit').disabled = true;
+    try {
+      const r = await apiPost('/v1/jobs', spec);
+      $('job-form-status').textContent = `job ${r.id} submitted`;
+      selected = String(r.id);
+      await refresh();
+    } catch (err) {
+      $('job-form-status').textContent = `not started: ${err.message}`;
+    } finally {
+      $('job-submit').disabled = false;
+    }
+  });
+  $('jobs-table').addEventListener('click', async (e) => {
+    const btn = e.target.closest('button');
+    if (!btn) return;
+    const id = btn.closest('tr').dataset.jobId;
+    if (btn.dataset.action === 'show') ctx.navigate('jobs', { job: id });
+    if (btn.dataset.action === 'cancel') {
+      btn.disabled = true;
+      try {
+        await apiDelete(`/v1/jobs/${encodeURIComponent(id)}`);
+      } catch (err) {
+        ctx.toast(`cancel ${id}: ${err.message}`);
+      }
+      refresh();
+    }
+  });
+  $('jd-export').addEventListener('click', (e) => {
+    const fmtName = e.target.closest('button')?.dataset.format;
+    if (fmtName && selected) exportPattern(selected, fmtName);
+  });
+  $('jd-open').addEventListener('click', () => selected && ctx.navigate('evaluate', { job: selected }));
+  window.addEventListener('resize', () => chart && chart.setSize(chartSize()));
+}
+
+function syncForm() {
+  $('job-family').disabled = $('job-start').value !== 'family';
+}
+
+export async function show(params) {
+  visible = true;
+  if (params.job) selected = params.job;
+  await refresh();
+}
+
+export function hide() {
+  visible = false;
+  clearTimeout(timer);
+}
+
+async function refresh() {
+  clearTimeout(timer);
+  try {
+    lastJobs = await loadJobs();
+    renderTable(lastJobs);
+    if (selected) await renderDetail(selected);
+  } catch (e) {
+    $('job-form-status').textContent = `jobs: ${e.message}`;
+  }
+  const active = lastJobs.some((j) => ACTIVE_STATES.has(j.state));
+  if (visible) timer = setTimeout(refresh, active ? 700 : 4000);
+}
+
+function renderTable(jobs) {
+  const rows = jobs
+    .slice()
+    .sort((a, b) => (Number(b.id) || 0) - (Number(a.id) || 0))
+    .map((j) => {
+      const tr = document.createElement('tr');
+      tr.dataset.jobId = j.id;
+      tr.dataset.state = j.state;
+      if (String(j.id) === String(selected)) tr.classList.add('selected');
+      const pct = Math.round(j.progress * 100);
+      tr.innerHTML = `
+        <td>#${esc(j.id)}</td>
+        <td>${esc(j.kind)}${j.family ? ` <span class="hint">${esc(j.family)}</span>` : ''}</td>
+        <td class="state state-${esc(j.state)}">${STATE_MARK[j.state] || ''}${esc(j.state)}</td>
+        <td><progress max="1" value="${j.progress}" aria-label="job ${esc(j.id)} progress">${pct}%</progress> <span class="pct">${pct}%</span></td>
+        <td class="num">${fmt(j.bestE2, 4)}</td>
+        <td class="actions"><button type="button" data-action="show">Show</button>
+          <button type="button" data-action="cancel" ${ACTIVE_STATES.has(j.state) ? '' : 'disabled'} aria-label="Cancel job ${esc(j.id)}">Cancel</button></td>`;
+      return tr;
+    });
+  $('jobs-table').tBodies[0].replaceChildren(...rows);
+  if (!rows.length) $('jobs-table').tBodies[0].innerHTML = '<tr><td colspan="6" class="hint">no jobs yet</td></tr>';
+}
+
+async function renderDetail(id) {
+  const j = await loadJob(id);
+  $('job-detail-hint').hidden = true;
+  $('job-detail-body').hidden = false;
+  $('job-detail-title').textContent = `Job #${j.id} (${j.kind})`;
+  $('jd-state').textContent = `${STATE_MARK[j.state] || ''}${j.state} (${Math.round(j.progress * 100)}%)`;
+  $('jd-state').dataset.state = j.state;
+  $('jd-e2').textContent = fmt(j.bestE2, 6);
+  $('jd-family').textContent = j.family || '—';
+  $('jd-points').textContent = String(j.trace.length);
+  $('jd-error').textContent = j.error ? `error: ${j.error}` : '';
+  drawTrace(j);
+  if (j.best && isDrawable(j.best.pattern)) bestView.setPattern(structuredClone(j.best.pattern), 0);
+  const hasBest = !!(j.best && j.best.pattern);
+  for (const b of $('jd-export').querySelectorAll('button')) b.disabled = !hasBest;
+}
+
+function chartSize() {
+  const w = Math.max(280, $('jd-trace').clientWidth || 560);
+  return { width: w, height: Math.round(Math.min(320, w * 0.55)) };
+}
+
+function drawTrace(j) {
+  // Log axes need positive values; the first point may be at t = 0.
+  const xs = j.trace.map((p) => Math.max(p.seconds, 1e-3));
+  const ys = j.trace.map((p) => p.best_e2);
+  const data = [xs, ys];
+  $('jd-trace').dataset.points = String(xs.length);
+  if (chart && chartJob === j.id) {
+    chart.setData(data);
+    return;
+  }
+  if (chart) chart.destroy();
+  chartJob = j.id;
+  chart = new uPlot(
+    {
+      ...chartSize(),
+      scales: { x: { time: false, distr: 3 }, y: { distr: 3 } },
+      axes: [
+        { label: 'seconds', values: (u, v) => v.map((x) => (x == null ? '' : String(+x.toPrecision(3)))) },
+        { label: 'best E2', size: 60, values: (u, v) => v.map((x) => (x == null ? '' : String(+x.toPrecision(3)))) },
+      ],
+      series: [
+        { label: 's', value: (u, v) => (v == null ? '—' : v.toPrecision(3)) },
+        { label: 'best E2', stroke: '#1f5fbf', width: 2, points: { show: true, size: 5 }, value: (u, v) => (v == null ? '—' : v.toFixed(5)) },
+      ],
+    },
+    data,
+    $('jd-trace'),
+  );
+}
+
+async function exportPattern(id, format) {
+  try {
+    const { text, type } = await apiGetText(`/v1/patterns/${encodeURIComponent(id)}/export?format=${format}`);
+    $('jd-export-text').textContent = text;
+    const a = $('jd-download');
+    if (a.href) URL.revokeObjectURL(a.href);
+    a.href = URL.createObjectURL(new Blob([text], { type }));
+    a.download = `aalab-job-${id}.${format === 'json' ? 'json' : format === 'utk' ? 'dat' : `${format}.txt`}`;
+    a.textContent = `Download ${a.download}`;
+    a.hidden = false;
+  } catch (e) {
+    $('jd-export-text').textContent = `export failed: ${e.message}`;
+  }
+}
+
+function esc(s) {
+  return String(s ?? '').replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`);
+}
