@@ -51,6 +51,14 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
     const colour = COLOURS[k % COLOURS.length];
     const shape = MARKERS[k % MARKERS.length];
     const pts = s.points.filter((p) => all.includes(p));
+    if (s.envelope && pts.length > 1) {
+      // The best (lowest) y at each x, joined: the family's frontier.
+      const best = new Map();
+      for (const p of pts) if (!best.has(p.x) || p.y < best.get(p.x)) best.set(p.x, p.y);
+      const env = [...best].sort((a, b) => a[0] - b[0]);
+      if (env.length > 1)
+        el('path', { d: env.map(([x, y], i) => `${i ? 'L' : 'M'}${X(x).toFixed(1)},${Y(y).toFixed(1)}`).join(''), class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);
+    }
     if ((lines || s.line) && pts.length > 1) {
       const sorted = [...pts].sort((a, b) => a.x - b.x);
       el('path', { d: sorted.map((p, i) => `${i ? 'L' : 'M'}${X(p.x).toFixed(1)},${Y(p.y).toFixed(1)}`).join(''), class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);

@@ -76,11 +76,12 @@ async function doLoad() {
   });
   const names = [...bySeries.keys()].sort();
   drawScatter($('fam-plot'), {
-    series: names.map((n) => ({ label: n, points: bySeries.get(n), line: false })),
+    series: names.map((n) => ({ label: n, points: bySeries.get(n), envelope: true })),
+    xLog: true,
     xLabel: 'samples per pixel',
     yLabel: 'E2',
-    width: 760,
-    height: 400,
+    width: 720,
+    height: 420,
   });
   scatterLegend($('fam-legend'), names);
   rows.sort((a, b) => a.series.localeCompare(b.series) || a.cost - b.cost || a.e2 - b.e2);

@@ -9,7 +9,7 @@ import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 const $ = (id) => document.getElementById(id);
 // Scene names of the renderer (issue 5).
-export const SCENES = ['siemens-star', 'checkerboard', 'circles', 'thin-polygon', 'spiral'];
+export const SCENES = ['siemens-star', 'checkerboard', 'rings', 'sliver', 'spiral', 'half-plane'];
 const CMP_DEFAULT = new Set(['centroid', 'quincunx', 'rgss', 'flipquad', 'fliptri', 'grid-2x2']);
 
 let ctx = null;
