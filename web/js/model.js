@@ -21,7 +21,8 @@ export function patternOf(obj) {
   if (obj.pattern && typeof obj.pattern === 'object') return patternOf(obj.pattern) || obj.pattern;
   if (Array.isArray(obj.kernels) && Array.isArray(obj.kernels[0])) return { kernels: obj.kernels };
   if (Array.isArray(obj.mirrored)) return { mirrored: obj.mirrored };
-  if (obj.tile && typeof obj.tile === 'object') return { tile: obj.tile };
+  if (obj.tile && typeof obj.tile === 'object')
+    return Array.isArray(obj.kernels_expanded) ? { tile: obj.tile, kernels_expanded: obj.kernels_expanded } : { tile: obj.tile };
   if (typeof obj.preset === 'string') return { preset: obj.preset };
   return null;
 }

@@ -11,6 +11,14 @@ export function isDrawable(p) {
   return !!p && (Array.isArray(p.kernels) || Array.isArray(p.mirrored));
 }
 
+/* What to draw for a pattern: itself when editable here, or (read-only) the explicit kernels the
+ * server adds to patterns it encodes ("kernels_expanded", e.g. for the tile form). */
+export function drawableOf(p) {
+  if (isDrawable(p)) return { pattern: p, readOnly: false };
+  if (p && Array.isArray(p.kernels_expanded)) return { pattern: { kernels: p.kernels_expanded }, readOnly: true };
+  return null;
+}
+
 /* Reconstruction kernels of a drawable pattern (mirrored: the pixel mirrored in x, y, xy). */
 export function kernelsOf(p) {
   if (Array.isArray(p.kernels)) return p.kernels;

@@ -35,13 +35,17 @@ export async function findPreset(name) {
 }
 
 /* Filters: [{name, params:{B:0.333,...}}]. The answer may list names or objects. */
+const FILTER_PARAMS = ['B', 'C', 'radius', 'sigma', 'a'];
+
 export async function loadFilters() {
   const raw = listFrom(await apiGet('/v1/filters'), 'filters');
   return raw.map((f) => {
     if (typeof f === 'string') return { name: f, params: {} };
     const params = {};
     const src = f.params || f.parameters || f.defaults || f;
-    for (const [k, v] of Object.entries(src)) if (typeof v === 'number' && !['radius_default'].includes(k)) params[k] = v;
+    // Only the parameters the filter decoder takes; other numbers (error bounds, piece counts)
+    // are information and would be rejected as unknown fields.
+    for (const [k, v] of Object.entries(src)) if (typeof v === 'number' && FILTER_PARAMS.includes(k)) params[k] = v;
     return { name: f.name, params, description: f.description || '' };
   });
 }

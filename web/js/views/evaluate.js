@@ -5,7 +5,7 @@ import { apiPost } from '../api.js';
 import { normEvaluation, fmt } from '../model.js';
 import { loadPresets, findPreset, loadFilters, loadAcuity, loadJob } from '../store.js';
 import { PatternView } from '../pattern-view.js';
-import { isDrawable, kernelsOf, clonePattern } from '../pattern-geometry.js';
+import { drawableOf, kernelsOf, clonePattern } from '../pattern-geometry.js';
 import { drawPolar, polarLegend } from '../polar-plot.js';
 import { setEvaluatePatternGetter } from './evaluate-bridge.js';
 
@@ -64,7 +64,8 @@ export async function init(context) {
   });
   $('ev-acuity').addEventListener('change', requestEvaluation);
   $('ev-kernel').addEventListener('change', () => {
-    if (isDrawable(state.pattern)) view.setPattern(state.pattern, +$('ev-kernel').value);
+    const d = drawableOf(state.pattern);
+    if (d) view.setPattern(d.pattern, +$('ev-kernel').value);
   });
   $('ev-keep-sites').addEventListener('change', () => (view.keepSites = $('ev-keep-sites').checked));
   $('ev-reset').addEventListener('click', () => state.presetName && usePreset(state.presetName));
@@ -154,12 +155,13 @@ async function useJob(id) {
 }
 
 function setPatternView() {
-  const drawable = isDrawable(state.pattern);
-  $('ev-pattern').classList.toggle('undrawable', !drawable);
-  const count = drawable ? kernelsOf(state.pattern).length : 1;
+  const d = drawableOf(state.pattern);
+  $('ev-pattern').classList.toggle('undrawable', !d);
+  const count = d ? kernelsOf(d.pattern).length : 1;
   $('ev-kernel').replaceChildren(...Array.from({ length: count }, (_, k) => new Option(`kernel ${k + 1} of ${count}`, k)));
   $('ev-kernel').disabled = count < 2 || Array.isArray(state.pattern.mirrored);
-  if (drawable) view.setPattern(state.pattern, 0);
+  view.editable = !!d && !d.readOnly;
+  if (d) view.setPattern(d.pattern, 0);
   else view.svg.replaceChildren();
 }
 

@@ -6,7 +6,7 @@ import { apiPost, apiDelete, apiGetText } from '../api.js';
 import { ACTIVE_STATES, fmt } from '../model.js';
 import { loadJobs, loadJob } from '../store.js';
 import { PatternView } from '../pattern-view.js';
-import { isDrawable } from '../pattern-geometry.js';
+import { drawableOf } from '../pattern-geometry.js';
 import { currentEvaluatePattern } from './evaluate-bridge.js';
 
 const $ = (id) => document.getElementById(id);
@@ -136,7 +136,8 @@ async function renderDetail(id) {
   $('jd-points').textContent = String(j.trace.length);
   $('jd-error').textContent = j.error ? `error: ${j.error}` : '';
   drawTrace(j);
-  if (j.best && isDrawable(j.best.pattern)) bestView.setPattern(structuredClone(j.best.pattern), 0);
+  const d = j.best && drawableOf(j.best.pattern);
+  if (d) bestView.setPattern(structuredClone(d.pattern), 0);
   const hasBest = !!(j.best && j.best.pattern);
   for (const b of $('jd-export').querySelectorAll('button')) b.disabled = !hasBest;
 }
