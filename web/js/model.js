@@ -167,19 +167,23 @@ export function renderImages(r) {
     if (v && typeof v === 'object') return toUrl(v.url || v.href || v.id || v.path);
     return null;
   };
-  const scan = (obj, depth) => {
+  // Inside a container named like "tiles"/"images"/"urls", a bare id or URL under "pattern",
+  // "reference", ... is an image; elsewhere the key must say so ("reference_url", "diff_id").
+  const scan = (obj, depth, container) => {
     if (!obj || typeof obj !== 'object' || depth > 2) return;
     for (const [k, v] of Object.entries(obj)) {
       const cls = classify(k);
+      const lk = k.toLowerCase();
+      const scalar = typeof v === 'string' || typeof v === 'number';
       const looksLikeImage =
         (typeof v === 'string' && (/\.png$/.test(v) || /^\/v1\/tiles\//.test(v))) ||
-        (cls && /(_url|_id|_tile|_png|^url$|^id$)/.test(k.toLowerCase())) ||
-        (cls && v && typeof v === 'object' && (v.url || v.id));
+        (cls && scalar && (container || /(_url|_id|_tile|_png)$/.test(lk))) ||
+        (cls && v && typeof v === 'object' && !Array.isArray(v) && (v.url || v.id != null));
       if (cls && looksLikeImage && !out[cls]) out[cls] = toUrl(v);
-      else if (v && typeof v === 'object' && !Array.isArray(v)) scan(v, depth + 1);
+      else if (v && typeof v === 'object' && !Array.isArray(v)) scan(v, depth + 1, /tile|image|png|url/.test(lk));
     }
   };
-  scan(r, 0);
+  scan(r, 0, false);
   return out;
 }
 
