@@ -13,8 +13,8 @@ enum {
 };
 
 typedef struct aa_error {
-    int code;          /* one of the AA_E* values, 0 when no error */
-    char field[96];    /* JSON path of the offending input relative to the engine object, "" if none */
+    int code;       /* one of the AA_E* values, 0 when no error */
+    char field[96]; /* JSON path of the offending input relative to the engine object, "" if none */
     char message[192]; /* human-readable, one sentence */
 } aa_error;
 

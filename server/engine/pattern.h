@@ -51,11 +51,7 @@ typedef struct aa_point {
     double x, y;
 } aa_point;
 
-typedef enum aa_pattern_form {
-    AA_FORM_KERNELS,
-    AA_FORM_MIRRORED,
-    AA_FORM_TILE
-} aa_pattern_form;
+typedef enum aa_pattern_form { AA_FORM_KERNELS, AA_FORM_MIRRORED, AA_FORM_TILE } aa_pattern_form;
 
 /* Where a tile sample sits on the pixel grid; the optimizer keeps each sample on its site. */
 typedef enum aa_site {
@@ -106,8 +102,8 @@ typedef struct aa_tile_spec {
  * "tile.samples[3]", "tile.weights[1]", ... */
 int aa_pattern_from_kernels(aa_pattern *p, const aa_sample *const *kernels, const size_t *counts,
                             size_t kernel_count, unsigned flags, aa_error *err);
-int aa_pattern_from_mirrored(aa_pattern *p, const aa_sample *samples, size_t count,
-                             unsigned flags, aa_error *err);
+int aa_pattern_from_mirrored(aa_pattern *p, const aa_sample *samples, size_t count, unsigned flags,
+                             aa_error *err);
 int aa_pattern_from_tile(aa_pattern *p, const aa_tile_spec *spec, unsigned flags, aa_error *err);
 int aa_pattern_copy(aa_pattern *dst, const aa_pattern *src);
 void aa_pattern_free(aa_pattern *p);

@@ -12,11 +12,11 @@ typedef struct aa_preset {
     const char *family;
     double cost_spp;
     const char *source;
-    const char *note;      /* NULL if none */
-    double published_e2;   /* Laine & Aila Table 2, or NaN if the paper does not list it */
-    aa_pattern_form form;  /* AA_FORM_KERNELS or AA_FORM_MIRRORED */
-    size_t kernel_count;   /* kernels form */
-    size_t sample_count;   /* samples of the one kernel / the mirrored pixel */
+    const char *note;     /* NULL if none */
+    double published_e2;  /* Laine & Aila Table 2, or NaN if the paper does not list it */
+    aa_pattern_form form; /* AA_FORM_KERNELS or AA_FORM_MIRRORED */
+    size_t kernel_count;  /* kernels form */
+    size_t sample_count;  /* samples of the one kernel / the mirrored pixel */
     const aa_sample *samples;
 } aa_preset;
 
