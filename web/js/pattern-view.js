@@ -114,7 +114,9 @@ export class PatternView {
   }
 
   applyMove(index, x, y, refocus) {
+    const before = editableSamples(this.pattern, this.kernel)[index].slice(0, 2).join();
     moveSample(this.pattern, this.kernel, index, x, y, this.keepSites);
+    if (editableSamples(this.pattern, this.kernel)[index].slice(0, 2).join() === before) return; // held by its site
     this.render();
     const g = this.svg.querySelector(`g.dot-primary[data-index="${index}"]`);
     if (g && refocus) g.focus();

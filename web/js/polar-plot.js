@@ -5,7 +5,7 @@
 import { el, text, clear, COLOURS, DASHES, niceTicks } from './svg.js';
 
 const SIZE = 360;
-const PAD = 34;
+const PAD = 40;
 
 export function drawPolar(container, { title, series, argmax, valueLabel }) {
   clear(container);
