@@ -127,3 +127,24 @@ test('moving samples: edge samples stay on their edge, mirrored samples stay in 
   moveSample(q, 0, 1, 0.1, 0.1, false);
   assert.deepEqual(q.kernels[0][1], [0.1, 0.1, 0.5]);
 });
+
+test('render answer in the renderer shape (server/tiles/tile_render.c)', () => {
+  const r = {
+    scene: { name: 'siemens-star', width: 64, height: 64 },
+    pattern: { family: 'P(1,1+,2)', samples_per_pixel: 2, kernels: 1, kernel_size: 1, border: true, wire: { kernels: [[[0, 0, 1]]] } },
+    reference: { spp: 256, seed: 1, filter: 'mitchell' },
+    e2: 0.518,
+    stats: { rmse: 9.5, max_dev: 140, pixels: 4096, histogram: [1, 2], penalised_histogram: [0, 0.5] },
+    times: { pattern_seconds: 0.002, reference_seconds: 0.05 },
+    pixels: { total: 4096, pattern_sampled: 900, supersampled: 800, reference_input_pixels_sampled: 1000, reference_samples: 5 },
+    tiles: {
+      pattern: { id: 'aa', url: '/v1/tiles/aa.png', width: 64, height: 64 },
+      reference: { id: 'bb', url: '/v1/tiles/bb.png', width: 64, height: 64 },
+      difference: { id: 'cc', url: '/v1/tiles/cc.png', width: 64, height: 64 },
+    },
+  };
+  assert.deepEqual(renderImages(r), { pattern: '/v1/tiles/aa.png', reference: '/v1/tiles/bb.png', difference: '/v1/tiles/cc.png' });
+  const s = renderStats(r);
+  assert.deepEqual([s.rmse, s.maxDev, s.e2, s.patternSeconds, s.referenceSeconds, s.supersampled, s.totalPixels], [9.5, 140, 0.518, 0.002, 0.05, 800, 4096]);
+  assert.deepEqual(s.histogram, [0, 0.5]);
+});

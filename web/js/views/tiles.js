@@ -87,9 +87,12 @@ async function fillPatterns() {
 
 async function renderTile() {
   const n = +$('tile-size').value;
-  const body = { pattern: patterns.get($('tile-pattern').value), scene: $('tile-scene').value, size: [n, n] };
-  const ref = +$('tile-ref').value;
-  if (ref !== 1024) body.reference_spp = ref;
+  // Request shape of the renderer (server/tiles/tile_render.h): scene and reference objects.
+  const body = {
+    pattern: patterns.get($('tile-pattern').value),
+    scene: { name: $('tile-scene').value, width: n, height: n },
+    reference: { spp: +$('tile-ref').value },
+  };
   $('tile-render').disabled = true;
   $('tile-status').textContent = 'rendering…';
   try {
@@ -114,7 +117,7 @@ async function renderTile() {
     for (const k of ['pattern', 'reference', 'difference']) $(`tile-img-${k}`).dataset.loaded = 'true';
     applyZoom();
     showStats(renderStats(r));
-    $('tile-status').textContent = `${body.scene} with ${$('tile-pattern').selectedOptions[0].textContent}, ${n}×${n}`;
+    $('tile-status').textContent = `${body.scene.name} with ${$('tile-pattern').selectedOptions[0].textContent}, ${n}×${n}`;
   } catch (e) {
     $('tile-status').textContent = `render failed: ${e.message}`;
   } finally {
@@ -138,7 +141,7 @@ function showStats(s) {
   $('tile-e2').textContent = fmt(s.e2, 4);
   $('tile-tpat').textContent = fmtSeconds(s.patternSeconds);
   $('tile-tref').textContent = fmtSeconds(s.referenceSeconds);
-  $('tile-ss').textContent = s.supersampled == null ? '—' : String(s.supersampled);
+  $('tile-ss').textContent = s.supersampled == null ? '—' : `${s.supersampled}${s.totalPixels ? ` of ${s.totalPixels}` : ''}`;
   const holder = $('tile-hist');
   if (!s.histogram) {
     holder.textContent = 'no histogram in the answer';
