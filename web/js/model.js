@@ -201,8 +201,8 @@ export function renderStats(r) {
     e2: num(s.e2),
     patternSeconds: num(t.pattern_seconds) ?? num(t.pattern_s) ?? num(t.pattern_time) ?? num(t.pattern),
     referenceSeconds: num(t.reference_seconds) ?? num(t.reference_s) ?? num(t.reference_time) ?? num(t.reference),
-    supersampled: num(s.pixels && s.pixels.supersampled) ?? num(s.supersampled_pixels) ?? num(s.supersampled),
-    totalPixels: num(s.pixels && s.pixels.total),
+    supersampled: num(r.pixels && r.pixels.supersampled) ?? num(s.supersampled_pixels) ?? num(s.supersampled),
+    totalPixels: num(r.pixels && r.pixels.total),
     histogram,
   };
 }
