@@ -103,7 +103,7 @@ async function refresh() {
 function renderTable(jobs) {
   const rows = jobs
     .slice()
-    .sort((a, b) => (Number(b.id) || 0) - (Number(a.id) || 0))
+    .sort((a, b) => (b.created ?? 0) - (a.created ?? 0) || String(b.id).localeCompare(String(a.id), undefined, { numeric: true }))
     .map((j) => {
       const tr = document.createElement('tr');
       tr.dataset.jobId = j.id;
