@@ -1,6 +1,7 @@
 // Dashboard shell: token, tabs with hash routing (#/view?key=value), health line, error toast.
 
 import { apiGet, getToken, setToken, takeTokenFromFragment } from './api.js';
+import { setHealth } from './store.js';
 import * as evaluate from './views/evaluate.js';
 import * as families from './views/families.js';
 import * as jobs from './views/jobs.js';
@@ -103,8 +104,11 @@ async function pollHealth() {
   const el = document.getElementById('health');
   try {
     const h = await apiGet('/v1/health');
+    setHealth(h);
     const byState = h.jobs && typeof h.jobs === 'object' ? Object.entries(h.jobs).filter(([, n]) => n).map(([s, n]) => `${n} ${s}`).join(', ') : '';
-    el.textContent = `aalabd ${h.version || ''} · ${h.workers ?? '?'} workers · queue ${h.queue_length ?? h.queue ?? 0}${byState ? ' · ' + byState : ''}`;
+    const workers = typeof h.workers === 'object' && h.workers ? `${h.workers.busy ?? '?'}/${h.workers.count ?? '?'}` : h.workers ?? '?';
+    const queue = typeof h.queue === 'object' && h.queue ? h.queue.length : h.queue_length ?? h.queue ?? 0;
+    el.textContent = `aalabd ${h.version || ''} · workers busy ${workers} · queue ${queue}${byState ? ' · jobs ' + byState : ''}`;
     el.classList.remove('down');
   } catch (e) {
     el.textContent = `server unreachable: ${e.message}`;

@@ -3,7 +3,7 @@
 
 import { el, text, clear, marker, MARKERS, COLOURS, DASHES, niceTicks, logTicks } from './svg.js';
 
-export function drawScatter(container, { series, xLabel, yLabel, xLog = false, yLog = false, width = 640, height = 360, lines = false, title = '' }) {
+export function drawScatter(container, { series, xLabel, yLabel, xLog = false, yLog = false, width = 640, height = 360, lines = false, title = '', labels = false }) {
   clear(container);
   const m = { l: 56, r: 16, t: title ? 26 : 12, b: 44 };
   const svg = el('svg', { viewBox: `0 0 ${width} ${height}`, class: 'scatter-svg', role: 'group', 'aria-label': title || `${yLabel} against ${xLabel}` }, container);
@@ -69,6 +69,7 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
       t.textContent = p.title || `${s.label}: ${p.x}, ${p.y}`;
       if (p.href) holder.setAttribute('aria-label', t.textContent);
       marker(holder, shape, X(p.x), Y(p.y), 6, { fill: p.hollow ? 'white' : colour, stroke: colour, 'stroke-width': 1.5, class: 'point-marker' });
+      if (labels) text(svg, X(p.x) + 9, Y(p.y) + 4, s.label, { class: 'point-label' });
     }
   });
   return svg;
@@ -89,6 +90,6 @@ export function scatterLegend(container, labels) {
 function fmtTick(v) {
   if (v === 0) return '0';
   const a = Math.abs(v);
-  if (a >= 1000 || a < 0.001) return v.toExponential(0);
+  if (a >= 1e5 || a < 1e-4) return v.toExponential(0);
   return String(+v.toPrecision(3));
 }

@@ -67,3 +67,16 @@ export async function loadJob(id) {
   const j = await apiGet(`/v1/jobs/${encodeURIComponent(id)}`);
   return normJob(j.job && typeof j.job === 'object' ? j.job : j);
 }
+
+/* The last health answer, and a promise of the first, for the job kinds this daemon runs. */
+let health = null;
+let healthResolve;
+const firstHealth = new Promise((r) => (healthResolve = r));
+export function setHealth(h) {
+  health = h;
+  healthResolve(h);
+}
+export async function jobKinds() {
+  const h = health || (await Promise.race([firstHealth, apiGet('/v1/health')]));
+  return Array.isArray(h && h.job_kinds) ? h.job_kinds : null; // null: not reported, try anyway
+}

@@ -74,6 +74,8 @@ export function logTicks(lo, hi) {
       const v = m * 10 ** e;
       if (v >= lo * 0.999 && v <= hi * 1.001) out.push(v);
     }
+  // Less than a decade: 1-2-5 steps give too few ticks, use linear nice ticks inside the range.
+  if (out.length < 3) return niceTicks(lo, hi, 4).filter((v) => v > 0);
   return out;
 }
 

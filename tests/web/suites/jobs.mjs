@@ -6,6 +6,8 @@ import { assert, eventually } from '../lib/check.mjs';
 export default async function jobsSuite({ page, base, api, step, shot }) {
   let id;
   await step('start a short optimize job from the form', async () => {
+    const health = await api('GET', '/v1/health');
+    assert(!Array.isArray(health.job_kinds) || health.job_kinds.includes('optimize'), `this aalabd has no optimize job kind (it has ${JSON.stringify(health.job_kinds)}): the optimizer is not built in`);
     await page.goto(`${base}/#/jobs`);
     await page.selectOption('#job-start', 'family');
     await page.fill('#job-family', 'P(4,1+,2)');

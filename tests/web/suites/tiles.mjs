@@ -2,7 +2,7 @@
 
 import { assert } from '../lib/check.mjs';
 
-export default async function tilesSuite({ page, base, step, shot }) {
+export default async function tilesSuite({ page, base, api, step, shot }) {
   await step('render Siemens star with Quincunx: three images and the statistics', async () => {
     await page.goto(`${base}/#/tiles`);
     await page.waitForSelector('#tile-pattern option[value="preset:quincunx"]', { state: 'attached' });
@@ -25,5 +25,32 @@ export default async function tilesSuite({ page, base, step, shot }) {
     const w = await page.$eval('#tile-img-difference', (img) => img.getBoundingClientRect().width);
     assert(Math.abs(w - 256) < 1, `zoom 4× should show the 64 px tile 256 px wide, got ${w}`);
     await shot('tiles');
+  });
+
+  await step('comparison job: error against render time plotted, one row per pattern', async () => {
+    const wanted = ['centroid', 'quincunx', 'rgss'];
+    for (const box of await page.$$('#cmp-patterns input[type=checkbox]')) {
+      const v = await box.getAttribute('value');
+      if (wanted.includes(v.replace(/^preset:/, ''))) await box.check();
+      else await box.uncheck();
+    }
+    await page.click('#cmp-start');
+    await page.waitForFunction(() => /comparison job \S+: (done|failed|cancelled|interrupted)|not started/.test(document.getElementById('cmp-status').textContent), null, { timeout: 90000 });
+    const status = await page.textContent('#cmp-status');
+    assert(/: done/.test(status), status);
+    const id = /comparison job (\S+):/.exec(status)[1];
+    const job = await api('GET', `/v1/jobs/${id}`);
+    const rows = (job.result && job.result.rows) || [];
+    assert(rows.length === 3, `API result has ${rows.length} rows`);
+    const shown = await page.$$eval('#cmp-table tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
+    assert(shown.length === 3, `table shows ${shown.length} rows`);
+    for (const r of rows) {
+      const line = shown.find((c) => c[0] === r.name);
+      assert(line, `no table row for ${r.name}`);
+      assert(line[3] === r.rmse.toFixed(3), `${r.name}: RMSE shown ${line[3]}, API ${r.rmse}`);
+    }
+    const points = await page.$$eval('#cmp-plot .point-marker', (m) => m.length);
+    assert(points === 3, `${points} points in the error-against-time plot`);
+    await shot('tiles-compare');
   });
 }

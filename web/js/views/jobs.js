@@ -4,7 +4,7 @@
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
 import { apiPost, apiDelete, apiGetText } from '../api.js';
 import { ACTIVE_STATES, fmt } from '../model.js';
-import { loadJobs, loadJob } from '../store.js';
+import { loadJobs, loadJob, jobKinds } from '../store.js';
 import { PatternView } from '../pattern-view.js';
 import { drawableOf } from '../pattern-geometry.js';
 import { currentEvaluatePattern } from './evaluate-bridge.js';
@@ -78,6 +78,10 @@ function syncForm() {
 
 export async function show(params) {
   visible = true;
+  const kinds = await jobKinds().catch(() => null);
+  const missing = kinds && !kinds.includes('optimize');
+  $('job-submit').disabled = !!missing;
+  if (missing) $('job-form-status').textContent = `this daemon runs no optimize jobs (its job kinds: ${kinds.join(', ')})`;
   if (params.job) selected = params.job;
   await refresh();
 }

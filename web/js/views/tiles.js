@@ -4,7 +4,7 @@
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
 import { apiPost, apiImageUrl } from '../api.js';
 import { renderImages, renderStats, comparisonRows, fmt, fmtSeconds, ACTIVE_STATES } from '../model.js';
-import { loadPresets, loadJobs, loadJob } from '../store.js';
+import { loadPresets, loadJobs, loadJob, jobKinds } from '../store.js';
 import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 const $ = (id) => document.getElementById(id);
@@ -49,6 +49,10 @@ export async function init(context) {
 
 export async function show() {
   await fillPatterns();
+  const kinds = await jobKinds().catch(() => null);
+  const missing = kinds && !kinds.includes('compare');
+  $('cmp-start').disabled = !!missing;
+  if (missing) $('cmp-status').textContent = `this daemon runs no compare jobs (its job kinds: ${kinds.join(', ')})`;
 }
 
 export function hide() {
@@ -66,7 +70,7 @@ async function fillPatterns() {
     opts.push(new Option(`${p.name} (${p.family})`, `preset:${p.name}`));
   }
   for (const j of jobs) {
-    patterns.set(`job:${j.id}`, j.best.pattern);
+    patterns.set(`job:${j.id}`, { job: j.id }); // the API resolves {"job": id} to its best pattern
     opts.push(new Option(`job #${j.id} best (${j.family || j.kind})`, `job:${j.id}`));
   }
   $('tile-pattern').replaceChildren(...opts);
@@ -177,7 +181,13 @@ async function startComparison() {
     $('cmp-status').textContent = 'choose at least one pattern';
     return;
   }
-  const spec = { kind: 'compare', scene: $('tile-scene').value, patterns: keys.map((k) => patterns.get(k)) };
+  const n = +$('tile-size').value;
+  const spec = {
+    kind: 'compare',
+    scene: { name: $('tile-scene').value, width: n, height: n },
+    reference: { spp: +$('tile-ref').value },
+    patterns: keys.map((k) => patterns.get(k)),
+  };
   $('cmp-start').disabled = true;
   try {
     const r = await apiPost('/v1/jobs', spec);
@@ -215,6 +225,7 @@ function showComparison(rows, keys) {
     xLabel: 'render time (s)',
     yLabel: 'RMSE (0..255)',
     xLog: true,
+    labels: true,
     width: 760,
     height: 360,
   });
