@@ -61,7 +61,7 @@ export function hide() {
 
 async function fillPatterns() {
   const presets = await loadPresets();
-  const jobs = (await loadJobs().catch(() => [])).filter((j) => j.state === 'done' && j.best && j.best.pattern);
+  const jobs = (await loadJobs().catch(() => [])).filter((j) => j.state === 'done' && j.best);
   const prev = $('tile-pattern').value;
   patterns = new Map();
   const opts = [];
