@@ -20,6 +20,10 @@ let chart = null;
 let chartJob = null;
 let bestView = null;
 let lastJobs = [];
+// The list answer is a summary (no spec, best or trace); details of finished jobs never change,
+// so they are fetched once, those of active jobs on every refresh.
+const details = new Map();
+const DETAIL_LIMIT = 12;
 
 export async function init(context) {
   ctx = context;
@@ -95,13 +99,36 @@ async function refresh() {
   clearTimeout(timer);
   try {
     lastJobs = await loadJobs();
-    renderTable(lastJobs);
+    await fillDetails(lastJobs);
+    renderTable(lastJobs.map((j) => merged(j)));
     if (selected) await renderDetail(selected);
   } catch (e) {
     $('job-form-status').textContent = `jobs: ${e.message}`;
   }
   const active = lastJobs.some((j) => ACTIVE_STATES.has(j.state));
   if (visible) timer = setTimeout(refresh, active ? 700 : 4000);
+}
+
+async function fillDetails(jobs) {
+  const recent = jobs
+    .slice()
+    .sort((a, b) => (b.created ?? 0) - (a.created ?? 0))
+    .slice(0, DETAIL_LIMIT)
+    .filter((j) => ACTIVE_STATES.has(j.state) || !details.has(String(j.id)) || details.get(String(j.id)).state !== j.state);
+  await Promise.all(
+    recent.map((j) =>
+      loadJob(j.id)
+        .then((d) => details.set(String(j.id), d))
+        .catch(() => {}),
+    ),
+  );
+}
+
+/* The list row with what the detail adds (family, best E2); state and progress from the list. */
+function merged(j) {
+  const d = details.get(String(j.id));
+  if (!d) return j;
+  return { ...d, state: j.state, progress: j.progress };
 }
 
 function renderTable(jobs) {
@@ -184,7 +211,13 @@ function drawTrace(j) {
 async function exportPattern(id, format) {
   try {
     const { text, type } = await apiGetText(`/v1/patterns/${encodeURIComponent(id)}/export?format=${format}`);
-    $('jd-export-text').textContent = text;
+    let shown = text;
+    try {
+      shown = JSON.stringify(JSON.parse(text), null, 1);
+    } catch {
+      /* not JSON (UTK point set): show as it is */
+    }
+    $('jd-export-text').textContent = shown;
     const a = $('jd-download');
     if (a.href) URL.revokeObjectURL(a.href);
     a.href = URL.createObjectURL(new Blob([text], { type }));
