@@ -118,8 +118,8 @@ export function jobBest(j) {
       return {
         e2: num(c.e2) ?? num(c.best_e2),
         pattern,
-        family: c.family || (j.spec && j.spec.family) || j.family || '',
-        cost: num(c.cost_spp) ?? num(c.cost),
+        family: c.family || (c.pattern && c.pattern.family) || (j.spec && j.spec.family) || j.family || '',
+        cost: num(c.cost_spp) ?? num(c.cost) ?? num(c.pattern && c.pattern.cost_spp),
       };
   }
   return null;

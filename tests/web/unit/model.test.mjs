@@ -148,3 +148,15 @@ test('render answer in the renderer shape (server/tiles/tile_render.c)', () => {
   assert.deepEqual([s.rmse, s.maxDev, s.e2, s.patternSeconds, s.referenceSeconds, s.supersampled, s.totalPixels], [9.5, 140, 0.518, 0.002, 0.05, 800, 4096]);
   assert.deepEqual(s.histogram, [0, 0.5]);
 });
+
+test('job detail as the daemon sends it: best {elapsed, pattern:{family, form, ...}}', () => {
+  const j = normJob({
+    id: 1, kind: 'sleep', state: 'done', progress: 1,
+    best: { elapsed: 1, pattern: { family: 'P(1,1,4)', cost_spp: 4, form: 'kernels', kernels: [[[0, 0, 1]]], kernels_expanded: [[[0, 0, 1]]] } },
+    trace: [{ seconds: 5e-8, iterations: 0, evaluations: 0, best_e2: 1 }, { seconds: 0.1, iterations: 9, evaluations: 9, best_e2: 0.1 }],
+  });
+  assert.equal(j.family, 'P(1,1,4)');
+  assert.equal(j.best.cost, 4);
+  assert.deepEqual(j.best.pattern, { kernels: [[[0, 0, 1]]] });
+  assert.equal(j.bestE2, 0.1); // no e2 in best: the last trace point
+});

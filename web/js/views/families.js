@@ -7,6 +7,8 @@ import { loadPresets, loadJobs } from '../store.js';
 import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 const $ = (id) => document.getElementById(id);
+// Job kinds whose results are not optimized patterns (the rest: optimize, family sweeps, ...).
+const NOT_OPTIMIZER_KINDS = new Set(['sleep', 'compare', 'animation', 'reference-convergence']);
 const cache = new Map(); // key -> evaluation, so revisits are instant
 let loading = null;
 
@@ -54,7 +56,7 @@ function load() {
 async function doLoad() {
   $('fam-status').textContent = 'evaluating presets…';
   const presets = await loadPresets();
-  const jobs = (await loadJobs().catch(() => [])).filter((j) => j.state === 'done' && j.best);
+  const jobs = (await loadJobs().catch(() => [])).filter((j) => j.state === 'done' && j.best && !NOT_OPTIMIZER_KINDS.has(j.kind));
   const items = [
     ...presets.map((p) => ({ key: `preset:${p.name}`, label: p.name, pattern: { preset: p.name }, href: `#/evaluate?preset=${encodeURIComponent(p.name)}`, preset: p, hollow: false })),
     ...jobs.map((j) => ({ key: `job:${j.id}`, label: `job #${j.id}`, pattern: { job: j.id }, // the API resolves a job to its best pattern
