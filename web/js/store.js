@@ -80,3 +80,21 @@ export async function jobKinds() {
   const h = health || (await Promise.race([firstHealth, apiGet('/v1/health')]));
   return Array.isArray(h && h.job_kinds) ? h.job_kinds : null; // null: not reported, try anyway
 }
+
+/* Finished jobs that have a best pattern, newest first. The list answer is a summary, so the
+ * details are fetched (once: a finished job does not change). */
+const finishedDetails = new Map();
+export async function loadFinishedWithBest({ exclude = new Set(), limit = 30 } = {}) {
+  const done = (await loadJobs())
+    .filter((j) => j.state === 'done' && !exclude.has(j.kind))
+    .sort((a, b) => (b.created ?? 0) - (a.created ?? 0))
+    .slice(0, limit);
+  const out = await Promise.all(
+    done.map(async (j) => {
+      const key = String(j.id);
+      if (!finishedDetails.has(key)) finishedDetails.set(key, await loadJob(j.id).catch(() => null));
+      return finishedDetails.get(key);
+    }),
+  );
+  return out.filter((j) => j && j.best && j.best.pattern);
+}

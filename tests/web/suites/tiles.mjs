@@ -1,6 +1,6 @@
 // Tiles view: render a tile and see the pattern, reference and difference images with stats.
 
-import { assert } from '../lib/check.mjs';
+import { assert, eventually } from '../lib/check.mjs';
 
 export default async function tilesSuite({ page, base, api, step, shot }) {
   await step('render Siemens star with Quincunx: three images and the statistics', async () => {
@@ -25,6 +25,24 @@ export default async function tilesSuite({ page, base, api, step, shot }) {
     const w = await page.$eval('#tile-img-difference', (img) => img.getBoundingClientRect().width);
     assert(Math.abs(w - 256) < 1, `zoom 4× should show the 64 px tile 256 px wide, got ${w}`);
     await shot('tiles');
+  });
+
+  await step('a job result renders too (pattern {"job": id})', async () => {
+    const r = await api('POST', '/v1/jobs', { kind: 'sleep', seconds: 0.1, pattern: { preset: 'flipquad' } });
+    const id = String(r.id);
+    await eventually(async () => (await api('GET', `/v1/jobs/${id}`)).state === 'done', { message: `job ${id} done` });
+    await page.goto(`${base}/#/families`); // leave and come back: the pattern list is rebuilt on show
+    await page.goto(`${base}/#/tiles`);
+    await page.waitForSelector(`#tile-pattern option[value="job:${id}"]`, { state: 'attached', timeout: 10000 });
+    await page.selectOption('#tile-pattern', `job:${id}`);
+    await page.click('#tile-render');
+    await page.waitForFunction((i) => document.getElementById('tile-status').textContent.includes(`job #${i}`) || /render failed/.test(document.getElementById('tile-status').textContent), id, { timeout: 60000 });
+    const status = await page.textContent('#tile-status');
+    assert(!status.startsWith('render failed'), status);
+    for (const k of ['pattern', 'reference', 'difference']) {
+      const ok = await page.$eval(`#tile-img-${k}`, (img) => img.dataset.loaded === 'true' && img.naturalWidth > 0);
+      assert(ok, `${k} image of the job render not loaded`);
+    }
   });
 
   await step('comparison job: error against render time plotted, one row per pattern', async () => {

@@ -3,7 +3,7 @@
 
 import { apiPost } from '../api.js';
 import { normEvaluation, familySeries, fmt } from '../model.js';
-import { loadPresets, loadJobs } from '../store.js';
+import { loadPresets, loadFinishedWithBest } from '../store.js';
 import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 const $ = (id) => document.getElementById(id);
@@ -56,7 +56,7 @@ function load() {
 async function doLoad() {
   $('fam-status').textContent = 'evaluating presets…';
   const presets = await loadPresets();
-  const jobs = (await loadJobs().catch(() => [])).filter((j) => j.state === 'done' && j.best && !NOT_OPTIMIZER_KINDS.has(j.kind));
+  const jobs = await loadFinishedWithBest({ exclude: NOT_OPTIMIZER_KINDS }).catch(() => []);
   const items = [
     ...presets.map((p) => ({ key: `preset:${p.name}`, label: p.name, pattern: { preset: p.name }, href: `#/evaluate?preset=${encodeURIComponent(p.name)}`, preset: p, hollow: false })),
     ...jobs.map((j) => ({ key: `job:${j.id}`, label: `job #${j.id}`, pattern: { job: j.id }, // the API resolves a job to its best pattern

@@ -4,7 +4,7 @@
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
 import { apiPost, apiImageUrl } from '../api.js';
 import { renderImages, renderStats, comparisonRows, fmt, fmtSeconds, ACTIVE_STATES } from '../model.js';
-import { loadPresets, loadJobs, loadJob, jobKinds } from '../store.js';
+import { loadPresets, loadJob, jobKinds, loadFinishedWithBest } from '../store.js';
 import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 const $ = (id) => document.getElementById(id);
@@ -61,7 +61,7 @@ export function hide() {
 
 async function fillPatterns() {
   const presets = await loadPresets();
-  const jobs = (await loadJobs().catch(() => [])).filter((j) => j.state === 'done' && j.best);
+  const jobs = await loadFinishedWithBest({ exclude: new Set(['compare', 'animation', 'reference-convergence']) }).catch(() => []);
   const prev = $('tile-pattern').value;
   patterns = new Map();
   const opts = [];
