@@ -35,7 +35,8 @@ export function normPreset(p) {
     cost_spp: num(p.cost_spp) ?? num(p.cost),
     source: p.source || '',
     note: p.note || '',
-    published: p.published_e2 || null,
+    // A number, or {source: value} in data/presets.json.
+    published: typeof p.published_e2 === 'number' ? p.published_e2 : p.published_e2 && typeof p.published_e2 === 'object' ? num(Object.values(p.published_e2)[0]) : null,
     pattern: patternOf(p) || { preset: p.name },
   };
 }

@@ -15,6 +15,12 @@ export default async function familiesSuite({ page, base, api, step, shot }) {
     assert(links.length === list.length, `${links.length} points for ${list.length} presets`);
     const series = await page.$$eval('#fam-legend .legend-item', (s) => s.map((x) => x.textContent.trim()));
     assert(series.length >= 3 && series.every((s) => /^P\(.+,n\)$/.test(s)), `series ${JSON.stringify(series)}`);
+    const withPublished = list.filter((p) => typeof p.published_e2 === 'number');
+    const table = await page.$$eval('#fam-table tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
+    for (const p of withPublished) {
+      const row = table.find((c) => c[1] === p.name);
+      assert(row && row[4] === String(p.published_e2), `${p.name}: published E2 shown "${row && row[4]}", API ${p.published_e2}`);
+    }
     await shot('families');
   });
 

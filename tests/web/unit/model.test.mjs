@@ -160,3 +160,10 @@ test('job detail as the daemon sends it: best {elapsed, pattern:{family, form, .
   assert.deepEqual(j.best.pattern, { kernels: [[[0, 0, 1]]] });
   assert.equal(j.bestE2, 0.1); // no e2 in best: the last trace point
 });
+
+test('published E2 as a number (API) or an object by source (data file)', async () => {
+  const { normPreset } = await import('../../../web/js/model.js');
+  assert.equal(normPreset({ name: 'a', published_e2: 0.698 }).published, 0.698);
+  assert.equal(normPreset({ name: 'b', published_e2: { 'laine-aila-table-2': 0.439 } }).published, 0.439);
+  assert.equal(normPreset({ name: 'c', published_e2: null }).published, null);
+});

@@ -73,7 +73,7 @@ async function doLoad() {
     const cost = ev.cost ?? (it.preset && it.preset.cost_spp);
     const series = familySeries(family);
     if (!bySeries.has(series)) bySeries.set(series, []);
-    const published = it.preset && it.preset.published ? Object.values(it.preset.published)[0] : null;
+    const published = it.preset ? it.preset.published : null;
     bySeries.get(series).push({ x: cost, y: ev.e2, href: it.href, hollow: it.hollow, title: `${it.label}: ${family}, ${cost} spp, E2 ${fmt(ev.e2, 4)}` });
     rows.push({ series, family, label: it.label, href: it.href, cost, e2: ev.e2, published });
   });
