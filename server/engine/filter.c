@@ -62,21 +62,55 @@ static double raw_eval(const aa_filter *f, double x)
     return 0;
 }
 
-/* Integral of the raw response over [u, v] within one smooth piece. */
-static double raw_integral(const aa_filter *f, double u, double v, const double *gn,
-                           const double *gw, int m)
+/* The raw response in long double, for building the tables a few bits beyond double. */
+static long double raw_eval_long(const aa_filter *f, long double x)
 {
-    double half = 0.5 * (v - u), mid = 0.5 * (u + v), s = 0;
+    if (!(fabsl(x) < f->radius))
+        return 0;
+    const long double pi = 3.141592653589793238462643383279502884L;
+    switch (f->kind) {
+    case AA_FILTER_MITCHELL: {
+        long double B = f->B, C = f->C, t = fabsl(x) * 2 / f->radius, v;
+        if (t < 1)
+            v = ((12 - 9 * B - 6 * C) * t * t * t + (-18 + 12 * B + 6 * C) * t * t + (6 - 2 * B)) /
+                6;
+        else
+            v = ((-B - 6 * C) * t * t * t + (6 * B + 30 * C) * t * t + (-12 * B - 48 * C) * t +
+                 (8 * B + 24 * C)) /
+                6;
+        return v * 2 / f->radius;
+    }
+    case AA_FILTER_BOX:
+        return 1;
+    case AA_FILTER_TENT:
+        return 1 - fabsl(x) / f->radius;
+    case AA_FILTER_GAUSSIAN:
+        return expl(-x * x / (2.0L * f->sigma * f->sigma));
+    case AA_FILTER_LANCZOS: {
+        long double a = f->lanczos_a, px = pi * x;
+        if (fabsl(x) < 1e-10L)
+            return 1;
+        return sinl(px) / px * (sinl(px / a) / (px / a));
+    }
+    }
+    return 0;
+}
+
+/* Integral of the raw response over [u, v] within one smooth piece. */
+static long double raw_integral(const aa_filter *f, double u, double v, const double *gn,
+                                const double *gw, int m)
+{
+    long double half = 0.5L * ((long double)v - u), mid = 0.5L * ((long double)u + v), s = 0;
     for (int k = 0; k < m; k++)
-        s += gw[k] * raw_eval(f, mid + half * gn[k]);
+        s += gw[k] * raw_eval_long(f, mid + half * gn[k]);
     return s * half;
 }
 
-static double gaussian_cdf_raw(const aa_filter *f, double a)
+static long double gaussian_cdf_raw(const aa_filter *f, double a)
 {
-    /* integral_{-r}^{a} exp(-x^2/2s^2) dx, up to the constant factor s*sqrt(pi/2) */
-    double k = 1.0 / (f->sigma * sqrt(2.0));
-    return 0.5 * (erf(a * k) - erf(-f->radius * k));
+    /* integral_{-r}^{a} exp(-x^2/2s^2) dx, divided by s*sqrt(2 pi) */
+    long double k = 1.0L / (f->sigma * sqrtl(2.0L));
+    return 0.5L * (erfl(a * k) - erfl(-f->radius * k));
 }
 
 /* Fills the Chebyshev coefficients of one piece from CDF values at Chebyshev nodes. */
@@ -145,49 +179,51 @@ static void build_table(aa_filter *f, const double *knots, int pieces, int degre
     f->degree = degree;
     memcpy(f->knot, knots, sizeof(double) * (size_t)(pieces + 1));
 
-    double total = 0;
-    if (f->kind == AA_FILTER_GAUSSIAN) {
-        total = gaussian_cdf_raw(f, f->radius);
-    } else {
-        for (int j = 0; j < pieces; j++)
-            total += raw_integral(f, knots[j], knots[j + 1], gn, gw, AA_GL_MAX_POINTS);
-    }
+    /* Piece integrals and the total in long double; raw CDF at each knot. */
+    long double start[AA_FILTER_MAX_PIECES + 1], total;
+    start[0] = 0;
+    for (int j = 0; j < pieces; j++)
+        start[j + 1] =
+            f->kind == AA_FILTER_GAUSSIAN
+                ? gaussian_cdf_raw(f, knots[j + 1])
+                : start[j] + raw_integral(f, knots[j], knots[j + 1], gn, gw, AA_GL_MAX_POINTS);
+    total = start[pieces];
+    if (f->kind == AA_FILTER_GAUSSIAN)
+        f->scale = (double)(1.0L / (f->sigma * sqrtl(2 * 3.141592653589793238462643383279502884L) *
+                                    erfl(f->radius / (f->sigma * sqrtl(2.0L)))));
+    else
+        f->scale = (double)(1.0L / total);
 
-    f->scale = 1.0 / total;
-    double start = 0; /* raw CDF at the piece's left knot */
     int n = degree + 1;
+    double err = 0;
     for (int j = 0; j < pieces; j++) {
         double lo = knots[j], hi = knots[j + 1], values[AA_FILTER_MAX_DEGREE + 1];
+        long double exact[AA_FILTER_MAX_DEGREE + 1];
         for (int i = 0; i < n; i++) {
-            double t = cos(PI * (n - 1 - i + 0.5) / n); /* ascending nodes */
+            double t = cos(PI * (i + 0.5) / n);
             double a = 0.5 * (lo + hi) + 0.5 * (hi - lo) * t;
-            double raw = f->kind == AA_FILTER_GAUSSIAN
-                             ? gaussian_cdf_raw(f, a)
-                             : start + raw_integral(f, lo, a, gn, gw, AA_GL_MAX_POINTS);
-            values[n - 1 - i] = raw / total; /* chebyshev_fit wants the descending order */
+            long double raw = f->kind == AA_FILTER_GAUSSIAN
+                                  ? gaussian_cdf_raw(f, a)
+                                  : start[j] + raw_integral(f, lo, a, gn, gw, AA_GL_MAX_POINTS);
+            exact[i] = raw / total;
         }
+        /* Fit the residual about a base value: the DCT's rounding then scales with the CDF's
+         * variation over the piece, not with its magnitude (which is up to 1). */
+        long double base = exact[n / 2];
+        for (int i = 0; i < n; i++)
+            values[i] = (double)(exact[i] - base);
         chebyshev_fit(values, n, f->cheb[j]);
-        if (f->kind != AA_FILTER_GAUSSIAN)
-            start += raw_integral(f, lo, hi, gn, gw, AA_GL_MAX_POINTS);
-    }
+        f->cheb[j][0] = (double)(f->cheb[j][0] + base);
 
-    /* Measured table error against the construction values at off-node points. */
-    double err = 0;
-    if (f->kind == AA_FILTER_GAUSSIAN || f->kind == AA_FILTER_LANCZOS) {
-        start = 0;
-        for (int j = 0; j < pieces; j++) {
-            double lo = knots[j], hi = knots[j + 1];
-            for (int i = 1; i < 8; i++) {
-                double a = lo + (hi - lo) * i / 8.0;
-                double raw = f->kind == AA_FILTER_GAUSSIAN
-                                 ? gaussian_cdf_raw(f, a)
-                                 : start + raw_integral(f, lo, a, gn, gw, AA_GL_MAX_POINTS);
-                double e = fabs(raw / total - aa_filter_cdf_in_piece(f, j, a));
-                if (e > err)
-                    err = e;
-            }
-            if (f->kind != AA_FILTER_GAUSSIAN)
-                start += raw_integral(f, lo, hi, gn, gw, AA_GL_MAX_POINTS);
+        /* Measured table error against the long-double CDF at off-node points. */
+        for (int i = 1; i < 16; i++) {
+            double a = lo + (hi - lo) * i / 16.0;
+            long double raw = f->kind == AA_FILTER_GAUSSIAN
+                                  ? gaussian_cdf_raw(f, a)
+                                  : start[j] + raw_integral(f, lo, a, gn, gw, AA_GL_MAX_POINTS);
+            double e = (double)fabsl(raw / total - aa_filter_cdf_in_piece(f, j, a));
+            if (e > err)
+                err = e;
         }
     }
     f->cdf_error_bound = err;

@@ -32,7 +32,7 @@ typedef struct aa_filter {
     double sigma;  /* Gaussian */
     double lanczos_a;
     double radius;          /* h(x) = 0 for |x| >= radius */
-    double cdf_error_bound; /* max |g_table - g_exact| measured at init (0 for exact tables) */
+    double cdf_error_bound; /* max |g_table - g_exact| measured at init vs long double */
     double scale;           /* 1 / integral of the unnormalised response */
     int pieces;             /* number of polynomial pieces covering [-radius, radius] */
     int degree;             /* polynomial degree of the CDF on each piece */

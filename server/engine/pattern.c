@@ -246,34 +246,30 @@ int aa_pattern_from_kernels(aa_pattern *p, const aa_sample *const *kernels, cons
         return rc;
     }
 
-    /* The smallest K whose closed block [-K/2, K/2]^2 holds every sample; '+' when a sample
-     * lies on the far (upper/right) border, i.e. outside the half-open block. */
+    /* The smallest K whose closed block [-K/2, K/2]^2 holds every sample. */
     double K_real = ceil(2 * extent - 2 * AA_POSITION_EPS);
     int K = K_real < 1 ? 1 : K_real > 1e9 ? 1000000000 : (int)K_real;
-    bool border = false;
-    for (size_t k = 0; k < s; k++)
-        for (size_t i = 0; i < counts[k]; i++)
-            if (kernels[k][i].x >= K / 2.0 - AA_POSITION_EPS ||
-                kernels[k][i].y >= K / 2.0 - AA_POSITION_EPS)
-                border = true;
     p->kernel_size = K;
-    p->border = border;
-
     int T = (int)llround(sqrt((double)s));
     if ((size_t)T * (size_t)T != s) {
-        /* No known repetition: nothing is shared. */
+        /* No known repetition: nothing is shared; '+' when a sample lies on the block border. */
         p->tile = 0;
         for (size_t k = 0; k < s; k++) {
             free(p->kernels[k].tile_index);
             p->kernels[k].tile_index = NULL;
+            for (size_t i = 0; i < counts[k]; i++)
+                if (fmax(fabs(kernels[k][i].x), fabs(kernels[k][i].y)) >= K / 2.0 - AA_POSITION_EPS)
+                    p->border = true;
         }
         p->cost_spp = (double)total / (double)s;
-        aa_family_label(p->family, sizeof p->family, s, K, border, p->cost_spp);
+        aa_family_label(p->family, sizeof p->family, s, K, p->border, p->cost_spp);
         return AA_OK;
     }
     p->tile = T;
     p->tile_samples = malloc(total * sizeof *p->tile_samples);
-    if (!p->tile_samples) {
+    size_t *reads = calloc(total, sizeof *reads);
+    if (!p->tile_samples || !reads) {
+        free(reads);
         aa_pattern_free(p);
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
@@ -286,11 +282,19 @@ int aa_pattern_from_kernels(aa_pattern *p, const aa_sample *const *kernels, cons
                 aa_point q = {wrap(ker->out_x + ker->samples[n].x, T),
                               wrap(ker->out_y + ker->samples[n].y, T)};
                 ker->tile_index[n] = intern_point(p, q);
+                reads[ker->tile_index[n]]++;
             }
         }
     }
+    /* '+' (L&A sec. 3): samples on pixel borders are shared by more kernels than the K^2 that
+     * read any sample of a K x K block; decided by counting, so it is invariant under the
+     * square's symmetries (a sample on a border read by one kernel does not make it '+'). */
+    for (size_t t = 0; t < p->tile_count; t++)
+        if (reads[t] > (size_t)K * (size_t)K)
+            p->border = true;
+    free(reads);
     p->cost_spp = (double)p->tile_count / ((double)T * T);
-    aa_family_label(p->family, sizeof p->family, s, K, border, p->cost_spp);
+    aa_family_label(p->family, sizeof p->family, s, K, p->border, p->cost_spp);
     rc = fill_sites(p, err);
     if (rc)
         aa_pattern_free(p);

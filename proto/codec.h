@@ -1,0 +1,54 @@
+/* The one JSON codec of aalab (jansson), shared by the daemon and the client: decodes the wire
+ * forms of patterns, filters and acuity tables into engine values, naming the full JSON path of
+ * any bad input ("pattern.kernels[0][2][1]"), and encodes engine values back to JSON.
+ * Schemas documenting the formats live in proto/schemas/. */
+#ifndef AALAB_PROTO_CODEC_H
+#define AALAB_PROTO_CODEC_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <jansson.h>
+
+#include "aa_error.h"
+#include "acuity.h"
+#include "filter.h"
+#include "metric.h"
+#include "pattern.h"
+
+/* Limits of the wire format beyond the engine's (documented in proto/schemas). */
+#define PROTO_MAX_ANGLES AA_MAX_ANGLES
+
+/* Pattern: {"preset":"name"} | {"kernels":[[[x,y,w],...],...]} | {"mirrored":[[x,y,w],...]} |
+ * {"tile":{"size":T,"kernel":K,"border":bool,"samples":[[x,y],...],"weights":[[w,...],...]?}},
+ * optional "normalize":true (ORed into flags as AA_PATTERN_NORMALIZE). The informational keys
+ * written by proto_encode_pattern ("family", "cost_spp", "form", "kernels_expanded", "name")
+ * are accepted and ignored so that an encoded pattern decodes back. field_prefix (may be NULL
+ * or "") is prepended to every error field. On error *out holds nothing to free. */
+int proto_decode_pattern(const json_t *j, unsigned flags, aa_pattern *out, const char *field_prefix,
+                         aa_error *err);
+/* {"name":"mitchell","B":..,"C":..,"radius":..} / {"name":"gaussian","sigma":..,"radius":..} /
+ * {"name":"lanczos","a":..}; NULL j -> the default Mitchell filter. */
+int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefix, aa_error *err);
+/* {"name":"naiman"|"uniform"} or {"knots":[[deg,W],...]}; NULL j -> naiman. */
+int proto_decode_acuity(const json_t *j, aa_acuity *out, const char *field_prefix, aa_error *err);
+/* [deg,...] -> malloc'd array (*out, *count); NULL j -> *out = NULL, *count = 0. */
+int proto_decode_angles(const json_t *j, double **out, size_t *count, const char *field_prefix,
+                        aa_error *err);
+
+/* {"family","cost_spp","form", the wire form ("kernels" | "mirrored" | "tile") that decodes back
+ * to an equal pattern, "kernels_expanded": explicit kernels}. NULL on allocation failure. */
+json_t *proto_encode_pattern(const aa_pattern *p);
+/* {"e2","argmax":{"kernel","angle_deg"},"mean","lp_norm"?,"family","cost_spp","kernel_count",
+ * "angle_count", and with detail "detail":[{"kernel":k,"angles":[{"angle_deg","weight","e1",
+ * "weighted"},...]},...]}. p may be NULL (no family/cost). */
+json_t *proto_encode_evaluation(const aa_evaluation *e, const aa_pattern *p, bool detail);
+json_t *proto_encode_filter(const aa_filter *f);
+json_t *proto_encode_acuity(const aa_acuity *a);
+
+/* "prefix.sub" (or "prefix[..]" when sub starts with '['), written to out. */
+void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub);
+/* A JSON number for a double; null for non-finite values (JSON has no NaN). */
+json_t *proto_real(double v);
+
+#endif

@@ -1,0 +1,19 @@
+/* Helpers private to the codec (the proto directory). */
+#ifndef AALAB_PROTO_CODEC_INTERNAL_H
+#define AALAB_PROTO_CODEC_INTERNAL_H
+
+#include "codec.h"
+
+#define PROTO_FIELD_MAX 96
+
+/* Sets err with field prefix+sub and a fixed message; returns code. */
+int proto_fail(aa_error *err, int code, const char *prefix, const char *sub, const char *msg);
+/* Prepends prefix to err->field (engine errors are relative to the engine object). */
+int proto_prefix_error(aa_error *err, const char *prefix);
+/* A finite JSON number (integer or real). */
+int proto_number(const json_t *j, double *out, aa_error *err, const char *prefix, const char *sub);
+/* Rejects keys of obj not in the NULL-terminated allowed list, naming the first one. */
+int proto_check_keys(const json_t *obj, const char *const *allowed, aa_error *err,
+                     const char *prefix);
+
+#endif

@@ -1,0 +1,70 @@
+/* Small helpers shared by the codec files: field paths and numbers. */
+#include "codec_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub)
+{
+    if (!prefix || !*prefix)
+        snprintf(out, cap, "%s", sub ? sub : "");
+    else if (!sub || !*sub)
+        snprintf(out, cap, "%s", prefix);
+    else if (sub[0] == '[')
+        snprintf(out, cap, "%s%s", prefix, sub);
+    else
+        snprintf(out, cap, "%s.%s", prefix, sub);
+}
+
+json_t *proto_real(double v)
+{
+    return isfinite(v) ? json_real(v) : json_null();
+}
+
+int proto_fail(aa_error *err, int code, const char *prefix, const char *sub, const char *msg)
+{
+    char field[PROTO_FIELD_MAX];
+    proto_join_field(field, sizeof field, prefix, sub);
+    return aa_error_set(err, code, field, "%s", msg);
+}
+
+int proto_prefix_error(aa_error *err, const char *prefix)
+{
+    if (!err || !prefix || !*prefix)
+        return err ? err->code : AA_EINVAL;
+    char field[PROTO_FIELD_MAX];
+    proto_join_field(field, sizeof field, prefix, err->field);
+    snprintf(err->field, sizeof err->field, "%s", field);
+    return err->code;
+}
+
+int proto_number(const json_t *j, double *out, aa_error *err, const char *prefix, const char *sub)
+{
+    if (!json_is_number(j))
+        return proto_fail(err, AA_EINVAL, prefix, sub, "must be a number");
+    double v = json_number_value(j);
+    if (!isfinite(v))
+        return proto_fail(err, AA_EINVAL, prefix, sub, "must be a finite number");
+    *out = v;
+    return AA_OK;
+}
+
+int proto_check_keys(const json_t *obj, const char *const *allowed, aa_error *err,
+                     const char *prefix)
+{
+    const char *key;
+    json_t *val;
+    json_object_foreach((json_t *)obj, key, val)
+    {
+        bool ok = false;
+        for (size_t i = 0; allowed[i] && !ok; i++)
+            ok = !strcmp(key, allowed[i]);
+        if (!ok) {
+            char sub[80];
+            snprintf(sub, sizeof sub, "%.60s", key);
+            return proto_fail(err, AA_EINVAL, prefix, sub, "unknown field");
+        }
+    }
+    return AA_OK;
+}

@@ -1,0 +1,327 @@
+/* Reference filters: unit integral, symmetry, CDF(-r) = 0 and CDF(r) = 1, CDF against the
+ * quadrature of h and against the independent closed forms (reference_metric.c), piece lookup,
+ * the stated error bound of tabulated CDFs, named constructors, and rejection of invalid
+ * parameters with the right field. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdbool.h>
+#include <string.h>
+
+#include "filter.h"
+#include "reference_metric.h"
+
+typedef struct named {
+    const char *name;
+    aa_filter f;
+    ref_filter r;
+    bool exact; /* piecewise-polynomial: CDF exact up to rounding */
+} named;
+
+static named all[10];
+static size_t all_count;
+
+static int setup(void **state)
+{
+    (void)state;
+    aa_filter_params par = aa_filter_params_default();
+    aa_error err;
+    struct {
+        const char *name;
+        long double B, C;
+    } mn[] = {{"mitchell", 1.0L / 3, 1.0L / 3},
+              {"catmull-rom", 0.0L, 0.5L},
+              {"bspline", 1.0L, 0.0L},
+              {"notch", 1.5L, -0.25L}};
+    for (size_t i = 0; i < 4; i++) {
+        named *n = &all[all_count++];
+        n->name = mn[i].name;
+        if (aa_filter_by_name(&n->f, n->name, &par, &err))
+            return -1;
+        ref_filter_mitchell(&n->r, mn[i].B, mn[i].C, 2.0L);
+        n->exact = true;
+    }
+    named *n = &all[all_count++];
+    n->name = "box";
+    n->exact = true;
+    if (aa_filter_by_name(&n->f, "box", &par, &err))
+        return -1;
+    ref_filter_box(&n->r, 0.5L);
+    n = &all[all_count++];
+    n->name = "tent";
+    n->exact = true;
+    if (aa_filter_by_name(&n->f, "tent", &par, &err))
+        return -1;
+    ref_filter_tent(&n->r, 1.0L);
+    n = &all[all_count++];
+    n->name = "gaussian";
+    if (aa_filter_by_name(&n->f, "gaussian", &par, &err))
+        return -1;
+    ref_filter_gaussian(&n->r, 0.5L, 2.0L);
+    n = &all[all_count++];
+    n->name = "lanczos";
+    if (aa_filter_by_name(&n->f, "lanczos", &par, &err))
+        return -1;
+    ref_filter_lanczos(&n->r, 2.0L);
+    n = &all[all_count++];
+    n->name = "gaussian s=0.05";
+    if (aa_filter_gaussian(&n->f, 0.05, 2.0, &err))
+        return -1;
+    ref_filter_gaussian(&n->r, 0.05L, 2.0L);
+    n = &all[all_count++];
+    n->name = "gaussian s=1.5 r=4";
+    if (aa_filter_gaussian(&n->f, 1.5, 4.0, &err))
+        return -1;
+    ref_filter_gaussian(&n->r, 1.5L, 4.0L);
+    return 0;
+}
+
+static void test_names_and_defaults(void **state)
+{
+    (void)state;
+    const char *want[] = {"mitchell", "catmull-rom", "bspline",  "notch",
+                          "box",      "tent",        "gaussian", "lanczos"};
+    for (size_t i = 0; i < 8; i++) {
+        bool found = false;
+        for (size_t j = 0; aa_filter_names[j]; j++)
+            found |= strcmp(aa_filter_names[j], want[i]) == 0;
+        assert_true(found);
+    }
+    aa_filter d;
+    aa_filter_default(&d);
+    assert_int_equal(d.kind, AA_FILTER_MITCHELL);
+    assert_true(fabs(d.B - 1.0 / 3) < 1e-15 && fabs(d.C - 1.0 / 3) < 1e-15);
+    assert_true(d.radius == 2.0);
+    assert_string_equal(d.name, "mitchell");
+    /* by name with explicit B, C equals the named member of the family */
+    aa_filter_params par = aa_filter_params_default();
+    assert_true(isnan(par.B) && isnan(par.C) && isnan(par.radius) && isnan(par.sigma) &&
+                isnan(par.a));
+    par.B = 0.0;
+    par.C = 0.5;
+    aa_filter m;
+    aa_error err;
+    assert_int_equal(aa_filter_by_name(&m, "mitchell", &par, &err), AA_OK);
+    for (double x = -2.0; x <= 2.0; x += 0.0625)
+        assert_true(fabs(aa_filter_eval(&m, x) - aa_filter_eval(&all[1].f, x)) < 1e-15);
+    assert_int_equal(aa_filter_by_name(&m, "no-such-filter", NULL, &err), AA_EINVAL);
+    par = aa_filter_params_default();
+    par.sigma = 0.3;
+    assert_int_equal(aa_filter_by_name(&m, "gaussian", &par, &err), AA_OK);
+    assert_true(m.sigma == 0.3 && m.radius == 2.0);
+}
+
+/* Composite 20-point Gauss-Legendre of the engine's h over [u, v] in cells of `cell`. */
+static long double engine_h_integral(const aa_filter *f, long double u, long double v,
+                                     long double cell)
+{
+    static long double node[20], weight[20];
+    static int ready;
+    if (!ready) {
+        ref_gauss_legendre(20, node, weight);
+        ready = 1;
+    }
+    long double acc = 0.0L;
+    for (long double a = u; a < v; a += cell) {
+        long double b = fminl(a + cell, v), mid = 0.5L * (a + b), half = 0.5L * (b - a);
+        for (int i = 0; i < 20; i++)
+            acc += half * weight[i] * aa_filter_eval(f, (double)(mid + half * node[i]));
+    }
+    return acc;
+}
+
+static void test_unit_integral_symmetry_endpoints(void **state)
+{
+    (void)state;
+    int failures = 0;
+    for (size_t k = 0; k < all_count; k++) {
+        const aa_filter *f = &all[k].f;
+        double r = f->radius;
+        /* cells aligned with 1/8 so that no cell straddles a knot of the cubics */
+        long double integral = engine_h_integral(f, -r, r, 1.0L / 64);
+        if (fabsl(integral - 1.0L) > 1e-13L) {
+            print_error("%s: integral of h = %.17Lg\n", all[k].name, integral);
+            failures++;
+        }
+        for (int i = 0; i <= 400; i++) {
+            double x = r * i / 400.0;
+            assert_true(aa_filter_eval(f, x) == aa_filter_eval(f, -x));
+            double g = aa_filter_cdf(f, x), gm = aa_filter_cdf(f, -x);
+            assert_true(fabs(g + gm - 1.0) <= 1e-15 + 2 * f->cdf_error_bound);
+        }
+        assert_true(aa_filter_cdf(f, -r) == 0.0);
+        assert_true(aa_filter_cdf(f, r) == 1.0);
+        assert_true(aa_filter_cdf(f, -r - 1.0) == 0.0);
+        assert_true(aa_filter_cdf(f, r + 1e6) == 1.0);
+        assert_true(aa_filter_eval(f, r + 0.5) == 0.0);
+        assert_true(aa_filter_eval(f, -r - 0.5) == 0.0);
+        assert_true(fabs(aa_filter_cdf(f, 0.0) - 0.5) <= f->cdf_error_bound + 1e-15);
+    }
+    assert_int_equal(failures, 0);
+}
+
+/* Engine h and CDF vs the independent reference; engine CDF vs quadrature of engine h. */
+static void test_against_reference(void **state)
+{
+    (void)state;
+    int failures = 0;
+    for (size_t k = 0; k < all_count; k++) {
+        const aa_filter *f = &all[k].f;
+        const ref_filter *rf = &all[k].r;
+        double r = f->radius, worst_h = 0.0, worst_g = 0.0, worst_q = 0.0;
+        if (all[k].exact)
+            assert_true(f->cdf_error_bound == 0.0);
+        else
+            assert_true(f->cdf_error_bound > 0.0 && f->cdf_error_bound <= 1e-14);
+        for (int i = 0; i <= 2000; i++) {
+            double a = -r + 2.0 * r * i / 2000.0 + (i % 7) * 1e-4 * (i < 2000);
+            if (a >= r)
+                a = r;
+            long double hr = ref_filter_h(rf, a), gr = ref_filter_cdf(rf, a);
+            double he = aa_filter_eval(f, a), ge = aa_filter_cdf(f, a);
+            /* h is discontinuous at +-r for box and truncated Gaussians: skip the edge */
+            if (fabs(fabs(a) - r) > 1e-12)
+                worst_h = fmax(worst_h, (double)(fabsl(he - hr) / (fabsl(hr) + 1.0L)));
+            worst_g = fmax(worst_g, (double)fabsl(ge - gr));
+            if (i % 20 == 0) {
+                long double q = engine_h_integral(f, -r, a, 1.0L / 64);
+                worst_q = fmax(worst_q, (double)fabsl(ge - q));
+            }
+        }
+        /* the reference's own closed form vs its own quadrature of h */
+        double self = 0.0;
+        for (int i = 0; i <= 200; i++) {
+            long double a = -r + 2.0L * r * i / 200.0L;
+            self = fmax(self, (double)fabsl(ref_filter_cdf(rf, a) -
+                                            ref_filter_cdf_by_quadrature(rf, a, 1.0L / 32)));
+        }
+        print_message(
+            "%-20s |h-href|/(|href|+1) %.2g  |g-gref| %.2g (bound %.2g)  |g-quad(h)| %.2g  "
+            "reference self-check %.2g\n",
+            all[k].name, worst_h, worst_g, f->cdf_error_bound, worst_q, self);
+        assert_true(self < 1e-17);
+        /* h: a few ulp of 1 (cubic evaluation with cancellation); g: the stated bound plus a few
+         * ulp of 1 (tables "exact up to rounding" state 0) */
+        if (!(worst_h < 8e-15 && worst_g <= f->cdf_error_bound + 1e-15 && worst_q < 1e-13)) {
+            print_error("%s: out of tolerance\n", all[k].name);
+            failures++;
+        }
+    }
+    assert_int_equal(failures, 0);
+}
+
+static void test_pieces(void **state)
+{
+    (void)state;
+    for (size_t k = 0; k < all_count; k++) {
+        const aa_filter *f = &all[k].f;
+        double r = f->radius;
+        assert_true(f->pieces >= 1 && f->pieces <= AA_FILTER_MAX_PIECES);
+        assert_true(f->degree >= 1 && f->degree <= AA_FILTER_MAX_DEGREE);
+        assert_true(f->knot[0] == -r && f->knot[f->pieces] == r);
+        for (int j = 0; j < f->pieces; j++)
+            assert_true(f->knot[j] < f->knot[j + 1]);
+        assert_int_equal(aa_filter_piece(f, -r), -1);
+        assert_int_equal(aa_filter_piece(f, -r - 3.0), -1);
+        assert_int_equal(aa_filter_piece(f, r), f->pieces);
+        assert_int_equal(aa_filter_piece(f, 1e6), f->pieces);
+        for (int i = 1; i < 1000; i++) {
+            double a = -r + 2.0 * r * i / 1000.0;
+            int j = aa_filter_piece(f, a);
+            assert_true(j >= 0 && j < f->pieces);
+            assert_true(f->knot[j] <= a && a <= f->knot[j + 1]);
+            assert_true(fabs(aa_filter_cdf_in_piece(f, j, a) - aa_filter_cdf(f, a)) < 1e-15);
+        }
+    }
+    /* the cubic family's knots are where h changes polynomial */
+    const aa_filter *m = &all[0].f;
+    assert_int_equal(m->pieces, 4);
+    assert_int_equal(m->degree, 4);
+}
+
+/* Mitchell with radius != 2 is the standard cubic stretched to the radius. */
+static void test_mitchell_radius(void **state)
+{
+    (void)state;
+    aa_filter f;
+    aa_error err;
+    ref_filter rf;
+    assert_int_equal(aa_filter_mitchell(&f, 1.0 / 3, 1.0 / 3, 3.0, &err), AA_OK);
+    ref_filter_mitchell(&rf, 1.0L / 3, 1.0L / 3, 3.0L);
+    assert_true(f.radius == 3.0);
+    for (int i = 0; i <= 600; i++) {
+        double a = -3.0 + i * 0.01;
+        assert_true(fabsl(aa_filter_cdf(&f, a) - ref_filter_cdf(&rf, a)) < 1e-15L);
+        assert_true(fabsl(aa_filter_eval(&f, a) - ref_filter_h(&rf, a)) < 8e-15L);
+    }
+}
+
+static void expect_error(int rc, const aa_error *err, const char *field)
+{
+    assert_int_equal(rc, AA_EINVAL);
+    assert_int_equal(err->code, AA_EINVAL);
+    assert_string_equal(err->field, field);
+    assert_true(err->message[0] != '\0');
+}
+
+static void test_invalid_parameters(void **state)
+{
+    (void)state;
+    aa_filter f;
+    aa_error err;
+    const double bad_positive[] = {0.0, -1.0, -0.0, NAN, INFINITY, -INFINITY};
+    for (size_t i = 0; i < sizeof bad_positive / sizeof bad_positive[0]; i++) {
+        double v = bad_positive[i];
+        memset(&err, 0, sizeof err);
+        expect_error(aa_filter_gaussian(&f, v, 2.0, &err), &err, "sigma");
+        memset(&err, 0, sizeof err);
+        expect_error(aa_filter_gaussian(&f, 0.5, v, &err), &err, "radius");
+        memset(&err, 0, sizeof err);
+        expect_error(aa_filter_box(&f, v, &err), &err, "radius");
+        memset(&err, 0, sizeof err);
+        expect_error(aa_filter_tent(&f, v, &err), &err, "radius");
+        memset(&err, 0, sizeof err);
+        expect_error(aa_filter_lanczos(&f, v, &err), &err, "a");
+        memset(&err, 0, sizeof err);
+        expect_error(aa_filter_mitchell(&f, 1.0 / 3, 1.0 / 3, v, &err), &err, "radius");
+    }
+    const double non_finite[] = {NAN, INFINITY, -INFINITY};
+    for (size_t i = 0; i < 3; i++) {
+        memset(&err, 0, sizeof err);
+        expect_error(aa_filter_mitchell(&f, non_finite[i], 0.0, 2.0, &err), &err, "B");
+        memset(&err, 0, sizeof err);
+        expect_error(aa_filter_mitchell(&f, 0.0, non_finite[i], 2.0, &err), &err, "C");
+    }
+    /* through the named constructor: an explicit bad value is an error, NaN is the default */
+    aa_filter_params par = aa_filter_params_default();
+    par.sigma = -0.5;
+    memset(&err, 0, sizeof err);
+    expect_error(aa_filter_by_name(&f, "gaussian", &par, &err), &err, "sigma");
+    par = aa_filter_params_default();
+    par.radius = INFINITY;
+    memset(&err, 0, sizeof err);
+    expect_error(aa_filter_by_name(&f, "box", &par, &err), &err, "radius");
+    par = aa_filter_params_default();
+    par.a = 0.0;
+    memset(&err, 0, sizeof err);
+    expect_error(aa_filter_by_name(&f, "lanczos", &par, &err), &err, "a");
+    /* NULL err is allowed */
+    assert_int_equal(aa_filter_gaussian(&f, -1.0, 2.0, NULL), AA_EINVAL);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_names_and_defaults),
+        cmocka_unit_test(test_unit_integral_symmetry_endpoints),
+        cmocka_unit_test(test_against_reference),
+        cmocka_unit_test(test_pieces),
+        cmocka_unit_test(test_mitchell_radius),
+        cmocka_unit_test(test_invalid_parameters),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}

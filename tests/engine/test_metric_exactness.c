@@ -1,0 +1,432 @@
+/* Numerical exactness of aa_e1_at_angle against the independent long-double reference
+ * (reference_metric.c): >= 10,000 random kernels and >= 200 stiff or extreme cases, each within
+ * 1e-12 relative.
+ *
+ * The only slack beyond 1e-12 is the unavoidable rounding of the projections: the engine takes
+ * double x, y, theta and must form p = x cos(theta) + y sin(theta) in double, an error of a few
+ * ulp of |x| + |y| per sample, which moves E1 by |dE1/dp_i| times that. The reference projects in
+ * long double; for kernels with a coordinate beyond 16 the test adds the first-order effect of
+ * 2^-51 (|x_i| + |y_i|) per sample (a bound on |dE1/dp_i| times that); below 16 there is no
+ * slack: the tolerance is exactly 1e-12. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "metric.h"
+#include "reference_metric.h"
+
+#define REL_TOL 1e-12
+#define PI_D 3.14159265358979323846
+
+typedef struct filter_pair {
+    const char *label;
+    aa_filter engine;
+    ref_filter ref;
+} filter_pair;
+
+enum {
+    F_MITCHELL,
+    F_CATMULL_ROM,
+    F_BSPLINE,
+    F_NOTCH,
+    F_BOX,
+    F_TENT,
+    F_GAUSS,
+    F_GAUSS_NARROW,
+    F_GAUSS_WIDE,
+    F_LANCZOS2,
+    F_LANCZOS3,
+    F_COUNT
+};
+
+static filter_pair filters[F_COUNT];
+
+typedef struct stats {
+    size_t cases;
+    double max_rel;
+    double max_slack;
+    char worst[160];
+} stats;
+
+static uint64_t rng_state;
+
+static uint64_t rng_next(void)
+{
+    /* splitmix64: deterministic across platforms */
+    uint64_t z = (rng_state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+static double rng_uniform(double lo, double hi)
+{
+    return lo + (hi - lo) * ((double)(rng_next() >> 11) * 0x1.0p-53);
+}
+
+static size_t rng_int(size_t lo, size_t hi)
+{
+    return lo + (size_t)(rng_next() % (uint64_t)(hi - lo + 1));
+}
+
+static int setup_filters(void **state)
+{
+    (void)state;
+    aa_error err;
+    aa_filter_params par = aa_filter_params_default();
+    struct {
+        const char *name;
+        int idx;
+        long double B, C;
+    } mn[] = {{"mitchell", F_MITCHELL, 1.0L / 3, 1.0L / 3},
+              {"catmull-rom", F_CATMULL_ROM, 0.0L, 0.5L},
+              {"bspline", F_BSPLINE, 1.0L, 0.0L},
+              {"notch", F_NOTCH, 1.5L, -0.25L}};
+    for (size_t i = 0; i < 4; i++) {
+        filter_pair *fp = &filters[mn[i].idx];
+        fp->label = mn[i].name;
+        if (aa_filter_by_name(&fp->engine, mn[i].name, &par, &err) != AA_OK)
+            return -1;
+        ref_filter_mitchell(&fp->ref, mn[i].B, mn[i].C, 2.0L);
+    }
+    filters[F_BOX].label = "box r=0.5";
+    if (aa_filter_box(&filters[F_BOX].engine, 0.5, &err) != AA_OK)
+        return -1;
+    ref_filter_box(&filters[F_BOX].ref, 0.5L);
+    filters[F_TENT].label = "tent r=1";
+    if (aa_filter_tent(&filters[F_TENT].engine, 1.0, &err) != AA_OK)
+        return -1;
+    ref_filter_tent(&filters[F_TENT].ref, 1.0L);
+    struct {
+        int idx;
+        const char *label;
+        double sigma, radius;
+    } ga[] = {{F_GAUSS, "gaussian s=0.5 r=2", 0.5, 2.0},
+              {F_GAUSS_NARROW, "gaussian s=0.05 r=2", 0.05, 2.0},
+              {F_GAUSS_WIDE, "gaussian s=1.5 r=4", 1.5, 4.0}};
+    for (size_t i = 0; i < 3; i++) {
+        filter_pair *fp = &filters[ga[i].idx];
+        fp->label = ga[i].label;
+        if (aa_filter_gaussian(&fp->engine, ga[i].sigma, ga[i].radius, &err) != AA_OK)
+            return -1;
+        ref_filter_gaussian(&fp->ref, ga[i].sigma, ga[i].radius);
+    }
+    filters[F_LANCZOS2].label = "lanczos a=2";
+    if (aa_filter_lanczos(&filters[F_LANCZOS2].engine, 2.0, &err) != AA_OK)
+        return -1;
+    ref_filter_lanczos(&filters[F_LANCZOS2].ref, 2.0L);
+    filters[F_LANCZOS3].label = "lanczos a=3";
+    if (aa_filter_lanczos(&filters[F_LANCZOS3].engine, 3.0, &err) != AA_OK)
+        return -1;
+    ref_filter_lanczos(&filters[F_LANCZOS3].ref, 3.0L);
+    return 0;
+}
+
+/* First-order effect on E1 of rounding each projection by 2^-51 (|x| + |y|), relative. */
+static double projection_slack(const ref_filter *rf, const long double *p, const aa_sample *s,
+                               size_t n, long double e1)
+{
+    long double abs_w = 0.0L, acc = 0.0L;
+    for (size_t i = 0; i < n; i++)
+        abs_w += fabsl((long double)s[i].w);
+    for (size_t i = 0; i < n; i++) {
+        long double dp = 0x1.0p-51L * (fabsl((long double)s[i].x) + fabsl((long double)s[i].y));
+        long double g = ref_filter_cdf(rf, p[i]);
+        long double bound = fabsl((long double)s[i].w) *
+                            (2.0L * (fabsl(g) + abs_w) + fabsl((long double)s[i].w)) / (2.0L * e1);
+        acc += bound * dp;
+    }
+    return (double)(acc / e1);
+}
+
+static void check_case(const filter_pair *fp, const aa_sample *s, size_t n, double theta,
+                       aa_metric_workspace *ws, stats *st, const char *what)
+{
+    double *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y), *w = malloc(n * sizeof *w);
+    long double *p = malloc(n * sizeof *p);
+    for (size_t i = 0; i < n; i++) {
+        x[i] = s[i].x;
+        y[i] = s[i].y;
+        w[i] = s[i].w;
+    }
+    ref_project(x, y, n, theta, p);
+    long double ref = ref_e1_at_angle(&fp->ref, x, y, w, n, theta);
+    double got = NAN;
+    int rc = aa_e1_at_angle(&fp->engine, s, n, theta, ws, &got);
+    double rel = (double)(fabsl((long double)got - ref) / ref);
+    double extent = 0.0;
+    for (size_t i = 0; i < n; i++)
+        extent = fmax(extent, fmax(fabs(s[i].x), fabs(s[i].y)));
+    /* Below 16 the projection rounding moves E1 by ~1e-15 relative: no slack at all. */
+    double slack = extent > 16.0 ? projection_slack(&fp->ref, p, s, n, ref) : 0.0;
+    st->cases++;
+    if (rel > st->max_rel) {
+        st->max_rel = rel;
+        snprintf(st->worst, sizeof st->worst, "%s, %s, n=%zu, theta=%.17g", what, fp->label, n,
+                 theta);
+    }
+    if (slack > st->max_slack)
+        st->max_slack = slack;
+    if (rc != AA_OK || !(rel <= REL_TOL + slack)) {
+        print_error("E1 mismatch (%s, filter %s, n=%zu, theta=%.17g): engine %.17g, reference "
+                    "%.20Lg, rel %.3g (tolerance %.3g), rc %d\n",
+                    what, fp->label, n, theta, got, ref, rel, REL_TOL + slack, rc);
+        for (size_t i = 0; i < n && i < 8; i++)
+            print_error("  sample %zu: %.17g %.17g %.17g\n", i, s[i].x, s[i].y, s[i].w);
+        fail();
+    }
+    free(x);
+    free(y);
+    free(w);
+    free(p);
+}
+
+/* Weights in [-0.5, 1] scaled to sum 1 (redrawn while the raw sum is small). */
+static void random_weights(aa_sample *s, size_t n)
+{
+    double sum;
+    do {
+        sum = 0.0;
+        for (size_t i = 0; i < n; i++) {
+            s[i].w = rng_uniform(-0.5, 1.0);
+            sum += s[i].w;
+        }
+    } while (fabs(sum) < 0.3);
+    for (size_t i = 0; i < n; i++)
+        s[i].w /= sum;
+}
+
+static void random_kernel(aa_sample *s, size_t n, double extent)
+{
+    for (size_t i = 0; i < n; i++) {
+        s[i].x = rng_uniform(-extent, extent);
+        s[i].y = rng_uniform(-extent, extent);
+    }
+    random_weights(s, n);
+}
+
+static void print_stats(const char *title, const stats *st)
+{
+    print_message("%s: %zu cases, max relative error %.3g (worst: %s), max projection slack "
+                  "%.3g\n",
+                  title, st->cases, st->max_rel, st->worst, st->max_slack);
+}
+
+static void test_random_kernels_default_filter(void **state)
+{
+    (void)state;
+    rng_state = 20260101;
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    aa_sample s[64];
+    stats st = {0};
+    for (int k = 0; k < 10000; k++) {
+        size_t n = rng_int(1, 64);
+        random_kernel(s, n, k % 4 == 0 ? 3.0 : 1.5);
+        check_case(&filters[F_MITCHELL], s, n, rng_uniform(0.0, PI_D), &ws, &st, "random");
+    }
+    print_stats("random kernels, mitchell(1/3,1/3)", &st);
+    assert_true(st.cases >= 10000);
+    aa_metric_workspace_free(&ws);
+}
+
+static void test_random_kernels_other_filters(void **state)
+{
+    (void)state;
+    rng_state = 777;
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    aa_sample s[64];
+    stats st = {0};
+    for (int k = 0; k < 1500; k++) {
+        int fi = 1 + k % (F_COUNT - 1);
+        size_t n = rng_int(1, (fi == F_LANCZOS2 || fi == F_LANCZOS3) ? 16 : 64);
+        random_kernel(s, n, filters[fi].ref.radius);
+        check_case(&filters[fi], s, n, rng_uniform(0.0, PI_D), &ws, &st, "random");
+    }
+    print_stats("random kernels, other filters", &st);
+    aa_metric_workspace_free(&ws);
+}
+
+/* ---------- stiff and extreme cases ---------- */
+
+static const double exact_angles[3] = {0.0, PI_D / 4, PI_D / 2};
+
+static void test_stiff_cases(void **state)
+{
+    (void)state;
+    rng_state = 99;
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    aa_sample *s = calloc(1024, sizeof *s);
+    stats st = {0};
+    const filter_pair *mit = &filters[F_MITCHELL];
+
+    /* Ties and coincident samples: duplicated positions; equal x at theta = 0. */
+    for (int k = 0; k < 24; k++) {
+        size_t n = rng_int(2, 16);
+        random_kernel(s, n, 1.5);
+        for (size_t i = 1; i < n; i += 2)
+            s[i].x = s[i - 1].x, s[i].y = (k % 2) ? s[i - 1].y : s[i].y;
+        check_case(mit, s, n, exact_angles[k % 3], &ws, &st, "ties");
+        check_case(mit, s, n, rng_uniform(0, PI_D), &ws, &st, "ties");
+    }
+    /* All samples at one point (E1 of a single step). */
+    for (int k = 0; k < 6; k++) {
+        size_t n = 5;
+        for (size_t i = 0; i < n; i++)
+            s[i] = (aa_sample){0.25 * k - 0.5, 0.1, 0.2};
+        check_case(mit, s, n, exact_angles[k % 3], &ws, &st, "coincident");
+    }
+    /* Projections exactly on the filter knots (theta = 0 gives p = x exactly). */
+    const double knots[] = {-2.0, -1.0, 0.0, 1.0, 2.0, -0.5, 0.5};
+    for (int k = 0; k < 30; k++) {
+        size_t n = rng_int(1, 7);
+        random_kernel(s, n, 1.0);
+        for (size_t i = 0; i < n; i++)
+            s[i].x = knots[rng_int(0, 6)];
+        check_case(mit, s, n, 0.0, &ws, &st, "on knots");
+        for (size_t i = 0; i < n; i++) {
+            double t = s[i].x;
+            s[i].x = s[i].y;
+            s[i].y = t;
+        }
+        check_case(mit, s, n, PI_D / 2, &ws, &st, "on knots (90)");
+    }
+    /* Knots of other filters. */
+    for (int k = 0; k < 12; k++) {
+        const filter_pair *fp = &filters[(int[]){F_BOX, F_TENT, F_GAUSS, F_LANCZOS2}[k % 4]];
+        double r = fp->ref.radius;
+        size_t n = 4;
+        double at[4] = {-r, 0.0, r, 0.5 * r};
+        random_kernel(s, n, 1.0);
+        for (size_t i = 0; i < n; i++)
+            s[i].x = at[(i + (size_t)k) % 4];
+        check_case(fp, s, n, 0.0, &ws, &st, "on knots");
+    }
+    /* Samples far outside the support. */
+    for (int k = 0; k < 20; k++) {
+        size_t n = rng_int(2, 12);
+        random_kernel(s, n, 1.0);
+        double far = (double[]){5.0, -7.5, 50.0, -1000.0, 1e4}[k % 5];
+        s[0].x = far;
+        s[n - 1].y = -far;
+        check_case(mit, s, n, rng_uniform(0, PI_D), &ws, &st, "far outside");
+        check_case(mit, s, n, exact_angles[k % 3], &ws, &st, "far outside");
+    }
+    /* Every sample outside the support on one side. */
+    for (int k = 0; k < 4; k++) {
+        size_t n = 3;
+        random_kernel(s, n, 1.0);
+        for (size_t i = 0; i < n; i++)
+            s[i].x = (k % 2 ? -1 : 1) * (3.0 + i);
+        check_case(mit, s, n, 0.0, &ws, &st, "all outside");
+    }
+    /* Separations of 1e-9 (and a cluster of them). */
+    for (int k = 0; k < 20; k++) {
+        size_t n = rng_int(2, 10);
+        random_kernel(s, n, 1.0);
+        double x0 = rng_uniform(-1.0, 1.0);
+        for (size_t i = 0; i < n; i++)
+            s[i].x = x0 + 1e-9 * (double)i * (k % 2 ? 1.0 : -1.0);
+        check_case(mit, s, n, 0.0, &ws, &st, "1e-9 separation");
+        check_case(mit, s, n, rng_uniform(0, PI_D), &ws, &st, "1e-9 separation");
+    }
+    /* Coordinates up to 1e6: at theta = 0 (exact projections) and at random angles. */
+    for (int k = 0; k < 20; k++) {
+        size_t n = rng_int(2, 8);
+        random_kernel(s, n, 1.0);
+        double big = (double[]){1e6, -1e6, 3.5e5, 999999.75}[k % 4];
+        s[k % n].x = big;
+        if (k % 3 == 0)
+            s[(k + 1) % n].y = -big;
+        check_case(mit, s, n, 0.0, &ws, &st, "1e6 coordinates");
+        check_case(mit, s, n, rng_uniform(0, PI_D), &ws, &st, "1e6 coordinates");
+    }
+    /* Weights that are large and cancel, at distant points. */
+    for (int k = 0; k < 6; k++) {
+        size_t n = 3;
+        s[0] = (aa_sample){-1e6, 0.0, 1e3};
+        s[1] = (aa_sample){1e6, 0.0, -1e3};
+        s[2] = (aa_sample){0.1 * k, 0.0, 1.0};
+        check_case(mit, s, n, 0.0, &ws, &st, "cancelling 1e3 weights");
+    }
+    /* 1024-sample kernels. */
+    for (int k = 0; k < 6; k++) {
+        random_kernel(s, 1024, k % 2 ? 2.0 : 0.5);
+        check_case(mit, s, 1024, rng_uniform(0, PI_D), &ws, &st, "1024 samples");
+        check_case(&filters[1 + k % 5], s, 1024, exact_angles[k % 3], &ws, &st, "1024 samples");
+    }
+    /* Negative and tiny weights. */
+    for (int k = 0; k < 20; k++) {
+        size_t n = rng_int(3, 12);
+        random_kernel(s, n, 1.0);
+        double tiny = (double[]){1e-9, 1e-15, 1e-30, 1e-300, -1e-12}[k % 5];
+        s[0].w = tiny;
+        s[1].w = -0.75;
+        double sum = 0.0;
+        for (size_t i = 2; i < n; i++)
+            sum += s[i].w;
+        for (size_t i = 2; i < n; i++)
+            s[i].w *= (1.0 - tiny + 0.75) / sum;
+        check_case(mit, s, n, rng_uniform(0, PI_D), &ws, &st, "negative/tiny weights");
+        check_case(mit, s, n, exact_angles[k % 3], &ws, &st, "negative/tiny weights");
+    }
+    /* Single sample anywhere. */
+    for (int k = 0; k < 10; k++) {
+        s[0] = (aa_sample){rng_uniform(-3, 3), rng_uniform(-3, 3), 1.0};
+        check_case(mit, s, 1, rng_uniform(0, PI_D), &ws, &st, "single sample");
+    }
+    /* Every filter on random kernels at exactly 0, 45 and 90 degrees. */
+    for (int fi = 0; fi < F_COUNT; fi++) {
+        for (int k = 0; k < 6; k++) {
+            size_t n = rng_int(1, 24);
+            random_kernel(s, n, filters[fi].ref.radius * 0.75);
+            check_case(&filters[fi], s, n, exact_angles[k % 3], &ws, &st, "exact angles");
+        }
+    }
+    print_stats("stiff and extreme cases", &st);
+    assert_true(st.cases >= 200);
+    free(s);
+    aa_metric_workspace_free(&ws);
+}
+
+/* The E1 that aa_e1_gradient_at_angle reports is the same number. */
+static void test_gradient_e1_matches(void **state)
+{
+    (void)state;
+    rng_state = 4242;
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    aa_sample s[64];
+    double dx[64], dy[64], dw[64];
+    for (int k = 0; k < 300; k++) {
+        size_t n = rng_int(1, 64);
+        random_kernel(s, n, 1.5);
+        double th = rng_uniform(0, PI_D), a = NAN, b = NAN;
+        assert_int_equal(aa_e1_at_angle(&filters[F_MITCHELL].engine, s, n, th, &ws, &a), AA_OK);
+        assert_int_equal(
+            aa_e1_gradient_at_angle(&filters[F_MITCHELL].engine, s, n, th, &ws, &b, dx, dy, dw),
+            AA_OK);
+        assert_true(fabs(a - b) <= 1e-14 * a);
+    }
+    aa_metric_workspace_free(&ws);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_random_kernels_default_filter),
+        cmocka_unit_test(test_random_kernels_other_filters),
+        cmocka_unit_test(test_stiff_cases),
+        cmocka_unit_test(test_gradient_e1_matches),
+    };
+    return cmocka_run_group_tests(tests, setup_filters, NULL);
+}
