@@ -115,12 +115,17 @@ def interruption_reason(job):
 
 # --- kill -9 ----------------------------------------------------------------------------------
 
+ROOMY = ["--user-quota", "1000", "--queue-size", "1000"]  # 50 jobs of one user fit
+
+
 def test_kill9(binary):
-    d = H.Daemon(binary, workers=2, tcp=False).start()
+    d = H.Daemon(binary, workers=2, tcp=False, extra_args=ROOMY).start()
     ids = {}
-    # 16 cheap sleep jobs and 4 short optimizations that finish before the kill ...
-    for i in range(16):
+    # 14 cheap sleep jobs, 2 failing ones and 4 short optimizations finish before the kill ...
+    for i in range(14):
         ids[submit(d, {"kind": "sleep", "seconds": 0})] = "sleep0"
+    for i in range(2):
+        ids[submit(d, {"kind": "sleep", "seconds": 0, "fail": True})] = "failed"
     for i in range(4):
         ids[submit(d, {"kind": "optimize", "family": "P(4,1+,1.25)", "seeds": 2, "max_seconds": 1,
                        "rng_seed": 100 + i})] = "optimize"
@@ -145,15 +150,17 @@ def test_kill9(binary):
     ic_before = integrity_check(d.state_dir)
     print("integrity_check after kill -9 (copy, before restart): %r" % ic_before)
 
-    d2 = H.Daemon(binary, workers=2, tcp=False, state_dir=d.state_dir, root=d.root).start()
+    d2 = H.Daemon(binary, workers=2, tcp=False, state_dir=d.state_dir, root=d.root,
+                  extra_args=ROOMY).start()
     after = {jid: get_job(d2, jid) for jid in ids}
     finished_same = requeued = interrupted = 0
     for jid, b in before.items():
         a = after[jid]
         if b["state"] in FINISHED:
             expect(a["state"] == b["state"], "job %s was %s, after restart %s" % (jid, b["state"], a["state"]))
-            expect(a.get("result") == b.get("result"),
-                   "job %s result changed across kill -9:\n%r\n%r" % (jid, b.get("result"), a.get("result")))
+            for key in ("result", "error", "spec", "trace"):
+                expect(a.get(key) == b.get(key), "job %s %s changed across kill -9:\n%r\n%r"
+                       % (jid, key, b.get(key), a.get(key)))
             finished_same += 1
         else:
             if a["state"] in UNFINISHED:
@@ -217,7 +224,8 @@ def test_diskfull(binary):
         return SKIP
     d = None
     try:
-        d = H.Daemon(binary, workers=2, tcp=False, state_dir=state, root=root).start()
+        d = H.Daemon(binary, workers=2, tcp=False, state_dir=state, root=root,
+                     extra_args=ROOMY).start()
         stored = [submit(d, {"kind": "sleep", "seconds": 0}) for _ in range(10)]
         wait_states(d, stored, FINISHED, 30)
         snapshot = {jid: get_job(d, jid) for jid in stored}

@@ -156,12 +156,17 @@ def main():
     ap.add_argument("--requests", type=int, default=1000000)
     ap.add_argument("--connections", type=int, default=2)
     ap.add_argument("--wrk-seconds", type=int, default=30)
-    ap.add_argument("--timeout-limit", type=int, default=75,
+    ap.add_argument("--timeout-limit", type=int, default=15,
                     help="seconds within which idle/slow connections must be closed")
     ap.add_argument("--daemon-arg", action="append", default=[],
                     help="extra aalabd flag (repeatable), e.g. --daemon-arg=--connection-timeout=5")
     a = ap.parse_args()
-    d = H.Daemon(a.aalabd, workers=2, extra_args=a.daemon_arg).start()
+    extra = list(a.daemon_arg)
+    if a.quick:
+        # A small queue bound (and a per-user quota above it, so that the bound is what refuses)
+        # and a short inactivity timeout keep the smoke test short.
+        extra += ["--queue-size", "16", "--user-quota", "1000", "--connection-timeout", "3"]
+    d = H.Daemon(a.aalabd, workers=2, extra_args=extra).start()
     try:
         # Warm-up, so that RSS "before" includes the steady-state allocations.
         run_load(a.load, d, "unix", ["--connections", "2", "--requests", "20000", "--body", EVAL_BODY])
