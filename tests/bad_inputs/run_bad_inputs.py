@@ -184,8 +184,9 @@ def run_case(d, c, cache):
     if resp.status < 300 and chk:
         try:
             j = resp.json() if "content_type_prefix" not in chk else None
-            if chk.get("e2_finite") and not (isinstance(j.get("e2"), (int, float)) and math.isfinite(j["e2"])):
-                problems.append("e2 not finite: %r" % j.get("e2"))
+            e2 = j.get("e2") if j else None
+            if chk.get("e2_finite") and not (isinstance(e2, (int, float)) and math.isfinite(e2) and e2 >= 0):
+                problems.append("e2 not a finite number >= 0: %r" % e2)
             if "state" in chk and j.get("state") != chk["state"]:
                 problems.append("state %r, expected %r" % (j.get("state"), chk["state"]))
             if "content_type_prefix" in chk and not resp.headers.get("content-type", "").startswith(chk["content_type_prefix"]):
