@@ -29,6 +29,17 @@ class Response:
         return err.get("field")
 
 
+def built_with_asan(binary):
+    """True if the daemon was built with AddressSanitizer (its quarantine makes RSS meaningless
+    as a leak measure; LeakSanitizer at exit is the check then): libasan linked dynamically
+    (gcc) or the runtime linked in statically (clang)."""
+    out = subprocess.run(["ldd", binary], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+    if b"libasan" in out.stdout:
+        return True
+    with open(binary, "rb") as f:
+        return b"AddressSanitizer" in f.read()
+
+
 def free_tcp_port():
     s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
     s.bind(("127.0.0.1", 0))

@@ -126,9 +126,18 @@ def test_kill9(binary):
         ids[submit(d, {"kind": "sleep", "seconds": 0})] = "sleep0"
     for i in range(2):
         ids[submit(d, {"kind": "sleep", "seconds": 0, "fail": True})] = "failed"
-    for i in range(4):
-        ids[submit(d, {"kind": "optimize", "family": "P(4,1+,1.25)", "seeds": 2, "max_seconds": 1,
-                       "rng_seed": 100 + i})] = "optimize"
+    # Real results: short optimizations when the optimizer is built in, else sleep jobs (their
+    # result carries a pattern and a trace too).
+    opt = {"kind": "optimize", "family": "P(4,1+,1.25)", "seeds": 2, "max_seconds": 1}
+    probe = d.request("POST", "/v1/jobs", dict(opt, rng_seed=100))
+    if probe.status == 202:
+        ids[probe.json()["id"]] = "optimize"
+        for i in range(1, 4):
+            ids[submit(d, dict(opt, rng_seed=100 + i))] = "optimize"
+    else:
+        print("optimize kind not available (%d): using sleep jobs instead" % probe.status)
+        for i in range(4):
+            ids[submit(d, {"kind": "sleep", "seconds": 0.2})] = "sleep0.2"
     wait_states(d, list(ids), FINISHED, 60)
     # ... one cancelled, and 29 long ones that are running or queued when the daemon dies.
     jc = submit(d, {"kind": "sleep", "seconds": 60})
@@ -293,8 +302,19 @@ def proc_counts(pid):
     return fds, threads, rss
 
 
+def connect_retry(d, timeout=10.0):
+    """Unix-socket connect() fails with EAGAIN while the listen backlog is full: retry."""
+    deadline = time.time() + timeout
+    while True:
+        try:
+            return d.open_conn("unix", timeout=5)
+        except BlockingIOError:
+            expect(time.time() < deadline, "listen backlog full for %.0f s" % timeout)
+            time.sleep(0.005)
+
+
 def vanish(d, payload, shutdown_write=False):
-    s = d.open_conn("unix", timeout=5)
+    s = connect_retry(d)
     try:
         s.sendall(payload)
         if shutdown_write:
@@ -320,12 +340,18 @@ def test_disconnect(binary, rounds):
     for _ in range(200):  # warm up allocator and caches
         expect(H.check_valid_evaluate(d) is None, "evaluate failed during warm-up")
     time.sleep(0.5)
-    base = proc_counts(d.pid())
-    jobs0 = jobs_count(d)
     head = b"POST /v1/evaluate HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
     jhead = b"POST /v1/jobs HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
+    base = None
     t0 = time.time()
-    for i in range(rounds):
+    # The first tenth of the rounds warms up (thread stacks, allocator arenas); the baseline is
+    # taken after it.
+    for i in range(rounds + rounds // 10):
+        if i == rounds // 10:
+            time.sleep(0.5)
+            base = proc_counts(d.pid())
+            jobs0 = jobs_count(d)
+            t0 = time.time()
         vanish(d, b"POST /v1/eval")                                              # mid request line
         vanish(d, head)                                                         # mid headers
         vanish(d, head + b"Content-Length: %d\r\n\r\n" % len(ev) + ev[:10])     # mid body
@@ -345,8 +371,12 @@ def test_disconnect(binary, rounds):
     expect(after[0] <= base[0] + 2, "file descriptors grew: %d -> %d" % (base[0], after[0]))
     expect(after[1] <= base[1], "threads grew: %d -> %d" % (base[1], after[1]))
     expect(jobs1 == jobs0, "a cut-off job upload created a job (%d -> %d)" % (jobs0, jobs1))
-    # Memory: allow allocator noise, not per-connection growth (7 x rounds connections).
-    expect(after[2] <= base[2] * 1.10 + 2048, "RSS grew %d -> %d kB" % (base[2], after[2]))
+    # Memory: allow allocator noise, not per-connection growth (7 x rounds connections). Under
+    # ASan the quarantine holds freed memory, so LeakSanitizer at exit is the check instead.
+    if H.built_with_asan(binary):
+        print("ASan build: RSS not compared, LeakSanitizer checks at exit")
+    else:
+        expect(after[2] <= base[2] * 1.05 + 1024, "RSS grew %d -> %d kB" % (base[2], after[2]))
     h = d.request("GET", "/v1/health").json()
     print("health after: %s" % json.dumps(h)[:300])
     rc = d.stop()
