@@ -8,8 +8,8 @@
 
 static bool is_mitchell_family(const char *name)
 {
-    return !strcmp(name, "mitchell") || !strcmp(name, "catmull-rom") ||
-           !strcmp(name, "bspline") || !strcmp(name, "notch");
+    return !strcmp(name, "mitchell") || !strcmp(name, "catmull-rom") || !strcmp(name, "bspline") ||
+           !strcmp(name, "notch");
 }
 
 /* Which numeric parameters a named filter takes (others are rejected as not applicable). */
@@ -35,7 +35,9 @@ int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefi
     }
     if (!json_is_object(j))
         return proto_fail(err, AA_EINVAL, prefix, "", "a filter is an object {\"name\": ...}");
-    static const char *const keys[] = {"name", "B", "C", "radius", "sigma", "a", NULL};
+    /* cdf_error_bound is informational (written by proto_encode_filter) and ignored. */
+    static const char *const keys[] = {"name", "B", "C", "radius", "sigma", "a", "cdf_error_bound",
+                                       NULL};
     int rc = proto_check_keys(j, keys, err, prefix);
     if (rc)
         return rc;
@@ -55,8 +57,8 @@ int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefi
     struct {
         const char *key;
         double *dst;
-    } params[] = {{"B", &p.B}, {"C", &p.C}, {"radius", &p.radius}, {"sigma", &p.sigma},
-                  {"a", &p.a}};
+    } params[] = {
+        {"B", &p.B}, {"C", &p.C}, {"radius", &p.radius}, {"sigma", &p.sigma}, {"a", &p.a}};
     for (size_t i = 0; i < sizeof params / sizeof params[0]; i++) {
         const json_t *v = json_object_get(j, params[i].key);
         if (!v)
@@ -199,11 +201,11 @@ json_t *proto_encode_acuity(const aa_acuity *a)
 
 json_t *proto_encode_evaluation(const aa_evaluation *e, const aa_pattern *p, bool detail)
 {
-    json_t *o = json_pack("{s:o,s:{s:I,s:o},s:o,s:I,s:I}", "e2", proto_real(e->e2), "argmax",
-                          "kernel", (json_int_t)e->argmax_kernel, "angle_deg",
-                          proto_real(e->argmax_angle_deg), "mean", proto_real(e->mean),
-                          "kernel_count", (json_int_t)e->kernel_count, "angle_count",
-                          (json_int_t)e->angle_count);
+    json_t *o =
+        json_pack("{s:o,s:{s:I,s:o},s:o,s:I,s:I}", "e2", proto_real(e->e2), "argmax", "kernel",
+                  (json_int_t)e->argmax_kernel, "angle_deg", proto_real(e->argmax_angle_deg),
+                  "mean", proto_real(e->mean), "kernel_count", (json_int_t)e->kernel_count,
+                  "angle_count", (json_int_t)e->angle_count);
     if (!o)
         return NULL;
     if (!isnan(e->lp_norm))
@@ -218,14 +220,14 @@ json_t *proto_encode_evaluation(const aa_evaluation *e, const aa_pattern *p, boo
             json_t *angles = json_array();
             for (size_t i = 0; i < e->angle_count; i++) {
                 double e1 = e->e1[k * e->angle_count + i];
-                json_array_append_new(angles, json_pack("{s:o,s:o,s:o,s:o}", "angle_deg",
-                                                        proto_real(e->angles_deg[i]), "weight",
-                                                        proto_real(e->weight[i]), "e1",
-                                                        proto_real(e1), "weighted",
-                                                        proto_real(e->weight[i] * e1)));
+                json_array_append_new(angles,
+                                      json_pack("{s:o,s:o,s:o,s:o}", "angle_deg",
+                                                proto_real(e->angles_deg[i]), "weight",
+                                                proto_real(e->weight[i]), "e1", proto_real(e1),
+                                                "weighted", proto_real(e->weight[i] * e1)));
             }
-            json_array_append_new(kernels,
-                                  json_pack("{s:I,s:o}", "kernel", (json_int_t)k, "angles", angles));
+            json_array_append_new(
+                kernels, json_pack("{s:I,s:o}", "kernel", (json_int_t)k, "angles", angles));
         }
         json_object_set_new(o, "detail", kernels);
     }

@@ -46,8 +46,8 @@ static int decode_samples(const json_t *j, aa_sample **out, size_t *count, const
     for (size_t i = 0; i < n; i++) {
         char idx[32];
         snprintf(idx, sizeof idx, "[%zu]", i);
-        int rc = decode_triple(json_array_get(j, i), true, &s[i].x, &s[i].y, &s[i].w, field, idx,
-                               err);
+        int rc =
+            decode_triple(json_array_get(j, i), true, &s[i].x, &s[i].y, &s[i].w, field, idx, err);
         if (rc) {
             free(s);
             return rc;
@@ -81,8 +81,7 @@ static int decode_kernels(const json_t *j, unsigned flags, aa_pattern *out, cons
         rc = decode_samples(json_array_get(j, k), &kernels[k], &counts[k], field, idx, err);
     }
     if (!rc) {
-        rc = aa_pattern_from_kernels(out, (const aa_sample *const *)kernels, counts, s, flags,
-                                     err);
+        rc = aa_pattern_from_kernels(out, (const aa_sample *const *)kernels, counts, s, flags, err);
         if (rc)
             proto_prefix_error(err, prefix);
     }
@@ -234,9 +233,9 @@ int proto_decode_pattern(const json_t *j, unsigned flags, aa_pattern *out, const
     if (!json_is_object(j))
         return proto_fail(err, AA_EINVAL, prefix, "",
                           "a pattern is an object with one of preset, kernels, mirrored, tile");
-    static const char *const keys[] = {"preset", "kernels", "mirrored", "tile", "normalize",
-                                       "family", "cost_spp", "form", "kernels_expanded", "name",
-                                       NULL};
+    static const char *const keys[] = {"preset",           "kernels", "mirrored", "tile",
+                                       "normalize",        "family",  "cost_spp", "form",
+                                       "kernels_expanded", "name",    NULL};
     int rc = proto_check_keys(j, keys, err, prefix);
     if (rc)
         return rc;
@@ -309,8 +308,8 @@ static json_t *encode_tile(const aa_pattern *p)
             json_array_append_new(w, json_real(p->kernels[k].samples[m].w));
         json_array_append_new(weights, w);
     }
-    return json_pack("{s:i,s:i,s:b,s:o,s:o}", "size", p->tile, "kernel", p->kernel_size,
-                     "border", p->border, "samples", samples, "weights", weights);
+    return json_pack("{s:i,s:i,s:b,s:o,s:o}", "size", p->tile, "kernel", p->kernel_size, "border",
+                     p->border, "samples", samples, "weights", weights);
 }
 
 static const char *form_name(aa_pattern_form f)
@@ -320,8 +319,8 @@ static const char *form_name(aa_pattern_form f)
 
 json_t *proto_encode_pattern(const aa_pattern *p)
 {
-    json_t *o = json_pack("{s:s,s:o,s:s}", "family", p->family, "cost_spp",
-                          proto_real(p->cost_spp), "form", form_name(p->form));
+    json_t *o = json_pack("{s:s,s:o,s:s}", "family", p->family, "cost_spp", proto_real(p->cost_spp),
+                          "form", form_name(p->form));
     if (!o)
         return NULL;
     json_t *kernels = encode_kernels(p);

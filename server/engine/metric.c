@@ -178,7 +178,7 @@ static double sweep(const aa_filter *f, const aa_sample *s, size_t n, double the
 int aa_e1_at_angle(const aa_filter *f, const aa_sample *s, size_t n, double theta,
                    aa_metric_workspace *ws, double *e1)
 {
-    if (n == 0)
+    if (n == 0 || !isfinite(theta))
         return AA_EINVAL;
     if (reserve(ws, n))
         return AA_ENOMEM;

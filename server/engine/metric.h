@@ -39,7 +39,8 @@ typedef struct aa_metric_workspace {
 void aa_metric_workspace_init(aa_metric_workspace *ws);
 void aa_metric_workspace_free(aa_metric_workspace *ws);
 
-/* E1 at one angle (radians). Returns AA_OK, AA_ENOMEM. */
+/* E1 at one angle (radians). Returns AA_OK, AA_EINVAL (no samples, non-finite angle) or
+ * AA_ENOMEM. Precondition: the weights sum to 1 (otherwise E1 is infinite; not checked). */
 int aa_e1_at_angle(const aa_filter *f, const aa_sample *s, size_t n, double theta,
                    aa_metric_workspace *ws, double *e1);
 /* E1 and its gradient. dx, dy, dw may each be NULL; arrays of n. */

@@ -420,12 +420,59 @@ static void test_gradient_e1_matches(void **state)
     aa_metric_workspace_free(&ws);
 }
 
+/* The whole Mitchell-Netravali family: random (B, C) and radius (the cubic stretched). */
+static void test_random_mitchell_family(void **state)
+{
+    (void)state;
+    rng_state = 1234;
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    aa_sample s[64];
+    stats st = {0};
+    static filter_pair fp;
+    fp.label = "mitchell(B,C,r)";
+    for (int k = 0; k < 40; k++) {
+        double B = rng_uniform(-0.5, 1.5), C = rng_uniform(-0.5, 1.0), r = rng_uniform(0.5, 4.0);
+        aa_error err;
+        assert_int_equal(aa_filter_mitchell(&fp.engine, B, C, r, &err), AA_OK);
+        ref_filter_mitchell(&fp.ref, B, C, r);
+        for (int j = 0; j < 25; j++) {
+            size_t n = rng_int(1, 48);
+            random_kernel(s, n, 0.75 * r);
+            check_case(&fp, s, n, rng_uniform(0.0, PI_D), &ws, &st, "random family");
+        }
+    }
+    print_stats("random kernels, random Mitchell-Netravali (B, C, radius)", &st);
+    aa_metric_workspace_free(&ws);
+}
+
+/* A non-finite angle cannot give a finite E1 (aa_evaluate rejects it as "angles[i]"). */
+static void test_non_finite_angle(void **state)
+{
+    (void)state;
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    aa_sample s[2] = {{0.1, 0.2, 0.5}, {-0.1, 0.3, 0.5}};
+    const double bad[3] = {NAN, INFINITY, -INFINITY};
+    for (int i = 0; i < 3; i++) {
+        double e = 0.0;
+        int rc = aa_e1_at_angle(&filters[F_MITCHELL].engine, s, 2, bad[i], &ws, &e);
+        if (rc == AA_OK && !isnan(e)) {
+            print_error("theta = %g: rc %d, E1 %.17g (expected an error or NaN)\n", bad[i], rc, e);
+            fail();
+        }
+    }
+    aa_metric_workspace_free(&ws);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_kernels_default_filter),
         cmocka_unit_test(test_random_kernels_other_filters),
+        cmocka_unit_test(test_random_mitchell_family),
         cmocka_unit_test(test_stiff_cases),
+        cmocka_unit_test(test_non_finite_angle),
         cmocka_unit_test(test_gradient_e1_matches),
     };
     return cmocka_run_group_tests(tests, setup_filters, NULL);

@@ -14,6 +14,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -282,6 +283,43 @@ static void test_gradient_null_outputs(void **state)
     aa_metric_workspace_free(&ws);
 }
 
+/* At a tie the derivative is one-sided: each dx_i equals the forward or the backward difference
+ * (ties keep input order, so the first of a tied pair moves left, the second right, unchanged). */
+static void test_gradient_at_ties(void **state)
+{
+    (void)state;
+    rng_state = 77;
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    aa_sample s[6], t[6];
+    double dx[6], dy[6], dw[6];
+    const double h = 1e-7;
+    for (int k = 0; k < 50; k++) {
+        random_kernel(s, 6, 1.2, 0.0);
+        s[1].x = s[0].x; /* tie at theta = 0 */
+        s[4].x = s[3].x;
+        double e1 = NAN;
+        assert_int_equal(
+            aa_e1_gradient_at_angle(&gfilters[0].engine, s, 6, 0.0, &ws, &e1, dx, dy, dw), AA_OK);
+        for (size_t i = 0; i < 6; i++) {
+            memcpy(t, s, sizeof t);
+            double e0 = e1_of(&gfilters[0].engine, t, 6, 0.0, &ws);
+            t[i].x = s[i].x + h;
+            double fwd = (e1_of(&gfilters[0].engine, t, 6, 0.0, &ws) - e0) / h;
+            t[i].x = s[i].x - h;
+            double bwd = (e0 - e1_of(&gfilters[0].engine, t, 6, 0.0, &ws)) / h;
+            double scale = fmax(fabs(fwd), fabs(bwd)) + 1e-3;
+            bool ok = fabs(dx[i] - fwd) <= 1e-5 * scale || fabs(dx[i] - bwd) <= 1e-5 * scale;
+            if (!ok) {
+                print_error("tie case %d sample %zu: dx %.12g, forward %.12g, backward %.12g\n", k,
+                            i, dx[i], fwd, bwd);
+                fail();
+            }
+        }
+    }
+    aa_metric_workspace_free(&ws);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -289,6 +327,7 @@ int main(void)
         cmocka_unit_test(test_gradient_vs_reference_formulas),
         cmocka_unit_test(test_reference_formulas_vs_reference_differences),
         cmocka_unit_test(test_gradient_null_outputs),
+        cmocka_unit_test(test_gradient_at_ties),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -1,0 +1,209 @@
+/* E1/E2 benchmark: ns per kernel-angle of the exact evaluation (aa_e1_at_angle) for 4, 16 and 64
+ * samples, beside an in-run baseline that evaluates the same integral by a straightforward dense
+ * quadrature: the midpoint rule with N uniform points over the span [min(p, -r), max(p, r)],
+ * ghat by a pointer walk over the sorted projections, g by aa_filter_cdf. N is chosen per sample
+ * count so that the baseline's median relative error (measured here against the exact value) is
+ * about 1e-6; the achieved error is printed. Then whole-pattern E2 (aa_evaluate on the default 36
+ * angles) for Quincunx and a P(16,16,4) pattern (4x4 tile, 4 jittered samples per pixel, 4x4
+ * kernels, weights from the filter), each beside the dense-quadrature estimate for the same
+ * kernel-angles. Figures vary with the machine; the ratios are the point. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "metric.h"
+#include "presets.h"
+
+#define PI_D 3.14159265358979323846
+#define KERNELS 64
+#define ANGLES 36
+
+static uint64_t rng_state = 12345;
+
+static double rng_uniform(double lo, double hi)
+{
+    uint64_t z = (rng_state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return lo + (hi - lo) * ((double)(z >> 11) * 0x1.0p-53);
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    timespec_get(&ts, TIME_UTC);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+typedef struct proj {
+    double p, w;
+} proj;
+
+static int cmp_proj(const void *a, const void *b)
+{
+    return cmp_double(&((const proj *)a)->p, &((const proj *)b)->p);
+}
+
+/* The straightforward evaluation: midpoint rule on n_points uniform cells. */
+static double e1_dense_midpoint(const aa_filter *f, const aa_sample *s, size_t n, double theta,
+                                long n_points)
+{
+    proj *pr = malloc(n * sizeof *pr);
+    double c = cos(theta), sn = sin(theta);
+    for (size_t i = 0; i < n; i++)
+        pr[i] = (proj){s[i].x * c + s[i].y * sn, s[i].w};
+    qsort(pr, n, sizeof *pr, cmp_proj);
+    double lo = fmin(pr[0].p, -f->radius), hi = fmax(pr[n - 1].p, f->radius);
+    double h = (hi - lo) / (double)n_points, acc = 0.0, ghat = 0.0;
+    size_t j = 0;
+    for (long k = 0; k < n_points; k++) {
+        double a = lo + (k + 0.5) * h;
+        while (j < n && pr[j].p <= a)
+            ghat += pr[j++].w;
+        double d = ghat - aa_filter_cdf(f, a);
+        acc += d * d;
+    }
+    free(pr);
+    return sqrt(acc * h);
+}
+
+static void random_kernel(aa_sample *s, size_t n)
+{
+    double sum = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        s[i] = (aa_sample){rng_uniform(-1.0, 1.0), rng_uniform(-1.0, 1.0), rng_uniform(0.1, 1.0)};
+        sum += s[i].w;
+    }
+    for (size_t i = 0; i < n; i++)
+        s[i].w /= sum;
+}
+
+typedef struct size_result {
+    size_t n;
+    double exact_ns, dense_ns;
+} size_result;
+
+static size_result bench_size(const aa_filter *f, size_t n, long n_points)
+{
+    aa_sample *ks = malloc(KERNELS * n * sizeof *ks);
+    for (size_t k = 0; k < KERNELS; k++)
+        random_kernel(ks + k * n, n);
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    volatile double sink = 0.0;
+    long calls = 0;
+    double t0 = now_s(), t1;
+    do {
+        for (size_t k = 0; k < KERNELS; k++)
+            for (int a = 0; a < ANGLES; a++) {
+                double e = 0.0;
+                aa_e1_at_angle(f, ks + k * n, n, a * (PI_D / ANGLES), &ws, &e);
+                sink += e;
+                calls++;
+            }
+        t1 = now_s();
+    } while (t1 - t0 < 0.3);
+    double exact_ns = 1e9 * (t1 - t0) / (double)calls;
+
+    /* baseline on a few kernel-angles (it is slow), with its error against the exact value */
+    enum { SAMPLES = 5 };
+    double errs[SAMPLES], dense_time = 0.0;
+    for (int i = 0; i < SAMPLES; i++) {
+        const aa_sample *s = ks + (size_t)i * n;
+        double theta = (7 * i + 3) * (PI_D / ANGLES), exact = 0.0;
+        aa_e1_at_angle(f, s, n, theta, &ws, &exact);
+        double d0 = now_s();
+        double dense = e1_dense_midpoint(f, s, n, theta, n_points);
+        dense_time += now_s() - d0;
+        errs[i] = fabs(dense - exact) / exact;
+        sink += dense;
+    }
+    qsort(errs, SAMPLES, sizeof errs[0], cmp_double);
+    double dense_ns = 1e9 * dense_time / SAMPLES;
+    printf("E1 per kernel-angle, %2zu samples: exact %9.1f ns | dense midpoint (N = 2^%d) "
+           "%12.0f ns, median rel. error %.1e (max %.1e) | ratio %.0fx\n",
+           n, exact_ns, (int)lround(log2((double)n_points)), dense_ns, errs[SAMPLES / 2],
+           errs[SAMPLES - 1], dense_ns / exact_ns);
+    aa_metric_workspace_free(&ws);
+    free(ks);
+    (void)sink;
+    return (size_result){n, exact_ns, dense_ns};
+}
+
+static void bench_pattern(const char *label, const aa_pattern *p, const aa_filter *f,
+                          const aa_acuity *acuity, double dense_ns_per_kernel_angle)
+{
+    aa_metric_params mp = {.filter = f, .acuity = acuity};
+    aa_evaluation ev;
+    aa_error err;
+    long runs = 0;
+    double e2 = 0.0, t0 = now_s(), t1;
+    do {
+        if (aa_evaluate(p, &mp, &ev, &err) != AA_OK) {
+            printf("%s: aa_evaluate failed: %s\n", label, err.message);
+            return;
+        }
+        e2 = ev.e2;
+        aa_evaluation_free(&ev);
+        runs++;
+        t1 = now_s();
+    } while (t1 - t0 < 0.3);
+    double us = 1e6 * (t1 - t0) / (double)runs;
+    size_t ka = p->kernel_count * ANGLES;
+    double dense_us = 1e-3 * dense_ns_per_kernel_angle * (double)ka;
+    printf("whole-pattern E2 %-22s %s: E2 = %.6f, %zu kernels x 36 angles, %.1f us per "
+           "evaluation (%.0f ns per kernel-angle) | dense-quadrature estimate %.0f us | ratio "
+           "%.0fx\n",
+           label, p->family, e2, p->kernel_count, us, 1e3 * us / (double)ka, dense_us,
+           dense_us / us);
+}
+
+int main(void)
+{
+    aa_filter f;
+    aa_acuity acuity;
+    aa_filter_default(&f);
+    aa_acuity_naiman(&acuity);
+    printf("bench_metric: Mitchell-Netravali (1/3, 1/3), Naiman acuity; random kernels in "
+           "[-1,1]^2, positive weights\n");
+    /* N per size: the midpoint rule's error comes from the jumps of ghat (O(h) each), so more
+     * samples need more points for the same ~1e-6. */
+    size_result r4 = bench_size(&f, 4, 1L << 21);
+    size_result r16 = bench_size(&f, 16, 1L << 21);
+    size_result r64 = bench_size(&f, 64, 1L << 20);
+    (void)r16;
+
+    aa_pattern q;
+    aa_error err;
+    if (aa_pattern_from_preset(&q, aa_preset_find("quincunx"), &err) != AA_OK)
+        return 1;
+    bench_pattern("Quincunx", &q, &f, &acuity, r4.dense_ns);
+    aa_pattern_free(&q);
+
+    aa_point pts[64];
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 4; i++)
+            for (int k = 0; k < 4; k++)
+                pts[(j * 4 + i) * 4 + k] = (aa_point){i + 0.5 * (k % 2) + rng_uniform(0.0, 0.5),
+                                                      j + 0.5 * (k / 2) + rng_uniform(0.0, 0.5)};
+    aa_tile_spec spec = {
+        .tile = 4, .kernel_size = 4, .count = 64, .samples = pts, .weight_filter = &f};
+    aa_pattern p16;
+    if (aa_pattern_from_tile(&p16, &spec, 0, &err) != AA_OK) {
+        printf("P(16,16,4): %s (%s)\n", err.message, err.field);
+        return 1;
+    }
+    bench_pattern("jittered 4x4 tile", &p16, &f, &acuity, r64.dense_ns);
+    aa_pattern_free(&p16);
+    return 0;
+}

@@ -1,0 +1,420 @@
+/* Table-driven option parsing: each option lists the commands it belongs to, so an option given
+ * to the wrong command is a usage error rather than silently ignored. */
+#include "args.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define BIT(c) (1u << (c))
+#define ALL_COMMANDS 0xffffffffu
+
+typedef enum opt_id {
+    OPT_SOCKET,
+    OPT_JSON,
+    OPT_TIMEOUT,
+    OPT_HELP,
+    OPT_FILTER,
+    OPT_ACUITY,
+    OPT_ANGLES,
+    OPT_DETAIL,
+    OPT_FAMILY,
+    OPT_PATTERN,
+    OPT_SEEDS,
+    OPT_MAX_SECONDS,
+    OPT_RNG_SEED,
+    OPT_MODE,
+    OPT_WAIT,
+    OPT_POLL,
+    OPT_SCENE,
+    OPT_SIZE,
+    OPT_OUTPUT,
+    OPT_IMAGE,
+    OPT_FORMAT
+} opt_id;
+
+typedef struct opt_spec {
+    const char *long_name;
+    char short_name; /* 0: none */
+    bool takes_value;
+    unsigned commands; /* mask of BIT(cli_command) */
+    opt_id id;
+} opt_spec;
+
+static const opt_spec OPTIONS[] = {
+    {"socket", 's', true, ALL_COMMANDS, OPT_SOCKET},
+    {"json", 0, false, ALL_COMMANDS, OPT_JSON},
+    {"timeout", 0, true, ALL_COMMANDS, OPT_TIMEOUT},
+    {"help", 'h', false, ALL_COMMANDS, OPT_HELP},
+    {"filter", 0, true, BIT(CMD_EVAL), OPT_FILTER},
+    {"acuity", 0, true, BIT(CMD_EVAL), OPT_ACUITY},
+    {"angles", 0, true, BIT(CMD_EVAL), OPT_ANGLES},
+    {"detail", 0, false, BIT(CMD_EVAL), OPT_DETAIL},
+    {"family", 0, true, BIT(CMD_OPTIMIZE), OPT_FAMILY},
+    {"pattern", 'p', true, BIT(CMD_OPTIMIZE) | BIT(CMD_RENDER), OPT_PATTERN},
+    {"seeds", 0, true, BIT(CMD_OPTIMIZE), OPT_SEEDS},
+    {"max-seconds", 0, true, BIT(CMD_OPTIMIZE), OPT_MAX_SECONDS},
+    {"rng-seed", 0, true, BIT(CMD_OPTIMIZE), OPT_RNG_SEED},
+    {"mode", 0, true, BIT(CMD_OPTIMIZE), OPT_MODE},
+    {"wait", 'w', false, BIT(CMD_OPTIMIZE), OPT_WAIT},
+    {"poll", 0, true, BIT(CMD_OPTIMIZE), OPT_POLL},
+    {"scene", 0, true, BIT(CMD_RENDER), OPT_SCENE},
+    {"size", 0, true, BIT(CMD_RENDER), OPT_SIZE},
+    {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT), OPT_OUTPUT},
+    {"image", 0, true, BIT(CMD_RENDER), OPT_IMAGE},
+    {"format", 'f', true, BIT(CMD_EXPORT), OPT_FORMAT},
+};
+
+static const struct {
+    const char *name;
+    cli_command id;
+} COMMANDS[] = {
+    {"help", CMD_HELP},       {"version", CMD_VERSION},   {"eval", CMD_EVAL},
+    {"presets", CMD_PRESETS}, {"optimize", CMD_OPTIMIZE}, {"jobs", CMD_JOBS},
+    {"job", CMD_JOB},         {"cancel", CMD_CANCEL},     {"render", CMD_RENDER},
+    {"export", CMD_EXPORT},   {"health", CMD_HEALTH},
+};
+
+const char *cli_command_name(cli_command c)
+{
+    for (size_t i = 0; i < sizeof COMMANDS / sizeof COMMANDS[0]; i++)
+        if (COMMANDS[i].id == c)
+            return COMMANDS[i].name;
+    return "";
+}
+
+cli_command cli_command_from_name(const char *name)
+{
+    for (size_t i = 0; i < sizeof COMMANDS / sizeof COMMANDS[0]; i++)
+        if (strcmp(COMMANDS[i].name, name) == 0)
+            return COMMANDS[i].id;
+    return CMD_NONE;
+}
+
+static int fail(char *err, size_t cap, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+static int fail(char *err, size_t cap, const char *fmt, ...)
+{
+    if (err && cap) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err, cap, fmt, ap);
+        va_end(ap);
+    }
+    return -1;
+}
+
+int parse_long(const char *s, long min, long max, long *out)
+{
+    if (!s || !*s)
+        return -1;
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || *end || v < min || v > max)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int parse_double(const char *s, double min, double max, double *out)
+{
+    if (!s || !*s)
+        return -1;
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || *end || !isfinite(v) || v < min || v > max)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int parse_size(const char *s, int *w, int *h)
+{
+    const char *x = s ? strchr(s, 'x') : NULL;
+    if (!x || x == s || strlen(x) > 16)
+        return -1;
+    char left[16];
+    size_t n = (size_t)(x - s);
+    if (n >= sizeof left)
+        return -1;
+    memcpy(left, s, n);
+    left[n] = '\0';
+    long lw, lh;
+    if (parse_long(left, 1, 16384, &lw) || parse_long(x + 1, 1, 16384, &lh))
+        return -1;
+    *w = (int)lw;
+    *h = (int)lh;
+    return 0;
+}
+
+static const opt_spec *find_long(const char *name, size_t len)
+{
+    for (size_t i = 0; i < sizeof OPTIONS / sizeof OPTIONS[0]; i++)
+        if (strlen(OPTIONS[i].long_name) == len && strncmp(OPTIONS[i].long_name, name, len) == 0)
+            return &OPTIONS[i];
+    return NULL;
+}
+
+static const opt_spec *find_short(char c)
+{
+    for (size_t i = 0; i < sizeof OPTIONS / sizeof OPTIONS[0]; i++)
+        if (OPTIONS[i].short_name == c)
+            return &OPTIONS[i];
+    return NULL;
+}
+
+static bool one_of(const char *v, const char *const *allowed)
+{
+    for (; *allowed; allowed++)
+        if (strcmp(v, *allowed) == 0)
+            return true;
+    return false;
+}
+
+static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err, size_t cap)
+{
+    static const char *const MODES[] = {"weights", "positions", "both", NULL};
+    static const char *const IMAGES[] = {"pattern", "reference", "difference", NULL};
+    static const char *const FORMATS[] = {"json", "utk", "vulkan", "d3d12", NULL};
+    long l;
+    switch (o->id) {
+    case OPT_SOCKET:
+        a->socket_path = v;
+        break;
+    case OPT_JSON:
+        a->json = true;
+        break;
+    case OPT_TIMEOUT:
+        if (parse_double(v, 0.001, 86400, &a->timeout_s))
+            return fail(err, cap, "--timeout wants seconds in (0, 86400], got '%s'", v);
+        break;
+    case OPT_HELP: /* handled by cli_parse */
+        break;
+    case OPT_FILTER:
+        a->filter = v;
+        break;
+    case OPT_ACUITY:
+        a->acuity = v;
+        break;
+    case OPT_ANGLES:
+        a->angles = v;
+        break;
+    case OPT_DETAIL:
+        a->detail = true;
+        break;
+    case OPT_FAMILY:
+        a->family = v;
+        break;
+    case OPT_PATTERN:
+        a->pattern = v;
+        break;
+    case OPT_SEEDS:
+        if (parse_long(v, 1, 1000000, &a->seeds))
+            return fail(err, cap, "--seeds wants an integer in 1..1000000, got '%s'", v);
+        a->has_seeds = true;
+        break;
+    case OPT_MAX_SECONDS:
+        if (parse_double(v, 0.001, 604800, &a->max_seconds))
+            return fail(err, cap, "--max-seconds wants seconds in (0, 604800], got '%s'", v);
+        a->has_max_seconds = true;
+        break;
+    case OPT_RNG_SEED:
+        if (parse_long(v, 0, LONG_MAX, &l))
+            return fail(err, cap, "--rng-seed wants a non-negative integer, got '%s'", v);
+        a->rng_seed = l;
+        a->has_rng_seed = true;
+        break;
+    case OPT_MODE:
+        if (!one_of(v, MODES))
+            return fail(err, cap, "--mode wants weights, positions or both, got '%s'", v);
+        a->mode = v;
+        break;
+    case OPT_WAIT:
+        a->wait = true;
+        break;
+    case OPT_POLL:
+        if (parse_double(v, 0.01, 60, &a->poll_s))
+            return fail(err, cap, "--poll wants seconds in [0.01, 60], got '%s'", v);
+        break;
+    case OPT_SCENE:
+        a->scene = v;
+        break;
+    case OPT_SIZE:
+        if (parse_size(v, &a->width, &a->height))
+            return fail(err, cap, "--size wants WIDTHxHEIGHT (1..16384 each), got '%s'", v);
+        break;
+    case OPT_OUTPUT:
+        a->output = v;
+        break;
+    case OPT_IMAGE:
+        if (!one_of(v, IMAGES))
+            return fail(err, cap, "--image wants pattern, reference or difference, got '%s'", v);
+        a->image = v;
+        break;
+    case OPT_FORMAT:
+        if (!one_of(v, FORMATS))
+            return fail(err, cap, "--format wants json, utk, vulkan or d3d12, got '%s'", v);
+        a->format = v;
+        break;
+    }
+    return 0;
+}
+
+bool job_id_valid(const char *id)
+{
+    size_t n = strlen(id);
+    if (n == 0 || n > 64)
+        return false;
+    for (size_t i = 0; i < n; i++) {
+        char c = id[i];
+        bool ok = (c >= '0' && c <= '9') || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                  c == '-' || c == '_';
+        if (!ok)
+            return false;
+    }
+    return true;
+}
+
+/* Checks that need the whole command line: required positionals and option combinations. */
+static int check_command(cli_args *a, char *err, size_t cap)
+{
+    const char *name = cli_command_name(a->command);
+    switch (a->command) {
+    case CMD_NONE:
+        return fail(err, cap, "no command given (try 'aalab help')");
+    case CMD_EVAL:
+    case CMD_JOB:
+    case CMD_CANCEL:
+    case CMD_EXPORT:
+        if (!a->target)
+            return fail(err, cap, "'%s' needs %s", name,
+                        a->command == CMD_EVAL ? "a preset NAME or a FILE.json" : "a job ID");
+        if (a->command != CMD_EVAL && !job_id_valid(a->target))
+            return fail(err, cap, "'%s' wants a job ID (letters, digits, '-', '_'), got '%s'", name,
+                        a->target);
+        break;
+    case CMD_OPTIMIZE:
+        if (!a->family == !a->pattern)
+            return fail(err, cap, "'optimize' needs exactly one of --family or --pattern");
+        break;
+    case CMD_RENDER:
+        if (!a->pattern)
+            return fail(err, cap, "'render' needs --pattern NAME|FILE");
+        if (!a->output && !a->json)
+            return fail(err, cap, "'render' needs -o FILE.png (or --json for the stats only)");
+        break;
+    default:
+        break;
+    }
+    if (a->target &&
+        (a->command == CMD_JOBS || a->command == CMD_HEALTH || a->command == CMD_OPTIMIZE ||
+         a->command == CMD_RENDER || a->command == CMD_VERSION))
+        return fail(err, cap, "'%s' takes no argument, got '%s'", name, a->target);
+    return 0;
+}
+
+int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errcap)
+{
+    memset(out, 0, sizeof *out);
+    out->timeout_s = 30;
+    out->poll_s = 0.25;
+    out->image = "pattern";
+    out->format = "json";
+    bool only_positionals = false;
+    bool help = false;
+
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        const opt_spec *o = NULL;
+        const char *value = NULL;
+        if (!only_positionals && strcmp(arg, "--") == 0) {
+            only_positionals = true;
+            continue;
+        }
+        if (!only_positionals && arg[0] == '-' && arg[1] == '-') {
+            const char *name = arg + 2;
+            const char *eq = strchr(name, '=');
+            size_t len = eq ? (size_t)(eq - name) : strlen(name);
+            o = find_long(name, len);
+            if (!o)
+                return fail(err, errcap, "unknown option '--%.*s'", (int)len, name);
+            if (eq) {
+                if (!o->takes_value)
+                    return fail(err, errcap, "option '--%s' takes no value", o->long_name);
+                value = eq + 1;
+            }
+        } else if (!only_positionals && arg[0] == '-' && arg[1] != '\0') {
+            o = find_short(arg[1]);
+            if (!o)
+                return fail(err, errcap, "unknown option '-%c'", arg[1]);
+            if (arg[2] != '\0') {
+                if (!o->takes_value)
+                    return fail(err, errcap, "option '-%c' takes no value", arg[1]);
+                value = arg + 2;
+            }
+        }
+        if (!o) { /* positional: the command first, then its one argument */
+            if (out->command == CMD_NONE) {
+                out->command = cli_command_from_name(arg);
+                if (out->command == CMD_NONE)
+                    return fail(err, errcap, "unknown command '%s' (try 'aalab help')", arg);
+            } else if (!out->target) {
+                out->target = arg;
+            } else {
+                return fail(err, errcap, "unexpected argument '%s'", arg);
+            }
+            continue;
+        }
+        if (o->takes_value && !value) {
+            if (i + 1 >= argc)
+                return fail(err, errcap, "option '--%s' needs a value", o->long_name);
+            value = argv[++i];
+        }
+        if (o->id == OPT_HELP) {
+            help = true;
+            continue;
+        }
+        /* Command-specific options are checked once the command is known (it may come later). */
+        if (apply_option(out, o, value, err, errcap))
+            return -1;
+    }
+    /* Second pass: every command-specific option must belong to the command. */
+    for (int i = 1; i < argc && !help; i++) {
+        const char *arg = argv[i];
+        if (strcmp(arg, "--") == 0)
+            break;
+        const opt_spec *o = NULL;
+        if (arg[0] == '-' && arg[1] == '-') {
+            const char *eq = strchr(arg + 2, '=');
+            o = find_long(arg + 2, eq ? (size_t)(eq - arg - 2) : strlen(arg + 2));
+        } else if (arg[0] == '-' && arg[1] != '\0') {
+            o = find_short(arg[1]);
+        }
+        if (!o)
+            continue;
+        if (o->takes_value && !strchr(arg, '=') && !(arg[1] != '-' && arg[2] != '\0'))
+            i++; /* skip the value */
+        if (out->command != CMD_NONE && !(o->commands & BIT(out->command)))
+            return fail(err, errcap, "option '--%s' does not apply to '%s'", o->long_name,
+                        cli_command_name(out->command));
+    }
+    if (help) {
+        out->target = out->command == CMD_NONE || out->command == CMD_HELP
+                          ? out->target
+                          : cli_command_name(out->command);
+        out->command = CMD_HELP;
+        return 0;
+    }
+    if (out->command == CMD_HELP) {
+        if (out->target && cli_command_from_name(out->target) == CMD_NONE)
+            return fail(err, errcap, "no help for unknown command '%s'", out->target);
+        return 0;
+    }
+    return check_command(out, err, errcap);
+}

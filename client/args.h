@@ -1,0 +1,71 @@
+/* Command-line parsing for `aalab`: pure (no I/O, no globals), so tests can drive it. Global
+ * options (--socket, --json, --timeout) may appear before or after the command. */
+#ifndef AALAB_ARGS_H
+#define AALAB_ARGS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+typedef enum cli_command {
+    CMD_NONE,
+    CMD_HELP,
+    CMD_VERSION,
+    CMD_EVAL,
+    CMD_PRESETS,
+    CMD_OPTIMIZE,
+    CMD_JOBS,
+    CMD_JOB,
+    CMD_CANCEL,
+    CMD_RENDER,
+    CMD_EXPORT,
+    CMD_HEALTH
+} cli_command;
+
+typedef struct cli_args {
+    cli_command command;
+    /* global */
+    const char *socket_path; /* NULL: default resolution */
+    bool json;
+    double timeout_s; /* per request, default 30 */
+    /* positional: eval NAME|FILE, job/cancel/export ID, help COMMAND */
+    const char *target;
+    /* eval */
+    const char *filter; /* NAME[:B=..,C=..] or a JSON object */
+    const char *acuity; /* NAME, FILE.json or a JSON object */
+    const char *angles; /* comma-separated degrees */
+    bool detail;
+    /* optimize */
+    const char *family;
+    const char *pattern; /* optimize: FILE or preset NAME; render: NAME or FILE */
+    const char *mode;
+    long seeds;
+    double max_seconds;
+    long long rng_seed;
+    bool has_seeds, has_max_seconds, has_rng_seed;
+    bool wait;
+    double poll_s; /* --wait polling interval */
+    /* render */
+    const char *scene;
+    int width, height;
+    const char *output; /* -o */
+    const char *image;  /* pattern | reference | difference */
+    /* export */
+    const char *format;
+} cli_args;
+
+/* Returns 0, or -1 with a one-line reason in err (exit code 1 then). argv[0] is the program. */
+int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errcap);
+
+/* Name <-> id, for help and messages. */
+const char *cli_command_name(cli_command c);
+cli_command cli_command_from_name(const char *name);
+
+/* Strict number parsing: whole string, in range. Return 0 or -1. */
+int parse_long(const char *s, long min, long max, long *out);
+int parse_double(const char *s, double min, double max, double *out);
+/* Job ids are opaque to the client: 1..64 of [A-Za-z0-9_-] (so never a path). */
+bool job_id_valid(const char *id);
+/* "256x256" -> 256, 256 (1..16384 each). */
+int parse_size(const char *s, int *w, int *h);
+
+#endif

@@ -1,0 +1,47 @@
+/* One file per command. cmd_* run a command and return its exit code; the *_request builders and
+ * *_print formatters are pure so the unit tests can check them without a daemon. */
+#ifndef AALAB_COMMANDS_H
+#define AALAB_COMMANDS_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+#include <jansson.h>
+
+#include "../args.h"
+#include "../cli.h"
+
+int cmd_eval(cli_session *s);
+int cmd_presets(cli_session *s);
+int cmd_optimize(cli_session *s);
+int cmd_jobs(cli_session *s);
+int cmd_job(cli_session *s);
+int cmd_cancel(cli_session *s);
+int cmd_render(cli_session *s);
+int cmd_export(cli_session *s);
+int cmd_health(cli_session *s);
+void cmd_help(FILE *out, const char *command); /* command NULL: overview */
+
+/* Request bodies. Return 0 with *req (new reference), or -1 with err (a usage error). */
+int eval_request(const cli_args *a, json_t **req, char *err, size_t errcap);
+int optimize_request(const cli_args *a, json_t **req, char *err, size_t errcap);
+int render_request(const cli_args *a, json_t **req, char *err, size_t errcap);
+/* --filter NAME[:B=..,C=..] | JSON; --acuity NAME | FILE.json | JSON. */
+int filter_argument(const char *arg, json_t **filter, char *err, size_t errcap);
+int acuity_argument(const char *arg, json_t **acuity, char *err, size_t errcap);
+int angles_argument(const char *arg, json_t **angles, char *err, size_t errcap);
+
+/* Writes len bytes to path, or to out when path is NULL or "-"; returns an exit code. */
+int write_output(FILE *out, FILE *err, const char *path, const char *data, size_t len);
+
+/* Human-readable views of the daemon's answers. */
+void eval_print(FILE *out, const json_t *resp, bool detail);
+void presets_print(FILE *out, const json_t *resp);
+void jobs_print(FILE *out, const json_t *resp);
+void job_print(FILE *out, const json_t *job);
+void render_print(FILE *out, const json_t *resp);
+void health_print(FILE *out, const json_t *resp);
+/* "[#######.....]  58%  best E2 0.3712" into buf, width columns of bar. */
+void progress_line(char *buf, size_t cap, double fraction, const json_t *job, int width);
+
+#endif

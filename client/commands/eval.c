@@ -1,0 +1,223 @@
+/* aalab eval NAME|FILE.json [--filter ...] [--acuity ...] [--angles ...] [--detail] */
+#define _POSIX_C_SOURCE 200809L
+#include "commands.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "../exit_codes.h"
+#include "../pattern_source.h"
+#include "../table.h"
+
+static json_t *parse_json_argument(const char *what, const char *text, char *err, size_t cap)
+{
+    json_error_t jerr;
+    json_t *v = json_loads(text, JSON_REJECT_DUPLICATES, &jerr);
+    if (!v)
+        snprintf(err, cap, "%s: invalid JSON (%s)", what, jerr.text);
+    else if (!json_is_object(v)) {
+        snprintf(err, cap, "%s: expected a JSON object", what);
+        json_decref(v);
+        v = NULL;
+    }
+    return v;
+}
+
+int filter_argument(const char *arg, json_t **filter, char *err, size_t errcap)
+{
+    *filter = NULL;
+    if (arg[0] == '{') {
+        *filter = parse_json_argument("--filter", arg, err, errcap);
+        return *filter ? 0 : -1;
+    }
+    const char *colon = strchr(arg, ':');
+    size_t name_len = colon ? (size_t)(colon - arg) : strlen(arg);
+    if (name_len == 0) {
+        snprintf(err, errcap, "--filter needs a name, e.g. mitchell or mitchell:B=0.3,C=0.3");
+        return -1;
+    }
+    json_t *f = json_object();
+    json_object_set_new(f, "name", json_stringn(arg, name_len));
+    /* NAME:KEY=NUMBER,KEY=NUMBER */
+    for (const char *p = colon ? colon + 1 : NULL; p && *p;) {
+        const char *comma = strchr(p, ',');
+        size_t len = comma ? (size_t)(comma - p) : strlen(p);
+        char item[64];
+        if (len >= sizeof item) {
+            snprintf(err, errcap, "--filter parameter too long: '%.*s'", (int)len, p);
+            json_decref(f);
+            return -1;
+        }
+        memcpy(item, p, len);
+        item[len] = '\0';
+        char *eq = strchr(item, '=');
+        double v;
+        if (!eq || eq == item || parse_double(eq + 1, -1e300, 1e300, &v)) {
+            snprintf(err, errcap, "--filter parameter '%s' is not KEY=NUMBER", item);
+            json_decref(f);
+            return -1;
+        }
+        *eq = '\0';
+        json_object_set_new(f, item, json_real(v));
+        p = comma ? comma + 1 : NULL;
+    }
+    *filter = f;
+    return 0;
+}
+
+int acuity_argument(const char *arg, json_t **acuity, char *err, size_t errcap)
+{
+    *acuity = NULL;
+    if (arg[0] == '{') {
+        *acuity = parse_json_argument("--acuity", arg, err, errcap);
+        return *acuity ? 0 : -1;
+    }
+    if (pattern_argument_is_file(arg)) {
+        json_error_t jerr;
+        json_t *v = json_load_file(arg, JSON_REJECT_DUPLICATES, &jerr);
+        if (!v || !json_is_object(v)) {
+            snprintf(err, errcap, "--acuity %s: %s", arg, v ? "expected a JSON object" : jerr.text);
+            json_decref(v);
+            return -1;
+        }
+        *acuity = v;
+        return 0;
+    }
+    *acuity = json_pack("{s:s}", "name", arg);
+    return 0;
+}
+
+int angles_argument(const char *arg, json_t **angles, char *err, size_t errcap)
+{
+    json_t *list = json_array();
+    const char *p = arg;
+    while (1) {
+        const char *comma = strchr(p, ',');
+        size_t len = comma ? (size_t)(comma - p) : strlen(p);
+        char item[40];
+        double v;
+        if (len == 0 || len >= sizeof item) {
+            snprintf(err, errcap, "--angles wants degrees separated by commas, e.g. 0,15,30");
+            json_decref(list);
+            return -1;
+        }
+        memcpy(item, p, len);
+        item[len] = '\0';
+        if (parse_double(item, -1e6, 1e6, &v)) {
+            snprintf(err, errcap, "--angles: '%s' is not a number", item);
+            json_decref(list);
+            return -1;
+        }
+        json_array_append_new(list, json_real(v));
+        if (!comma)
+            break;
+        p = comma + 1;
+    }
+    *angles = list;
+    return 0;
+}
+
+int eval_request(const cli_args *a, json_t **req, char *err, size_t errcap)
+{
+    json_t *pattern, *extras;
+    *req = NULL;
+    if (pattern_argument_load(a->target, &pattern, &extras, err, errcap))
+        return -1;
+    json_t *r = extras ? extras : json_object();
+    json_object_set_new(r, "pattern", pattern);
+    json_t *v;
+    if (a->filter) {
+        if (filter_argument(a->filter, &v, err, errcap))
+            goto fail;
+        json_object_set_new(r, "filter", v);
+    }
+    if (a->acuity) {
+        if (acuity_argument(a->acuity, &v, err, errcap))
+            goto fail;
+        json_object_set_new(r, "acuity", v);
+    }
+    if (a->angles) {
+        if (angles_argument(a->angles, &v, err, errcap))
+            goto fail;
+        json_object_set_new(r, "angles", v);
+    }
+    if (a->detail)
+        json_object_set_new(r, "detail", json_true());
+    *req = r;
+    return 0;
+fail:
+    json_decref(r);
+    return -1;
+}
+
+/* One per-kernel block of the detail: either {"kernel":k,"angles":[...]} or a bare array. */
+static void print_detail_kernel(FILE *out, size_t index, const json_t *block)
+{
+    const json_t *angles = json_is_array(block) ? block : json_object_get(block, "angles");
+    json_t *k = json_object_get(block, "kernel");
+    char kbuf[32];
+    if (json_is_integer(k))
+        fmt_number(kbuf, sizeof kbuf, k, 0);
+    else
+        snprintf(kbuf, sizeof kbuf, "%zu", index);
+    fprintf(out, "\nkernel %s\n", kbuf);
+    const char *headers[] = {"angle_deg", "weight", "e1", "weighted"};
+    table *t = table_new(4, headers);
+    if (!t)
+        return;
+    size_t i;
+    json_t *row;
+    json_array_foreach(angles, i, row)
+    {
+        char c[4][32];
+        const char *cells[4] = {fmt_number(c[0], 32, json_object_get(row, "angle_deg"), 1),
+                                fmt_number(c[1], 32, json_object_get(row, "weight"), 4),
+                                fmt_number(c[2], 32, json_object_get(row, "e1"), 6),
+                                fmt_number(c[3], 32, json_object_get(row, "weighted"), 6)};
+        table_add_row(t, cells);
+    }
+    table_print(t, out);
+    table_free(t);
+}
+
+void eval_print(FILE *out, const json_t *resp, bool detail)
+{
+    const json_t *argmax = json_object_get(resp, "argmax");
+    char e2[32], cost[32], kernel[32], angle[32];
+    const char *keys[] = {"family", "cost_spp", "E2", "argmax kernel", "argmax angle_deg"};
+    const char *values[] = {
+        fmt_string(json_object_get(resp, "family")),
+        fmt_number(cost, sizeof cost, json_object_get(resp, "cost_spp"), 4),
+        fmt_number(e2, sizeof e2, json_object_get(resp, "e2"), 6),
+        fmt_number(kernel, sizeof kernel, json_object_get(argmax, "kernel"), 0),
+        fmt_number(angle, sizeof angle, json_object_get(argmax, "angle_deg"), 1)};
+    print_key_values(out, keys, values, 5);
+    if (!detail)
+        return;
+    const json_t *blocks = json_object_get(resp, "detail");
+    if (!json_is_array(blocks))
+        blocks = json_object_get(resp, "kernels");
+    size_t i;
+    json_t *block;
+    json_array_foreach(blocks, i, block) print_detail_kernel(out, i, block);
+}
+
+int cmd_eval(cli_session *s)
+{
+    json_t *req, *resp;
+    char err[512];
+    if (eval_request(s->args, &req, err, sizeof err)) {
+        fprintf(s->err, "aalab eval: %s\n", err);
+        return EXIT_USAGE;
+    }
+    int code = cli_call(s, "POST", "/v1/evaluate", req, &resp);
+    json_decref(req);
+    if (code != EXIT_OK)
+        return code;
+    if (s->args->json)
+        cli_print_json(s->out, resp);
+    else
+        eval_print(s->out, resp, s->args->detail);
+    json_decref(resp);
+    return EXIT_OK;
+}

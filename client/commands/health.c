@@ -1,0 +1,24 @@
+/* aalab health */
+#include "commands.h"
+
+#include "../exit_codes.h"
+#include "view_util.h"
+
+void health_print(FILE *out, const json_t *resp)
+{
+    print_flat(out, resp);
+}
+
+int cmd_health(cli_session *s)
+{
+    json_t *resp;
+    int code = cli_call(s, "GET", "/v1/health", NULL, &resp);
+    if (code != EXIT_OK)
+        return code;
+    if (s->args->json)
+        cli_print_json(s->out, resp);
+    else
+        health_print(s->out, resp);
+    json_decref(resp);
+    return EXIT_OK;
+}

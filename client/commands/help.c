@@ -1,0 +1,72 @@
+/* aalab help [COMMAND] */
+#include "commands.h"
+
+#include <string.h>
+
+static const char OVERVIEW[] =
+    "usage: aalab [--socket PATH] [--json] [--timeout S] COMMAND [ARGS]\n"
+    "\n"
+    "Client of aalabd, the antialiasing-pattern lab daemon.\n"
+    "\n"
+    "commands:\n"
+    "  eval NAME|FILE.json   E2 of a preset or a pattern file (checked locally first)\n"
+    "  presets [NAME]        the classic patterns, or one of them\n"
+    "  optimize ...          submit an optimization job (--wait to follow it)\n"
+    "  (a pattern argument is a preset NAME, a FILE.json, or job:ID for a job's best)\n"
+    "  jobs                  list jobs\n"
+    "  job ID                one job: state, progress, best so far, trace summary\n"
+    "  cancel ID             cancel a queued or running job (owner or root)\n"
+    "  render ...            render a test tile to a PNG\n"
+    "  export ID             the best pattern of a job (json, utk, vulkan, d3d12)\n"
+    "  health                daemon version, uptime, workers, queue\n"
+    "  help [COMMAND]        this text, or a command's options\n"
+    "\n"
+    "global options:\n"
+    "  -s, --socket PATH     daemon socket (default: $AALAB_SOCKET, else\n"
+    "                        $XDG_RUNTIME_DIR/aalab/aalabd.sock if it exists,\n"
+    "                        else /run/aalab/aalabd.sock)\n"
+    "      --json            print the daemon's JSON instead of tables\n"
+    "      --timeout S       per-request timeout in seconds (default 30)\n"
+    "\n"
+    "exit codes: 0 ok, 1 usage or invalid local file, 2 server answered 4xx,\n"
+    "            3 server answered 5xx, 4 cannot connect, 5 job failed/cancelled (--wait)\n";
+
+static const struct {
+    const char *command;
+    const char *text;
+} DETAILS[] = {
+    {"eval", "usage: aalab eval NAME|FILE.json [--filter NAME[:B=..,C=..]|JSON]\n"
+             "                  [--acuity naiman|uniform|FILE.json|JSON] [--angles A,B,...]\n"
+             "                  [--detail]\n"
+             "FILE.json holds a pattern ({\"kernels\":...}, {\"mirrored\":...}, {\"tile\":...})\n"
+             "or a whole evaluate request ({\"pattern\":P, ...}); options override its fields.\n"
+             "--detail adds the per-kernel, per-angle table (angle_deg, weight, e1, weighted).\n"},
+    {"presets", "usage: aalab presets [NAME]\n"},
+    {"optimize", "usage: aalab optimize --family 'P(4,1+,2)' | --pattern NAME|FILE.json\n"
+                 "                      [--seeds N] [--max-seconds S] [--rng-seed K]\n"
+                 "                      [--mode weights|positions|both] [--wait] [--poll S]\n"
+                 "Prints the job id. With --wait, follows the job with a progress bar on\n"
+                 "stderr, prints the finished job and exits 5 if it failed or was cancelled.\n"},
+    {"jobs", "usage: aalab jobs\n"},
+    {"job", "usage: aalab job ID\n"},
+    {"cancel", "usage: aalab cancel ID\n"},
+    {"render", "usage: aalab render --pattern NAME|FILE.json [--scene siemens-star]\n"
+               "                    [--size 256x256] [--image pattern|reference|difference]\n"
+               "                    -o tile.png\n"
+               "Prints the render statistics; -o - writes the PNG to stdout (stats to stderr).\n"},
+    {"export", "usage: aalab export ID [--format json|utk|vulkan|d3d12] [-o FILE]\n"},
+    {"health", "usage: aalab health\n"},
+    {"help", "usage: aalab help [COMMAND]\n"},
+    {"version", "usage: aalab version\n"},
+};
+
+void cmd_help(FILE *out, const char *command)
+{
+    if (command)
+        for (size_t i = 0; i < sizeof DETAILS / sizeof DETAILS[0]; i++)
+            if (strcmp(DETAILS[i].command, command) == 0) {
+                fputs(DETAILS[i].text, out);
+                return;
+            }
+    fputs(OVERVIEW, out);
+}

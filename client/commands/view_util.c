@@ -1,0 +1,118 @@
+#define _POSIX_C_SOURCE 200809L
+#include "view_util.h"
+
+#include <stdbool.h>
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "../cli.h"
+#include "../table.h"
+
+const json_t *list_member(const json_t *resp, const char *member)
+{
+    if (json_is_array(resp))
+        return resp;
+    const json_t *v = json_object_get(resp, member);
+    return json_is_array(v) ? v : NULL;
+}
+
+const char *fmt_time(char *buf, size_t cap, const json_t *v)
+{
+    if (!json_is_number(v))
+        return fmt_number(buf, cap, v, 0);
+    time_t t = (time_t)json_number_value(v);
+    struct tm tm;
+    if (!gmtime_r(&t, &tm) || strftime(buf, cap, "%Y-%m-%d %H:%M:%S", &tm) == 0)
+        snprintf(buf, cap, "-");
+    return buf;
+}
+
+/* Members that hold Unix times in the job schema (proto/schemas/job.json). */
+static bool is_time_key(const char *key)
+{
+    size_t n = strlen(key);
+    return !strcmp(key, "created") || !strcmp(key, "started") || !strcmp(key, "finished") ||
+           (n > 3 && !strcmp(key + n - 3, "_at"));
+}
+
+typedef struct flat_list {
+    char **keys, **values;
+    size_t n, cap;
+} flat_list;
+
+static void flat_add(flat_list *l, const char *key, const char *value)
+{
+    if (l->n == l->cap) {
+        size_t cap = l->cap ? 2 * l->cap : 16;
+        char **k = realloc(l->keys, cap * sizeof *k);
+        if (!k)
+            return;
+        l->keys = k;
+        char **v = realloc(l->values, cap * sizeof *v);
+        if (!v)
+            return;
+        l->values = v;
+        l->cap = cap;
+    }
+    l->keys[l->n] = strdup(key);
+    l->values[l->n] = strdup(value);
+    l->n++;
+}
+
+static void flatten(flat_list *l, const char *prefix, const json_t *obj, int depth)
+{
+    const char *key;
+    json_t *v;
+    json_object_foreach((json_t *)obj, key, v)
+    {
+        char name[128], buf[64];
+        snprintf(name, sizeof name, "%s%s%s", prefix, *prefix ? "." : "", key);
+        if (json_is_object(v) && depth < 3) {
+            flatten(l, name, v, depth + 1);
+        } else if (json_is_array(v)) {
+            snprintf(buf, sizeof buf, "[%zu items]", json_array_size(v));
+            flat_add(l, name, buf);
+        } else if (json_is_string(v)) {
+            flat_add(l, name, json_string_value(v));
+        } else if (json_is_boolean(v)) {
+            flat_add(l, name, json_is_true(v) ? "true" : "false");
+        } else if (json_is_null(v)) {
+            flat_add(l, name, "-");
+        } else if (json_is_number(v) && is_time_key(key)) {
+            flat_add(l, name, fmt_time(buf, sizeof buf, v));
+        } else if (json_is_real(v)) {
+            snprintf(buf, sizeof buf, "%.6g", json_real_value(v));
+            flat_add(l, name, buf);
+        } else {
+            flat_add(l, name, fmt_number(buf, sizeof buf, v, 0));
+        }
+    }
+}
+
+void print_flat(FILE *out, const json_t *obj)
+{
+    flat_list l = {0};
+    if (json_is_object(obj))
+        flatten(&l, "", obj, 0);
+    print_key_values(out, (const char *const *)l.keys, (const char *const *)l.values, l.n);
+    for (size_t i = 0; i < l.n; i++) {
+        free(l.keys[i]);
+        free(l.values[i]);
+    }
+    free(l.keys);
+    free(l.values);
+}
+
+const json_t *job_best_e2(const json_t *job)
+{
+    static const char *const HOLDERS[] = {"best", "best_so_far", "result"};
+    for (size_t i = 0; i < sizeof HOLDERS / sizeof HOLDERS[0]; i++) {
+        const json_t *e2 = json_object_get(json_object_get(job, HOLDERS[i]), "e2");
+        if (json_is_number(e2))
+            return e2;
+    }
+    const json_t *e2 = json_object_get(job, "best_e2");
+    return json_is_number(e2) ? e2 : NULL;
+}

@@ -1,0 +1,24 @@
+/* Local pattern check with the shared codec (proto/codec.h): the client accepts exactly the
+ * files the daemon accepts and names the same JSON path ("pattern.kernels[0][1][2]"). */
+#include "pattern_source.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "codec.h"
+
+int pattern_check(const json_t *pattern, char *err, size_t errcap)
+{
+    aa_pattern p;
+    aa_error e = {0};
+    int rc = proto_decode_pattern(pattern, 0, &p, "pattern", &e);
+    if (rc == AA_OK) {
+        aa_pattern_free(&p);
+        return 0;
+    }
+    if (e.field[0])
+        snprintf(err, errcap, "field %s: %s", e.field, e.message[0] ? e.message : aa_strerror(rc));
+    else
+        snprintf(err, errcap, "%s", e.message[0] ? e.message : aa_strerror(rc));
+    return -1;
+}

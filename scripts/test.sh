@@ -1,0 +1,129 @@
+#!/bin/bash
+# Installs what is missing, builds, and runs everything CI checks:
+#   1. the whole ctest suite in a normal (RelWithDebInfo) build        build/ci
+#   2. the whole ctest suite with AddressSanitizer + UBSan            build/ci-sanitize
+#   3. tests labelled "tsan" in a ThreadSanitizer build (if any)      build/ci-tsan
+#   4. tests labelled "fuzz" in a clang libFuzzer build (if tests/fuzz exists)  build/ci-fuzz
+#   5. systemd-analyze verify of systemd/*.socket|service (any output fails) and sysusers.d
+#   6. systemd-analyze security --offline=yes aalabd.service, exposure <= 2.0
+# and prints a summary with the time of each stage. Exit status 0 only if every stage passed.
+# Environment: AALAB_TEST_JOBS (default: nproc), AALAB_SKIP="tsan fuzz ..." to skip stages.
+set -u
+
+cd "$(dirname "$0")/.."
+repo=$(pwd)
+jobs=${AALAB_TEST_JOBS:-$(nproc)}
+skip=" ${AALAB_SKIP:-} "
+summary=""
+failed=0
+t_all=$(date +%s)
+
+stage() { # stage NAME COMMAND...: runs, records pass/fail and seconds
+  name=$1; shift
+  case "$skip" in *" $name "*) summary="$summary
+  SKIP  $name"; return 0 ;; esac
+  echo "==> $name"
+  t0=$(date +%s)
+  "$@"
+  case $? in
+    0) result=PASS ;;
+    77) result=SKIP ;; # nothing to run in this stage
+    *) result=FAIL; failed=1 ;;
+  esac
+  t=$(( $(date +%s) - t0 ))
+  summary="$summary
+  $result  $name (${t}s)"
+}
+
+build() { # build DIR CMAKE-ARGS...
+  dir=$1; shift
+  mkdir -p "$dir"
+  cmake -S "$repo" -B "$dir" -G "Unix Makefiles" "$@" >"$dir.configure.log" 2>&1 ||
+    { cat "$dir.configure.log"; return 1; }
+  cmake --build "$dir" -j"$jobs" >"$dir.build.log" 2>&1 ||
+    { grep -E "error|Error" "$dir.build.log" | head -50; return 1; }
+}
+
+suite() { # suite DIR [CTEST-ARGS...]
+  dir=$1; shift
+  (cd "$dir" && ctest -j"$jobs" --output-on-failure --timeout 600 "$@")
+}
+
+has_label() { # has_label DIR LABEL: any test carries it?
+  (cd "$1" && ctest -N -L "$2" 2>/dev/null | grep -q "Total Tests: [1-9]")
+}
+
+normal() {
+  build build/ci -DCMAKE_BUILD_TYPE=RelWithDebInfo && suite build/ci
+}
+
+sanitize() {
+  # Leak checking is part of ASan; UBSan reports abort (-fno-sanitize-recover=all as well).
+  build build/ci-sanitize -DCMAKE_BUILD_TYPE=Debug -DAALAB_SANITIZE=ON &&
+    (export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
+     export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+     suite build/ci-sanitize)
+}
+
+tsan() {
+  has_label build/ci tsan || { echo "no tests labelled tsan"; return 77; }
+  build build/ci-tsan -DCMAKE_BUILD_TYPE=Debug -DAALAB_TSAN=ON -DAALAB_WEB_TESTS=OFF &&
+    (export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}
+     suite build/ci-tsan -L tsan)
+}
+
+fuzz() {
+  [ -f tests/fuzz/CMakeLists.txt ] || { echo "no tests/fuzz"; return 77; }
+  CC=clang build build/ci-fuzz -DCMAKE_BUILD_TYPE=Debug -DAALAB_FUZZ=ON -DAALAB_WEB_TESTS=OFF &&
+    suite build/ci-fuzz -L fuzz
+}
+
+units_dir=""
+systemd_verify() {
+  # verify insists that ExecStart= exists. Rather than install into /usr/local, check a copy of
+  # the units whose ExecStart points at the aalabd just built (nothing else differs), and, if an
+  # aalabd is installed, the units exactly as shipped too. Any output at all fails the stage.
+  aalabd=$(find build/ci -type f -name aalabd -perm -u+x | head -1)
+  [ -n "$aalabd" ] || { echo "no built aalabd under build/ci"; return 1; }
+  units_dir=$(mktemp -d)
+  sed "s|/usr/local/bin/aalabd|$repo/$aalabd|" systemd/aalabd.service >"$units_dir/aalabd.service"
+  cp systemd/aalabd.socket "$units_dir/"
+  out=$(systemd-analyze verify "$units_dir/aalabd.socket" "$units_dir/aalabd.service" 2>&1)
+  rc=$?
+  if [ -x /usr/local/bin/aalabd ]; then
+    out="$out$(systemd-analyze verify systemd/aalabd.socket systemd/aalabd.service 2>&1)" || rc=1
+  fi
+  [ -z "$out" ] && [ $rc -eq 0 ] || { echo "$out"; return 1; }
+  # sysusers.d: creating the user and group in an empty root must work and say nothing odd.
+  root=$(mktemp -d)
+  mkdir -p "$root/etc"
+  systemd-sysusers --root="$root" "$repo/systemd/aalab.conf" >/dev/null 2>&1 &&
+    grep -q '^aalab:' "$root/etc/passwd" && grep -q '^aalab:' "$root/etc/group"
+  rc=$?
+  rm -rf "$root"
+  [ $rc -eq 0 ] || { echo "systemd-sysusers rejected systemd/aalab.conf"; return 1; }
+  echo "units and sysusers.d verified"
+}
+
+exposure=""
+systemd_security() {
+  out=$(systemd-analyze security --offline=yes --threshold=20 systemd/aalabd.service 2>&1)
+  rc=$?
+  exposure=$(echo "$out" | sed -n 's/.*Overall exposure level for aalabd.service: \([0-9.]*\).*/\1/p')
+  echo "exposure: ${exposure:-unknown} (threshold 2.0)"
+  [ $rc -eq 0 ] && [ -n "$exposure" ] && awk -v e="$exposure" 'BEGIN { exit !(e <= 2.0) }' ||
+    { echo "$out" | grep -E "✗|Overall"; return 1; }
+}
+
+scripts/install-deps.sh || { echo "install-deps failed"; exit 1; }
+stage normal normal
+stage sanitize sanitize
+stage tsan tsan
+stage fuzz fuzz
+stage systemd-verify systemd_verify
+stage systemd-security systemd_security
+[ -n "$units_dir" ] && rm -rf "$units_dir"
+
+echo
+echo "summary (${jobs} jobs, $(( $(date +%s) - t_all ))s total, exposure ${exposure:-n/a}):$summary"
+exit $failed

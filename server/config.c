@@ -1,0 +1,177 @@
+#define _GNU_SOURCE
+#include "config.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#ifndef AALAB_DEFAULT_WEB_DIR
+#define AALAB_DEFAULT_WEB_DIR "/usr/share/aalab/web"
+#endif
+
+static void set_path(char *dst, size_t cap, const char *a, const char *b)
+{
+    snprintf(dst, cap, "%s%s", a, b);
+}
+
+void config_defaults(aalab_config *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    bool root = geteuid() == 0;
+    const char *rt = getenv("RUNTIME_DIRECTORY"); /* systemd RuntimeDirectory= */
+    const char *xdg_rt = getenv("XDG_RUNTIME_DIR");
+    if (rt && *rt && !strchr(rt, ':'))
+        set_path(cfg->socket_path, sizeof cfg->socket_path, rt, "/aalabd.sock");
+    else if (root)
+        set_path(cfg->socket_path, sizeof cfg->socket_path, "/run/aalab", "/aalabd.sock");
+    else if (xdg_rt && *xdg_rt)
+        set_path(cfg->socket_path, sizeof cfg->socket_path, xdg_rt, "/aalab/aalabd.sock");
+    else
+        snprintf(cfg->socket_path, sizeof cfg->socket_path, "/tmp/aalab-%u/aalabd.sock",
+                 (unsigned)geteuid());
+
+    const char *st = getenv("STATE_DIRECTORY");
+    const char *xdg_st = getenv("XDG_STATE_HOME");
+    const char *home = getenv("HOME");
+    if (st && *st && !strchr(st, ':'))
+        set_path(cfg->state_dir, sizeof cfg->state_dir, st, "");
+    else if (root)
+        set_path(cfg->state_dir, sizeof cfg->state_dir, "/var/lib/aalab", "");
+    else if (xdg_st && *xdg_st)
+        set_path(cfg->state_dir, sizeof cfg->state_dir, xdg_st, "/aalab");
+    else if (home && *home)
+        set_path(cfg->state_dir, sizeof cfg->state_dir, home, "/.local/state/aalab");
+    else
+        snprintf(cfg->state_dir, sizeof cfg->state_dir, "/tmp/aalab-%u/state", (unsigned)geteuid());
+
+    snprintf(cfg->web_dir, sizeof cfg->web_dir, "%s", AALAB_DEFAULT_WEB_DIR);
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    cfg->workers = cores > 0 ? (int)(cores > 64 ? 64 : cores) : 2;
+    cfg->http_threads = cfg->workers < 2 ? 2 : cfg->workers > 8 ? 8 : cfg->workers;
+    cfg->queue_size = 64;
+    cfg->user_quota = 16;
+    cfg->max_body = 8u << 20;
+    cfg->connection_limit = 256;
+    cfg->connection_timeout = 30;
+    cfg->connection_memory = 64u << 10;
+    cfg->eval_cache = 1024;
+    cfg->tile_bytes = 256u << 20;
+}
+
+void config_usage(FILE *out)
+{
+    fprintf(out,
+            "usage: aalabd [options]\n"
+            "  --socket PATH        Unix socket (default $XDG_RUNTIME_DIR/aalab/aalabd.sock)\n"
+            "  --tcp HOST:PORT      also listen on TCP (loopback only; e.g. 127.0.0.1:8765)\n"
+            "  --state-dir DIR      jobs database, token, tiles (default ~/.local/state/aalab)\n"
+            "  --workers N          job worker threads (default: cores)\n"
+            "  --http-threads N     HTTP threads per listener (default: cores, 2..8)\n"
+            "  --web-dir DIR        dashboard files served on the TCP listener\n"
+            "  --queue-size N       queued jobs before 429 (default 64)\n"
+            "  --user-quota N       queued+running jobs per user (default 16)\n"
+            "  --socket-group NAME  group owning the socket (mode 0660)\n"
+            "  --max-body BYTES     request body limit (default 8388608)\n"
+            "  --connection-limit N, --connection-timeout S, --eval-cache N, --tile-bytes B\n"
+            "  --help, --version\n");
+}
+
+static int parse_long(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || end == s || *end || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_tcp(aalab_config *cfg, const char *arg)
+{
+    const char *colon = strrchr(arg, ':');
+    long port;
+    if (!colon || colon == arg || (size_t)(colon - arg) >= sizeof cfg->tcp_host ||
+        parse_long(colon + 1, 1, 65535, &port))
+        return -1;
+    memcpy(cfg->tcp_host, arg, (size_t)(colon - arg));
+    cfg->tcp_host[colon - arg] = 0;
+    cfg->tcp_port = (int)port;
+    return 0;
+}
+
+int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE *err)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            config_usage(out);
+            return 1;
+        }
+        if (!strcmp(a, "--version")) {
+            fprintf(out, "aalabd %s\n", AALAB_VERSION);
+            return 1;
+        }
+        const char *v = NULL;
+        const char *eq = strchr(a, '=');
+        char name[40];
+        if (!strncmp(a, "--", 2) && eq && (size_t)(eq - a) < sizeof name) {
+            memcpy(name, a, (size_t)(eq - a));
+            name[eq - a] = 0;
+            v = eq + 1;
+            a = name;
+        } else if (i + 1 < argc) {
+            v = argv[i + 1];
+        }
+        long n;
+        int bad = 0;
+        bool consumed = !eq;
+        if (!v) {
+            fprintf(err, "aalabd: %s needs a value (see --help)\n", a);
+            return -1;
+        }
+        if (!strcmp(a, "--socket"))
+            bad = snprintf(cfg->socket_path, sizeof cfg->socket_path, "%s", v) >=
+                  (int)sizeof cfg->socket_path;
+        else if (!strcmp(a, "--tcp"))
+            bad = parse_tcp(cfg, v);
+        else if (!strcmp(a, "--state-dir"))
+            bad = snprintf(cfg->state_dir, sizeof cfg->state_dir, "%s", v) >=
+                  (int)sizeof cfg->state_dir;
+        else if (!strcmp(a, "--web-dir"))
+            bad = snprintf(cfg->web_dir, sizeof cfg->web_dir, "%s", v) >= (int)sizeof cfg->web_dir;
+        else if (!strcmp(a, "--socket-group"))
+            bad = snprintf(cfg->socket_group, sizeof cfg->socket_group, "%s", v) >=
+                  (int)sizeof cfg->socket_group;
+        else if (!strcmp(a, "--workers") && !(bad = parse_long(v, 1, 256, &n)))
+            cfg->workers = (int)n;
+        else if (!strcmp(a, "--http-threads") && !(bad = parse_long(v, 1, 64, &n)))
+            cfg->http_threads = (int)n;
+        else if (!strcmp(a, "--queue-size") && !(bad = parse_long(v, 1, 1000000, &n)))
+            cfg->queue_size = (int)n;
+        else if (!strcmp(a, "--user-quota") && !(bad = parse_long(v, 1, 1000000, &n)))
+            cfg->user_quota = (int)n;
+        else if (!strcmp(a, "--max-body") && !(bad = parse_long(v, 1024, 1L << 30, &n)))
+            cfg->max_body = (size_t)n;
+        else if (!strcmp(a, "--connection-limit") && !(bad = parse_long(v, 1, 100000, &n)))
+            cfg->connection_limit = (int)n;
+        else if (!strcmp(a, "--connection-timeout") && !(bad = parse_long(v, 1, 86400, &n)))
+            cfg->connection_timeout = (int)n;
+        else if (!strcmp(a, "--eval-cache") && !(bad = parse_long(v, 0, 1000000, &n)))
+            cfg->eval_cache = (size_t)n;
+        else if (!strcmp(a, "--tile-bytes") && !(bad = parse_long(v, 1, 1L << 40, &n)))
+            cfg->tile_bytes = (size_t)n;
+        else if (!bad) {
+            fprintf(err, "aalabd: unknown option %s (see --help)\n", a);
+            return -1;
+        }
+        if (bad) {
+            fprintf(err, "aalabd: bad value '%s' for %s\n", v, a);
+            return -1;
+        }
+        if (consumed)
+            i++;
+    }
+    return 0;
+}

@@ -1,0 +1,37 @@
+/* Daemon configuration: embedded defaults (so `aalabd` alone starts) overridden by flags. */
+#ifndef AALAB_CONFIG_H
+#define AALAB_CONFIG_H
+
+#define AALAB_PATH_MAX 4096
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+typedef struct aalab_config {
+    char socket_path[AALAB_PATH_MAX];
+    char tcp_host[64]; /* "" = no TCP listener */
+    int tcp_port;
+    char state_dir[AALAB_PATH_MAX];
+    char web_dir[AALAB_PATH_MAX];
+    char socket_group[64]; /* "" = keep the primary group */
+    int workers;           /* job worker threads */
+    int http_threads;      /* libmicrohttpd thread pool per listener */
+    int queue_size;        /* queued jobs beyond which POST /v1/jobs answers 429 */
+    int user_quota;        /* queued + running jobs per user */
+    size_t max_body;       /* request body limit in bytes (413 beyond) */
+    int connection_limit;
+    int connection_timeout;   /* seconds of inactivity */
+    size_t connection_memory; /* per-connection memory (headers and buffers) */
+    size_t eval_cache;        /* entries of the evaluate cache, 0 = off */
+    size_t tile_bytes;        /* tile store budget */
+} aalab_config;
+
+/* Embedded defaults: socket under $RUNTIME_DIRECTORY / $XDG_RUNTIME_DIR (or /run/aalab as root),
+ * state under $STATE_DIRECTORY / $XDG_STATE_HOME / ~/.local/state (or /var/lib/aalab as root),
+ * workers = online cores. */
+void config_defaults(aalab_config *cfg);
+/* Parses flags; returns 0, 1 when --help/--version was printed, -1 on error (message on err). */
+int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE *err);
+void config_usage(FILE *out);
+
+#endif

@@ -1,0 +1,262 @@
+#define _GNU_SOURCE
+#include "api_context.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/file.h>
+#include <sys/random.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "eval_cache.h"
+#include "job_manager.h"
+#ifdef AALAB_HAVE_TILES
+#include "tile_store.h"
+#endif
+
+struct api_context {
+    aalab_config cfg;
+    job_manager *jobs;
+    eval_cache *cache;
+    struct tile_store *tiles;
+    char token[65];
+    struct timespec started;
+    int lock_fd; /* flock on <state-dir>/lock: one daemon per state directory */
+};
+
+/* mkdir -p with mode for the last component. */
+static int make_dirs(const char *path, mode_t mode)
+{
+    char tmp[PATH_MAX];
+    if (snprintf(tmp, sizeof tmp, "%s", path) >= (int)sizeof tmp)
+        return -1;
+    for (char *p = tmp + 1; *p; p++) {
+        if (*p == '/') {
+            *p = 0;
+            if (mkdir(tmp, 0755) && errno != EEXIST)
+                return -1;
+            *p = '/';
+        }
+    }
+    if (mkdir(tmp, mode) && errno != EEXIST)
+        return -1;
+    return 0;
+}
+
+/* Reads <dir>/token or creates it (32 random bytes as hex, mode 0600, O_EXCL). */
+static int load_or_create_token(const char *dir, char token[65], bool *created, aa_error *err)
+{
+    char path[PATH_MAX + 16];
+    snprintf(path, sizeof path, "%s/token", dir);
+    *created = false;
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
+    if (fd >= 0) {
+        ssize_t n = read(fd, token, 64);
+        close(fd);
+        if (n < 32)
+            return aa_error_set(err, AA_EINVAL, "state_dir", "%s is shorter than 32 characters",
+                                path);
+        token[n] = 0;
+        token[strcspn(token, "\r\n \t")] = 0;
+        return AA_OK;
+    }
+    unsigned char raw[32];
+    if (getrandom(raw, sizeof raw, 0) != (ssize_t)sizeof raw)
+        return aa_error_set(err, AA_EINVAL, "", "getrandom failed: %s", strerror(errno));
+    for (size_t i = 0; i < sizeof raw; i++)
+        snprintf(token + 2 * i, 3, "%02x", raw[i]);
+    fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0600);
+    if (fd < 0)
+        return aa_error_set(err, AA_EINVAL, "state_dir", "cannot create %s: %s", path,
+                            strerror(errno));
+    bool ok = write(fd, token, 64) == 64 && write(fd, "\n", 1) == 1 && fsync(fd) == 0;
+    close(fd);
+    if (!ok)
+        return aa_error_set(err, AA_EINVAL, "state_dir", "cannot write %s", path);
+    *created = true;
+    return AA_OK;
+}
+
+api_context *api_context_create(const aalab_config *cfg, bool *token_created, aa_error *err)
+{
+    api_context *ctx = calloc(1, sizeof *ctx);
+    if (!ctx) {
+        aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        return NULL;
+    }
+    ctx->cfg = *cfg;
+    ctx->lock_fd = -1;
+    clock_gettime(CLOCK_MONOTONIC, &ctx->started);
+    bool created = false;
+    if (make_dirs(cfg->state_dir, 0700)) {
+        aa_error_set(err, AA_EINVAL, "state_dir", "cannot create %s: %s", cfg->state_dir,
+                     strerror(errno));
+        goto fail;
+    }
+    char lock_path[AALAB_PATH_MAX + 8];
+    snprintf(lock_path, sizeof lock_path, "%s/lock", cfg->state_dir);
+    ctx->lock_fd = open(lock_path, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
+    if (ctx->lock_fd < 0 || flock(ctx->lock_fd, LOCK_EX | LOCK_NB)) {
+        aa_error_set(err, AA_EINVAL, "state_dir", "state directory %s is in use by another aalabd",
+                     cfg->state_dir);
+        goto fail;
+    }
+    if (load_or_create_token(cfg->state_dir, ctx->token, &created, err))
+        goto fail;
+    ctx->cache = eval_cache_create(cfg->eval_cache);
+#ifdef AALAB_HAVE_TILES
+    ctx->tiles = tile_store_create(cfg->state_dir, cfg->tile_bytes, err);
+    if (!ctx->tiles)
+        goto fail;
+#endif
+    job_manager_config jc = {.workers = cfg->workers,
+                             .queue_size = cfg->queue_size,
+                             .user_quota = cfg->user_quota,
+                             .services = ctx->tiles};
+    ctx->jobs = job_manager_create(cfg->state_dir, &jc, err);
+    if (!ctx->jobs)
+        goto fail;
+    if (token_created)
+        *token_created = created;
+    return ctx;
+fail:
+    api_context_destroy(ctx);
+    return NULL;
+}
+
+void api_context_shutdown(api_context *ctx)
+{
+    if (ctx && ctx->jobs)
+        job_manager_shutdown(ctx->jobs);
+}
+
+void api_context_destroy(api_context *ctx)
+{
+    if (!ctx)
+        return;
+    job_manager_destroy(ctx->jobs);
+#ifdef AALAB_HAVE_TILES
+    tile_store_destroy(ctx->tiles);
+#endif
+    eval_cache_destroy(ctx->cache);
+    if (ctx->lock_fd >= 0)
+        close(ctx->lock_fd);
+    free(ctx);
+}
+
+const aalab_config *api_context_config(const api_context *ctx)
+{
+    return &ctx->cfg;
+}
+
+struct tile_store *api_context_tiles(api_context *ctx)
+{
+    return ctx->tiles;
+}
+
+struct job_manager *api_context_jobs(api_context *ctx)
+{
+    return ctx->jobs;
+}
+
+struct eval_cache *api_context_eval_cache(api_context *ctx)
+{
+    return ctx->cache;
+}
+
+const char *api_context_token(const api_context *ctx)
+{
+    return ctx->token;
+}
+
+double api_context_uptime(const api_context *ctx)
+{
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    return (double)(now.tv_sec - ctx->started.tv_sec) + (now.tv_nsec - ctx->started.tv_nsec) * 1e-9;
+}
+
+/* --- pattern references --------------------------------------------------------------------- */
+
+static int resolve_one(api_context *ctx, json_t *parent_obj, const char *key, json_t *arr,
+                       size_t index, json_t *v, const char *field, aa_error *err)
+{
+    if (!json_is_object(v) || !json_object_get(v, "job"))
+        return AA_OK;
+    char jfield[128];
+    snprintf(jfield, sizeof jfield, "%s.job", field);
+    if (json_object_size(v) != 1)
+        return aa_error_set(err, AA_EINVAL, jfield, "a pattern reference is exactly {\"job\": ID}");
+    json_t *idj = json_object_get(v, "job");
+    long long id = -1;
+    if (json_is_integer(idj))
+        id = json_integer_value(idj);
+    else if (json_is_string(idj)) {
+        const char *s = json_string_value(idj);
+        char *end;
+        errno = 0;
+        id = strtoll(s, &end, 10);
+        if (errno || end == s || *end)
+            id = -1;
+    }
+    if (id <= 0)
+        return aa_error_set(err, AA_EINVAL, jfield, "not a job id");
+    const char *why = "";
+    json_t *p = job_manager_best_pattern(ctx->jobs, id, &why);
+    if (!p)
+        return aa_error_set(err, AA_EINVAL, jfield, "job %lld: %s", id, why);
+    if (parent_obj)
+        json_object_set_new(parent_obj, key, p);
+    else
+        json_array_set_new(arr, index, p);
+    return AA_OK;
+}
+
+static int resolve_walk(api_context *ctx, json_t *node, const char *path, int depth, aa_error *err)
+{
+    if (depth > 32)
+        return AA_OK;
+    char sub[256];
+    if (json_is_object(node)) {
+        const char *key;
+        json_t *v;
+        void *tmp;
+        json_object_foreach_safe(node, tmp, key, v)
+        {
+            snprintf(sub, sizeof sub, "%s%s%s", path, *path ? "." : "", key);
+            int rc = AA_OK;
+            if (!strcmp(key, "pattern")) {
+                rc = resolve_one(ctx, node, key, NULL, 0, v, sub, err);
+            } else if (!strcmp(key, "patterns") && json_is_array(v)) {
+                for (size_t i = 0; i < json_array_size(v) && !rc; i++) {
+                    char el[280];
+                    snprintf(el, sizeof el, "%s[%zu]", sub, i);
+                    rc = resolve_one(ctx, NULL, NULL, v, i, json_array_get(v, i), el, err);
+                }
+            }
+            if (rc)
+                return rc;
+            json_t *now = json_object_get(node, key);
+            if ((rc = resolve_walk(ctx, now, sub, depth + 1, err)))
+                return rc;
+        }
+    } else if (json_is_array(node)) {
+        for (size_t i = 0; i < json_array_size(node); i++) {
+            snprintf(sub, sizeof sub, "%s[%zu]", path, i);
+            int rc = resolve_walk(ctx, json_array_get(node, i), sub, depth + 1, err);
+            if (rc)
+                return rc;
+        }
+    }
+    return AA_OK;
+}
+
+int api_resolve_pattern_refs(api_context *ctx, json_t *body, aa_error *err)
+{
+    return resolve_walk(ctx, body, "", 0, err);
+}

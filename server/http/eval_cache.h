@@ -1,0 +1,24 @@
+/* An LRU cache of identical POST /v1/evaluate requests: key = the exact request body bytes,
+ * value = the exact response body. Thread-safe (one mutex; lookups are a hash and a memcmp). */
+#ifndef AALAB_EVAL_CACHE_H
+#define AALAB_EVAL_CACHE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+typedef struct eval_cache eval_cache;
+
+eval_cache *eval_cache_create(size_t capacity); /* NULL when capacity == 0 */
+void eval_cache_destroy(eval_cache *c);
+/* On a hit, *out is a malloc'd copy of the response body. */
+bool eval_cache_get(eval_cache *c, const char *key, size_t key_len, char **out, size_t *out_len);
+void eval_cache_put(eval_cache *c, const char *key, size_t key_len, const char *val,
+                    size_t val_len);
+
+typedef struct eval_cache_stats {
+    size_t entries, capacity;
+    unsigned long long hits, misses;
+} eval_cache_stats;
+void eval_cache_stats_get(eval_cache *c, eval_cache_stats *out);
+
+#endif

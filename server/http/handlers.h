@@ -1,0 +1,48 @@
+/* Handlers behind the router (one concept per file) and the helpers they share. */
+#ifndef AALAB_HANDLERS_H
+#define AALAB_HANDLERS_H
+
+#include <jansson.h>
+
+#include "aa_error.h"
+#include "api.h"
+#include "api_context.h"
+
+/* Parses the body as one JSON object (duplicate keys rejected); on failure replies 400 and
+ * returns NULL. */
+json_t *api_parse_body(const api_request *req, api_response *resp);
+/* Unknown keys -> 400 naming the key (prefix.key). Returns 0 if all keys are allowed. */
+int api_reject_unknown(const json_t *obj, const char *const *allowed, const char *prefix,
+                       api_response *resp);
+/* AA_EINVAL/AA_ERANGE -> 400, AA_ENOMEM -> 503, with err's field and message. */
+void api_reply_aa_error(api_response *resp, const aa_error *err);
+/* The caller's uid: SO_PEERCRED on the Unix socket, the daemon's own uid for a TCP request
+ * that carried the token, -1 if unknown. */
+long long api_caller_uid(const api_request *req);
+/* Job id from a path segment: positive decimal without sign or leading zeros, else -1. */
+long long api_parse_job_id(const char *s);
+/* Value of key in a raw query string (percent-decoding not needed for our keys); NULL if
+ * absent. Copies into buf. */
+const char *api_query_get(const char *query, const char *key, char *buf, size_t cap);
+
+void handle_health(api_context *ctx, const api_request *req, api_response *resp);
+void handle_presets_list(api_context *ctx, const api_request *req, api_response *resp);
+void handle_preset_get(api_context *ctx, const api_request *req, api_response *resp,
+                       const char *name);
+void handle_filters(api_context *ctx, const api_request *req, api_response *resp);
+void handle_acuity(api_context *ctx, const api_request *req, api_response *resp);
+void handle_evaluate(api_context *ctx, const api_request *req, api_response *resp);
+void handle_jobs_post(api_context *ctx, const api_request *req, api_response *resp);
+void handle_jobs_list(api_context *ctx, const api_request *req, api_response *resp);
+void handle_job_get(api_context *ctx, const api_request *req, api_response *resp, const char *id);
+void handle_job_delete(api_context *ctx, const api_request *req, api_response *resp,
+                       const char *id);
+void handle_enumerate(api_context *ctx, const api_request *req, api_response *resp);
+void handle_export(api_context *ctx, const api_request *req, api_response *resp, const char *id);
+void handle_static(api_context *ctx, const api_request *req, api_response *resp);
+/* POST /v1/render and GET /v1/tiles/{id}.png: resolve pattern refs, then the renderer's
+ * handlers (501 when they are not built in). */
+void route_render(api_context *ctx, const api_request *req, api_response *resp);
+void route_tile(api_context *ctx, const api_request *req, api_response *resp, const char *id);
+
+#endif

@@ -1,0 +1,29 @@
+/* GET /v1/health: version, uptime, workers, queue, jobs by state, caches. */
+#include "handlers.h"
+
+#include "eval_cache.h"
+#include "job_manager.h"
+
+void handle_health(api_context *ctx, const api_request *req, api_response *resp)
+{
+    job_manager_stats st;
+    job_manager_stats_get(api_context_jobs(ctx), &st);
+    json_t *by_state = json_object();
+    for (int i = 0; i < JOB_STATE_COUNT; i++)
+        json_object_set_new(by_state, job_state_name((job_state)i), json_integer(st.by_state[i]));
+    eval_cache_stats cs;
+    eval_cache_stats_get(api_context_eval_cache(ctx), &cs);
+    json_t *kinds = json_array();
+    for (const job_kind *const *k = job_kinds_all(); *k; k++)
+        json_array_append_new(kinds, json_string((*k)->name));
+    json_t *o = json_pack(
+        "{s:s,s:s,s:f,s:{s:i,s:i},s:{s:i,s:i,s:i},s:o,s:o,s:{s:I,s:I,s:I,s:I},s:b,s:b}", "status",
+        "ok", "version", AALAB_VERSION, "uptime_seconds", api_context_uptime(ctx), "workers",
+        "count", st.workers, "busy", st.busy, "queue", "length", st.queued, "capacity",
+        st.queue_size, "running", st.running, "jobs", by_state, "job_kinds", kinds, "eval_cache",
+        "entries", (json_int_t)cs.entries, "capacity", (json_int_t)cs.capacity, "hits",
+        (json_int_t)cs.hits, "misses", (json_int_t)cs.misses, "render",
+        api_context_tiles(ctx) != NULL, "tcp", req->via_tcp);
+    api_reply_json(resp, 200, o);
+    resp->cache_control = "no-store";
+}

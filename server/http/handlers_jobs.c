@@ -1,0 +1,86 @@
+/* POST /v1/jobs (202 + id), GET /v1/jobs, GET /v1/jobs/{id}, DELETE /v1/jobs/{id} (cancel:
+ * owner or root only). */
+#include <string.h>
+
+#include "handlers.h"
+#include "job_manager.h"
+
+#define JOB_LIST_LIMIT 500
+
+void handle_jobs_post(api_context *ctx, const api_request *req, api_response *resp)
+{
+    json_t *body = api_parse_body(req, resp);
+    if (!body)
+        return;
+    aa_error err = {0};
+    long long id = 0;
+    int rc = api_resolve_pattern_refs(ctx, body, &err);
+    if (!rc)
+        rc = job_manager_submit(api_context_jobs(ctx), body, api_caller_uid(req), &id, &err);
+    json_decref(body);
+    if (rc == JM_EQUEUE_FULL) {
+        api_reply_error(resp, 429, "queue_full", "", "%s", err.message);
+        resp->retry_after = 5;
+    } else if (rc == JM_EQUOTA) {
+        api_reply_error(resp, 429, "too_many_requests", "", "%s", err.message);
+        resp->retry_after = 10;
+    } else if (rc == JM_ESTORE) {
+        api_reply_error(resp, 503, "unavailable", "", "%s", err.message);
+        resp->retry_after = 30;
+    } else if (rc) {
+        api_reply_aa_error(resp, &err);
+    } else {
+        json_t *job = job_manager_get(api_context_jobs(ctx), id);
+        if (!job)
+            job = json_pack("{s:I,s:s}", "id", (json_int_t)id, "state", "queued");
+        api_reply_json(resp, 202, job);
+    }
+}
+
+void handle_jobs_list(api_context *ctx, const api_request *req, api_response *resp)
+{
+    json_t *jobs = job_manager_list(api_context_jobs(ctx), JOB_LIST_LIMIT);
+    api_reply_json(resp, 200, json_pack("{s:o}", "jobs", jobs));
+    resp->cache_control = "no-store";
+}
+
+void handle_job_get(api_context *ctx, const api_request *req, api_response *resp,
+                    const char *id_text)
+{
+    long long id = api_parse_job_id(id_text);
+    json_t *job = id > 0 ? job_manager_get(api_context_jobs(ctx), id) : NULL;
+    if (!job) {
+        api_reply_error(resp, 404, "not_found", "id", "no job %.40s", id_text);
+        return;
+    }
+    api_reply_json(resp, 200, job);
+    resp->cache_control = "no-store";
+}
+
+void handle_job_delete(api_context *ctx, const api_request *req, api_response *resp,
+                       const char *id_text)
+{
+    long long id = api_parse_job_id(id_text);
+    if (id <= 0) {
+        api_reply_error(resp, 404, "not_found", "id", "no job %.40s", id_text);
+        return;
+    }
+    const char *state = NULL;
+    int rc = job_manager_cancel(api_context_jobs(ctx), id, api_caller_uid(req), &state);
+    switch (rc) {
+    case JM_OK:
+        api_reply_json(resp, 202,
+                       json_pack("{s:I,s:s,s:b}", "id", (json_int_t)id, "state", state,
+                                 "cancel_requested", 1));
+        break;
+    case JM_ENOENT:
+        api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+        break;
+    case JM_EFORBIDDEN:
+        api_reply_error(resp, 403, "forbidden", "", "only the job's owner or root may cancel it");
+        break;
+    default:
+        api_reply_error(resp, 409, "conflict", "", "job %lld has already finished", id);
+        break;
+    }
+}

@@ -1,0 +1,18 @@
+/* POST /v1/render (one test tile: pattern, reference, difference PNGs and statistics) and
+ * GET /v1/tiles/{id}.png (a stored tile). Request and response formats: server/tiles/
+ * tile_render.h and docs in proto/schemas (render). */
+#ifndef AALAB_HANDLERS_RENDER_H
+#define AALAB_HANDLERS_RENDER_H
+
+#include "api.h"
+
+/* Limits of the synchronous endpoint; larger renders belong in a job ("compare"). */
+#define RENDER_MAX_PIXELS (512 * 512)
+#define RENDER_TIME_BUDGET_SECONDS 20.0
+#define RENDER_MAX_KERNEL_WORK (1L << 26) /* pixels x samples of the largest kernel */
+
+void handle_render(api_context *ctx, const api_request *req, api_response *resp);
+/* id with or without the ".png" suffix. */
+void handle_tile(api_context *ctx, const api_request *req, api_response *resp, const char *id);
+
+#endif

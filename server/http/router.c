@@ -1,0 +1,178 @@
+/* api_handle: access checks (TCP Host and token), body limit, content type, then dispatch on
+ * (method, path). A pure function of the request and the daemon state. */
+#define _GNU_SOURCE
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "handlers.h"
+
+/* Host header names a loopback host: localhost, 127.x.y.z, [::1], with an optional port. */
+static bool host_is_loopback(const char *host)
+{
+    if (!host)
+        return false;
+    char h[256];
+    if (snprintf(h, sizeof h, "%s", host) >= (int)sizeof h)
+        return false;
+    if (h[0] == '[') {
+        char *end = strchr(h, ']');
+        if (!end || (end[1] && end[1] != ':'))
+            return false;
+        *end = 0;
+        return !strcmp(h + 1, "::1");
+    }
+    char *colon = strchr(h, ':');
+    if (colon) {
+        for (char *p = colon + 1; *p; p++)
+            if (*p < '0' || *p > '9')
+                return false;
+        *colon = 0;
+    }
+    if (!strcasecmp(h, "localhost") || !strcasecmp(h, "localhost."))
+        return true;
+    unsigned a, b, c, d;
+    char tail;
+    return sscanf(h, "%u.%u.%u.%u%c", &a, &b, &c, &d, &tail) == 4 && a == 127 && b < 256 &&
+           c < 256 && d < 256;
+}
+
+/* Constant-time comparison of "Bearer <token>". */
+static bool token_ok(const char *authorization, const char *token)
+{
+    if (!authorization || strncasecmp(authorization, "Bearer ", 7))
+        return false;
+    const char *given = authorization + 7;
+    size_t n = strlen(token), m = strlen(given);
+    unsigned char diff = (unsigned char)(n != m);
+    for (size_t i = 0; i < n; i++)
+        diff |= (unsigned char)(token[i] ^ (i < m ? given[i] : 0));
+    return diff == 0;
+}
+
+static bool is_json_type(const char *ct)
+{
+    if (!ct)
+        return true; /* tolerated: curl --data-binary without -H */
+    size_t n = strcspn(ct, ";");
+    while (n && (ct[n - 1] == ' ' || ct[n - 1] == '\t'))
+        n--;
+    return n == strlen("application/json") && !strncasecmp(ct, "application/json", n);
+}
+
+static bool method_is(const api_request *req, const char *m)
+{
+    if (!strcmp(m, "GET") && !strcmp(req->method, "HEAD"))
+        return true;
+    return !strcmp(req->method, m);
+}
+
+typedef enum { ARG_NONE, ARG_TAIL, ARG_JOB_EXPORT, ARG_TILE } arg_kind;
+
+typedef struct route {
+    const char *method;
+    const char *path; /* exact, or a prefix ending in '/' for ARG_* routes */
+    arg_kind arg;
+    void (*plain)(api_context *, const api_request *, api_response *);
+    void (*with_arg)(api_context *, const api_request *, api_response *, const char *);
+} route;
+
+static const route routes[] = {
+    {"GET", "/v1/health", ARG_NONE, handle_health, NULL},
+    {"GET", "/v1/presets", ARG_NONE, handle_presets_list, NULL},
+    {"GET", "/v1/presets/", ARG_TAIL, NULL, handle_preset_get},
+    {"GET", "/v1/filters", ARG_NONE, handle_filters, NULL},
+    {"GET", "/v1/acuity", ARG_NONE, handle_acuity, NULL},
+    {"POST", "/v1/evaluate", ARG_NONE, handle_evaluate, NULL},
+    {"POST", "/v1/jobs", ARG_NONE, handle_jobs_post, NULL},
+    {"GET", "/v1/jobs", ARG_NONE, handle_jobs_list, NULL},
+    {"GET", "/v1/jobs/", ARG_TAIL, NULL, handle_job_get},
+    {"DELETE", "/v1/jobs/", ARG_TAIL, NULL, handle_job_delete},
+    {"POST", "/v1/families/enumerate", ARG_NONE, handle_enumerate, NULL},
+    {"GET", "/v1/patterns/", ARG_JOB_EXPORT, NULL, handle_export},
+    {"POST", "/v1/render", ARG_NONE, route_render, NULL},
+    {"GET", "/v1/tiles/", ARG_TILE, NULL, route_tile},
+};
+
+/* Does path match the route's shape? Fills arg (a segment without '/'). */
+static bool route_matches(const route *r, const char *path, char *arg, size_t cap)
+{
+    if (r->arg == ARG_NONE)
+        return !strcmp(path, r->path);
+    size_t n = strlen(r->path);
+    if (strncmp(path, r->path, n))
+        return false;
+    const char *rest = path + n;
+    size_t len = strcspn(rest, "/");
+    if (len == 0 || len >= cap)
+        return false;
+    if (r->arg == ARG_JOB_EXPORT) {
+        if (strcmp(rest + len, "/export"))
+            return false;
+    } else if (rest[len]) {
+        return false;
+    }
+    if (r->arg == ARG_TILE && (len <= 4 || strcmp(rest + len - 4, ".png")))
+        return false;
+    memcpy(arg, rest, len);
+    arg[len] = 0;
+    return true;
+}
+
+void api_handle(api_context *ctx, const api_request *req, api_response *resp)
+{
+    memset(resp, 0, sizeof *resp);
+    const aalab_config *cfg = api_context_config(ctx);
+    bool safe_method = !strcmp(req->method, "GET") || !strcmp(req->method, "HEAD");
+    if (req->via_tcp) {
+        /* DNS rebinding: a browser page on another origin resolving to 127.0.0.1 still sends
+         * its own Host. */
+        if (!host_is_loopback(req->host)) {
+            api_reply_error(resp, 403, "forbidden", "", "Host must be a loopback name");
+            return;
+        }
+        if (!safe_method && !token_ok(req->authorization, api_context_token(ctx))) {
+            api_reply_error(resp, 401, "unauthorized", "",
+                            "this request needs 'Authorization: Bearer <token>' (the token is "
+                            "in the state directory's token file)");
+            return;
+        }
+    }
+    if (req->body_len > cfg->max_body) {
+        api_reply_error(resp, 413, "payload_too_large", "", "the body exceeds %zu bytes",
+                        cfg->max_body);
+        return;
+    }
+    const char *path = req->path ? req->path : "";
+    bool path_known = false;
+    char arg[256];
+    for (size_t i = 0; i < sizeof routes / sizeof routes[0]; i++) {
+        const route *r = &routes[i];
+        if (!route_matches(r, path, arg, sizeof arg))
+            continue;
+        path_known = true;
+        if (!method_is(req, r->method))
+            continue;
+        if (!strcmp(r->method, "POST") && !is_json_type(req->content_type)) {
+            api_reply_error(resp, 415, "unsupported_media_type", "",
+                            "send the body as Content-Type: application/json");
+            return;
+        }
+        if (r->arg == ARG_NONE)
+            r->plain(ctx, req, resp);
+        else
+            r->with_arg(ctx, req, resp, arg);
+        return;
+    }
+    if (path_known) {
+        api_reply_error(resp, 405, "method_not_allowed", "", "%s is not allowed on this path",
+                        req->method);
+        return;
+    }
+    if (strncmp(path, "/v1/", 4) && strcmp(path, "/v1") && req->via_tcp && safe_method) {
+        handle_static(ctx, req, resp);
+        return;
+    }
+    api_reply_error(resp, 404, "not_found", "", "no such endpoint");
+}

@@ -1,0 +1,120 @@
+/* job_ctx: what a running job kind sees (job_kind.h). Progress and best-so-far go to memory at
+ * once and to the store at most once a second; the trace keeps every improvement of best_e2
+ * but at most 10 points a second (an improvement inside the 0.1 s window is held back and
+ * written when the window opens or the job ends, so the last best is never lost). */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdlib.h>
+
+#include "job_ctx_impl.h"
+
+#define TRACE_MIN_INTERVAL 0.1
+#define STORE_FLUSH_INTERVAL 1.0
+
+int job_live_init(job_live *l)
+{
+    *l = (job_live){0};
+    l->trace = json_array();
+    l->last_point_seconds = -INFINITY;
+    l->last_point_best = INFINITY;
+    return l->trace ? AA_OK : AA_ENOMEM;
+}
+
+void job_live_clear(job_live *l)
+{
+    json_decref(l->best);
+    json_decref(l->trace);
+    l->best = l->trace = NULL;
+}
+
+static void append_point(job_live *l, const job_trace_point *p)
+{
+    json_array_append_new(
+        l->trace, json_pack("{s:f,s:I,s:I,s:o}", "seconds", p->seconds, "iterations",
+                            (json_int_t)p->iterations, "evaluations", (json_int_t)p->evaluations,
+                            "best_e2", isfinite(p->best_e2) ? json_real(p->best_e2) : json_null()));
+    l->last_point_seconds = p->seconds;
+    l->last_point_best = p->best_e2;
+}
+
+void job_live_flush_pending(job_live *l)
+{
+    if (l->have_pending) {
+        append_point(l, &l->pending);
+        l->have_pending = false;
+    }
+}
+
+static void maybe_flush_to_store(job_ctx *ctx)
+{
+    double now = jm_now();
+    if (now - ctx->live->last_flush < STORE_FLUSH_INTERVAL)
+        return;
+    ctx->live->last_flush = now;
+    double progress = ctx->live->progress;
+    json_t *best = json_incref(ctx->live->best);
+    json_t *trace = json_deep_copy(ctx->live->trace);
+    pthread_mutex_unlock(ctx->lock);
+    job_store_update_progress(ctx->store, ctx->id, progress, best, trace);
+    json_decref(best);
+    json_decref(trace);
+    pthread_mutex_lock(ctx->lock);
+}
+
+bool job_ctx_progress(job_ctx *ctx, double fraction, json_t *best_so_far)
+{
+    json_t *copy = best_so_far ? json_deep_copy(best_so_far) : NULL;
+    pthread_mutex_lock(ctx->lock);
+    if (isfinite(fraction))
+        ctx->live->progress = fraction < 0 ? 0 : fraction > 1 ? 1 : fraction;
+    if (copy) {
+        json_decref(ctx->live->best);
+        ctx->live->best = copy;
+    }
+    maybe_flush_to_store(ctx);
+    bool stop = *ctx->cancel || *ctx->stopping;
+    pthread_mutex_unlock(ctx->lock);
+    return stop;
+}
+
+void job_ctx_trace(job_ctx *ctx, const job_trace_point *point)
+{
+    pthread_mutex_lock(ctx->lock);
+    job_live *l = ctx->live;
+    if (l->have_pending && point->seconds - l->last_point_seconds >= TRACE_MIN_INTERVAL)
+        job_live_flush_pending(l);
+    double best = l->have_pending ? l->pending.best_e2 : l->last_point_best;
+    bool improves = json_array_size(l->trace) == 0 || point->best_e2 < best;
+    if (improves) {
+        if (point->seconds - l->last_point_seconds >= TRACE_MIN_INTERVAL) {
+            l->have_pending = false;
+            append_point(l, point);
+        } else {
+            l->pending = *point;
+            l->have_pending = true;
+        }
+    }
+    pthread_mutex_unlock(ctx->lock);
+}
+
+bool job_ctx_cancelled(const job_ctx *ctx)
+{
+    pthread_mutex_lock(ctx->lock);
+    bool stop = *ctx->cancel || *ctx->stopping;
+    pthread_mutex_unlock(ctx->lock);
+    return stop;
+}
+
+int job_ctx_workers(const job_ctx *ctx)
+{
+    /* Idle workers may lend their core to this job's own threads. */
+    pthread_mutex_lock(ctx->lock);
+    int idle = ctx->workers - *ctx->busy;
+    pthread_mutex_unlock(ctx->lock);
+    return idle > 0 ? idle + 1 : 1;
+}
+
+void *job_ctx_services(job_ctx *ctx)
+{
+    return ctx->services;
+}

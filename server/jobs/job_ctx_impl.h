@@ -1,0 +1,46 @@
+/* The job_ctx behind job_kind.h, shared by job_manager.c and job_ctx.c. */
+#ifndef AALAB_JOB_CTX_IMPL_H
+#define AALAB_JOB_CTX_IMPL_H
+
+#include <pthread.h>
+#include <stdbool.h>
+
+#include <jansson.h>
+
+#include "job_kind.h"
+#include "job_store.h"
+
+/* Progress, best-so-far and trace of one job; guarded by the manager's lock. */
+typedef struct job_live {
+    double progress;
+    json_t *best;  /* NULL until the kind reports one */
+    json_t *trace; /* array of trace points */
+    double last_point_seconds;
+    double last_point_best;
+    bool have_pending;
+    job_trace_point pending; /* an improvement held back by the 10 points/s limit */
+    double last_flush;       /* wall time of the last store write */
+} job_live;
+
+int job_live_init(job_live *l);
+void job_live_clear(job_live *l);
+/* Appends the held-back improvement, if any (at the end of a run). */
+void job_live_flush_pending(job_live *l);
+
+struct job_ctx {
+    void *jm;
+    pthread_mutex_t *lock;
+    job_live *live;
+    job_store *store;
+    long long id;
+    bool *cancel;
+    bool *stopping;
+    void *services;
+    int workers;
+    int *busy;
+    double started;
+};
+
+double jm_now(void);
+
+#endif

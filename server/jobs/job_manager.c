@@ -1,0 +1,511 @@
+#define _POSIX_C_SOURCE 200809L
+#include "job_manager.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "job_ctx_impl.h"
+
+typedef struct job {
+    long long id;
+    const job_kind *kind;
+    void *params;
+    json_t *spec;
+    long long owner;
+    job_state state;
+    double created, started;
+    bool cancel_requested;
+    char reason[160];
+    job_live live;    /* progress, best, trace: guarded by jm->lock */
+    struct job *next; /* active list */
+} job;
+
+struct job_manager {
+    job_manager_config cfg;
+    job_store *store;
+    pthread_mutex_t lock;
+    pthread_cond_t wake;
+    job **queue; /* FIFO of queued jobs */
+    size_t q_len, q_cap;
+    job *active; /* every queued or running job */
+    int running, busy;
+    bool stopping;
+    pthread_t *threads;
+    int thread_count;
+};
+
+double jm_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void job_free(job *j)
+{
+    if (!j)
+        return;
+    if (j->params && j->kind && j->kind->free_params)
+        j->kind->free_params(j->params);
+    json_decref(j->spec);
+    job_live_clear(&j->live);
+    free(j);
+}
+
+static int queue_push(job_manager *jm, job *j)
+{
+    if (jm->q_len == jm->q_cap) {
+        size_t cap = jm->q_cap ? jm->q_cap * 2 : 64;
+        job **q = realloc(jm->queue, cap * sizeof *q);
+        if (!q)
+            return AA_ENOMEM;
+        jm->queue = q;
+        jm->q_cap = cap;
+    }
+    jm->queue[jm->q_len++] = j;
+    return AA_OK;
+}
+
+static job *queue_pop(job_manager *jm)
+{
+    if (!jm->q_len)
+        return NULL;
+    job *j = jm->queue[0];
+    memmove(jm->queue, jm->queue + 1, --jm->q_len * sizeof *jm->queue);
+    return j;
+}
+
+static void queue_remove(job_manager *jm, job *j)
+{
+    for (size_t i = 0; i < jm->q_len; i++) {
+        if (jm->queue[i] == j) {
+            memmove(jm->queue + i, jm->queue + i + 1, (jm->q_len - i - 1) * sizeof *jm->queue);
+            jm->q_len--;
+            return;
+        }
+    }
+}
+
+static void active_remove(job_manager *jm, job *j)
+{
+    for (job **p = &jm->active; *p; p = &(*p)->next) {
+        if (*p == j) {
+            *p = j->next;
+            return;
+        }
+    }
+}
+
+static job *active_find(job_manager *jm, long long id)
+{
+    for (job *j = jm->active; j; j = j->next)
+        if (j->id == id)
+            return j;
+    return NULL;
+}
+
+static int owner_load(job_manager *jm, long long owner)
+{
+    int n = 0;
+    for (job *j = jm->active; j; j = j->next)
+        n += j->owner == owner;
+    return n;
+}
+
+/* --- workers ------------------------------------------------------------------------------ */
+
+static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa_error *err)
+{
+    pthread_mutex_lock(&jm->lock);
+    bool shutdown_stop = rc == AA_ECANCELED && jm->stopping && !j->cancel_requested;
+    json_t *best = json_incref(j->live.best);
+    job_live_flush_pending(&j->live);
+    json_t *trace = json_deep_copy(j->live.trace);
+    double progress = j->live.progress;
+    pthread_mutex_unlock(&jm->lock);
+
+    job_state st;
+    json_t *error = NULL;
+    const char *reason = NULL;
+    if (shutdown_stop) {
+        /* Not resumable mid-run: the next start runs it again from the beginning. */
+        st = JOB_QUEUED;
+        reason = "daemon stopped while the job was running; re-queued";
+        progress = 0;
+    } else if (rc == AA_OK) {
+        st = JOB_DONE;
+        progress = 1;
+    } else if (rc == AA_ECANCELED) {
+        st = JOB_CANCELLED;
+        reason = "cancelled by request";
+    } else {
+        st = JOB_FAILED;
+        error = json_pack("{s:s,s:s,s:s}", "code", aa_strerror(rc), "message",
+                          err && err->message[0] ? err->message : aa_strerror(rc), "field",
+                          err ? err->field : "");
+    }
+    job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason, jm_now());
+    json_decref(best);
+    json_decref(trace);
+    json_decref(error);
+    json_decref(result);
+
+    pthread_mutex_lock(&jm->lock);
+    active_remove(jm, j);
+    jm->running--;
+    pthread_mutex_unlock(&jm->lock);
+    job_free(j);
+}
+
+static void *worker_main(void *arg)
+{
+    job_manager *jm = arg;
+    pthread_mutex_lock(&jm->lock);
+    for (;;) {
+        while (!jm->stopping && jm->q_len == 0)
+            pthread_cond_wait(&jm->wake, &jm->lock);
+        if (jm->stopping)
+            break;
+        job *j = queue_pop(jm);
+        j->state = JOB_RUNNING;
+        j->started = jm_now();
+        jm->running++;
+        jm->busy++;
+        pthread_mutex_unlock(&jm->lock);
+
+        job_store_set_state(jm->store, j->id, JOB_RUNNING, j->started, NULL);
+        struct job_ctx ctx = {.jm = jm,
+                              .lock = &jm->lock,
+                              .live = &j->live,
+                              .store = jm->store,
+                              .id = j->id,
+                              .cancel = &j->cancel_requested,
+                              .stopping = &jm->stopping,
+                              .services = jm->cfg.services,
+                              .workers = jm->cfg.workers,
+                              .busy = &jm->busy,
+                              .started = j->started};
+        json_t *result = NULL;
+        aa_error err = {0};
+        int rc = j->kind->run(j->params, &ctx, &result, &err);
+        if (rc != AA_OK) {
+            json_decref(result);
+            result = NULL;
+        }
+        finish_job(jm, j, rc, result, &err);
+        pthread_mutex_lock(&jm->lock);
+        jm->busy--;
+    }
+    pthread_mutex_unlock(&jm->lock);
+    return NULL;
+}
+
+/* --- restart recovery --------------------------------------------------------------------- */
+
+static void recover_one(void *user, long long id, const char *kind_name, json_t *spec,
+                        long long owner, job_state state, double created)
+{
+    job_manager *jm = user;
+    const job_kind *kind = kind_name ? job_kind_find(kind_name) : NULL;
+    char reason[400];
+    if (!kind) {
+        snprintf(reason, sizeof reason, "job kind '%.40s' is not available after restart",
+                 kind_name ? kind_name : "?");
+        job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL, reason,
+                         jm_now());
+        return;
+    }
+    void *params = NULL;
+    aa_error err = {0};
+    if (kind->parse(spec, &params, &err) != AA_OK) {
+        snprintf(reason, sizeof reason, "spec no longer valid after restart: %s (%s)", err.message,
+                 err.field);
+        job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL, reason,
+                         jm_now());
+        return;
+    }
+    job *j = calloc(1, sizeof *j);
+    if (!j || job_live_init(&j->live) != AA_OK) {
+        free(j);
+        kind->free_params(params);
+        job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL,
+                         "out of memory at restart", jm_now());
+        return;
+    }
+    j->id = id;
+    j->kind = kind;
+    j->params = params;
+    j->spec = json_incref(spec);
+    j->owner = owner;
+    j->state = JOB_QUEUED;
+    j->created = created;
+    if (state == JOB_RUNNING)
+        snprintf(j->reason, sizeof j->reason,
+                 "was running when the daemon stopped; re-queued at restart");
+    queue_push(jm, j);
+    j->next = jm->active;
+    jm->active = j;
+    /* A job that was running restarts from scratch: clear its stale live state. */
+    job_store_finish(jm->store, id, JOB_QUEUED, 0, json_null(), NULL, NULL, NULL,
+                     j->reason[0] ? j->reason : NULL, 0);
+}
+
+job_manager *job_manager_create(const char *state_dir, const job_manager_config *cfg, aa_error *err)
+{
+    job_manager *jm = calloc(1, sizeof *jm);
+    if (!jm) {
+        aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        return NULL;
+    }
+    jm->cfg = *cfg;
+    if (jm->cfg.workers < 1)
+        jm->cfg.workers = 1;
+    pthread_mutex_init(&jm->lock, NULL);
+    pthread_cond_init(&jm->wake, NULL);
+    jm->store = job_store_open(state_dir, err);
+    if (!jm->store) {
+        job_manager_destroy(jm);
+        return NULL;
+    }
+    job_store_unfinished(jm->store, recover_one, jm);
+    jm->threads = calloc((size_t)jm->cfg.workers, sizeof *jm->threads);
+    if (!jm->threads) {
+        aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        job_manager_destroy(jm);
+        return NULL;
+    }
+    for (int i = 0; i < jm->cfg.workers; i++) {
+        if (pthread_create(&jm->threads[i], NULL, worker_main, jm) != 0) {
+            aa_error_set(err, AA_ENOMEM, "workers", "cannot start worker thread %d", i);
+            job_manager_destroy(jm);
+            return NULL;
+        }
+        jm->thread_count++;
+    }
+    return jm;
+}
+
+void job_manager_shutdown(job_manager *jm)
+{
+    pthread_mutex_lock(&jm->lock);
+    jm->stopping = true;
+    pthread_cond_broadcast(&jm->wake);
+    pthread_mutex_unlock(&jm->lock);
+    for (int i = 0; i < jm->thread_count; i++)
+        pthread_join(jm->threads[i], NULL);
+    jm->thread_count = 0;
+}
+
+void job_manager_destroy(job_manager *jm)
+{
+    if (!jm)
+        return;
+    job_manager_shutdown(jm);
+    /* Jobs still queued stay queued in the store; only memory is released. */
+    while (jm->active) {
+        job *j = jm->active;
+        jm->active = j->next;
+        job_free(j);
+    }
+    free(jm->queue);
+    free(jm->threads);
+    job_store_close(jm->store);
+    pthread_cond_destroy(&jm->wake);
+    pthread_mutex_destroy(&jm->lock);
+    free(jm);
+}
+
+/* --- API ---------------------------------------------------------------------------------- */
+
+int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, long long *id,
+                       aa_error *err)
+{
+    const json_t *kind_j = json_object_get(spec, "kind");
+    if (!kind_j)
+        return aa_error_set(err, AA_EINVAL, "kind", "a job needs a kind");
+    if (!json_is_string(kind_j))
+        return aa_error_set(err, AA_EINVAL, "kind", "kind must be a string");
+    const job_kind *kind = job_kind_find(json_string_value(kind_j));
+    if (!kind || strlen(json_string_value(kind_j)) != json_string_length(kind_j))
+        return aa_error_set(err, AA_EINVAL, "kind", "unknown job kind");
+    void *params = NULL;
+    int rc = kind->parse(spec, &params, err);
+    if (rc)
+        return rc < 0 ? rc : AA_EINVAL;
+    job *j = calloc(1, sizeof *j);
+    if (!j || job_live_init(&j->live) != AA_OK) {
+        free(j);
+        kind->free_params(params);
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    j->kind = kind;
+    j->params = params;
+    j->spec = json_deep_copy(spec);
+    j->owner = owner;
+    j->state = JOB_QUEUED;
+    j->created = jm_now();
+
+    pthread_mutex_lock(&jm->lock);
+    if (jm->stopping) {
+        rc = aa_error_set(err, JM_EQUEUE_FULL, "", "the daemon is shutting down");
+    } else if ((int)jm->q_len >= jm->cfg.queue_size) {
+        rc = aa_error_set(err, JM_EQUEUE_FULL, "", "the job queue is full (%d queued)",
+                          (int)jm->q_len);
+    } else if (owner >= 0 && owner_load(jm, owner) >= jm->cfg.user_quota) {
+        rc = aa_error_set(err, JM_EQUOTA, "",
+                          "uid %lld already has %d queued or running jobs (the limit)", owner,
+                          jm->cfg.user_quota);
+    } else if (job_store_insert(jm->store, kind->name, spec, owner, j->created, &j->id, err)) {
+        rc = JM_ESTORE;
+    } else if (queue_push(jm, j) != AA_OK) {
+        job_store_finish(jm->store, j->id, JOB_FAILED, 0, NULL, NULL, NULL, NULL, "out of memory",
+                         jm_now());
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    } else {
+        j->next = jm->active;
+        jm->active = j;
+        *id = j->id;
+        pthread_cond_signal(&jm->wake);
+        j = NULL;
+    }
+    pthread_mutex_unlock(&jm->lock);
+    job_free(j);
+    return rc;
+}
+
+/* Overlays the live state of an active job on its stored record. Caller holds the lock. */
+static void overlay_live(json_t *o, const job *j)
+{
+    json_object_set_new(o, "state", json_string(job_state_name(j->state)));
+    json_object_set_new(o, "progress", json_real(j->live.progress));
+    if (j->live.best) {
+        json_object_set(o, "best", j->live.best);
+        json_t *e2 = json_is_object(j->live.best) ? json_object_get(j->live.best, "e2") : NULL;
+        if (json_is_number(e2))
+            json_object_set(o, "best_e2", e2);
+    }
+    if (json_object_get(o, "trace"))
+        json_object_set_new(o, "trace", json_deep_copy(j->live.trace));
+    if (j->cancel_requested)
+        json_object_set_new(o, "cancel_requested", json_true());
+    if (j->state == JOB_RUNNING)
+        json_object_set_new(o, "started", json_real(j->started));
+}
+
+json_t *job_manager_get(job_manager *jm, long long id)
+{
+    json_t *o = job_store_get(jm->store, id, true);
+    if (!o)
+        return NULL;
+    pthread_mutex_lock(&jm->lock);
+    job *j = active_find(jm, id);
+    if (j)
+        overlay_live(o, j);
+    pthread_mutex_unlock(&jm->lock);
+    return o;
+}
+
+json_t *job_manager_list(job_manager *jm, int limit)
+{
+    json_t *a = job_store_list(jm->store, limit);
+    pthread_mutex_lock(&jm->lock);
+    size_t i;
+    json_t *o;
+    json_array_foreach(a, i, o)
+    {
+        job *j = active_find(jm, json_integer_value(json_object_get(o, "id")));
+        if (j)
+            overlay_live(o, j);
+    }
+    pthread_mutex_unlock(&jm->lock);
+    return a;
+}
+
+int job_manager_cancel(job_manager *jm, long long id, long long caller, const char **state_out)
+{
+    pthread_mutex_lock(&jm->lock);
+    job *j = active_find(jm, id);
+    if (!j) {
+        pthread_mutex_unlock(&jm->lock);
+        json_t *o = job_store_get(jm->store, id, false);
+        int rc = o ? JM_EFINISHED : JM_ENOENT;
+        json_decref(o);
+        return rc;
+    }
+    if (caller != 0 && !(j->owner < 0 || (caller >= 0 && caller == j->owner))) {
+        pthread_mutex_unlock(&jm->lock);
+        return JM_EFORBIDDEN;
+    }
+    if (j->state == JOB_QUEUED) {
+        queue_remove(jm, j);
+        active_remove(jm, j);
+        pthread_mutex_unlock(&jm->lock);
+        job_store_finish(jm->store, id, JOB_CANCELLED, 0, NULL, NULL, NULL, NULL,
+                         "cancelled by request before it ran", jm_now());
+        job_free(j);
+        *state_out = "cancelled";
+        return JM_OK;
+    }
+    j->cancel_requested = true;
+    pthread_mutex_unlock(&jm->lock);
+    *state_out = "running";
+    return JM_OK;
+}
+
+/* A pattern inside a job's best/result: the object itself if it is a pattern, else its
+ * "pattern" or "best_pattern" member, else best.pattern of the result. */
+static json_t *find_pattern(json_t *v)
+{
+    if (!json_is_object(v))
+        return NULL;
+    static const char *const forms[] = {"kernels", "mirrored", "tile", "preset"};
+    for (size_t i = 0; i < 4; i++)
+        if (json_object_get(v, forms[i]))
+            return v;
+    static const char *const members[] = {"pattern", "best_pattern", "best"};
+    for (size_t i = 0; i < 3; i++) {
+        json_t *p = find_pattern(json_object_get(v, members[i]));
+        if (p)
+            return p;
+    }
+    return NULL;
+}
+
+json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why)
+{
+    json_t *o = job_manager_get(jm, id);
+    if (!o) {
+        *why = "no such job";
+        return NULL;
+    }
+    json_t *p = find_pattern(json_object_get(o, "best"));
+    if (!p)
+        p = find_pattern(json_object_get(o, "result"));
+    json_t *out = p ? json_deep_copy(p) : NULL;
+    json_decref(o);
+    if (!out)
+        *why = "the job has no pattern (yet)";
+    return out;
+}
+
+void job_manager_stats_get(job_manager *jm, job_manager_stats *out)
+{
+    memset(out, 0, sizeof *out);
+    job_store_counts(jm->store, out->by_state);
+    pthread_mutex_lock(&jm->lock);
+    out->workers = jm->cfg.workers;
+    out->busy = jm->busy;
+    out->queued = (int)jm->q_len;
+    out->running = jm->running;
+    out->queue_size = jm->cfg.queue_size;
+    pthread_mutex_unlock(&jm->lock);
+}
+
+job_store *job_manager_store(job_manager *jm)
+{
+    return jm->store;
+}

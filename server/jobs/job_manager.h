@@ -1,0 +1,75 @@
+/* The job manager: a fixed pool of worker threads fed from one bounded FIFO, in the manner of
+ * Redis' bio.c (background I/O): HTTP threads never run a job, they only validate the spec
+ * (job_kind.parse), append the job to the queue under a mutex and signal a condition variable;
+ * each worker sleeps on that condition, pops the oldest job, runs it with the mutex released,
+ * and writes the outcome to the SQLite store. A full queue is refused at submission (429 with
+ * Retry-After) rather than blocking a request thread. Cancellation is cooperative: a flag the
+ * job polls through job_ctx_progress()/job_ctx_cancelled(). At shutdown the same flag stops
+ * running jobs, which are written back as queued so the next start re-runs them.
+ *
+ * Live state (progress, best-so-far, trace) of queued and running jobs is kept in memory and
+ * written to the store at most once a second; finished jobs are read from the store. */
+#ifndef AALAB_JOB_MANAGER_H
+#define AALAB_JOB_MANAGER_H
+
+#include <stdbool.h>
+#include <sys/types.h>
+
+#include <jansson.h>
+
+#include "aa_error.h"
+#include "job_kind.h"
+#include "job_store.h"
+
+typedef struct job_manager job_manager;
+
+typedef struct job_manager_config {
+    int workers;
+    int queue_size; /* queued jobs beyond which submit answers JM_EQUEUE_FULL */
+    int user_quota; /* queued + running per owner */
+    void *services; /* handed to kinds as job_ctx_services() */
+} job_manager_config;
+
+enum {
+    JM_OK = 0,
+    JM_ENOENT = -1001,
+    JM_EQUEUE_FULL = -1002,
+    JM_EQUOTA = -1003,
+    JM_EFORBIDDEN = -1004,
+    JM_EFINISHED = -1005,
+    JM_ESTORE = -1006
+};
+
+/* Opens the store in state_dir, re-queues unfinished jobs (or marks them interrupted with a
+ * reason) and starts the workers. */
+job_manager *job_manager_create(const char *state_dir, const job_manager_config *cfg,
+                                aa_error *err);
+/* Stops accepting, stops running jobs (written back as queued), joins the workers. */
+void job_manager_shutdown(job_manager *jm);
+void job_manager_destroy(job_manager *jm); /* shuts down first if needed */
+
+/* Validates spec with the kind named spec.kind and queues the job. owner < 0 = unknown.
+ * AA_E* with err (field relative to the body) for bad specs, JM_EQUEUE_FULL, JM_EQUOTA. */
+int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, long long *id,
+                       aa_error *err);
+/* The job object (full detail) or NULL. */
+json_t *job_manager_get(job_manager *jm, long long id);
+json_t *job_manager_list(job_manager *jm, int limit);
+/* caller < 0 = unknown (refused unless the job has no owner). JM_ENOENT, JM_EFORBIDDEN,
+ * JM_EFINISHED. On success *state_out names the state after the call ("cancelled" for a queued
+ * job, "running" with cancel requested for a running one). */
+int job_manager_cancel(job_manager *jm, long long id, long long caller, const char **state_out);
+/* The best pattern JSON of a job (new reference), or NULL (*why: "no such job" /
+ * "no pattern yet"). */
+json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why);
+
+typedef struct job_manager_stats {
+    int workers, busy;
+    int queued, running;
+    int queue_size;
+    long long by_state[JOB_STATE_COUNT];
+} job_manager_stats;
+void job_manager_stats_get(job_manager *jm, job_manager_stats *out);
+job_store *job_manager_store(job_manager *jm);
+
+#endif

@@ -1,0 +1,229 @@
+/* Job kind "compare": one scene, a list of patterns (preset names, pattern objects, resolved
+ * job results); one row per pattern with samples/pixel, E2, RMSE, max deviation and render
+ * time, against one reference per output grid (odd / even kernel size). The table the
+ * dashboard plots as error against run time.
+ * Spec: {"kind":"compare", "scene":{...}, "patterns":[...], "reference":{...},
+ *        "acuity":..., "tiles":true} */
+#include <stdlib.h>
+#include <string.h>
+
+#include "codec.h"
+#include "job_kind.h"
+#include "render.h"
+#include "tile_parallel.h"
+#include "tile_render.h"
+#include "tile_store.h"
+
+#define COMPARE_MAX_PATTERNS 64
+
+typedef struct compare_params {
+    aa_scene_params scene;
+    tile_reference_spec ref;
+    aa_acuity acuity;
+    size_t count;
+    aa_pattern *patterns;
+    char (*names)[64];
+    bool tiles;
+} compare_params;
+
+static void compare_free(void *params)
+{
+    compare_params *cp = params;
+    if (!cp)
+        return;
+    for (size_t i = 0; i < cp->count; i++)
+        aa_pattern_free(&cp->patterns[i]);
+    free(cp->patterns);
+    free(cp->names);
+    free(cp);
+}
+
+static bool allowed_key(const char *key)
+{
+    static const char *const keys[] = {"kind",      "label",  "priority", "scene", "patterns",
+                                       "reference", "acuity", "tiles",    NULL};
+    for (size_t i = 0; keys[i]; i++)
+        if (strcmp(key, keys[i]) == 0)
+            return true;
+    return false;
+}
+
+static int compare_parse(const json_t *spec, void **params, aa_error *err)
+{
+    *params = NULL;
+    const char *key;
+    json_t *v;
+    json_object_foreach((json_t *)spec, key, v)
+    {
+        if (!allowed_key(key))
+            return aa_error_set(err, AA_EINVAL, key, "unknown field");
+    }
+    compare_params *cp = calloc(1, sizeof *cp);
+    if (!cp)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    cp->tiles = true;
+    int rc = tile_decode_scene(json_object_get(spec, "scene"), &cp->scene, "scene", err);
+    if (!rc)
+        rc = tile_decode_reference(json_object_get(spec, "reference"), &cp->ref, "reference", err);
+    if (!rc)
+        rc = proto_decode_acuity(json_object_get(spec, "acuity"), &cp->acuity, "acuity", err);
+    json_t *tiles = json_object_get(spec, "tiles");
+    if (!rc && tiles) {
+        if (!json_is_boolean(tiles))
+            rc = aa_error_set(err, AA_EINVAL, "tiles", "must be true or false");
+        else
+            cp->tiles = json_is_true(tiles);
+    }
+    json_t *list = json_object_get(spec, "patterns");
+    if (!rc && (!json_is_array(list) || json_array_size(list) == 0 ||
+                json_array_size(list) > COMPARE_MAX_PATTERNS))
+        rc = aa_error_set(err, AA_EINVAL, "patterns", "a list of 1..%d patterns is required",
+                          COMPARE_MAX_PATTERNS);
+    if (!rc) {
+        size_t n = json_array_size(list);
+        cp->patterns = calloc(n, sizeof *cp->patterns);
+        cp->names = calloc(n, sizeof *cp->names);
+        if (!cp->patterns || !cp->names)
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        for (size_t i = 0; i < n && !rc; i++) {
+            char field[32];
+            snprintf(field, sizeof field, "patterns[%zu]", i);
+            json_t *pj = json_array_get(list, i);
+            rc = tile_pattern_from_preset_name(pj, &cp->patterns[i], field, err);
+            if (rc == 1)
+                rc = proto_decode_pattern(pj, 0, &cp->patterns[i], field, err);
+            if (rc)
+                break;
+            cp->count = i + 1;
+            const char *name = json_is_string(pj) ? json_string_value(pj) : NULL;
+            if (!name && json_is_string(json_object_get(pj, "preset")))
+                name = json_string_value(json_object_get(pj, "preset"));
+            if (!name && json_is_string(json_object_get(pj, "name")))
+                name = json_string_value(json_object_get(pj, "name"));
+            snprintf(cp->names[i], sizeof cp->names[i], "%s", name ? name : cp->patterns[i].family);
+        }
+    }
+    if (rc) {
+        compare_free(cp);
+        return rc;
+    }
+    *params = cp;
+    return AA_OK;
+}
+
+typedef struct cancel_probe {
+    job_ctx *ctx;
+    double base, span;
+} cancel_probe;
+
+static int reference_progress(void *user, double fraction)
+{
+    cancel_probe *p = user;
+    return job_ctx_progress(p->ctx, p->base + p->span * fraction, NULL);
+}
+
+/* References at output offsets 0.5 (odd K) and 1 (even K), rendered when first needed. */
+typedef struct reference_slot {
+    bool done;
+    aa_image img;
+    aa_reference_stats st;
+    double seconds;
+    json_t *tile;
+} reference_slot;
+
+static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+{
+    compare_params *cp = params;
+    tile_store *ts = job_ctx_services(ctx);
+    aa_scene scene;
+    int rc = aa_scene_init(&scene, &cp->scene, err);
+    if (rc)
+        return rc;
+    reference_slot slot[2];
+    memset(slot, 0, sizeof slot);
+    json_t *rows = json_array(), *refs = json_array();
+    aa_image img;
+    memset(&img, 0, sizeof img);
+    rc = aa_image_init(&img, cp->scene.width, cp->scene.height, err);
+    /* Work units: each reference render and each pattern render is one; progress only grows. */
+    double steps = (double)cp->count + 2, units = 0;
+    for (size_t i = 0; i < cp->count && !rc; i++) {
+        const aa_pattern *p = &cp->patterns[i];
+        int s = p->kernel_size % 2 == 0;
+        double off = aa_output_offset(p->kernel_size);
+        if (!slot[s].done) {
+            cancel_probe probe = {ctx, units / steps, 1.0 / steps};
+            aa_reference_params rp = cp->ref.params;
+            rp.progress = reference_progress;
+            rp.user = &probe;
+            rc = aa_image_init(&slot[s].img, cp->scene.width, cp->scene.height, err);
+            double t0 = aa_seconds_now();
+            if (!rc)
+                rc = tile_reference_parallel(&scene, &rp, off, &slot[s].img, job_ctx_workers(ctx),
+                                             &slot[s].st, err);
+            slot[s].seconds = aa_seconds_now() - t0;
+            if (rc)
+                break;
+            slot[s].done = true;
+            units += 1;
+            if (ts && cp->tiles)
+                slot[s].tile = tile_put_image(ts, &slot[s].img, NULL);
+            json_array_append_new(
+                refs, json_pack("{s:f, s:f, s:I, s:I, s:I, s:o*}", "output_offset", off, "seconds",
+                                slot[s].seconds, "supersampled",
+                                (json_int_t)slot[s].st.pixels_supersampled, "input_pixels_sampled",
+                                (json_int_t)slot[s].st.input_pixels, "samples",
+                                (json_int_t)slot[s].st.samples, "tile",
+                                slot[s].tile ? json_incref(slot[s].tile) : NULL));
+        }
+        double e2 = 0;
+        rc = aa_pattern_e2(p, cp->ref.params.filter, &cp->acuity, &e2, err);
+        if (rc)
+            break;
+        aa_raster_stats rs;
+        double t0 = aa_seconds_now();
+        rc = aa_render_pattern(&scene, p, true, &img, NULL, &rs, err);
+        double seconds = aa_seconds_now() - t0;
+        if (rc)
+            break;
+        aa_diff_stats d;
+        aa_diff_init(&d);
+        aa_diff_add(&d, &img, &slot[s].img);
+        aa_diff_finish(&d);
+        json_t *row = json_pack(
+            "{s:s, s:s, s:f, s:f, s:f, s:f, s:f, s:I, s:I, s:o}", "name", cp->names[i], "family",
+            p->family, "samples_per_pixel", p->cost_spp, "e2", e2, "rmse", d.rmse, "max_dev",
+            d.max_dev, "render_seconds", seconds, "pixels_sampled", (json_int_t)rs.pixels_sampled,
+            "coverage_samples", (json_int_t)rs.samples_evaluated, "stats", tile_encode_diff(&d));
+        if (row && ts && cp->tiles) {
+            json_t *tp = tile_put_image(ts, &img, NULL);
+            json_t *td = tile_put_difference(ts, &img, &slot[s].img, NULL);
+            json_object_set_new(row, "tiles",
+                                json_pack("{s:o*, s:o*}", "pattern", tp, "difference", td));
+        }
+        json_array_append_new(rows, row);
+        units += 1;
+        if (job_ctx_progress(ctx, units / steps, NULL))
+            rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
+    }
+    if (!rc) {
+        const aa_filter *f = cp->ref.params.filter;
+        *result = json_pack("{s:o, s:{s:I, s:I, s:s, s:o}, s:o}", "scene",
+                            tile_encode_scene(&cp->scene), "reference", "spp",
+                            (json_int_t)cp->ref.params.spp, "seed", (json_int_t)cp->ref.params.seed,
+                            "filter", f ? f->name : "mitchell", "renders", refs, "rows", rows);
+        refs = rows = NULL;
+        if (!*result)
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    json_decref(rows);
+    json_decref(refs);
+    for (int s = 0; s < 2; s++) {
+        aa_image_free(&slot[s].img);
+        json_decref(slot[s].tile);
+    }
+    aa_image_free(&img);
+    return rc;
+}
+
+const job_kind job_kind_compare = {"compare", compare_parse, compare_run, compare_free};

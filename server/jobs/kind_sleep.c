@@ -1,0 +1,114 @@
+/* Job kind "sleep": {"kind":"sleep","seconds":S,"fail":bool?,"pattern":P?} waits S seconds
+ * (0..3600) in 10 ms steps, reporting progress and a synthetic trace, and stops promptly when
+ * cancelled. Harmless; exercises the worker pool, persistence and cancellation end to end.
+ * With "fail":true it ends with an error instead of a result; with a pattern, that pattern
+ * (validated and re-encoded) is its best-so-far and result, so export and {"job": ID}
+ * references can be tested without the optimizer. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "codec.h"
+#include "job_kind.h"
+
+typedef struct sleep_params {
+    double seconds;
+    bool fail;
+    json_t *pattern; /* encoded, or NULL */
+} sleep_params;
+
+static int sleep_parse(const json_t *spec, void **params, aa_error *err)
+{
+    const char *key;
+    json_t *v;
+    json_object_foreach((json_t *)spec, key, v)
+    {
+        if (strcmp(key, "kind") && strcmp(key, "seconds") && strcmp(key, "fail") &&
+            strcmp(key, "pattern"))
+            return aa_error_set(err, AA_EINVAL, key, "unknown field");
+    }
+    v = json_object_get(spec, "seconds");
+    if (!v)
+        return aa_error_set(err, AA_EINVAL, "seconds", "seconds is required");
+    if (!json_is_number(v))
+        return aa_error_set(err, AA_EINVAL, "seconds", "must be a number");
+    double s = json_number_value(v);
+    if (!(s >= 0 && s <= 3600))
+        return aa_error_set(err, AA_ERANGE, "seconds", "must be in 0..3600");
+    v = json_object_get(spec, "fail");
+    if (v && !json_is_boolean(v))
+        return aa_error_set(err, AA_EINVAL, "fail", "must be true or false");
+    json_t *encoded = NULL;
+    const json_t *pj = json_object_get(spec, "pattern");
+    if (pj) {
+        aa_pattern pat;
+        int rc = proto_decode_pattern(pj, 0, &pat, "pattern", err);
+        if (rc)
+            return rc;
+        encoded = proto_encode_pattern(&pat);
+        aa_pattern_free(&pat);
+        if (!encoded)
+            return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    sleep_params *p = malloc(sizeof *p);
+    if (!p) {
+        json_decref(encoded);
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    p->seconds = s;
+    p->fail = v && json_is_true(v);
+    p->pattern = encoded;
+    *params = p;
+    return AA_OK;
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static int sleep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+{
+    const sleep_params *p = params;
+    double t0 = now_seconds();
+    long steps = 0;
+    for (;;) {
+        double t = now_seconds() - t0;
+        double frac = p->seconds > 0 ? fmin(1.0, t / p->seconds) : 1.0;
+        json_t *best = json_pack("{s:f}", "elapsed", t);
+        if (p->pattern)
+            json_object_set(best, "pattern", p->pattern);
+        bool stop = job_ctx_progress(ctx, frac, best);
+        json_decref(best);
+        job_trace_point pt = {t, steps, steps, 1.0 / (1.0 + (double)steps)};
+        job_ctx_trace(ctx, &pt);
+        if (stop)
+            return AA_ECANCELED;
+        if (t >= p->seconds)
+            break;
+        struct timespec d = {0, 10 * 1000 * 1000};
+        nanosleep(&d, NULL);
+        steps++;
+    }
+    if (p->fail)
+        return aa_error_set(err, AA_EINVAL, "fail", "failed on request");
+    *result =
+        json_pack("{s:f,s:I}", "slept_seconds", now_seconds() - t0, "steps", (json_int_t)steps);
+    if (p->pattern)
+        json_object_set(*result, "pattern", p->pattern);
+    return AA_OK;
+}
+
+static void sleep_free(void *params)
+{
+    sleep_params *p = params;
+    if (p)
+        json_decref(p->pattern);
+    free(p);
+}
+
+const job_kind job_kind_sleep = {"sleep", sleep_parse, sleep_run, sleep_free};

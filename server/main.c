@@ -1,0 +1,141 @@
+/* aalabd: the aalab daemon. Listens on a Unix socket (and optionally loopback TCP), serves the
+ * JSON API and runs jobs on a worker pool; SIGTERM/SIGINT stop it gracefully (running jobs are
+ * checkpointed as queued and re-run at the next start). Socket activation via LISTEN_FDS and
+ * readiness via sd_notify when run by systemd. */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <systemd/sd-daemon.h>
+
+#include "api_context.h"
+#include "config.h"
+#include "mhd_adapter.h"
+
+#define MAX_LISTENERS 8
+
+int main(int argc, char **argv)
+{
+    aalab_config cfg;
+    config_defaults(&cfg);
+    int prc = config_parse_args(&cfg, argc, argv, stdout, stderr);
+    if (prc)
+        return prc > 0 ? 0 : 2;
+
+    /* Block the stop signals before any thread exists, so that only sigwait() sees them. */
+    sigset_t stop;
+    sigemptyset(&stop);
+    sigaddset(&stop, SIGTERM);
+    sigaddset(&stop, SIGINT);
+    sigaddset(&stop, SIGHUP);
+    pthread_sigmask(SIG_BLOCK, &stop, NULL);
+    signal(SIGPIPE, SIG_IGN);
+
+    /* Claim the socket first: a second daemon must fail before it touches the job store. */
+    char msg[512];
+    int activated = sd_listen_fds(1);
+    int unix_fd = -1;
+    if (activated <= 0) {
+        unix_fd = http_unix_socket_open(cfg.socket_path, cfg.socket_group, msg, sizeof msg);
+        if (unix_fd < 0) {
+            fprintf(stderr, "aalabd: %s\n", msg);
+            return 1;
+        }
+    }
+    aa_error err = {0};
+    bool token_created = false;
+    api_context *ctx = api_context_create(&cfg, &token_created, &err);
+    if (!ctx) {
+        fprintf(stderr, "aalabd: %s\n", err.message);
+        if (unix_fd >= 0) {
+            close(unix_fd);
+            unlink(cfg.socket_path);
+        }
+        return 1;
+    }
+
+    http_listener *listeners[MAX_LISTENERS] = {0};
+    int nl = 0;
+    bool own_socket = false, have_tcp = false;
+    if (activated > 0) {
+        for (int i = 0; i < activated && nl < MAX_LISTENERS; i++) {
+            int fd = SD_LISTEN_FDS_START + i;
+            bool is_unix = sd_is_socket_unix(fd, SOCK_STREAM, 1, NULL, 0) > 0;
+            listeners[nl] = http_listener_start(ctx, &cfg, fd, is_unix, msg, sizeof msg);
+            if (!listeners[nl]) {
+                fprintf(stderr, "aalabd: %s\n", msg);
+                goto fail;
+            }
+            have_tcp |= !is_unix;
+            nl++;
+        }
+        printf("aalabd %s: socket-activated with %d listening socket(s)\n", AALAB_VERSION,
+               activated);
+    } else {
+        int fd = unix_fd;
+        own_socket = true;
+        listeners[nl] = http_listener_start(ctx, &cfg, fd, true, msg, sizeof msg);
+        if (!listeners[nl]) {
+            close(fd);
+            fprintf(stderr, "aalabd: %s\n", msg);
+            goto fail;
+        }
+        nl++;
+        printf("aalabd %s listening on unix:%s\n", AALAB_VERSION, cfg.socket_path);
+    }
+    if (cfg.tcp_port && !have_tcp) {
+        int fd = http_tcp_socket_open(cfg.tcp_host, cfg.tcp_port, msg, sizeof msg);
+        if (fd < 0 ||
+            !(listeners[nl] = http_listener_start(ctx, &cfg, fd, false, msg, sizeof msg))) {
+            if (fd >= 0)
+                close(fd);
+            fprintf(stderr, "aalabd: %s\n", msg);
+            goto fail;
+        }
+        nl++;
+        have_tcp = true;
+    }
+    if (have_tcp && cfg.tcp_port)
+        printf("dashboard: http://%s:%d/ (web dir %s)\n",
+               strchr(cfg.tcp_host, ':') ? "[::1]" : cfg.tcp_host, cfg.tcp_port, cfg.web_dir);
+    else
+        printf("dashboard: start with --tcp 127.0.0.1:8765 to serve it on "
+               "http://127.0.0.1:8765/\n");
+    printf("state: %s (%d workers)\n", cfg.state_dir, cfg.workers);
+    if (token_created)
+        printf("API token for TCP requests (shown once; stored in %s/token):\n%s\n", cfg.state_dir,
+               api_context_token(ctx));
+    fflush(stdout);
+    sd_notify(0, "READY=1\nSTATUS=serving");
+
+    int sig = 0;
+    sigwait(&stop, &sig);
+    printf("aalabd: signal %d, shutting down\n", sig);
+    fflush(stdout);
+    sd_notify(0, "STOPPING=1\nSTATUS=stopping");
+
+    for (int i = 0; i < nl; i++)
+        http_listener_quiesce(listeners[i]);
+    /* Checkpoint jobs first (running ones go back to queued), then drain HTTP. */
+    api_context_shutdown(ctx);
+    for (int i = 0; i < nl; i++)
+        http_listener_stop(listeners[i]);
+    if (own_socket)
+        unlink(cfg.socket_path);
+    api_context_destroy(ctx);
+    printf("aalabd: stopped\n");
+    return 0;
+
+fail:
+    for (int i = 0; i < nl; i++)
+        http_listener_stop(listeners[i]);
+    if (own_socket)
+        unlink(cfg.socket_path);
+    api_context_destroy(ctx);
+    return 1;
+}

@@ -1,0 +1,342 @@
+/* Bounded content-addressed LRU tile store, optionally mirrored on disk (tile_store.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "tile_store.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <pthread.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+typedef struct tile_entry {
+    char id[TILE_ID_LEN + 1];
+    size_t len;
+    void *data;                     /* NULL: on disk only (found at start-up, not read yet) */
+    struct tile_entry *prev, *next; /* LRU list: head = most recent */
+} tile_entry;
+
+struct tile_store {
+    pthread_mutex_t lock;
+    char *dir; /* state_dir/tiles, or NULL */
+    size_t max_bytes, bytes, count, evicted;
+    tile_entry *head, *tail;
+};
+
+bool tile_id_valid(const char *id)
+{
+    if (!id || strlen(id) != TILE_ID_LEN)
+        return false;
+    for (size_t i = 0; i < TILE_ID_LEN; i++)
+        if (!((id[i] >= '0' && id[i] <= '9') || (id[i] >= 'a' && id[i] <= 'f')))
+            return false;
+    return true;
+}
+
+/* Two independent 64-bit hashes of the content (FNV-1a and a multiply-xorshift mix). */
+static void content_id(const void *data, size_t len, char id[TILE_ID_LEN + 1])
+{
+    const unsigned char *p = data;
+    uint64_t a = 0xcbf29ce484222325ull, b = 0x9E3779B97F4A7C15ull ^ len;
+    for (size_t i = 0; i < len; i++) {
+        a = (a ^ p[i]) * 0x100000001b3ull;
+        b = (b ^ p[i]) * 0xff51afd7ed558ccdull;
+        b ^= b >> 29;
+    }
+    b ^= b >> 33;
+    b *= 0xc4ceb9fe1a85ec53ull;
+    b ^= b >> 33;
+    snprintf(id, TILE_ID_LEN + 1, "%016llx%016llx", (unsigned long long)a, (unsigned long long)b);
+}
+
+static void unlink_entry(tile_store *ts, tile_entry *e)
+{
+    if (e->prev)
+        e->prev->next = e->next;
+    else
+        ts->head = e->next;
+    if (e->next)
+        e->next->prev = e->prev;
+    else
+        ts->tail = e->prev;
+    e->prev = e->next = NULL;
+}
+
+static void push_front(tile_store *ts, tile_entry *e)
+{
+    e->prev = NULL;
+    e->next = ts->head;
+    if (ts->head)
+        ts->head->prev = e;
+    ts->head = e;
+    if (!ts->tail)
+        ts->tail = e;
+}
+
+static tile_entry *find(tile_store *ts, const char *id)
+{
+    for (tile_entry *e = ts->head; e; e = e->next)
+        if (strcmp(e->id, id) == 0)
+            return e;
+    return NULL;
+}
+
+static void file_path(const tile_store *ts, const char *id, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s/%s.png", ts->dir, id);
+}
+
+static void drop(tile_store *ts, tile_entry *e)
+{
+    unlink_entry(ts, e);
+    if (ts->dir) {
+        char path[4200];
+        file_path(ts, e->id, path, sizeof path);
+        unlink(path);
+    }
+    ts->bytes -= e->len;
+    ts->count--;
+    ts->evicted++;
+    free(e->data);
+    free(e);
+}
+
+static void evict_until(tile_store *ts, size_t room)
+{
+    while (ts->tail && ts->bytes + room > ts->max_bytes)
+        drop(ts, ts->tail);
+}
+
+/* Start-up: index the tiles already on disk, oldest last in the LRU order. */
+typedef struct found_file {
+    char id[TILE_ID_LEN + 1];
+    size_t len;
+    double mtime;
+} found_file;
+
+static int by_mtime_desc(const void *pa, const void *pb)
+{
+    const found_file *a = pa, *b = pb;
+    return (a->mtime < b->mtime) - (a->mtime > b->mtime);
+}
+
+static void index_disk(tile_store *ts)
+{
+    DIR *d = opendir(ts->dir);
+    if (!d)
+        return;
+    size_t n = 0, cap = 0;
+    found_file *files = NULL;
+    struct dirent *de;
+    while ((de = readdir(d))) {
+        size_t nl = strlen(de->d_name);
+        if (nl != TILE_ID_LEN + 4 || strcmp(de->d_name + TILE_ID_LEN, ".png") != 0)
+            continue;
+        found_file f;
+        memcpy(f.id, de->d_name, TILE_ID_LEN);
+        f.id[TILE_ID_LEN] = 0;
+        if (!tile_id_valid(f.id))
+            continue;
+        char path[4200];
+        struct stat st;
+        file_path(ts, f.id, path, sizeof path);
+        if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+            continue;
+        f.len = (size_t)st.st_size;
+        f.mtime = (double)st.st_mtim.tv_sec + st.st_mtim.tv_nsec * 1e-9;
+        if (n == cap) {
+            cap = cap ? 2 * cap : 64;
+            found_file *grown = realloc(files, cap * sizeof *files);
+            if (!grown)
+                break;
+            files = grown;
+        }
+        files[n++] = f;
+    }
+    closedir(d);
+    if (n > 1)
+        qsort(files, n, sizeof *files, by_mtime_desc);
+    for (size_t i = 0; i < n; i++) {
+        tile_entry *e = calloc(1, sizeof *e);
+        if (!e)
+            break;
+        memcpy(e->id, files[i].id, sizeof e->id);
+        e->len = files[i].len;
+        /* Most recent first: append at the tail. */
+        e->prev = ts->tail;
+        if (ts->tail)
+            ts->tail->next = e;
+        else
+            ts->head = e;
+        ts->tail = e;
+        ts->bytes += e->len;
+        ts->count++;
+    }
+    free(files);
+    evict_until(ts, 0);
+    ts->evicted = 0;
+}
+
+tile_store *tile_store_create(const char *state_dir, size_t max_bytes, aa_error *err)
+{
+    if (max_bytes < 1) {
+        aa_error_set(err, AA_EINVAL, "max_bytes", "the tile store needs a positive size");
+        return NULL;
+    }
+    tile_store *ts = calloc(1, sizeof *ts);
+    if (!ts) {
+        aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        return NULL;
+    }
+    pthread_mutex_init(&ts->lock, NULL);
+    ts->max_bytes = max_bytes;
+    if (state_dir) {
+        size_t n = strlen(state_dir) + sizeof "/tiles";
+        ts->dir = malloc(n);
+        if (!ts->dir) {
+            tile_store_destroy(ts);
+            aa_error_set(err, AA_ENOMEM, "", "out of memory");
+            return NULL;
+        }
+        snprintf(ts->dir, n, "%s/tiles", state_dir);
+        if (mkdir(ts->dir, 0750) != 0 && errno != EEXIST) {
+            aa_error_set(err, AA_EINVAL, "state_dir", "cannot create %s: %s", ts->dir,
+                         strerror(errno));
+            tile_store_destroy(ts);
+            return NULL;
+        }
+        index_disk(ts);
+    }
+    return ts;
+}
+
+void tile_store_destroy(tile_store *ts)
+{
+    if (!ts)
+        return;
+    tile_entry *e = ts->head;
+    while (e) {
+        tile_entry *next = e->next;
+        free(e->data);
+        free(e);
+        e = next;
+    }
+    pthread_mutex_destroy(&ts->lock);
+    free(ts->dir);
+    free(ts);
+}
+
+static void write_file(const tile_store *ts, const char *id, const void *data, size_t len)
+{
+    char path[4200], tmp[4300];
+    file_path(ts, id, path, sizeof path);
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "wb");
+    if (!f)
+        return;
+    bool ok = fwrite(data, 1, len, f) == len;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok || rename(tmp, path) != 0)
+        unlink(tmp);
+}
+
+int tile_store_put(tile_store *ts, const void *data, size_t len, char id[TILE_ID_LEN + 1],
+                   aa_error *err)
+{
+    content_id(data, len, id);
+    if (len > ts->max_bytes)
+        return aa_error_set(err, AA_ERANGE, "", "tile of %zu bytes exceeds the store (%zu)", len,
+                            ts->max_bytes);
+    void *copy = malloc(len ? len : 1);
+    tile_entry *e = calloc(1, sizeof *e);
+    if (!copy || !e) {
+        free(copy);
+        free(e);
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    memcpy(copy, data, len);
+    pthread_mutex_lock(&ts->lock);
+    tile_entry *old = find(ts, id);
+    if (old) {
+        unlink_entry(ts, old);
+        push_front(ts, old);
+        if (!old->data) {
+            old->data = copy;
+            copy = NULL;
+        }
+        pthread_mutex_unlock(&ts->lock);
+        free(copy);
+        free(e);
+        return AA_OK;
+    }
+    evict_until(ts, len);
+    memcpy(e->id, id, TILE_ID_LEN + 1);
+    e->len = len;
+    e->data = copy;
+    push_front(ts, e);
+    ts->bytes += len;
+    ts->count++;
+    if (ts->dir)
+        write_file(ts, id, data, len); /* under the lock: eviction never races the write */
+    pthread_mutex_unlock(&ts->lock);
+    return AA_OK;
+}
+
+static void *read_file(const tile_store *ts, const char *id, size_t len)
+{
+    char path[4200];
+    file_path(ts, id, path, sizeof path);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    void *buf = malloc(len ? len : 1);
+    if (buf && fread(buf, 1, len, f) != len) {
+        free(buf);
+        buf = NULL;
+    }
+    fclose(f);
+    return buf;
+}
+
+int tile_store_get(tile_store *ts, const char *id, void **data, size_t *len)
+{
+    *data = NULL;
+    *len = 0;
+    if (!tile_id_valid(id))
+        return AA_EINVAL;
+    pthread_mutex_lock(&ts->lock);
+    tile_entry *e = find(ts, id);
+    if (e && !e->data && ts->dir) {
+        e->data = read_file(ts, id, e->len);
+        if (!e->data) {
+            drop(ts, e);
+            e = NULL;
+        }
+    }
+    int rc = TILE_ENOENT;
+    if (e) {
+        unlink_entry(ts, e);
+        push_front(ts, e);
+        *data = malloc(e->len ? e->len : 1);
+        if (*data) {
+            memcpy(*data, e->data, e->len);
+            *len = e->len;
+            rc = AA_OK;
+        } else {
+            rc = AA_ENOMEM;
+        }
+    }
+    pthread_mutex_unlock(&ts->lock);
+    return rc;
+}
+
+tile_store_usage tile_store_usage_get(tile_store *ts)
+{
+    pthread_mutex_lock(&ts->lock);
+    tile_store_usage u = {ts->count, ts->bytes, ts->max_bytes, ts->evicted};
+    pthread_mutex_unlock(&ts->lock);
+    return u;
+}

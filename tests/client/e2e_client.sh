@@ -1,0 +1,217 @@
+#!/bin/bash
+# End-to-end: the real `aalab` against a real `aalabd` on a temporary socket and state dir.
+# Every command, its table and --json output, the documented exit codes (0, 1, 2, 4, 5), a
+# cancel, and a restart that must keep finished results.
+#   e2e_client.sh AALAB AALABD SOURCE_DIR
+set -u
+aalab=$1 aalabd=$2 src=$3
+
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/aalab-e2e.XXXXXX")
+sock=$tmp/aalabd.sock
+state=$tmp/state
+daemon_pid=""
+failures=0
+checks=0
+
+cleanup() {
+  if [ -n "$daemon_pid" ] && kill -0 "$daemon_pid" 2>/dev/null; then
+    kill -TERM "$daemon_pid" 2>/dev/null
+    wait "$daemon_pid" 2>/dev/null
+  fi
+  if [ $failures -ne 0 ] && [ -f "$tmp/daemon.log" ]; then
+    echo "--- daemon log (last 40 lines)"
+    tail -40 "$tmp/daemon.log"
+  fi
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+
+A() { "$aalab" --socket "$sock" "$@"; }
+
+ok() { checks=$((checks + 1)); echo "ok   $*"; }
+bad() { checks=$((checks + 1)); failures=$((failures + 1)); echo "FAIL $*"; }
+
+# expect CODE DESCRIPTION -- COMMAND...: runs it, keeps stdout in $out and stderr in $err.
+expect() {
+  local want=$1 what=$2
+  shift 3
+  "$@" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  out=$(cat "$tmp/out")
+  err=$(cat "$tmp/err")
+  if [ "$rc" -eq "$want" ]; then ok "$what (exit $rc)"; else
+    bad "$what: exit $rc, wanted $want"
+    echo "  stdout: ${out:0:600}"
+    echo "  stderr: ${err:0:600}"
+  fi
+}
+
+# has TEXT DESCRIPTION: $out contains TEXT
+has() { if grep -qF -- "$1" <<<"$out"; then ok "$2"; else bad "$2: output lacks '$1'"; echo "${out:0:800}"; fi; }
+# near VALUE EXPECTED TOL DESCRIPTION
+near() {
+  if awk -v v="$1" -v e="$2" -v t="$3" 'BEGIN { d = v - e; if (d < 0) d = -d; exit !(v != "" && d <= t) }'; then
+    ok "$4 = $1"; else bad "$4 = '$1', expected $2 +- $3"; fi
+}
+
+start_daemon() {
+  "$aalabd" --socket "$sock" --state-dir "$state" --workers 2 >>"$tmp/daemon.log" 2>&1 &
+  daemon_pid=$!
+  for _ in $(seq 1 100); do
+    A health >/dev/null 2>&1 && return 0
+    kill -0 "$daemon_pid" 2>/dev/null || break
+    sleep 0.1
+  done
+  bad "daemon did not come up"
+  exit 1
+}
+
+stop_daemon() {
+  kill -TERM "$daemon_pid"
+  wait "$daemon_pid"
+  local rc=$?
+  daemon_pid=""
+  if [ $rc -eq 0 ]; then ok "SIGTERM: daemon exits 0"; else bad "SIGTERM: daemon exited $rc"; fi
+}
+
+mkdir -p "$state"
+
+# --- no daemon yet: usage and connection errors -----------------------------------------------
+expect 1 "unknown command is a usage error" -- A frobnicate
+expect 1 "missing job id is a usage error" -- A job
+expect 4 "no daemon: cannot connect" -- A health
+out=$err
+has "cannot reach" "connect error says so"
+has "$sock" "connect error names the socket"
+
+start_daemon
+
+# --- health, presets ----------------------------------------------------------------------------
+expect 0 "health" -- A health
+has "version" "health table shows the version"
+expect 0 "health --json" -- A --json health
+jq -e '.version | type == "string"' <<<"$out" >/dev/null && ok "health JSON has version" || bad "health JSON: $out"
+
+expect 0 "presets" -- A presets
+for p in quincunx rgss flipquad fliptri; do has "$p" "presets lists $p"; done
+expect 0 "presets --json" -- A presets --json
+n=$(jq '(.presets // .) | length' <<<"$out")
+[ "${n:-0}" -ge 5 ] && ok "presets JSON lists $n presets" || bad "presets JSON: '$n'"
+expect 0 "presets NAME" -- A presets flipquad
+has "P(4,1+,2)" "flipquad is P(4,1+,2)"
+expect 2 "unknown preset is a 4xx" -- A presets no-such-pattern
+
+# --- eval: presets against Laine & Aila Table 2 (checked numbers from the brief) -----------------
+for pe in "quincunx 0.518" "rgss 0.439" "flipquad 0.364" "fliptri 0.636"; do
+  set -- $pe
+  expect 0 "eval $1" -- A --json eval "$1"
+  near "$(jq -r .e2 <<<"$out")" "$2" 0.0015 "E2($1)"
+done
+expect 0 "eval table" -- A eval quincunx
+has "E2" "eval table has E2"
+has "argmax angle_deg" "eval table has the argmax angle"
+expect 0 "eval --detail" -- A eval rgss --detail
+has "angle_deg  weight" "detail table header"
+expect 0 "eval --detail --json" -- A --json eval rgss --detail --angles 0,10,20
+jq -e '.detail[0].angles | length == 3' <<<"$out" >/dev/null && ok "three angles asked, three returned" || bad "detail: ${out:0:300}"
+
+# a pattern file: the 2x2 ordered grid as explicit kernel, E2 0.698
+cat >"$tmp/grid.json" <<'JSON'
+{"kernels":[[[-0.25,-0.25,0.25],[0.25,-0.25,0.25],[-0.25,0.25,0.25],[0.25,0.25,0.25]]]}
+JSON
+expect 0 "eval FILE.json" -- A --json eval "$tmp/grid.json"
+near "$(jq -r .e2 <<<"$out")" 0.698 0.0015 "E2(2x2 grid file)"
+# a saved request file with options, overridden from the command line
+jq '{pattern: ., acuity: {name: "uniform"}}' "$tmp/grid.json" >"$tmp/request.json"
+expect 0 "eval request file" -- A --json eval "$tmp/request.json"
+uniform=$(jq -r .e2 <<<"$out")
+expect 0 "eval request file, --acuity overrides" -- A --json eval "$tmp/request.json" --acuity naiman
+near "$(jq -r .e2 <<<"$out")" 0.698 0.0015 "E2 with naiman from the command line"
+awk -v u="$uniform" 'BEGIN { exit !(u >= 0.698) }' && ok "uniform acuity weighs no angle down (E2 $uniform >= 0.698)" ||
+  bad "uniform acuity E2 $uniform < naiman's 0.698"
+
+# local validation: nothing sent, exit 1, the field path named
+echo '{"kernels":[[[0,0,0.5],[0.25,0.25,"x"]]]}' >"$tmp/bad.json"
+expect 1 "invalid pattern file is rejected locally" -- A eval "$tmp/bad.json"
+out=$err; has "kernels[0][1][2]" "local error names the field"
+echo '{"kernels":[[[0,0,1]]],"kernels":[[[0,0,1]]]}' >"$tmp/dup.json"
+expect 1 "duplicate keys rejected locally" -- A eval "$tmp/dup.json"
+expect 1 "missing file" -- A eval "$tmp/missing.json"
+# server-side 4xx
+expect 2 "unknown preset name: the server says 4xx" -- A eval no-such-pattern
+out=$err; has "400" "4xx status shown"
+expect 2 "bad filter: 4xx" -- A --json eval rgss --filter no-such-filter
+jq -e '.error.field | test("filter")' <<<"$out" >/dev/null && ok "--json error names field filter" || bad "error JSON: ${out:0:300}"
+
+# --- optimize --wait, jobs, job, export -------------------------------------------------------
+expect 0 "optimize --wait" -- A --json optimize --family 'P(4,1+,2)' --seeds 4 --max-seconds 2 --rng-seed 7 --wait
+jq -e '.state == "done"' <<<"$out" >/dev/null && ok "job done" || bad "job after --wait: ${out:0:400}"
+id=$(jq -r .id <<<"$out")
+expect 0 "jobs" -- A jobs
+has "optimize" "jobs table lists the optimize job"
+expect 0 "jobs --json" -- A jobs --json
+jq -e --arg id "$id" '(.jobs // .) | map(select((.id | tostring) == $id)) | length == 1' <<<"$out" >/dev/null &&
+  ok "jobs JSON has job $id" || bad "jobs JSON: ${out:0:400}"
+expect 0 "job ID" -- A job "$id"
+has "done" "job table shows done"
+expect 0 "job ID --json" -- A --json job "$id"
+job_before=$(jq -c 'del(.progress_updated_at)' <<<"$out")
+
+expect 0 "export json" -- A export "$id" --format json -o "$tmp/best.json"
+expect 0 "eval the exported pattern" -- A --json eval "$tmp/best.json"
+exported_e2=$(jq -r .e2 <<<"$out")
+best_e2=$(jq -r '.result.e2 // .best.e2 // .best_so_far.e2 // .best_e2' <<<"$job_before")
+near "$exported_e2" "$best_e2" 1e-9 "E2 of the exported pattern equals the job's best"
+awk -v e="$exported_e2" 'BEGIN { exit !(e < 0.364 + 1e-6) }' && ok "optimized P(4,1+,2) is at least as good as FLIPQUAD ($exported_e2)" ||
+  bad "optimized P(4,1+,2) E2 $exported_e2 worse than FLIPQUAD's 0.364"
+expect 0 "export utk" -- A export "$id" --format utk
+[ -n "$out" ] && ok "utk export is not empty" || bad "utk export empty"
+for f in vulkan d3d12; do
+  expect 0 "export $f" -- A export "$id" --format "$f"
+done
+expect 2 "export of an unknown job" -- A export 999999 --format json
+expect 2 "job of an unknown id" -- A job 999999
+
+# --- cancel: a waiting client sees the job end cancelled, exit 5 ----------------------------------
+A --json optimize --family 'P(4,1+,2)' --seeds 5000 --max-seconds 120 --rng-seed 1 --wait --poll 0.05 \
+  >"$tmp/wait.out" 2>"$tmp/wait.err" &
+waiter=$!
+long=""
+for _ in $(seq 1 100); do
+  long=$(A --json jobs 2>/dev/null | jq -r '(.jobs // .) | map(select(.state == "running" or .state == "queued")) | .[0].id // empty')
+  [ -n "$long" ] && break
+  sleep 0.1
+done
+if [ -z "$long" ]; then bad "the long job never appeared"; else
+  expect 0 "cancel ID" -- A cancel "$long"
+  wait "$waiter"
+  rc=$?
+  [ $rc -eq 5 ] && ok "optimize --wait on a cancelled job exits 5" || bad "--wait exit $rc, wanted 5: $(cat "$tmp/wait.err")"
+  expect 0 "job ID after cancel" -- A --json job "$long"
+  jq -e '.state == "cancelled"' <<<"$out" >/dev/null && ok "state cancelled" || bad "after cancel: ${out:0:300}"
+  expect 2 "cancelling a cancelled job is a 4xx" -- A cancel "$long"
+fi
+expect 2 "cancelling a finished job is a 4xx" -- A cancel "$id"
+expect 0 "optimize without --wait prints the id" -- A optimize --family 'P(1,1,2)' --seeds 2 --max-seconds 1
+has "job " "job id line"
+
+# --- render -----------------------------------------------------------------------------------
+expect 0 "render -o tile.png" -- A render --pattern quincunx --scene siemens-star --size 64x64 -o "$tmp/tile.png"
+[ "$(head -c 8 "$tmp/tile.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] &&
+  ok "tile.png is a PNG" || bad "tile.png is not a PNG"
+expect 0 "render the difference image" -- A render --pattern "$tmp/grid.json" --size 32x32 --image difference -o "$tmp/diff.png"
+expect 2 "render an unknown scene" -- A render --pattern quincunx --scene no-such-scene -o "$tmp/x.png"
+
+# --- restart: finished results survive ----------------------------------------------------------
+stop_daemon
+start_daemon
+expect 0 "job ID after restart" -- A --json job "$id"
+job_after=$(jq -c 'del(.progress_updated_at)' <<<"$out")
+[ "$(jq -c '.result // .best' <<<"$job_after")" = "$(jq -c '.result // .best' <<<"$job_before")" ] &&
+  ok "finished result identical after restart" || bad "result changed across restart"
+expect 0 "export after restart" -- A export "$id" --format json -o "$tmp/best2.json"
+cmp -s "$tmp/best.json" "$tmp/best2.json" && ok "export identical after restart" || bad "export differs after restart"
+stop_daemon
+
+echo "$checks checks, $failures failed"
+[ $failures -eq 0 ]

@@ -1,0 +1,242 @@
+/* cli_parse: commands, options in any position, per-command option checks, number parsing. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "args.h"
+
+static int parse(cli_args *a, char *err, size_t cap, ...)
+{
+    char *argv[32] = {"aalab"};
+    int argc = 1;
+    va_list ap;
+    va_start(ap, cap);
+    for (char *s; (s = va_arg(ap, char *)) != NULL && argc < 31;)
+        argv[argc++] = s;
+    va_end(ap);
+    return cli_parse(argc, argv, a, err, cap);
+}
+
+#define PARSE(a, ...) parse(a, err, sizeof err, __VA_ARGS__, (char *)NULL)
+
+static void eval_with_options(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "eval", "quincunx", "--filter", "mitchell:B=0.3,C=0.35",
+                           "--acuity=uniform", "--detail", "--json"),
+                     0);
+    assert_int_equal(a.command, CMD_EVAL);
+    assert_string_equal(a.target, "quincunx");
+    assert_string_equal(a.filter, "mitchell:B=0.3,C=0.35");
+    assert_string_equal(a.acuity, "uniform");
+    assert_true(a.detail);
+    assert_true(a.json);
+    assert_null(a.socket_path);
+    assert_true(a.timeout_s == 30);
+}
+
+static void global_options_before_command(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(
+        PARSE(&a, "--socket", "/tmp/x.sock", "--timeout", "2.5", "-s/tmp/y.sock", "health"), 0);
+    assert_int_equal(a.command, CMD_HEALTH);
+    assert_string_equal(a.socket_path, "/tmp/y.sock"); /* the last one wins */
+    assert_true(a.timeout_s == 2.5);
+}
+
+static void optimize_family_and_numbers(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "optimize", "--family", "P(4,1+,2)", "--seeds", "64",
+                           "--max-seconds", "1.5", "--rng-seed", "7", "--mode", "both", "-w"),
+                     0);
+    assert_int_equal(a.command, CMD_OPTIMIZE);
+    assert_string_equal(a.family, "P(4,1+,2)");
+    assert_true(a.has_seeds && a.seeds == 64);
+    assert_true(a.has_max_seconds && a.max_seconds == 1.5);
+    assert_true(a.has_rng_seed && a.rng_seed == 7);
+    assert_string_equal(a.mode, "both");
+    assert_true(a.wait);
+}
+
+static void optimize_needs_exactly_one_source(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "optimize"), -1);
+    assert_non_null(strstr(err, "exactly one of --family or --pattern"));
+    assert_int_equal(PARSE(&a, "optimize", "--family", "P(4,1+,2)", "--pattern", "x.json"), -1);
+    assert_non_null(strstr(err, "exactly one"));
+}
+
+static void bad_numbers_are_usage_errors(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--seeds", "0"), -1);
+    assert_non_null(strstr(err, "--seeds"));
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--seeds", "12x"), -1);
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--max-seconds", "nan"), -1);
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--max-seconds", "-1"), -1);
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--rng-seed", "-3"), -1);
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--mode", "all"), -1);
+    assert_non_null(strstr(err, "--mode"));
+    assert_int_equal(PARSE(&a, "health", "--timeout", "0"), -1);
+}
+
+static void option_of_another_command_is_rejected(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "jobs", "--detail"), -1);
+    assert_non_null(strstr(err, "'--detail' does not apply to 'jobs'"));
+    /* also when the option comes before the command */
+    assert_int_equal(PARSE(&a, "--seeds", "3", "eval", "rgss"), -1);
+    assert_non_null(strstr(err, "does not apply to 'eval'"));
+}
+
+static void unknown_things(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "frobnicate"), -1);
+    assert_non_null(strstr(err, "unknown command 'frobnicate'"));
+    assert_int_equal(PARSE(&a, "health", "--colour"), -1);
+    assert_non_null(strstr(err, "unknown option '--colour'"));
+    assert_int_equal(PARSE(&a, "health", "-x"), -1);
+    assert_int_equal(PARSE(&a, "--json"), -1); /* no command */
+    assert_non_null(strstr(err, "no command"));
+    assert_int_equal(PARSE(&a, "eval", "--filter"), -1);
+    assert_non_null(strstr(err, "needs a value"));
+    assert_int_equal(PARSE(&a, "health", "--json=yes"), -1);
+    assert_non_null(strstr(err, "takes no value"));
+}
+
+static void job_ids(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "job", "42"), 0);
+    assert_int_equal(a.command, CMD_JOB);
+    assert_string_equal(a.target, "42");
+    assert_int_equal(PARSE(&a, "cancel", "7"), 0);
+    assert_int_equal(a.command, CMD_CANCEL);
+    assert_int_equal(PARSE(&a, "job"), -1);
+    assert_int_equal(PARSE(&a, "job", "j-7f3a_B"), 0); /* ids are opaque strings */
+    assert_int_equal(PARSE(&a, "job", "../3"), -1);
+    assert_non_null(strstr(err, "wants a job ID"));
+    assert_int_equal(PARSE(&a, "cancel", "a/b"), -1);
+    assert_int_equal(PARSE(&a, "cancel", "3?x=1"), -1);
+    assert_int_equal(PARSE(&a, "job", ""), -1);
+    assert_int_equal(
+        PARSE(&a, "job", "x123456789x123456789x123456789x123456789x123456789x123456789x1234"), -1);
+    assert_int_equal(PARSE(&a, "job", "1", "2"), -1);
+    assert_non_null(strstr(err, "unexpected argument '2'"));
+    assert_int_equal(PARSE(&a, "jobs", "3"), -1);
+}
+
+static void export_formats(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "export", "5"), 0);
+    assert_string_equal(a.format, "json"); /* default */
+    assert_int_equal(PARSE(&a, "export", "5", "--format", "d3d12", "-o", "out.txt"), 0);
+    assert_string_equal(a.format, "d3d12");
+    assert_string_equal(a.output, "out.txt");
+    assert_int_equal(PARSE(&a, "export", "5", "-fvulkan"), 0);
+    assert_string_equal(a.format, "vulkan");
+    assert_int_equal(PARSE(&a, "export", "5", "--format", "png"), -1);
+}
+
+static void render_size_and_output(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "render", "--pattern", "quincunx", "--scene", "siemens-star",
+                           "--size", "256x128", "-o", "tile.png"),
+                     0);
+    assert_int_equal(a.width, 256);
+    assert_int_equal(a.height, 128);
+    assert_string_equal(a.output, "tile.png");
+    assert_string_equal(a.image, "pattern");
+    assert_int_equal(PARSE(&a, "render", "--pattern", "q"), -1); /* neither -o nor --json */
+    assert_int_equal(PARSE(&a, "render", "--pattern", "q", "--json"), 0);
+    assert_int_equal(PARSE(&a, "render", "--pattern", "q", "-o", "t", "--size", "0x5"), -1);
+    assert_int_equal(PARSE(&a, "render", "--pattern", "q", "-o", "t", "--size", "256"), -1);
+    assert_int_equal(PARSE(&a, "render", "--pattern", "q", "-o", "t", "--size", "x256"), -1);
+    assert_int_equal(PARSE(&a, "render", "--pattern", "q", "-o", "t", "--size", "9x99999"), -1);
+    assert_int_equal(PARSE(&a, "render", "--pattern", "q", "-o", "t", "--image", "diff"), -1);
+}
+
+static void help_forms(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "--help"), 0);
+    assert_int_equal(a.command, CMD_HELP);
+    assert_null(a.target);
+    assert_int_equal(PARSE(&a, "optimize", "-h"), 0); /* help wins over missing options */
+    assert_int_equal(a.command, CMD_HELP);
+    assert_string_equal(a.target, "optimize");
+    assert_int_equal(PARSE(&a, "help", "render"), 0);
+    assert_string_equal(a.target, "render");
+    assert_int_equal(PARSE(&a, "help", "nope"), -1);
+}
+
+static void double_dash_ends_options(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "eval", "--", "-odd-name.json"), 0);
+    assert_string_equal(a.target, "-odd-name.json");
+}
+
+static void number_helpers(void **state)
+{
+    long l;
+    double d;
+    int w, h;
+    assert_int_equal(parse_long("12", 0, 100, &l), 0);
+    assert_int_equal(l, 12);
+    assert_int_equal(parse_long("", 0, 100, &l), -1);
+    assert_int_equal(parse_long("101", 0, 100, &l), -1);
+    assert_int_equal(parse_long("99999999999999999999999", 0, 100, &l), -1);
+    assert_int_equal(parse_double("1e3", 0, 1e4, &d), 0);
+    assert_true(d == 1000);
+    assert_int_equal(parse_double("inf", 0, 1e308, &d), -1);
+    assert_int_equal(parse_double("1e999", 0, 1e308, &d), -1);
+    assert_int_equal(parse_size("16x9", &w, &h), 0);
+    assert_int_equal(w, 16);
+    assert_int_equal(h, 9);
+    assert_int_equal(parse_size("16x", &w, &h), -1);
+    assert_int_equal(parse_size("-4x4", &w, &h), -1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(eval_with_options),
+        cmocka_unit_test(global_options_before_command),
+        cmocka_unit_test(optimize_family_and_numbers),
+        cmocka_unit_test(optimize_needs_exactly_one_source),
+        cmocka_unit_test(bad_numbers_are_usage_errors),
+        cmocka_unit_test(option_of_another_command_is_rejected),
+        cmocka_unit_test(unknown_things),
+        cmocka_unit_test(job_ids),
+        cmocka_unit_test(export_formats),
+        cmocka_unit_test(render_size_and_output),
+        cmocka_unit_test(help_forms),
+        cmocka_unit_test(double_dash_ends_options),
+        cmocka_unit_test(number_helpers),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

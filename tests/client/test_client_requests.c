@@ -1,0 +1,263 @@
+/* Request bodies built from the command line: the wire format of issue 4, exactly. */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+#include <jansson.h>
+
+#include "args.h"
+#include "commands/commands.h"
+#include "pattern_source.h"
+
+static char *write_temp(const char *text)
+{
+    const char *dir = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
+    char *path = malloc(strlen(dir) + 32);
+    sprintf(path, "%s/aalab-test-XXXXXX", dir);
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    assert_int_equal(write(fd, text, strlen(text)), (ssize_t)strlen(text));
+    close(fd);
+    return path;
+}
+
+static void assert_json(const json_t *got, const char *expected)
+{
+    json_t *want = json_loads(expected, 0, NULL);
+    assert_non_null(want);
+    if (!json_equal(got, want)) {
+        char *g = json_dumps(got, JSON_SORT_KEYS);
+        print_error("got      %s\nexpected %s\n", g, expected);
+        free(g);
+        fail();
+    }
+    json_decref(want);
+}
+
+static void eval_preset_name(void **state)
+{
+    cli_args a = {.command = CMD_EVAL, .target = "quincunx"};
+    json_t *req;
+    char err[256];
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"preset\":\"quincunx\"}}");
+    json_decref(req);
+}
+
+static void eval_options(void **state)
+{
+    cli_args a = {.command = CMD_EVAL,
+                  .target = "rgss",
+                  .filter = "mitchell:B=0.5,C=0.25",
+                  .acuity = "uniform",
+                  .angles = "0,22.5,45",
+                  .detail = true};
+    json_t *req;
+    char err[256];
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"preset\":\"rgss\"},"
+                     "\"filter\":{\"name\":\"mitchell\",\"B\":0.5,\"C\":0.25},"
+                     "\"acuity\":{\"name\":\"uniform\"},\"angles\":[0.0,22.5,45.0],"
+                     "\"detail\":true}");
+    json_decref(req);
+}
+
+static void eval_json_literals(void **state)
+{
+    cli_args a = {.command = CMD_EVAL,
+                  .target = "rgss",
+                  .filter = "{\"name\":\"box\"}",
+                  .acuity = "{\"knots\":[[0,1],[45,0.5]]}"};
+    json_t *req;
+    char err[256];
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"preset\":\"rgss\"},\"filter\":{\"name\":\"box\"},"
+                     "\"acuity\":{\"knots\":[[0,1],[45,0.5]]}}");
+    json_decref(req);
+}
+
+static void eval_pattern_file(void **state)
+{
+    char *path = write_temp("{\"mirrored\":[[0,0,0.5],[0.5,0.5,0.5]]}");
+    cli_args a = {.command = CMD_EVAL, .target = path};
+    json_t *req;
+    char err[256];
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"mirrored\":[[0,0,0.5],[0.5,0.5,0.5]]}}");
+    json_decref(req);
+    unlink(path);
+    free(path);
+}
+
+static void eval_request_file_with_override(void **state)
+{
+    char *path = write_temp("{\"pattern\":{\"kernels\":[[[0,0,1]]]},\"detail\":false,"
+                            "\"acuity\":{\"name\":\"naiman\"}}");
+    cli_args a = {.command = CMD_EVAL, .target = path, .acuity = "uniform", .detail = true};
+    json_t *req;
+    char err[256];
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"kernels\":[[[0,0,1]]]},\"detail\":true,"
+                     "\"acuity\":{\"name\":\"uniform\"}}");
+    json_decref(req);
+    unlink(path);
+    free(path);
+}
+
+static void bad_files_are_local_errors(void **state)
+{
+    static const char *const CASES[][2] = {
+        {"{\"kernels\":[[[0,0,1]]],\"kernels\":[]}", "duplicate"},
+        {"[1,2]", "JSON object"},
+        {"{\"kernels\":[[[0,0,1]]]", ""},
+        {"{\"pattern\":[1]}", "pattern"},
+        {"{}", "pattern"},
+    };
+    for (size_t i = 0; i < sizeof CASES / sizeof CASES[0]; i++) {
+        char *path = write_temp(CASES[i][0]);
+        cli_args a = {.command = CMD_EVAL, .target = path};
+        json_t *req = (json_t *)1;
+        char err[400] = "";
+        assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
+        assert_null(req);
+        assert_non_null(strstr(err, path)); /* the message names the file */
+        if (!strstr(err, CASES[i][1]))
+            fail_msg("case %zu: '%s' lacks '%s'", i, err, CASES[i][1]);
+        unlink(path);
+        free(path);
+    }
+    cli_args a = {.command = CMD_EVAL, .target = "/nonexistent/p.json"};
+    json_t *req;
+    char err[400];
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
+    assert_non_null(strstr(err, "/nonexistent/p.json"));
+}
+
+/* With the shared codec the local check names the same JSON path the daemon would. */
+static void codec_names_the_field(void **state)
+{
+    char *path = write_temp("{\"kernels\":[[[0,0,0.5],[0.25,0.25,\"x\"]]]}");
+    cli_args a = {.command = CMD_EVAL, .target = path};
+    json_t *req;
+    char err[400] = "";
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
+    if (!strstr(err, "pattern.kernels[0][1][2]"))
+        fail_msg("'%s' lacks the field path", err);
+    unlink(path);
+    free(path);
+    /* an encoded pattern (informational keys included) is accepted */
+    path = write_temp("{\"family\":\"P(1,1,1)\",\"cost_spp\":1,\"form\":\"kernels\","
+                      "\"kernels\":[[[0,0,1]]]}");
+    a.target = path;
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    json_decref(req);
+    unlink(path);
+    free(path);
+}
+
+static void filter_arguments(void **state)
+{
+    json_t *f;
+    char err[256];
+    assert_int_equal(filter_argument("gauss", &f, err, sizeof err), 0);
+    assert_json(f, "{\"name\":\"gauss\"}");
+    json_decref(f);
+    assert_int_equal(filter_argument("mitchell:B", &f, err, sizeof err), -1);
+    assert_non_null(strstr(err, "KEY=NUMBER"));
+    assert_int_equal(filter_argument("mitchell:B=x", &f, err, sizeof err), -1);
+    assert_int_equal(filter_argument(":B=1", &f, err, sizeof err), -1);
+    assert_int_equal(filter_argument("{\"name\":1", &f, err, sizeof err), -1);
+    assert_non_null(strstr(err, "invalid JSON"));
+    assert_int_equal(filter_argument("{\"a\":1,\"a\":2}", &f, err, sizeof err), -1);
+}
+
+static void angle_arguments(void **state)
+{
+    json_t *v;
+    char err[256];
+    assert_int_equal(angles_argument("10", &v, err, sizeof err), 0);
+    assert_json(v, "[10.0]");
+    json_decref(v);
+    assert_int_equal(angles_argument("10,,20", &v, err, sizeof err), -1);
+    assert_int_equal(angles_argument("10,", &v, err, sizeof err), -1);
+    assert_int_equal(angles_argument("ten", &v, err, sizeof err), -1);
+}
+
+static void optimize_bodies(void **state)
+{
+    cli_args a = {.command = CMD_OPTIMIZE,
+                  .family = "P(4,1+,2)",
+                  .seeds = 16,
+                  .has_seeds = true,
+                  .max_seconds = 2.5,
+                  .has_max_seconds = true,
+                  .rng_seed = 42,
+                  .has_rng_seed = true,
+                  .mode = "weights"};
+    json_t *req;
+    char err[256];
+    assert_int_equal(optimize_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"kind\":\"optimize\",\"family\":\"P(4,1+,2)\",\"seeds\":16,"
+                     "\"max_seconds\":2.5,\"rng_seed\":42,\"mode\":\"weights\"}");
+    json_decref(req);
+    cli_args b = {.command = CMD_OPTIMIZE, .pattern = "flipquad"};
+    assert_int_equal(optimize_request(&b, &req, err, sizeof err), 0);
+    assert_json(req, "{\"kind\":\"optimize\",\"pattern\":{\"preset\":\"flipquad\"}}");
+    json_decref(req);
+}
+
+static void render_bodies(void **state)
+{
+    cli_args a = {.command = CMD_RENDER, .pattern = "quincunx", .width = 256, .height = 128};
+    json_t *req;
+    char err[256];
+    assert_int_equal(render_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"preset\":\"quincunx\"},\"scene\":{\"name\":"
+                     "\"siemens-star\",\"width\":256,\"height\":128}}");
+    json_decref(req);
+    cli_args j = {.command = CMD_RENDER, .pattern = "job:17"};
+    assert_int_equal(render_request(&j, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"job\":\"17\"},\"scene\":{\"name\":\"siemens-star\"}}");
+    json_decref(req);
+    j.pattern = "job:../x";
+    assert_int_equal(render_request(&j, &req, err, sizeof err), -1);
+    cli_args b = {.command = CMD_RENDER, .pattern = "rgss", .scene = "circles"};
+    assert_int_equal(render_request(&b, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"preset\":\"rgss\"},\"scene\":{\"name\":\"circles\"}}");
+    json_decref(req);
+}
+
+static void file_or_preset(void **state)
+{
+    assert_false(pattern_argument_is_file("quincunx"));
+    assert_false(pattern_argument_is_file("flipquad"));
+    assert_true(pattern_argument_is_file("best.json"));
+    assert_true(pattern_argument_is_file("./quincunx"));
+    assert_true(pattern_argument_is_file("/tmp"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(eval_preset_name),
+        cmocka_unit_test(eval_options),
+        cmocka_unit_test(eval_json_literals),
+        cmocka_unit_test(eval_pattern_file),
+        cmocka_unit_test(eval_request_file_with_override),
+        cmocka_unit_test(bad_files_are_local_errors),
+        cmocka_unit_test(codec_names_the_field),
+        cmocka_unit_test(filter_arguments),
+        cmocka_unit_test(angle_arguments),
+        cmocka_unit_test(optimize_bodies),
+        cmocka_unit_test(render_bodies),
+        cmocka_unit_test(file_or_preset),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,102 @@
+/* table: column widths, numeric right-alignment, "-" for missing cells, key/value listing. */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "capture.h"
+#include "table.h"
+
+static void aligns_columns(void **state)
+{
+    const char *headers[] = {"name", "e2"};
+    table *t = table_new(2, headers);
+    assert_non_null(t);
+    const char *r1[] = {"quincunx", "0.518"};
+    const char *r2[] = {"rgss", "12.5"};
+    assert_int_equal(table_add_row(t, r1), 0);
+    assert_int_equal(table_add_row(t, r2), 0);
+    assert_int_equal(table_rows(t), 2);
+    capture c;
+    table_print(t, capture_begin(&c));
+    /* text left-aligned and padded, numbers right-aligned, two spaces between columns */
+    assert_string_equal(capture_end(&c), "name         e2\n"
+                                         "quincunx  0.518\n"
+                                         "rgss       12.5\n");
+    capture_free(&c);
+    table_free(t);
+}
+
+static void missing_cells_and_no_trailing_blanks(void **state)
+{
+    const char *headers[] = {"id", "state"};
+    table *t = table_new(2, headers);
+    const char *r1[] = {NULL, "running"};
+    const char *r2[] = {"12", NULL};
+    table_add_row(t, r1);
+    table_add_row(t, r2);
+    capture c;
+    table_print(t, capture_begin(&c));
+    assert_string_equal(capture_end(&c), "id  state\n"
+                                         " -  running\n"
+                                         "12  -\n");
+    capture_free(&c);
+    table_free(t);
+}
+
+static void many_rows_grow(void **state)
+{
+    const char *headers[] = {"n"};
+    table *t = table_new(1, headers);
+    char buf[16];
+    for (int i = 0; i < 1000; i++) {
+        snprintf(buf, sizeof buf, "%d", i);
+        const char *row[] = {buf};
+        assert_int_equal(table_add_row(t, row), 0);
+    }
+    assert_int_equal(table_rows(t), 1000);
+    capture c;
+    table_print(t, capture_begin(&c));
+    const char *text = capture_end(&c);
+    assert_non_null(strstr(text, "\n999\n"));
+    assert_non_null(strstr(text, "\n  0\n"));
+    capture_free(&c);
+    table_free(t);
+}
+
+static void header_only(void **state)
+{
+    const char *headers[] = {"a", "bb"};
+    table *t = table_new(2, headers);
+    capture c;
+    table_print(t, capture_begin(&c));
+    assert_string_equal(capture_end(&c), "a  bb\n");
+    capture_free(&c);
+    table_free(t);
+    assert_null(table_new(0, headers));
+}
+
+static void key_values(void **state)
+{
+    const char *keys[] = {"version", "uptime_s"};
+    const char *values[] = {"0.1.0", NULL};
+    capture c;
+    print_key_values(capture_begin(&c), keys, values, 2);
+    assert_string_equal(capture_end(&c), "version   0.1.0\n"
+                                         "uptime_s  -\n");
+    capture_free(&c);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(aligns_columns), cmocka_unit_test(missing_cells_and_no_trailing_blanks),
+        cmocka_unit_test(many_rows_grow), cmocka_unit_test(header_only),
+        cmocka_unit_test(key_values),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,245 @@
+/* Human-readable views of daemon answers, error lines, exit codes, socket path resolution. */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+#include <jansson.h>
+
+#include "capture.h"
+#include "cli.h"
+#include "commands/commands.h"
+#include "exit_codes.h"
+#include "socket_path.h"
+
+static json_t *doc(const char *text)
+{
+    json_error_t e;
+    json_t *j = json_loads(text, 0, &e);
+    if (!j)
+        fail_msg("bad fixture: %s", e.text);
+    return j;
+}
+
+static void contains(const char *text, const char *needle)
+{
+    if (!strstr(text, needle))
+        fail_msg("output lacks '%s':\n%s", needle, text);
+}
+
+static void evaluation_summary_and_detail(void **state)
+{
+    json_t *r = doc("{\"e2\":0.36412345,\"argmax\":{\"kernel\":2,\"angle_deg\":35},"
+                    "\"family\":\"P(4,1+,2)\",\"cost_spp\":2,"
+                    "\"detail\":[{\"kernel\":0,\"angles\":[{\"angle_deg\":0,\"weight\":1,"
+                    "\"e1\":0.25,\"weighted\":0.25},{\"angle_deg\":5,\"weight\":0.9,"
+                    "\"e1\":0.3,\"weighted\":0.27}]}]}");
+    capture c;
+    eval_print(capture_begin(&c), r, false);
+    const char *text = capture_end(&c);
+    contains(text, "family            P(4,1+,2)\n");
+    contains(text, "E2                0.364123\n");
+    contains(text, "argmax kernel     2\n");
+    contains(text, "argmax angle_deg  35.0\n");
+    contains(text, "cost_spp          2.0000\n");
+    assert_null(strstr(text, "weighted"));
+    capture_free(&c);
+
+    eval_print(capture_begin(&c), r, true);
+    text = capture_end(&c);
+    contains(text, "\nkernel 0\n");
+    contains(text, "angle_deg  weight        e1  weighted\n");
+    contains(text, "      0.0  1.0000  0.250000  0.250000\n");
+    contains(text, "      5.0  0.9000  0.300000  0.270000\n");
+    capture_free(&c);
+    json_decref(r);
+}
+
+static void presets_table(void **state)
+{
+    json_t *r = doc("{\"presets\":[{\"name\":\"quincunx\",\"family\":\"P(1,1,2)\","
+                    "\"cost_spp\":2,\"published_e2\":0.518,\"source\":\"NVIDIA\"},"
+                    "{\"name\":\"flipquad\",\"family\":\"P(4,1+,2)\",\"cost_spp\":2.0,"
+                    "\"published_e2\":null,\"source\":\"Akenine-Moller\"},"
+                    "{\"name\":\"fliptri\",\"published_e2\":{\"laine-aila-table-2\":0.636}}]}");
+    capture c;
+    presets_print(capture_begin(&c), r);
+    const char *text = capture_end(&c);
+    contains(text, "name      family     cost_spp  published_e2  source\n");
+    contains(text, "quincunx  P(1,1,2)       2.00         0.518  NVIDIA\n");
+    contains(text, "flipquad  P(4,1+,2)      2.00             -  Akenine-Moller\n");
+    contains(text, "fliptri   -                 -         0.636  -\n");
+    capture_free(&c);
+    json_decref(r);
+    /* a bare array works too */
+    r = doc("[{\"name\":\"rgss\"}]");
+    presets_print(capture_begin(&c), r);
+    contains(capture_end(&c), "rgss");
+    capture_free(&c);
+    json_decref(r);
+}
+
+static void jobs_table(void **state)
+{
+    json_t *r = doc("{\"jobs\":[{\"id\":3,\"kind\":\"optimize\",\"state\":\"running\","
+                    "\"progress\":0.425,\"owner\":1000,\"best\":{\"e2\":0.3712}},"
+                    "{\"id\":\"4\",\"kind\":\"render\",\"state\":\"queued\",\"progress\":0,"
+                    "\"owner_uid\":0,\"created\":1763861207.5}]}");
+    capture c;
+    jobs_print(capture_begin(&c), r);
+    const char *text = capture_end(&c);
+    contains(text, "id  kind      state    progress  owner   best_e2  created\n");
+    contains(text, " 3  optimize  running       42%   1000  0.371200  -\n");
+    contains(text, " 4  render    queued         0%      0         -  2025-11-23 01:26:47\n");
+    capture_free(&c);
+    json_decref(r);
+}
+
+static void one_job(void **state)
+{
+    json_t *j = doc("{\"id\":9,\"state\":\"done\",\"finished\":1763861207,\"result\":{\"e2\":0.33,"
+                    "\"family\":\"P(4,1+,2)\"},"
+                    "\"trace\":[{\"seconds\":0.1,\"best_e2\":0.5},{\"seconds\":1.25,"
+                    "\"best_e2\":0.33}]}");
+    capture c;
+    job_print(capture_begin(&c), j);
+    const char *text = capture_end(&c);
+    contains(text, "id             9\n");
+    contains(text, "finished       2025-11-23 01:26:47\n");
+    contains(text, "result.e2      0.33\n");
+    contains(text, "result.family  P(4,1+,2)\n");
+    contains(text, "trace  2 points, last at 1.25 s with E2 0.330000\n");
+    capture_free(&c);
+    json_decref(j);
+}
+
+static void progress_bar(void **state)
+{
+    char line[160];
+    json_t *j = doc("{\"state\":\"running\",\"best_so_far\":{\"e2\":0.41}}");
+    progress_line(line, sizeof line, 0.5, j, 10);
+    assert_string_equal(line, "[#####.....]  50%  running  best E2 0.410000");
+    progress_line(line, sizeof line, 7, j, 4); /* clamped */
+    assert_string_equal(line, "[####] 100%  running  best E2 0.410000");
+    json_decref(j);
+    j = doc("{\"state\":\"queued\"}");
+    progress_line(line, sizeof line, -1, j, 4);
+    assert_string_equal(line, "[....]   0%  queued");
+    json_decref(j);
+}
+
+static void health_listing(void **state)
+{
+    json_t *r = doc("{\"version\":\"0.1.0\",\"uptime_s\":12.5,\"workers\":2,"
+                    "\"jobs\":{\"queued\":1,\"done\":4}}");
+    capture c;
+    health_print(capture_begin(&c), r);
+    const char *text = capture_end(&c);
+    contains(text, "version      0.1.0\n");
+    contains(text, "uptime_s     12.5\n");
+    contains(text, "jobs.queued  1\n");
+    contains(text, "jobs.done    4\n");
+    capture_free(&c);
+    json_decref(r);
+}
+
+static void error_lines(void **state)
+{
+    capture c;
+    cli_print_error(capture_begin(&c), 400,
+                    "{\"error\":{\"code\":\"invalid_field\",\"message\":\"weights must sum to "
+                    "1\",\"field\":\"pattern.kernels[0]\"}}");
+    assert_string_equal(capture_end(&c), "aalab: server answered 400 invalid_field: weights must "
+                                         "sum to 1 (field pattern.kernels[0])\n");
+    capture_free(&c);
+    cli_print_error(capture_begin(&c), 502, "Bad Gateway");
+    assert_string_equal(capture_end(&c), "aalab: server answered 502: Bad Gateway\n");
+    capture_free(&c);
+}
+
+static void exit_codes(void **state)
+{
+    assert_int_equal(exit_code_for_status(200), EXIT_OK);
+    assert_int_equal(exit_code_for_status(202), EXIT_OK);
+    assert_int_equal(exit_code_for_status(404), EXIT_CLIENT_4XX);
+    assert_int_equal(exit_code_for_status(429), EXIT_CLIENT_4XX);
+    assert_int_equal(exit_code_for_status(500), EXIT_SERVER_5XX);
+    assert_int_equal(exit_code_for_status(503), EXIT_SERVER_5XX);
+    assert_int_equal(EXIT_USAGE, 1);
+    assert_int_equal(EXIT_NO_CONNECT, 4);
+    assert_int_equal(EXIT_JOB_FAILED, 5);
+}
+
+static void url_escaping(void **state)
+{
+    char *s = url_escape_segment("a b/../c~_.-Z9");
+    assert_string_equal(s, "a%20b%2F..%2Fc~_.-Z9");
+    free(s);
+}
+
+static void socket_paths(void **state)
+{
+    char out[256], dir[128];
+    unsetenv("AALAB_SOCKET");
+    unsetenv("XDG_RUNTIME_DIR");
+    assert_int_equal(socket_path_resolve(NULL, out, sizeof out), 0);
+    assert_string_equal(out, "/run/aalab/aalabd.sock");
+    assert_int_equal(socket_path_resolve("/x/y.sock", out, sizeof out), 0);
+    assert_string_equal(out, "/x/y.sock");
+    setenv("AALAB_SOCKET", "/env.sock", 1);
+    assert_int_equal(socket_path_resolve(NULL, out, sizeof out), 0);
+    assert_string_equal(out, "/env.sock");
+    assert_int_equal(socket_path_resolve("/flag.sock", out, sizeof out), 0);
+    assert_string_equal(out, "/flag.sock"); /* the flag beats the environment */
+    unsetenv("AALAB_SOCKET");
+
+    /* $XDG_RUNTIME_DIR/aalab/aalabd.sock only when a socket is there */
+    snprintf(dir, sizeof dir, "%s/aalab-sock-XXXXXX", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp");
+    assert_non_null(mkdtemp(dir));
+    setenv("XDG_RUNTIME_DIR", dir, 1);
+    assert_int_equal(socket_path_resolve(NULL, out, sizeof out), 0);
+    assert_string_equal(out, "/run/aalab/aalabd.sock");
+    char sub[200], sock[220];
+    snprintf(sub, sizeof sub, "%s/aalab", dir);
+    assert_int_equal(mkdir(sub, 0700), 0);
+    snprintf(sock, sizeof sock, "%s/aalabd.sock", sub);
+    int fd = socket(AF_UNIX, SOCK_STREAM, 0);
+    struct sockaddr_un addr = {.sun_family = AF_UNIX};
+    assert_true(strlen(sock) < sizeof addr.sun_path);
+    memcpy(addr.sun_path, sock, strlen(sock) + 1);
+    assert_int_equal(bind(fd, (struct sockaddr *)&addr, sizeof addr), 0);
+    assert_int_equal(socket_path_resolve(NULL, out, sizeof out), 0);
+    assert_string_equal(out, sock);
+    close(fd);
+    unlink(sock);
+    rmdir(sub);
+    rmdir(dir);
+    unsetenv("XDG_RUNTIME_DIR");
+    char tiny[8];
+    assert_int_equal(socket_path_resolve("/a/long/path.sock", tiny, sizeof tiny), -1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(evaluation_summary_and_detail),
+        cmocka_unit_test(presets_table),
+        cmocka_unit_test(jobs_table),
+        cmocka_unit_test(one_job),
+        cmocka_unit_test(progress_bar),
+        cmocka_unit_test(health_listing),
+        cmocka_unit_test(error_lines),
+        cmocka_unit_test(exit_codes),
+        cmocka_unit_test(url_escaping),
+        cmocka_unit_test(socket_paths),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

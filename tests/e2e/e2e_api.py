@@ -1,0 +1,212 @@
+"""End-to-end: every endpoint of aalabd through curl, over the Unix socket and TCP loopback."""
+
+import os
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from e2e_lib import Daemon, check, expect_error  # noqa: E402
+
+
+def make_web_dir(root):
+    web = os.path.join(root, "web")
+    os.makedirs(os.path.join(web, "js"))
+    with open(os.path.join(web, "index.html"), "w") as f:
+        f.write("<!doctype html><title>aalab</title>")
+    with open(os.path.join(web, "js", "app.js"), "w") as f:
+        f.write("export const x = 1;\n")
+    with open(os.path.join(root, "secret.txt"), "w") as f:
+        f.write("secret")
+    os.symlink(os.path.join(root, "secret.txt"), os.path.join(web, "escape.txt"))
+    return web
+
+
+def test_catalogue(d):
+    r = d.get("/v1/health")
+    check(r.status == 200, r)
+    h = r.json()
+    for k in ("version", "uptime_seconds", "workers", "queue", "jobs"):
+        check(k in h, "health lacks " + k)
+    check("sleep" in h["job_kinds"], h)
+    check("access-control-allow-origin" not in r.headers, "no CORS header")
+
+    r = d.get("/v1/presets")
+    names = [p["name"] for p in r.json()["presets"]]
+    check(r.status == 200 and "quincunx" in names and "rgss" in names, r)
+    r = d.get("/v1/presets/quincunx")
+    check(r.status == 200 and abs(r.json()["e2"] - 0.518) < 5e-4, r)
+    expect_error(d.get("/v1/presets/nope"), 404, "name")
+
+    r = d.get("/v1/filters")
+    fnames = [f["name"] for f in r.json()["filters"]]
+    check(r.status == 200 and "mitchell" in fnames and "lanczos" in fnames, r)
+    r = d.get("/v1/acuity")
+    check(r.status == 200 and r.json()["default"] == "naiman", r)
+
+
+def test_evaluate(d):
+    r = d.post("/v1/evaluate", {"pattern": {"preset": "rgss"}})
+    check(r.status == 200, r)
+    e = r.json()
+    check(abs(e["e2"] - 0.439) < 5e-4, e)
+    check(e["family"] == "P(1,1,4)" and e["cost_spp"] == 4, e)
+    check(set(e["argmax"]) == {"kernel", "angle_deg"}, e)
+    again = d.post("/v1/evaluate", {"pattern": {"preset": "rgss"}})
+    check(again.body == r.body, "cached answer identical")
+
+    flipquad = {"mirrored": [[-0.5, 0.25, 0.25], [-0.25, -0.5, 0.25], [0.5, -0.25, 0.25],
+                             [0.25, 0.5, 0.25]]}
+    r = d.post("/v1/evaluate", {"pattern": flipquad, "detail": True,
+                                "filter": {"name": "mitchell", "B": 1 / 3, "C": 1 / 3},
+                                "acuity": {"name": "naiman"}})
+    check(r.status == 200, r)
+    e = r.json()
+    check(e["family"] == "P(4,1+,2)", e)
+    check(len(e["detail"]) == 4 and len(e["detail"][0]["angles"]) == e["angle_count"], e)
+    a0 = e["detail"][0]["angles"][0]
+    check(set(a0) == {"angle_deg", "weight", "e1", "weighted"}, a0)
+    check(abs(max(x["weighted"] for k in e["detail"] for x in k["angles"]) - e["e2"]) < 1e-12, e)
+
+    r = d.post("/v1/evaluate", {"pattern": {"kernels": [[[0, 0, 1]]]},
+                                "acuity": {"knots": [[0, 1], [45, 2]]}, "angles": [0, 30, 60]})
+    check(r.status == 200 and r.json()["angle_count"] == 3, r)
+
+    expect_error(d.post("/v1/evaluate", {"pattern": {"kernels": [[[0, 0, 0.5], [0, "x", 0.5]]]}}),
+                 400, "pattern.kernels[0][1][1]")
+    expect_error(d.post("/v1/evaluate", {"pattern": {"kernels": [[[0, 0, 0.5], [0.1, 0, 0.4]]]}}),
+                 400, "pattern.kernels[0]")
+    expect_error(d.post("/v1/evaluate", {"pattern": {"preset": "nope"}}), 400, "pattern.preset")
+    expect_error(d.post("/v1/evaluate", {"pattern": {"preset": "rgss"}, "filter": {"name": "x"}}),
+                 400, "filter.name")
+    expect_error(d.post("/v1/evaluate", {"pattern": {"preset": "rgss"}, "bogus": 1}), 400, "bogus")
+    expect_error(d.post("/v1/evaluate", raw_body='{"pattern":{"preset":"rgss"}'), 400)
+    expect_error(d.post("/v1/evaluate", raw_body='{"pattern":1,"pattern":2}'), 400)
+    expect_error(d.post("/v1/evaluate", raw_body="[]"), 400)
+    expect_error(d.curl("POST", "/v1/evaluate", raw_body='{"pattern":{"preset":"rgss"}}',
+                        headers={"Content-Type": "text/plain"}, ctype=False), 415)
+    expect_error(d.post("/v1/evaluate", raw_body='{"x":"' + "a" * (9 << 20) + '"}'), 413)
+    expect_error(d.get("/v1/evaluate"), 405)
+    expect_error(d.get("/v1/nope"), 404)
+
+
+def test_jobs(d):
+    r = d.post("/v1/jobs", {"kind": "sleep", "seconds": 0.3,
+                            "pattern": {"preset": "rgss"}})
+    check(r.status == 202, r)
+    jid = r.json()["id"]
+    check(isinstance(jid, int), r)
+    j = d.wait_job(jid)
+    check(j["state"] == "done" and j["progress"] == 1, j)
+    check(j["owner_uid"] == os.getuid(), j)
+    check(len(j["trace"]) >= 1 and all("best_e2" in p for p in j["trace"]), j)
+    check(j["result"]["pattern"]["kernels"], j)
+    lst = d.get("/v1/jobs").json()["jobs"]
+    check(any(x["id"] == jid for x in lst), lst)
+
+    # export in every format
+    r = d.get("/v1/patterns/%d/export?format=json" % jid)
+    check(r.status == 200 and r.json()["pattern"]["family"] == "P(1,1,4)", r)
+    r = d.get("/v1/patterns/%d/export?format=utk" % jid)
+    lines = [x for x in r.body.splitlines() if x and not x.startswith("#")]
+    check(r.status == 200 and r.headers["content-type"].startswith("text/plain") and
+          len(lines) == 4, r)
+    r = d.get("/v1/patterns/%d/export?format=vulkan" % jid)
+    v = r.json()
+    check(v["representable"] and v["sampleLocationsPerPixel"] == "VK_SAMPLE_COUNT_4_BIT", v)
+    r = d.get("/v1/patterns/%d/export?format=d3d12" % jid)
+    v = r.json()
+    check(v["representable"] and v["NumSamplesPerPixel"] == 4, v)
+    expect_error(d.get("/v1/patterns/%d/export?format=bmp" % jid), 400, "format")
+    expect_error(d.get("/v1/patterns/999999/export?format=json"), 404)
+
+    # a pattern reference to the job evaluates its best pattern
+    r = d.post("/v1/evaluate", {"pattern": {"job": jid}})
+    check(r.status == 200 and abs(r.json()["e2"] - 0.439) < 5e-4, r)
+    expect_error(d.post("/v1/evaluate", {"pattern": {"job": 999999}}), 400, "pattern.job")
+
+    # cancel a running job, then cancelling again conflicts
+    r = d.post("/v1/jobs", {"kind": "sleep", "seconds": 60})
+    jid2 = r.json()["id"]
+    d.wait_job(jid2, states=("running",))
+    r = d.delete("/v1/jobs/%d" % jid2)
+    check(r.status == 202, r)
+    j = d.wait_job(jid2, timeout=5)
+    check(j["state"] == "cancelled", j)
+    expect_error(d.delete("/v1/jobs/%d" % jid2), 409)
+    expect_error(d.delete("/v1/jobs/999999"), 404, "id")
+    expect_error(d.get("/v1/jobs/abc"), 404, "id")
+
+    # failing job, bad specs
+    r = d.post("/v1/jobs", {"kind": "sleep", "seconds": 0, "fail": True})
+    j = d.wait_job(r.json()["id"])
+    check(j["state"] == "failed" and j["error"]["field"] == "fail", j)
+    expect_error(d.post("/v1/jobs", {"kind": "nope"}), 400, "kind")
+    expect_error(d.post("/v1/jobs", {"seconds": 1}), 400, "kind")
+    expect_error(d.post("/v1/jobs", {"kind": "sleep", "seconds": -1}), 400, "seconds")
+    expect_error(d.post("/v1/jobs", {"kind": "sleep", "seconds": 1,
+                                     "pattern": {"kernels": [[[0, 0, 2]]]}}), 400,
+                 "pattern.kernels[0]")
+
+
+def test_enumerate_render(d):
+    r = d.post("/v1/families/enumerate", {"family": "P(4,1+,n)", "cost": 1.25})
+    check(r.status in (200, 501), r)
+    if r.status == 200:
+        check("count" in r.json() and "configurations" in r.json(), r)
+    expect_error(d.post("/v1/families/enumerate", {"family": "P(4,1+,n)", "cost": 1.3}), 400,
+                 "cost")
+    expect_error(d.post("/v1/families/enumerate", {"family": "Q(1)", "cost": 1}), 400, "family")
+    r = d.post("/v1/render", {"pattern": {"preset": "rgss"}, "scene": "siemens-star"})
+    check(r.status in (200, 400, 501) and r.headers["content-type"].startswith("application/json"),
+          r)
+    r = d.get("/v1/tiles/0123456789abcdef0123456789abcdef.png")
+    check(r.status in (404, 501), r)
+
+
+def test_tcp(d):
+    r = d.get("/v1/health", tcp=True)
+    check(r.status == 200 and r.json()["tcp"] is True, r)
+    expect_error(d.get("/v1/health", tcp=True, headers={"Host": "evil.example"}), 403)
+    expect_error(d.post("/v1/jobs", {"kind": "sleep", "seconds": 0}, tcp=True), 401)
+    expect_error(d.post("/v1/jobs", {"kind": "sleep", "seconds": 0}, tcp=True,
+                        headers={"Authorization": "Bearer wrong"}), 401)
+    r = d.post("/v1/jobs", {"kind": "sleep", "seconds": 0}, tcp=True,
+               headers={"Authorization": "Bearer " + d.token})
+    check(r.status == 202, r)
+    check("access-control-allow-origin" not in r.headers, r.headers)
+    r = d.get("/", tcp=True)
+    check(r.status == 200 and r.headers["content-type"].startswith("text/html"), r)
+    r = d.get("/js/app.js", tcp=True)
+    check(r.status == 200 and "javascript" in r.headers["content-type"], r)
+    for bad in ("/../secret.txt", "/%2e%2e/secret.txt", "/escape.txt", "/index.html%00.png",
+                "/js/../../secret.txt"):
+        r = d.get(bad, tcp=True)
+        check(r.status in (400, 403, 404) and "secret" not in r.body, (bad, r))
+    # static files are not served on the Unix socket
+    expect_error(d.get("/"), 404)
+
+
+def main():
+    binary = sys.argv[1]
+    root = tempfile.mkdtemp(prefix="aalab-e2e-")
+    web = make_web_dir(root)
+    d = Daemon(binary, root=root, web_dir=web, extra=["--workers", "2"]).start()
+    try:
+        test_catalogue(d)
+        test_evaluate(d)
+        test_jobs(d)
+        test_enumerate_render(d)
+        test_tcp(d)
+        check(d.stop() == 0, "clean exit on SIGTERM")
+        check(not os.path.exists(d.sock), "socket removed at exit")
+    except BaseException:
+        print(d.log_text())
+        raise
+    finally:
+        d.cleanup()
+    print("e2e_api: ok")
+
+
+if __name__ == "__main__":
+    main()

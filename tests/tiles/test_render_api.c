@@ -1,0 +1,191 @@
+/* POST /v1/render, GET /v1/tiles/{id}.png and the render job kinds through the daemon's own
+ * api_handle() (router, access checks, pattern references, worker pool), no socket. */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "api.h"
+#include "api_context.h"
+#include "config.h"
+#include "png_encode.h"
+
+static api_context *ctx;
+static char state_dir[] = "/tmp/aalab-render-api-XXXXXX";
+
+static int setup(void **state)
+{
+    (void)state;
+    if (!mkdtemp(state_dir))
+        return -1;
+    aalab_config cfg;
+    config_defaults(&cfg);
+    snprintf(cfg.state_dir, sizeof cfg.state_dir, "%s", state_dir);
+    cfg.workers = 1;
+    bool created = false;
+    aa_error err = {0};
+    ctx = api_context_create(&cfg, &created, &err);
+    return ctx ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    api_context_destroy(ctx);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", state_dir);
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+static api_response call(const char *method, const char *path, const char *body)
+{
+    api_request req;
+    memset(&req, 0, sizeof req);
+    req.method = method;
+    req.path = path;
+    req.content_type = body ? "application/json" : NULL;
+    req.body = body;
+    req.body_len = body ? strlen(body) : 0;
+    req.peer_known = true;
+    req.peer_uid = getuid();
+    api_response resp;
+    memset(&resp, 0, sizeof resp);
+    api_handle(ctx, &req, &resp);
+    return resp;
+}
+
+static json_t *json_of(const api_response *r)
+{
+    json_t *j = json_loadb(r->body, r->body_len, 0, NULL);
+    assert_non_null(j);
+    return j;
+}
+
+static const char *error_field(json_t *j)
+{
+    return json_string_value(json_object_get(json_object_get(j, "error"), "field"));
+}
+
+static void test_render_and_fetch_tiles(void **state)
+{
+    (void)state;
+    api_response r = call("POST", "/v1/render",
+                          "{\"scene\":{\"name\":\"sliver\",\"width\":64,\"height\":48},"
+                          "\"pattern\":\"flipquad\",\"reference\":{\"spp\":64},"
+                          "\"crop\":{\"x\":8,\"y\":8,\"width\":8,\"height\":8,\"scale\":4}}");
+    assert_int_equal(r.status, 200);
+    json_t *j = json_of(&r);
+    assert_true(json_real_value(json_object_get(json_object_get(j, "stats"), "rmse")) > 0);
+    assert_true(json_integer_value(json_object_get(json_object_get(j, "pixels"), "supersampled")) <
+                64 * 48);
+    const char *url = json_string_value(
+        json_object_get(json_object_get(json_object_get(j, "tiles"), "difference"), "url"));
+    assert_non_null(url);
+    api_response t = call("GET", url, NULL);
+    assert_int_equal(t.status, 200);
+    assert_string_equal(t.content_type, "image/png");
+    uint8_t *px;
+    int w, h;
+    assert_int_equal(tile_png_decode_gray(t.body, t.body_len, &px, &w, &h, NULL), AA_OK);
+    assert_int_equal(w, 64);
+    assert_int_equal(h, 48);
+    free(px);
+    api_response_free(&t);
+    api_response missing = call("GET", "/v1/tiles/0123456789abcdef0123456789abcdef.png", NULL);
+    assert_int_equal(missing.status, 404);
+    api_response_free(&missing);
+    json_decref(j);
+    api_response_free(&r);
+}
+
+static void test_render_errors_name_fields(void **state)
+{
+    (void)state;
+    const struct {
+        const char *body, *field;
+        int status;
+    } cases[] = {
+        {"{\"scene\":{\"width\":-1},\"pattern\":\"rgss\"}", "scene.width", 400},
+        {"{\"scene\":{\"name\":\"teapot\"},\"pattern\":\"rgss\"}", "scene.name", 400},
+        {"{\"pattern\":{\"kernels\":[[[0,0,2]]]}}", "pattern.kernels[0]", 400},
+        {"{\"pattern\":\"rgss\",\"reference\":{\"spp\":1000}}", "reference.spp", 400},
+        {"{\"pattern\":{\"job\":999999}}", "pattern.job", 400},
+        {"{\"pattern\":\"rgss\",\"scene\":{\"width\":1024,\"height\":1024}}", "scene.width", 400},
+        {"{\"scene\":{}}", "pattern", 400},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        api_response r = call("POST", "/v1/render", cases[k].body);
+        assert_int_equal(r.status, cases[k].status);
+        json_t *j = json_of(&r);
+        assert_string_equal(error_field(j), cases[k].field);
+        json_decref(j);
+        api_response_free(&r);
+    }
+}
+
+static json_t *wait_job(const char *path)
+{
+    for (int tries = 0; tries < 600; tries++) {
+        api_response r = call("GET", path, NULL);
+        json_t *j = json_of(&r);
+        api_response_free(&r);
+        const char *st = json_string_value(json_object_get(j, "state"));
+        if (st && strcmp(st, "queued") != 0 && strcmp(st, "running") != 0)
+            return j;
+        json_decref(j);
+        nanosleep(&(struct timespec){0, 50 * 1000 * 1000}, NULL);
+    }
+    fail_msg("job %s did not finish", path);
+    return NULL;
+}
+
+static void test_compare_job_through_the_pool(void **state)
+{
+    (void)state;
+    api_response r = call("POST", "/v1/jobs",
+                          "{\"kind\":\"compare\",\"scene\":{\"name\":\"rings\",\"width\":48,"
+                          "\"height\":48},\"reference\":{\"spp\":64},\"patterns\":[\"centroid\","
+                          "\"flipquad\"]}");
+    assert_int_equal(r.status, 202);
+    json_t *j = json_of(&r);
+    char path[64];
+    json_t *id = json_object_get(j, "id");
+    if (json_is_integer(id))
+        snprintf(path, sizeof path, "/v1/jobs/%lld", (long long)json_integer_value(id));
+    else
+        snprintf(path, sizeof path, "/v1/jobs/%s", json_string_value(id));
+    json_decref(j);
+    api_response_free(&r);
+    json_t *done = wait_job(path);
+    assert_string_equal(json_string_value(json_object_get(done, "state")), "done");
+    json_t *rows = json_object_get(json_object_get(done, "result"), "rows");
+    assert_int_equal(json_array_size(rows), 2);
+    json_decref(done);
+    r = call("POST", "/v1/jobs",
+             "{\"kind\":\"animation\",\"scene\":{\"name\":\"rings\"},"
+             "\"pattern\":\"rgss\"}");
+    assert_int_equal(r.status, 400);
+    j = json_of(&r);
+    assert_string_equal(error_field(j), "scene.name");
+    json_decref(j);
+    api_response_free(&r);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_render_and_fetch_tiles),
+        cmocka_unit_test(test_render_errors_name_fields),
+        cmocka_unit_test(test_compare_job_through_the_pool),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
