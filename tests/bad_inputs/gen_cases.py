@@ -237,7 +237,8 @@ for n, m, p, st in [("get_missing", "GET", "/v1/jobs/999999999", 404), ("get_zer
                     ("get_space", "GET", "/v1/jobs/1%201", [400, 404]),
                     ("delete_missing", "DELETE", "/v1/jobs/999999999", 404), ("delete_alpha", "DELETE", "/v1/jobs/abc", [400, 404]),
                     ("export_missing_job", "GET", "/v1/patterns/999999999/export?format=json", 404),
-                    ("tile_missing", "GET", "/v1/tiles/999999999.png", 404), ("tile_traversal", "GET", "/v1/tiles/..%2f..%2fetc%2fpasswd.png", [400, 404])]:
+                    ("tile_bad_id", "GET", "/v1/tiles/999999999.png", [400, 404]),
+                    ("tile_missing", "GET", "/v1/tiles/" + "0" * 32 + ".png", 404), ("tile_traversal", "GET", "/v1/tiles/..%2f..%2fetc%2fpasswd.png", [400, 404])]:
     case("jobid_" + n, st, [None, "id"], method=m, path=p)
 case("cancel_done_job", 409, None, method="DELETE", path="/v1/jobs/{job}", setup="done_job")
 case("cancel_cancelled_job", 409, None, method="DELETE", path="/v1/jobs/{job}", setup="cancelled_job")

@@ -57,8 +57,8 @@ static void check_decoded(const aa_pattern *p)
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     json_error_t jerr;
-    json_t *j = json_loadb((const char *)data, size, JSON_REJECT_DUPLICATES | JSON_DECODE_ANY,
-                           &jerr);
+    json_t *j =
+        json_loadb((const char *)data, size, JSON_REJECT_DUPLICATES | JSON_DECODE_ANY, &jerr);
     if (!j)
         return 0;
     static const unsigned flag_sets[] = {0, AA_PATTERN_NORMALIZE};

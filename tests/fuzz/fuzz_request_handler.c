@@ -89,8 +89,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         .path = path,
         .query = query,
         .content_type = ctype[0] ? ctype : NULL,
-        .host = strchr(flags, 'e') ? "evil.example" : strchr(flags, 'h') ? "127.0.0.1" : NULL,
-        .authorization = strchr(flags, 'a') ? auth_ok : strchr(flags, 'b') ? "Bearer x" : NULL,
+        .host = strchr(flags, 'e')   ? "evil.example"
+                : strchr(flags, 'h') ? "127.0.0.1"
+                                     : NULL,
+        .authorization = strchr(flags, 'a')   ? auth_ok
+                         : strchr(flags, 'b') ? "Bearer x"
+                                              : NULL,
         .body = body,
         .body_len = n,
         .via_tcp = strchr(flags, 't') != NULL,
