@@ -2,7 +2,7 @@
  * normalisation). A decoded pattern must satisfy the engine's invariants and, when small, must
  * evaluate to a finite E2; a rejected one must name a field under the given prefix. Any crash,
  * leak or sanitizer report is a bug. */
-#include <assert.h>
+#include "fuzz_check.h"
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -20,17 +20,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static void check_decoded(const aa_pattern *p)
 {
-    assert(p->kernel_count >= 1 && p->kernel_count <= AA_MAX_KERNELS);
-    assert(p->family[0] == 'P');
-    assert(memchr(p->family, '\0', sizeof p->family));
-    assert(isfinite(p->cost_spp) && p->cost_spp > 0);
+    FUZZ_CHECK(p->kernel_count >= 1 && p->kernel_count <= AA_MAX_KERNELS);
+    FUZZ_CHECK(p->family[0] == 'P');
+    FUZZ_CHECK(memchr(p->family, '\0', sizeof p->family));
+    FUZZ_CHECK(isfinite(p->cost_spp) && p->cost_spp > 0);
     for (size_t k = 0; k < p->kernel_count; k++) {
         const aa_kernel *ker = &p->kernels[k];
-        assert(ker->count >= 1 && ker->count <= AA_MAX_KERNEL_SAMPLES);
+        FUZZ_CHECK(ker->count >= 1 && ker->count <= AA_MAX_KERNEL_SAMPLES);
         double sum = 0;
         for (size_t i = 0; i < ker->count; i++) {
-            assert(isfinite(ker->samples[i].x) && isfinite(ker->samples[i].y));
-            assert(isfinite(ker->samples[i].w));
+            FUZZ_CHECK(isfinite(ker->samples[i].x) && isfinite(ker->samples[i].y));
+            FUZZ_CHECK(isfinite(ker->samples[i].w));
             sum += ker->samples[i].w;
         }
         (void)sum;
@@ -47,9 +47,9 @@ static void check_decoded(const aa_pattern *p)
     aa_evaluation ev;
     aa_error err = {0};
     int rc = aa_evaluate(p, &mp, &ev, &err);
-    assert(rc == AA_OK || rc == AA_ENOMEM || rc == AA_EINVAL || rc == AA_ERANGE);
+    FUZZ_CHECK(rc == AA_OK || rc == AA_ENOMEM || rc == AA_EINVAL || rc == AA_ERANGE);
     if (rc == AA_OK) {
-        assert(!isnan(ev.e2));
+        FUZZ_CHECK(!isnan(ev.e2));
         aa_evaluation_free(&ev);
     }
 }
@@ -70,12 +70,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (rc == AA_OK) {
             check_decoded(&p);
         } else {
-            assert(rc < 0);
-            assert(memchr(err.field, '\0', sizeof err.field));
-            assert(memchr(err.message, '\0', sizeof err.message));
-            assert(err.message[0] != '\0');
+            FUZZ_CHECK(rc < 0);
+            FUZZ_CHECK(memchr(err.field, '\0', sizeof err.field));
+            FUZZ_CHECK(memchr(err.message, '\0', sizeof err.message));
+            FUZZ_CHECK(err.message[0] != '\0');
             /* Field paths are relative to the request body: under the prefix we gave. */
-            assert(err.field[0] == '\0' || strncmp(err.field, "pattern", 7) == 0);
+            FUZZ_CHECK(err.field[0] == '\0' || strncmp(err.field, "pattern", 7) == 0);
         }
         aa_pattern_free(&p);
     }
