@@ -18,6 +18,10 @@ def case(name, status, field=None, method="POST", path=EV, body=None, body_json=
     if forbid_body: c["forbid_body"] = forbid_body
     c["status"] = status
     c["field"] = field
+    # Cases about a job kind run only when the daemon has that kind (GET /v1/health job_kinds).
+    kind = body_json.get("kind") if isinstance(body_json, dict) else None
+    if setup == "optimize_job" or kind == "optimize":
+        c["needs_kind"] = "optimize"
     assert name not in [x["name"] for x in C], name
     C.append(c)
 
@@ -228,7 +232,7 @@ case("acuity_all_zero_ok", 200, None, body_json={"pattern": {"preset": "rgss"}, 
 for n, s, fld in [("zero_w", [0, 16], "size[0]"), ("zero_h", [16, 0], "size[1]"), ("negative", [-1, 16], "size[0]"),
                   ("absurd", [1000000, 1000000], "size[0]"), ("fraction", [16.5, 16], "size[0]"), ("three", [16, 16, 16], "size"),
                   ("empty", [], "size")]:
-    case("render_size_" + n, 400, fld, path="/v1/render", body_json=dict(RB, size=s))
+    case("render_size_" + n, 400, sorted({fld, "size"}), path="/v1/render", body_json=dict(RB, size=s))
 # --- bad job ids, cancelling finished jobs
 for n, m, p, st in [("get_missing", "GET", "/v1/jobs/999999999", 404), ("get_zero", "GET", "/v1/jobs/0", 404),
                     ("get_alpha", "GET", "/v1/jobs/abc", [400, 404]), ("get_negative", "GET", "/v1/jobs/-1", [400, 404]),
