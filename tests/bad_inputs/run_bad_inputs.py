@@ -8,7 +8,7 @@ check that the daemon is still alive and that a valid evaluate still succeeds.
 
 Case keys: name, method, path, headers, body (text) | body_json | body_hex | gen (generated body) |
 raw (hand-built request: content_length lie, header_bytes, header_count, path_bytes), via
-("unix" default, "tcp"), setup ("done_job", "cancelled_job", "optimize_job": "{job}" in the path
+("unix" default, "tcp"), setup ("done_job", "cancelled_job", "pattern_job", "optimize_job": "{job}" in the path
 is replaced by its id), needs_kind (skipped when GET /v1/health does not list that job kind), status (int or list), field (string, null = absent or empty, list of
 acceptable values, "*" = not checked, e.g. for answers libmicrohttpd produces itself),
 check ({"e2_finite": true}, {"state": "done"}, {"content_type_prefix": ...}), forbid_body
@@ -113,6 +113,8 @@ def setup_job(d, what, cache):
         spec = {"kind": "sleep", "seconds": 0}
     elif what == "cancelled_job":
         spec = {"kind": "sleep", "seconds": 60}
+    elif what == "pattern_job":  # a finished job with a best pattern
+        spec = {"kind": "sleep", "seconds": 0, "pattern": {"preset": "rgss"}}
     elif what == "optimize_job":
         spec = {"kind": "optimize", "family": "P(4,1+,1.25)", "seeds": 1, "max_seconds": 1, "rng_seed": 1}
     else:
