@@ -10,7 +10,8 @@
 #include "tile_render.h"
 #include "tile_store.h"
 
-static const char *const render_keys[] = {"scene", "pattern", "reference", "crop", "acuity", NULL};
+static const char *const render_keys[] = {"scene", "size",   "pattern", "reference",
+                                          "crop",  "acuity", NULL};
 
 static bool known_key(const char *key)
 {
@@ -73,7 +74,7 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
             goto done;
         }
     }
-    if (tile_decode_scene(json_object_get(root, "scene"), &rp.scene, "scene", &err)) {
+    if (tile_decode_scene_request(root, &rp.scene, &err)) {
         reply_engine_error(resp, &err);
         goto done;
     }

@@ -33,8 +33,8 @@ static void animation_free(void *params)
 
 static bool allowed_key(const char *key)
 {
-    static const char *const keys[] = {"kind",      "label",  "priority", "scene", "pattern",
-                                       "reference", "acuity", "tiles",    NULL};
+    static const char *const keys[] = {"kind",    "label",     "priority", "scene", "size",
+                                       "pattern", "reference", "acuity",   "tiles", NULL};
     for (size_t i = 0; keys[i]; i++)
         if (strcmp(key, keys[i]) == 0)
             return true;
@@ -57,12 +57,12 @@ static int animation_parse(const json_t *spec, void **params, aa_error *err)
     ap->tiles = true;
     json_t *scene = json_object_get(spec, "scene");
     int rc = AA_OK;
-    if (!json_is_object(scene) || !json_object_get(scene, "name"))
+    if (!json_is_string(scene) && !(json_is_object(scene) && json_object_get(scene, "name")))
         rc = aa_error_set(err, AA_EINVAL, "scene.name",
                           "an animation scene is required (rotating-triangle, "
                           "translating-circle)");
     if (!rc)
-        rc = tile_decode_scene(scene, &ap->scene, "scene", err);
+        rc = tile_decode_scene_request(spec, &ap->scene, err);
     if (!rc && !aa_scene_kind_is_animation(ap->scene.kind))
         rc = aa_error_set(err, AA_EINVAL, "scene.name",
                           "not an animation (rotating-triangle, translating-circle)");

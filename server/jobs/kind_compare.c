@@ -40,8 +40,8 @@ static void compare_free(void *params)
 
 static bool allowed_key(const char *key)
 {
-    static const char *const keys[] = {"kind",      "label",  "priority", "scene", "patterns",
-                                       "reference", "acuity", "tiles",    NULL};
+    static const char *const keys[] = {"kind",     "label",     "priority", "scene", "size",
+                                       "patterns", "reference", "acuity",   "tiles", NULL};
     for (size_t i = 0; keys[i]; i++)
         if (strcmp(key, keys[i]) == 0)
             return true;
@@ -62,7 +62,7 @@ static int compare_parse(const json_t *spec, void **params, aa_error *err)
     if (!cp)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     cp->tiles = true;
-    int rc = tile_decode_scene(json_object_get(spec, "scene"), &cp->scene, "scene", err);
+    int rc = tile_decode_scene_request(spec, &cp->scene, err);
     if (!rc)
         rc = tile_decode_reference(json_object_get(spec, "reference"), &cp->ref, "reference", err);
     if (!rc)

@@ -26,9 +26,8 @@ typedef struct convergence_params {
 
 static bool allowed_key(const char *key)
 {
-    static const char *const keys[] = {"kind",         "label",       "priority",
-                                       "scene",        "reference",   "levels",
-                                       "baseline_spp", "kernel_size", NULL};
+    static const char *const keys[] = {"kind",      "label",  "priority",     "scene",       "size",
+                                       "reference", "levels", "baseline_spp", "kernel_size", NULL};
     for (size_t i = 0; keys[i]; i++)
         if (strcmp(key, keys[i]) == 0)
             return true;
@@ -65,7 +64,7 @@ static int convergence_parse(const json_t *spec, void **params, aa_error *err)
     cp->level_count = 4;
     cp->baseline_spp = 4096;
     cp->kernel_size = 1;
-    int rc = tile_decode_scene(json_object_get(spec, "scene"), &cp->scene, "scene", err);
+    int rc = tile_decode_scene_request(spec, &cp->scene, err);
     if (!rc)
         rc = tile_decode_reference(json_object_get(spec, "reference"), &cp->ref, "reference", err);
     json_t *levels = json_object_get(spec, "levels");

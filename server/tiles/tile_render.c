@@ -130,6 +130,49 @@ int tile_decode_scene(const json_t *j, aa_scene_params *out, const char *prefix,
     return prefix_engine_error(aa_scene_init(&probe, out, err), err, prefix);
 }
 
+int tile_decode_scene_request(const json_t *request, aa_scene_params *out, aa_error *err)
+{
+    /* Issue 4's wire format: "scene" may be a plain name and "size":[w,h] sits beside it;
+     * both fold into the object form {"name","width","height",...}. */
+    json_t *scene = json_object_get(request, "scene");
+    json_t *size = json_object_get(request, "size");
+    if (!size && !json_is_string(scene))
+        return tile_decode_scene(scene, out, "scene", err);
+    json_t *obj = json_is_string(scene) ? json_pack("{s:O}", "name", scene)
+                  : scene               ? json_deep_copy(scene)
+                                        : json_object();
+    if (!obj)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    int rc = AA_OK;
+    if (!json_is_object(obj)) {
+        rc = aa_error_set(err, AA_EINVAL, "scene", "a scene name or an object {\"name\": ...}");
+    } else if (size) {
+        if (!json_is_array(size) || json_array_size(size) != 2 ||
+            !json_is_integer(json_array_get(size, 0)) || !json_is_integer(json_array_get(size, 1)))
+            rc = aa_error_set(err, AA_EINVAL, "size", "size must be [width, height] in pixels");
+        else if (json_object_get(obj, "width") || json_object_get(obj, "height"))
+            rc = aa_error_set(err, AA_EINVAL, "size",
+                              "give the size either as size or as scene.width/height");
+        else {
+            json_object_set(obj, "width", json_array_get(size, 0));
+            json_object_set(obj, "height", json_array_get(size, 1));
+        }
+    }
+    if (!rc) {
+        rc = tile_decode_scene(obj, out, "scene", err);
+        if (rc && err && json_is_string(scene) && !strcmp(err->field, "scene.name"))
+            snprintf(err->field, sizeof err->field, "scene");
+        if (rc && size && err) {
+            if (!strcmp(err->field, "scene.width"))
+                snprintf(err->field, sizeof err->field, "size[0]");
+            else if (!strcmp(err->field, "scene.height"))
+                snprintf(err->field, sizeof err->field, "size[1]");
+        }
+    }
+    json_decref(obj);
+    return rc;
+}
+
 static int decode_filter(const json_t *j, aa_filter *f, const char *prefix, aa_error *err)
 {
     char path[96];

@@ -1,0 +1,77 @@
+/* Steepest-descent pattern optimizer of Laine & Aila (2005), section 5, with multi-start.
+ *
+ * One step: evaluate W(theta) E1(theta) and its analytic gradient for every kernel and angle;
+ * terms with W E1 >= t E2 ("active") move with step c1, the rest with c0 (L&A: t = 0.99,
+ * c1 = 100 c0); position gradients of a tile sample are summed over every kernel that reads it
+ * (tile_index), then projected onto the sample's site (corner: fixed, edge: along the edge,
+ * interior: clamped inside its pixel); mirrored patterns move their source pixel and are
+ * rebuilt, so the mirror structure holds by construction; weights move along the Sigma w = 1
+ * projected gradient and are renormalised. Robustness beyond the paper: when a step raises E2
+ * the step is undone and c0 halved (grown by 1.2x after a success); the run stops when E2 has
+ * not improved by rel_tolerance over stall_iterations steps, at max_iterations, at max_seconds,
+ * or when progress returns nonzero (checked at least every 10 ms).
+ * Deterministic: no clock-dependent decisions except the time budget. */
+#ifndef AA_OPTIMIZER_H
+#define AA_OPTIMIZER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "aa_error.h"
+#include "metric.h"
+#include "pattern.h"
+
+typedef enum aa_optimize_mode {
+    AA_OPTIMIZE_WEIGHTS,   /* L&A Table 3 "Opt W" */
+    AA_OPTIMIZE_POSITIONS,
+    AA_OPTIMIZE_BOTH       /* "Opt W+P" */
+} aa_optimize_mode;
+
+typedef struct aa_optimize_params {
+    aa_optimize_mode mode;
+    double threshold;      /* t, default 0.99 */
+    double step;           /* c0, default 1e-4 (c1 = step * active_ratio) */
+    double active_ratio;   /* c1 / c0, default 100 */
+    long max_iterations;   /* per seed, default 20000 */
+    double max_seconds;    /* wall budget for the whole call, default 10; <= 0: none */
+    long stall_iterations; /* default 500 */
+    double rel_tolerance;  /* default 1e-6 */
+    /* Hardware grid: positions snapped to 1/2^grid_bits pixel after optimisation (and the
+     * quantisation cost reported); d3d12_range also clamps offsets to [-8, 7]/16. */
+    int grid_bits;         /* 0: off; default 0 (4 = 1/16 pixel) */
+    bool d3d12_range;
+} aa_optimize_params;
+
+void aa_optimize_params_default(aa_optimize_params *p);
+
+/* Progress of a run: return nonzero to cancel (the call then returns AA_ECANCELED with the
+ * best pattern so far in *best). */
+typedef struct aa_optimize_progress {
+    double seconds;     /* since the call started */
+    long iterations;    /* steps so far, all seeds */
+    long evaluations;   /* E2 evaluations so far */
+    double best_e2;
+    double fraction;    /* 0..1 estimate */
+    bool improved;      /* best_e2 improved since the previous call */
+    const aa_pattern *best; /* valid during the callback only */
+} aa_optimize_progress;
+typedef int (*aa_optimize_progress_fn)(void *user, const aa_optimize_progress *progress);
+
+typedef struct aa_optimize_result {
+    double initial_e2;
+    double e2;               /* of *best (after snapping when grid_bits > 0) */
+    double e2_before_snap;   /* == e2 when grid_bits == 0 */
+    long iterations;
+    long evaluations;
+    double seconds;
+    size_t argmax_kernel;
+    double argmax_angle_deg;
+} aa_optimize_result;
+
+/* Local optimisation from one seed pattern. *best receives a new pattern (free it). */
+int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
+                const aa_optimize_params *params, aa_optimize_progress_fn progress, void *user,
+                aa_pattern *best, aa_optimize_result *result, aa_error *err);
+
+#endif
