@@ -230,7 +230,7 @@ ev("acuity_knot_duplicate_angle", 400, ["acuity.knots[1][0]", "acuity.knots[0][0
 case("acuity_all_zero_ok", 200, None, body_json={"pattern": {"preset": "rgss"}, "acuity": {"knots": [[0, 0]]}}, check=OK)
 # --- zero / absurd sizes
 for n, s, fld in [("zero_w", [0, 16], "size[0]"), ("zero_h", [16, 0], "size[1]"), ("negative", [-1, 16], "size[0]"),
-                  ("absurd", [1000000, 1000000], "size[0]"), ("fraction", [16.5, 16], "size[0]"), ("three", [16, 16, 16], "size"),
+                  ("absurd", [1000000, 1000000], "size[0]"), ("fraction", [16.5, 16], ["size", "size[0]"]), ("three", [16, 16, 16], "size"),
                   ("empty", [], "size")]:
     case("render_size_" + n, 400, fld, path="/v1/render", body_json=dict(RB, size=s))
 # --- bad job ids, cancelling finished jobs
