@@ -23,9 +23,9 @@
 #include "pattern.h"
 
 typedef enum aa_optimize_mode {
-    AA_OPTIMIZE_WEIGHTS,   /* L&A Table 3 "Opt W" */
+    AA_OPTIMIZE_WEIGHTS, /* L&A Table 3 "Opt W" */
     AA_OPTIMIZE_POSITIONS,
-    AA_OPTIMIZE_BOTH       /* "Opt W+P" */
+    AA_OPTIMIZE_BOTH /* "Opt W+P" */
 } aa_optimize_mode;
 
 typedef struct aa_optimize_params {
@@ -39,7 +39,7 @@ typedef struct aa_optimize_params {
     double rel_tolerance;  /* default 1e-6 */
     /* Hardware grid: positions snapped to 1/2^grid_bits pixel after optimisation (and the
      * quantisation cost reported); d3d12_range also clamps offsets to [-8, 7]/16. */
-    int grid_bits;         /* 0: off; default 0 (4 = 1/16 pixel) */
+    int grid_bits; /* 0: off; default 0 (4 = 1/16 pixel) */
     bool d3d12_range;
 } aa_optimize_params;
 
@@ -48,20 +48,20 @@ void aa_optimize_params_default(aa_optimize_params *p);
 /* Progress of a run: return nonzero to cancel (the call then returns AA_ECANCELED with the
  * best pattern so far in *best). */
 typedef struct aa_optimize_progress {
-    double seconds;     /* since the call started */
-    long iterations;    /* steps so far, all seeds */
-    long evaluations;   /* E2 evaluations so far */
+    double seconds;   /* since the call started */
+    long iterations;  /* steps so far, all seeds */
+    long evaluations; /* E2 evaluations so far */
     double best_e2;
-    double fraction;    /* 0..1 estimate */
-    bool improved;      /* best_e2 improved since the previous call */
+    double fraction;        /* 0..1 estimate */
+    bool improved;          /* best_e2 improved since the previous call */
     const aa_pattern *best; /* valid during the callback only */
 } aa_optimize_progress;
 typedef int (*aa_optimize_progress_fn)(void *user, const aa_optimize_progress *progress);
 
 typedef struct aa_optimize_result {
     double initial_e2;
-    double e2;               /* of *best (after snapping when grid_bits > 0) */
-    double e2_before_snap;   /* == e2 when grid_bits == 0 */
+    double e2;             /* of *best (after snapping when grid_bits > 0) */
+    double e2_before_snap; /* == e2 when grid_bits == 0 */
     long iterations;
     long evaluations;
     double seconds;
