@@ -1,7 +1,8 @@
 /* The daemon context used by fuzz_request_handler: api_context_create() on embedded defaults
  * with a fresh temporary state directory and web directory, no listeners. Jobs are accepted
  * into a small queue; a single worker runs them (sleep jobs are cheap, optimisations are
- * bounded by their own max_seconds). Created once per fuzzing process. */
+ * bounded by their own max_seconds). Created once per fuzzing process; destroyed, and its
+ * directory removed, at exit. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,9 +25,23 @@ static void write_file(const char *dir, const char *name, const char *text)
     }
 }
 
+static char root[] = "/tmp/aalab-fuzz-XXXXXX";
+static api_context *opened;
+
+static void fuzz_context_close(void)
+{
+    if (!opened)
+        return;
+    api_context_destroy(opened);
+    opened = NULL;
+    char cmd[sizeof root + 16];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", root);
+    if (system(cmd) != 0)
+        fprintf(stderr, "fuzz_context: could not remove %s\n", root);
+}
+
 api_context *fuzz_context_open(void)
 {
-    static char root[] = "/tmp/aalab-fuzz-XXXXXX";
     if (!mkdtemp(root)) {
         perror("mkdtemp");
         abort();
@@ -55,6 +70,8 @@ api_context *fuzz_context_open(void)
         fprintf(stderr, "api_context_create: %s (%s)\n", err.message, err.field);
         abort();
     }
+    opened = ctx;
+    atexit(fuzz_context_close);
     return ctx;
 }
 
