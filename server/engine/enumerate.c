@@ -49,7 +49,10 @@ static int config_cmp(const aa_mirrored_config *a, const aa_mirrored_config *b)
     return (a->interior > b->interior) - (a->interior < b->interior);
 }
 
-static int config_qsort_cmp(const void *a, const void *b) { return config_cmp(a, b); }
+static int config_qsort_cmp(const void *a, const void *b)
+{
+    return config_cmp(a, b);
+}
 
 void aa_mirrored_config_canonical(const aa_mirrored_config *c, aa_mirrored_config *out)
 {

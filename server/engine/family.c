@@ -74,13 +74,13 @@ int aa_family_parse(const char *text, aa_family *out, aa_error *err)
     double samples = n * T * T;
     if (out->mirrored) {
         if (fabs(n * 4 - round(n * 4)) > 1e-9)
-            return aa_error_set(err, AA_EINVAL, "family",
-                                "P(4,1+,n) needs n a multiple of 0.25");
+            return aa_error_set(err, AA_EINVAL, "family", "P(4,1+,n) needs n a multiple of 0.25");
         if (n > 16)
             return aa_error_set(err, AA_ERANGE, "family", "n must be at most 16");
     } else {
         if (fabs(samples - round(samples)) > 1e-9)
-            return aa_error_set(err, AA_EINVAL, "family", "n * s must be a whole number of samples");
+            return aa_error_set(err, AA_EINVAL, "family",
+                                "n * s must be a whole number of samples");
         if (samples > AA_MAX_KERNEL_SAMPLES / 4 || samples < 1)
             return aa_error_set(err, AA_ERANGE, "family", "n * s must be in 1..%d",
                                 AA_MAX_KERNEL_SAMPLES / 4);
@@ -127,8 +127,8 @@ static void snap_some_to_edges(aa_point *pts, size_t n, aa_rng *rng)
     }
 }
 
-int aa_family_seed(const aa_family *family, aa_seed_kind kind, const aa_filter *filter,
-                   aa_rng *rng, aa_pattern *out, aa_error *err)
+int aa_family_seed(const aa_family *family, aa_seed_kind kind, const aa_filter *filter, aa_rng *rng,
+                   aa_pattern *out, aa_error *err)
 {
     memset(out, 0, sizeof *out);
     if (family->mirrored) {

@@ -35,10 +35,10 @@ typedef struct opt_run {
     const aa_metric_params *metric;
     const aa_optimize_params *params;
     size_t angle_count;
-    double *theta;  /* radians */
-    double *weight; /* W(theta) */
-    double *value;  /* W E1 per kernel x angle */
-    double *gx, *gy, *gw; /* per-kernel gradient scratch (max kernel size) */
+    double *theta;                 /* radians */
+    double *weight;                /* W(theta) */
+    double *value;                 /* W E1 per kernel x angle */
+    double *gx, *gy, *gw;          /* per-kernel gradient scratch (max kernel size) */
     double *dir_x, *dir_y, *dir_w; /* descent direction on the free variables */
     aa_metric_workspace ws;
     long evaluations;
@@ -273,7 +273,7 @@ static int report(opt_progress_state *ps, const opt_state *best, double best_e2,
     aa_pattern snap;
     aa_error e;
     bool have = opt_state_to_pattern(best, &snap, &e) == AA_OK;
-    aa_optimize_progress pr = {t - ps->start, it, evals, best_e2, fraction, ps->improved,
+    aa_optimize_progress pr = {t - ps->start,      it, evals, best_e2, fraction, ps->improved,
                                have ? &snap : NULL};
     ps->improved = false;
     int stop = ps->fn(ps->user, &pr);

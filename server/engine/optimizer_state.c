@@ -130,8 +130,8 @@ int opt_state_init(opt_state *st, const aa_pattern *seed, aa_error *err)
     st->refs = calloc(st->work.kernel_count, sizeof *st->refs);
     int rc = st->refs ? AA_OK : aa_error_set(err, AA_ENOMEM, "", "out of memory");
     for (size_t k = 0; k < st->work.kernel_count && !rc; k++) {
-        st->refs[k] = calloc(st->work.kernels[k].count ? st->work.kernels[k].count : 1,
-                             sizeof **st->refs);
+        st->refs[k] =
+            calloc(st->work.kernels[k].count ? st->work.kernels[k].count : 1, sizeof **st->refs);
         if (!st->refs[k])
             rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
