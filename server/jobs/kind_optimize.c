@@ -178,13 +178,10 @@ static void optimize_free(void *params)
 }
 
 static const char *const optimize_keys[] = {
-    "kind",   "family", "pattern", "seeds", "max_seconds", "rng_seed", "mode", "filter",
-    "acuity", "angles", "grid",    "distributions", NULL};
+    "kind",   "family", "pattern", "seeds", "max_seconds",   "rng_seed", "mode",
+    "filter", "acuity", "angles",  "grid",  "distributions", NULL};
 
-int opt_parse_distributions(const json_t *spec, aa_seed_kind *kinds, size_t *count,
-                            aa_error *err);
-int opt_parse_distributions(const json_t *spec, aa_seed_kind *kinds, size_t *count,
-                            aa_error *err)
+int opt_parse_distributions(const json_t *spec, aa_seed_kind *kinds, size_t *count, aa_error *err)
 {
     json_t *d = json_object_get(spec, "distributions");
     *count = 0;
@@ -242,7 +239,6 @@ static int optimize_parse(const json_t *spec, void **params, aa_error *err)
     return AA_OK;
 }
 
-json_t *opt_per_seed_json(const aa_multistart_result *r);
 json_t *opt_per_seed_json(const aa_multistart_result *r)
 {
     json_t *a = json_array();
@@ -251,10 +247,9 @@ json_t *opt_per_seed_json(const aa_multistart_result *r)
         if (isnan(s->e2))
             continue;
         json_array_append_new(a, json_pack("{s:I,s:s,s:o,s:o,s:I}", "seed", (json_int_t)i,
-                                           "distribution", aa_seed_kind_name(s->kind),
-                                           "initial_e2", proto_real(s->initial_e2), "e2",
-                                           proto_real(s->e2), "iterations",
-                                           (json_int_t)s->iterations));
+                                           "distribution", aa_seed_kind_name(s->kind), "initial_e2",
+                                           proto_real(s->initial_e2), "e2", proto_real(s->e2),
+                                           "iterations", (json_int_t)s->iterations));
     }
     return a;
 }
@@ -299,8 +294,8 @@ static int optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *e
         proto_real(r.seconds), "family", best.family, "per_seed", opt_per_seed_json(&r));
     if (res && op->common.grid_bits)
         json_object_set_new(res, "grid",
-                            json_pack("{s:I,s:b,s:o,s:o}", "bits", (json_int_t)op->common.grid_bits, "d3d12",
-                                      op->common.d3d12, "e2_before_snap",
+                            json_pack("{s:I,s:b,s:o,s:o}", "bits", (json_int_t)op->common.grid_bits,
+                                      "d3d12", op->common.d3d12, "e2_before_snap",
                                       proto_real(r.e2_before_snap), "quantisation_cost",
                                       proto_real(r.e2 - r.e2_before_snap)));
     aa_pattern_free(&best);

@@ -50,4 +50,9 @@ typedef struct opt_job_bridge {
 } opt_job_bridge;
 int opt_job_progress(void *user, const aa_optimize_progress *p);
 
+/* "distributions": [names] -> kinds (count 0 when absent). */
+int opt_parse_distributions(const json_t *spec, aa_seed_kind *kinds, size_t *count, aa_error *err);
+/* per-seed summary of a multi-start run. */
+json_t *opt_per_seed_json(const aa_multistart_result *r);
+
 #endif
