@@ -5,6 +5,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "enumerate.h"
 #include "optimizer.h"
 
 void aa_multistart_params_default(aa_multistart_params *p)
@@ -125,6 +126,22 @@ static int make_seed(const aa_multistart_params *p, const aa_metric_params *metr
     *kind = kinds[i % kc];
     aa_rng rng;
     aa_rng_seed(&rng, p->rng_seed, (uint64_t)i);
+    if (p->family->mirrored) {
+        /* The placement configuration matters more than the positions: seed i takes
+         * configuration i mod count, so every configuration is tried in turn. */
+        aa_mirrored_config *configs;
+        size_t count;
+        int rc = aa_enumerate_mirrored(p->family->cost, &configs, &count, err);
+        if (rc)
+            return rc;
+        if (count == 0) {
+            free(configs);
+            return aa_error_set(err, AA_EINVAL, "family", "no configuration of this cost");
+        }
+        rc = aa_mirrored_config_seed(&configs[i % count], *kind, metric->filter, &rng, out, err);
+        free(configs);
+        return rc;
+    }
     return aa_family_seed(p->family, *kind, metric->filter, &rng, out, err);
 }
 
