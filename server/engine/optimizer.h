@@ -88,6 +88,8 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
  * at clock-dependent points. progress is called from worker threads, serialised by a mutex, at
  * most every 10 ms plus once at the end; nonzero cancels every worker (AA_ECANCELED, *best
  * holds the best so far when any seed has produced one). */
+#include "enumerate.h"
+#include "enumerate.h"
 #include "family.h"
 
 typedef struct aa_multistart_params {
@@ -100,6 +102,15 @@ typedef struct aa_multistart_params {
     const aa_seed_kind *kinds; /* distributions used in turn; NULL: all five */
     size_t kind_count;
     const aa_pattern *seeds; /* given seeds (family == NULL): seed_count of them */
+    /* Mirrored families: seed i takes configs[i % config_count]; NULL: all configurations of
+     * the family's cost (aa_enumerate_mirrored). */
+    const aa_mirrored_config *configs;
+    size_t config_count;
+    /* Mirrored families only, 0 = off: first run every configuration once for
+     * screen_iterations steps (within a quarter of max_seconds), then spend the rest on the
+     * screen_top configurations with the lowest E2 (per_seed then describes the second phase). */
+    long screen_iterations;
+    size_t screen_top;
 } aa_multistart_params;
 
 void aa_multistart_params_default(aa_multistart_params *p);
