@@ -41,6 +41,9 @@ function die(lines) {
   process.exit(1);
 }
 
+// A reader that goes away (| head) must not kill the run before it has stopped its daemons.
+process.stdout.on('error', () => {});
+
 async function main() {
   const opts = parseArgs(process.argv.slice(2));
   const problems = [];
