@@ -124,6 +124,28 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
         } else if (i + 1 < argc) {
             v = argv[i + 1];
         }
+        static const char *const known[] = {"--socket",
+                                            "--tcp",
+                                            "--state-dir",
+                                            "--web-dir",
+                                            "--socket-group",
+                                            "--workers",
+                                            "--http-threads",
+                                            "--queue-size",
+                                            "--user-quota",
+                                            "--max-body",
+                                            "--connection-limit",
+                                            "--connection-timeout",
+                                            "--eval-cache",
+                                            "--tile-bytes",
+                                            NULL};
+        bool is_known = false;
+        for (size_t k = 0; known[k] && !is_known; k++)
+            is_known = !strcmp(a, known[k]);
+        if (!is_known) {
+            fprintf(err, "aalabd: unknown option %s (see --help)\n", a);
+            return -1;
+        }
         long n;
         int bad = 0;
         bool consumed = !eq;
