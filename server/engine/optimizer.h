@@ -23,9 +23,9 @@
 #include "pattern.h"
 
 typedef enum aa_optimize_mode {
-    AA_OPTIMIZE_WEIGHTS,   /* L&A Table 3 "Opt W" */
+    AA_OPTIMIZE_WEIGHTS, /* L&A Table 3 "Opt W" */
     AA_OPTIMIZE_POSITIONS,
-    AA_OPTIMIZE_BOTH       /* "Opt W+P" */
+    AA_OPTIMIZE_BOTH /* "Opt W+P" */
 } aa_optimize_mode;
 
 typedef struct aa_optimize_params {
@@ -39,7 +39,7 @@ typedef struct aa_optimize_params {
     double rel_tolerance;  /* default 1e-6 */
     /* Hardware grid: positions snapped to 1/2^grid_bits pixel after optimisation (and the
      * quantisation cost reported); d3d12_range also clamps offsets to [-8, 7]/16. */
-    int grid_bits;         /* 0: off; default 0 (4 = 1/16 pixel) */
+    int grid_bits; /* 0: off; default 0 (4 = 1/16 pixel) */
     bool d3d12_range;
 } aa_optimize_params;
 
@@ -48,20 +48,20 @@ void aa_optimize_params_default(aa_optimize_params *p);
 /* Progress of a run: return nonzero to cancel (the call then returns AA_ECANCELED with the
  * best pattern so far in *best). */
 typedef struct aa_optimize_progress {
-    double seconds;     /* since the call started */
-    long iterations;    /* steps so far, all seeds */
-    long evaluations;   /* E2 evaluations so far */
+    double seconds;   /* since the call started */
+    long iterations;  /* steps so far, all seeds */
+    long evaluations; /* E2 evaluations so far */
     double best_e2;
-    double fraction;    /* 0..1 estimate */
-    bool improved;      /* best_e2 improved since the previous call */
+    double fraction;        /* 0..1 estimate */
+    bool improved;          /* best_e2 improved since the previous call */
     const aa_pattern *best; /* valid during the callback only */
 } aa_optimize_progress;
 typedef int (*aa_optimize_progress_fn)(void *user, const aa_optimize_progress *progress);
 
 typedef struct aa_optimize_result {
     double initial_e2;
-    double e2;               /* of *best (after snapping when grid_bits > 0) */
-    double e2_before_snap;   /* == e2 when grid_bits == 0 */
+    double e2;             /* of *best (after snapping when grid_bits > 0) */
+    double e2_before_snap; /* == e2 when grid_bits == 0 */
     long iterations;
     long evaluations;
     double seconds;
@@ -73,5 +73,56 @@ typedef struct aa_optimize_result {
 int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
                 const aa_optimize_params *params, aa_optimize_progress_fn progress, void *user,
                 aa_pattern *best, aa_optimize_result *result, aa_error *err);
+
+/* Multi-start: seed_count local runs from random seeds of a family (or given patterns), spread
+ * over worker threads (seed i goes to worker i % workers; each seed draws from its own PCG32
+ * stream (rng_seed, i), so the seeds do not depend on the worker count). The best is the lowest
+ * E2, ties to the lowest seed index. With iteration/stall limits only, the result is
+ * deterministic for (rng_seed, workers) (in fact for rng_seed alone); a time budget stops seeds
+ * at clock-dependent points. progress is called from worker threads, serialised by a mutex, at
+ * most every 10 ms plus once at the end; nonzero cancels every worker (AA_ECANCELED, *best
+ * holds the best so far when any seed has produced one). */
+#include "family.h"
+
+typedef struct aa_multistart_params {
+    aa_optimize_params local; /* per seed (its max_seconds is capped by the call's budget) */
+    size_t seed_count;
+    uint64_t rng_seed;
+    int workers;               /* 1..64 threads */
+    double max_seconds;        /* whole call; <= 0: none */
+    const aa_family *family;   /* random seeds of this family, or NULL to use seeds[] */
+    const aa_seed_kind *kinds; /* distributions used in turn; NULL: all five */
+    size_t kind_count;
+    const aa_pattern *seeds; /* given seeds (family == NULL): seed_count of them */
+} aa_multistart_params;
+
+void aa_multistart_params_default(aa_multistart_params *p);
+
+typedef struct aa_multistart_seed {
+    aa_seed_kind kind; /* distribution of a family seed */
+    int status;        /* AA_OK, or why this seed did not run to completion */
+    double initial_e2; /* NaN if the seed did not run */
+    double e2;
+    long iterations;
+} aa_multistart_seed;
+
+typedef struct aa_multistart_result {
+    double e2;
+    size_t best_seed;
+    size_t seeds_run;
+    long iterations;
+    long evaluations;
+    double seconds;
+    size_t argmax_kernel;
+    double argmax_angle_deg;
+    double e2_before_snap;
+    aa_multistart_seed *per_seed; /* [seed_count] */
+    size_t seed_count;
+} aa_multistart_result;
+
+int aa_multistart(const aa_multistart_params *params, const aa_metric_params *metric,
+                  aa_optimize_progress_fn progress, void *user, aa_pattern *best,
+                  aa_multistart_result *result, aa_error *err);
+void aa_multistart_result_free(aa_multistart_result *r);
 
 #endif

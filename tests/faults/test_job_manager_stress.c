@@ -75,7 +75,7 @@ static void *client_main(void *arg)
         char buf[32];
         state_of(c->jm, id, buf, sizeof buf);
         if (i % 7 == 0) {
-            json_t *l = job_manager_list(c->jm, 50);
+            json_t *l = job_manager_list(c->jm, 50, -1);
             assert_non_null(l);
             json_decref(l);
             job_manager_stats s;
