@@ -18,6 +18,7 @@ typedef enum opt_id {
     OPT_JSON,
     OPT_TIMEOUT,
     OPT_HELP,
+    OPT_VERSION,
     OPT_FILTER,
     OPT_ACUITY,
     OPT_ANGLES,
@@ -34,7 +35,8 @@ typedef enum opt_id {
     OPT_SIZE,
     OPT_OUTPUT,
     OPT_IMAGE,
-    OPT_FORMAT
+    OPT_FORMAT,
+    OPT_COST
 } opt_id;
 
 typedef struct opt_spec {
@@ -50,18 +52,20 @@ static const opt_spec OPTIONS[] = {
     {"json", 0, false, ALL_COMMANDS, OPT_JSON},
     {"timeout", 0, true, ALL_COMMANDS, OPT_TIMEOUT},
     {"help", 'h', false, ALL_COMMANDS, OPT_HELP},
+    {"version", 'V', false, ALL_COMMANDS, OPT_VERSION},
     {"filter", 0, true, BIT(CMD_EVAL), OPT_FILTER},
     {"acuity", 0, true, BIT(CMD_EVAL), OPT_ACUITY},
     {"angles", 0, true, BIT(CMD_EVAL), OPT_ANGLES},
     {"detail", 0, false, BIT(CMD_EVAL), OPT_DETAIL},
-    {"family", 0, true, BIT(CMD_OPTIMIZE), OPT_FAMILY},
+    {"family", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_ENUMERATE), OPT_FAMILY},
+    {"cost", 0, true, BIT(CMD_ENUMERATE), OPT_COST},
     {"pattern", 'p', true, BIT(CMD_OPTIMIZE) | BIT(CMD_RENDER), OPT_PATTERN},
     {"seeds", 0, true, BIT(CMD_OPTIMIZE), OPT_SEEDS},
     {"max-seconds", 0, true, BIT(CMD_OPTIMIZE), OPT_MAX_SECONDS},
     {"rng-seed", 0, true, BIT(CMD_OPTIMIZE), OPT_RNG_SEED},
     {"mode", 0, true, BIT(CMD_OPTIMIZE), OPT_MODE},
-    {"wait", 'w', false, BIT(CMD_OPTIMIZE), OPT_WAIT},
-    {"poll", 0, true, BIT(CMD_OPTIMIZE), OPT_POLL},
+    {"wait", 'w', false, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_WAIT},
+    {"poll", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_POLL},
     {"scene", 0, true, BIT(CMD_RENDER), OPT_SCENE},
     {"size", 0, true, BIT(CMD_RENDER), OPT_SIZE},
     {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT), OPT_OUTPUT},
@@ -74,9 +78,10 @@ static const struct {
     cli_command id;
 } COMMANDS[] = {
     {"help", CMD_HELP},       {"version", CMD_VERSION},   {"eval", CMD_EVAL},
-    {"presets", CMD_PRESETS}, {"optimize", CMD_OPTIMIZE}, {"jobs", CMD_JOBS},
-    {"job", CMD_JOB},         {"cancel", CMD_CANCEL},     {"render", CMD_RENDER},
-    {"export", CMD_EXPORT},   {"health", CMD_HEALTH},
+    {"presets", CMD_PRESETS}, {"optimize", CMD_OPTIMIZE}, {"submit", CMD_SUBMIT},
+    {"jobs", CMD_JOBS},       {"job", CMD_JOB},           {"cancel", CMD_CANCEL},
+    {"render", CMD_RENDER},   {"export", CMD_EXPORT},     {"health", CMD_HEALTH},
+    {"filters", CMD_FILTERS}, {"acuity", CMD_ACUITY},     {"enumerate", CMD_ENUMERATE},
 };
 
 const char *cli_command_name(cli_command c)
@@ -195,6 +200,7 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
             return fail(err, cap, "--timeout wants seconds in (0, 86400], got '%s'", v);
         break;
     case OPT_HELP: /* handled by cli_parse */
+    case OPT_VERSION:
         break;
     case OPT_FILTER:
         a->filter = v;
@@ -257,6 +263,11 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
             return fail(err, cap, "--image wants pattern, reference or difference, got '%s'", v);
         a->image = v;
         break;
+    case OPT_COST:
+        if (parse_double(v, 0.001, 1e6, &a->cost))
+            return fail(err, cap, "--cost wants samples per pixel (> 0), got '%s'", v);
+        a->has_cost = true;
+        break;
     case OPT_FORMAT:
         if (!one_of(v, FORMATS))
             return fail(err, cap, "--format wants json, utk, vulkan or d3d12, got '%s'", v);
@@ -289,19 +300,26 @@ static int check_command(cli_args *a, char *err, size_t cap)
     case CMD_NONE:
         return fail(err, cap, "no command given (try 'aalab help')");
     case CMD_EVAL:
+    case CMD_SUBMIT:
     case CMD_JOB:
     case CMD_CANCEL:
     case CMD_EXPORT:
         if (!a->target)
             return fail(err, cap, "'%s' needs %s", name,
-                        a->command == CMD_EVAL ? "a preset NAME or a FILE.json" : "a job ID");
-        if (a->command != CMD_EVAL && !job_id_valid(a->target))
+                        a->command == CMD_EVAL     ? "a preset NAME or a FILE.json"
+                        : a->command == CMD_SUBMIT ? "a job spec FILE.json (or - for stdin)"
+                                                   : "a job ID");
+        if (a->command != CMD_EVAL && a->command != CMD_SUBMIT && !job_id_valid(a->target))
             return fail(err, cap, "'%s' wants a job ID (letters, digits, '-', '_'), got '%s'", name,
                         a->target);
         break;
     case CMD_OPTIMIZE:
         if (!a->family == !a->pattern)
             return fail(err, cap, "'optimize' needs exactly one of --family or --pattern");
+        break;
+    case CMD_ENUMERATE:
+        if (!a->family)
+            return fail(err, cap, "'enumerate' needs --family, e.g. 'P(4,1+,n)' --cost 1.25");
         break;
     case CMD_RENDER:
         if (!a->pattern)
@@ -312,9 +330,10 @@ static int check_command(cli_args *a, char *err, size_t cap)
     default:
         break;
     }
-    if (a->target &&
-        (a->command == CMD_JOBS || a->command == CMD_HEALTH || a->command == CMD_OPTIMIZE ||
-         a->command == CMD_RENDER || a->command == CMD_VERSION))
+    bool takes_argument = a->command == CMD_EVAL || a->command == CMD_SUBMIT ||
+                          a->command == CMD_JOB || a->command == CMD_CANCEL ||
+                          a->command == CMD_EXPORT || a->command == CMD_PRESETS;
+    if (a->target && !takes_argument)
         return fail(err, cap, "'%s' takes no argument, got '%s'", name, a->target);
     return 0;
 }
@@ -327,7 +346,7 @@ int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errc
     out->image = "pattern";
     out->format = "json";
     bool only_positionals = false;
-    bool help = false;
+    bool help = false, version = false;
 
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
@@ -380,6 +399,10 @@ int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errc
             help = true;
             continue;
         }
+        if (o->id == OPT_VERSION) {
+            version = true;
+            continue;
+        }
         /* Command-specific options are checked once the command is known (it may come later). */
         if (apply_option(out, o, value, err, errcap))
             return -1;
@@ -403,6 +426,11 @@ int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errc
         if (out->command != CMD_NONE && !(o->commands & BIT(out->command)))
             return fail(err, errcap, "option '--%s' does not apply to '%s'", o->long_name,
                         cli_command_name(out->command));
+    }
+    if (version && !help) {
+        out->command = CMD_VERSION;
+        out->target = NULL;
+        return 0;
     }
     if (help) {
         out->target = out->command == CMD_NONE || out->command == CMD_HELP

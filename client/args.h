@@ -13,12 +13,16 @@ typedef enum cli_command {
     CMD_EVAL,
     CMD_PRESETS,
     CMD_OPTIMIZE,
+    CMD_SUBMIT,
     CMD_JOBS,
     CMD_JOB,
     CMD_CANCEL,
     CMD_RENDER,
     CMD_EXPORT,
-    CMD_HEALTH
+    CMD_HEALTH,
+    CMD_FILTERS,
+    CMD_ACUITY,
+    CMD_ENUMERATE
 } cli_command;
 
 typedef struct cli_args {
@@ -27,7 +31,7 @@ typedef struct cli_args {
     const char *socket_path; /* NULL: default resolution */
     bool json;
     double timeout_s; /* per request, default 30 */
-    /* positional: eval NAME|FILE, job/cancel/export ID, help COMMAND */
+    /* positional: eval NAME|FILE, submit FILE|-, job/cancel/export ID, help COMMAND */
     const char *target;
     /* eval */
     const char *filter; /* NAME[:B=..,C=..] or a JSON object */
@@ -44,6 +48,9 @@ typedef struct cli_args {
     bool has_seeds, has_max_seconds, has_rng_seed;
     bool wait;
     double poll_s; /* --wait polling interval */
+    /* enumerate */
+    double cost;
+    bool has_cost;
     /* render */
     const char *scene;
     int width, height;

@@ -57,6 +57,8 @@ static int exchange(cli_session *s, const char *method, const char *path, const 
     int code = exit_code_for_status(resp->status);
     if (code != EXIT_OK) {
         cli_print_error(s->err, resp->status, resp->body);
+        if (resp->retry_after > 0)
+            fprintf(s->err, "aalab: the daemon asks to retry after %ld s\n", resp->retry_after);
         if (s->args->json) { /* scripts get the error document on stdout too */
             json_t *doc = json_loads(resp->body, JSON_DECODE_ANY, NULL);
             if (doc)

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include <curl/curl.h>
 
@@ -88,6 +89,26 @@ static size_t on_body(char *data, size_t size, size_t nmemb, void *userp)
     return n;
 }
 
+/* Keeps Retry-After (delta-seconds form, which is what aalabd sends). */
+static size_t on_header(char *data, size_t size, size_t nmemb, void *userp)
+{
+    http_response *r = userp;
+    size_t n = size * nmemb;
+    static const char name[] = "retry-after:";
+    if (n > sizeof name - 1 && strncasecmp(data, name, sizeof name - 1) == 0) {
+        char value[32];
+        size_t len = n - (sizeof name - 1);
+        if (len >= sizeof value)
+            len = sizeof value - 1;
+        memcpy(value, data + sizeof name - 1, len);
+        value[len] = '\0';
+        long v = strtol(value, NULL, 10);
+        if (v > 0)
+            r->retry_after = v;
+    }
+    return n;
+}
+
 int http_request(http_client *c, const char *method, const char *path, const char *body,
                  size_t body_len, http_response *out, char *err, size_t errcap)
 {
@@ -107,6 +128,8 @@ int http_request(http_client *c, const char *method, const char *path, const cha
     curl_easy_setopt(h, CURLOPT_URL, url);
     curl_easy_setopt(h, CURLOPT_WRITEFUNCTION, on_body);
     curl_easy_setopt(h, CURLOPT_WRITEDATA, &b);
+    curl_easy_setopt(h, CURLOPT_HEADERFUNCTION, on_header);
+    curl_easy_setopt(h, CURLOPT_HEADERDATA, out);
     curl_easy_setopt(h, CURLOPT_ERRORBUFFER, curl_err);
     curl_easy_setopt(h, CURLOPT_NOSIGNAL, 1L);
     curl_easy_setopt(h, CURLOPT_CONNECTTIMEOUT_MS, 10000L);

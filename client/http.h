@@ -12,6 +12,7 @@ typedef struct http_response {
     char *body; /* NUL-terminated (the NUL is not counted in len); malloc'd */
     size_t len;
     char content_type[128];
+    long retry_after; /* seconds from a Retry-After header (429, 503), 0 if none */
 } http_response;
 
 /* timeout_ms <= 0 means no overall timeout. Returns NULL when libcurl cannot start. */

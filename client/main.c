@@ -19,6 +19,8 @@ static command_fn command_for(cli_command c)
         return cmd_presets;
     case CMD_OPTIMIZE:
         return cmd_optimize;
+    case CMD_SUBMIT:
+        return cmd_submit;
     case CMD_JOBS:
         return cmd_jobs;
     case CMD_JOB:
@@ -31,6 +33,12 @@ static command_fn command_for(cli_command c)
         return cmd_export;
     case CMD_HEALTH:
         return cmd_health;
+    case CMD_FILTERS:
+        return cmd_filters;
+    case CMD_ACUITY:
+        return cmd_acuity;
+    case CMD_ENUMERATE:
+        return cmd_enumerate;
     default:
         return NULL;
     }

@@ -55,6 +55,9 @@ int pattern_argument_load(const char *arg, json_t **pattern, json_t **extras, ch
         }
         *pattern = json_incref(inner);
         json_object_del(doc, "pattern");
+        /* `aalab export ID --format json` writes {"job":ID,"pattern":P}: the id is provenance,
+         * not a request field. Anything else stays and the daemon judges it. */
+        json_object_del(doc, "job");
         if (extras && json_object_size(doc) > 0)
             *extras = json_incref(doc);
         json_decref(doc);

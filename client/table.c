@@ -92,9 +92,13 @@ void table_print(const table *t, FILE *out)
         }
     }
     for (size_t r = 0; r <= t->rows; r++) {
-        for (size_t c = 0; c < t->columns; c++) {
+        /* Stop after the last non-empty cell: no trailing blanks. */
+        size_t end = t->columns;
+        while (end > 1 && t->cells[r * t->columns + end - 1][0] == '\0')
+            end--;
+        for (size_t c = 0; c < end; c++) {
             const char *cell = t->cells[r * t->columns + c];
-            bool last = c + 1 == t->columns;
+            bool last = c + 1 == end;
             if (right[c])
                 fprintf(out, "%*s", (int)width[c], cell);
             else if (last)

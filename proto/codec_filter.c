@@ -1,7 +1,9 @@
 /* Filter and acuity wire forms, angle lists. */
+#define _POSIX_C_SOURCE 200809L
 #include "codec_internal.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,7 +20,7 @@ static bool filter_takes(const char *name, const char *param)
     if (!strcmp(param, "radius"))
         return strcmp(name, "lanczos") != 0;
     if (!strcmp(param, "B") || !strcmp(param, "C"))
-        return !strcmp(name, "mitchell");
+        return is_mitchell_family(name); /* fixed for the named members: checked below */
     if (!strcmp(param, "sigma"))
         return !strcmp(name, "gaussian");
     if (!strcmp(param, "a"))
@@ -26,18 +28,46 @@ static bool filter_takes(const char *name, const char *param)
     return false;
 }
 
+/* Building a filter's Chebyshev table costs tens of microseconds; the named filters with their
+ * default parameters are built once (read-only afterwards) and copied out. */
+#define NAMED_FILTER_MAX 16
+static aa_filter named_filters[NAMED_FILTER_MAX];
+static size_t named_filter_count;
+static pthread_once_t named_filters_once = PTHREAD_ONCE_INIT;
+
+static void build_named_filters(void)
+{
+    for (size_t i = 0; aa_filter_names[i] && named_filter_count < NAMED_FILTER_MAX; i++)
+        if (aa_filter_by_name(&named_filters[named_filter_count], aa_filter_names[i], NULL, NULL) ==
+            AA_OK)
+            named_filter_count++;
+}
+
+static bool copy_named_filter(const char *name, aa_filter *out)
+{
+    pthread_once(&named_filters_once, build_named_filters);
+    for (size_t i = 0; i < named_filter_count; i++) {
+        if (!strcmp(named_filters[i].name, name)) {
+            memcpy(out, &named_filters[i], sizeof *out);
+            return true;
+        }
+    }
+    return false;
+}
+
 int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefix, aa_error *err)
 {
     const char *prefix = field_prefix ? field_prefix : "";
     if (!j || json_is_null(j)) {
-        aa_filter_default(out);
+        if (!copy_named_filter("mitchell", out))
+            aa_filter_default(out);
         return AA_OK;
     }
     if (!json_is_object(j))
         return proto_fail(err, AA_EINVAL, prefix, "", "a filter is an object {\"name\": ...}");
-    /* cdf_error_bound is informational (written by proto_encode_filter) and ignored. */
-    static const char *const keys[] = {"name", "B", "C", "radius", "sigma", "a", "cdf_error_bound",
-                                       NULL};
+    /* cdf_error_bound and default are informational (GET /v1/filters) and ignored. */
+    static const char *const keys[] = {
+        "name", "B", "C", "radius", "sigma", "a", "cdf_error_bound", "default", NULL};
     int rc = proto_check_keys(j, keys, err, prefix);
     if (rc)
         return rc;
@@ -54,6 +84,7 @@ int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefi
             return proto_fail(err, AA_EINVAL, prefix, "name", "unknown filter");
     }
     aa_filter_params p = aa_filter_params_default();
+    bool defaults = true;
     struct {
         const char *key;
         double *dst;
@@ -68,7 +99,29 @@ int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefi
                               "not a parameter of this filter");
         if ((rc = proto_number(v, params[i].dst, err, prefix, params[i].key)))
             return rc;
+        defaults = false;
     }
+    /* catmull-rom, bspline and notch fix B and C (the encoder writes them): only the fixed
+     * values are accepted, other values need "mitchell". */
+    static const struct {
+        const char *name;
+        double B, C;
+    } fixed[] = {{"catmull-rom", 0, 0.5}, {"bspline", 1, 0}, {"notch", 1.5, -0.25}};
+    for (size_t i = 0; i < sizeof fixed / sizeof fixed[0]; i++) {
+        if (strcmp(name, fixed[i].name))
+            continue;
+        if (!isnan(p.B) && fabs(p.B - fixed[i].B) > 1e-12)
+            return proto_fail(err, AA_EINVAL, prefix, "B",
+                              "this filter fixes B; use name \"mitchell\" for other values");
+        if (!isnan(p.C) && fabs(p.C - fixed[i].C) > 1e-12)
+            return proto_fail(err, AA_EINVAL, prefix, "C",
+                              "this filter fixes C; use name \"mitchell\" for other values");
+        p.B = p.C = NAN;
+    }
+    if (isnan(p.B) && isnan(p.C) && isnan(p.radius) && isnan(p.sigma) && isnan(p.a))
+        defaults = true;
+    if (defaults && copy_named_filter(name, out))
+        return AA_OK;
     rc = aa_filter_by_name(out, name, &p, err);
     if (rc)
         proto_prefix_error(err, prefix);

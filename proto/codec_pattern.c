@@ -1,19 +1,34 @@
 /* Pattern wire forms <-> aa_pattern. */
 #include "codec_internal.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "presets.h"
 
-/* [x,y,w] (or [x,y] when want_w is false) at path prefix+sub. */
+/* Finite number without building a field path (the fast path of decode_triple). */
+static bool finite_number(const json_t *j, double *out)
+{
+    if (!json_is_number(j))
+        return false;
+    *out = json_number_value(j);
+    return isfinite(*out);
+}
+
+/* [x,y,w] (or [x,y] when want_w is false) at path prefix+sub. The path is only built when
+ * something is wrong (decoding is on the evaluate hot path). */
 static int decode_triple(const json_t *j, bool want_w, double *x, double *y, double *w,
                          const char *prefix, const char *sub, aa_error *err)
 {
+    size_t need = want_w ? 3 : 2;
+    if (json_is_array(j) && json_array_size(j) == need && finite_number(json_array_get(j, 0), x) &&
+        finite_number(json_array_get(j, 1), y) &&
+        (!want_w || finite_number(json_array_get(j, 2), w)))
+        return AA_OK;
     char field[PROTO_FIELD_MAX];
     proto_join_field(field, sizeof field, prefix, sub);
-    size_t need = want_w ? 3 : 2;
     if (!json_is_array(j) || json_array_size(j) != need)
         return aa_error_set(err, AA_EINVAL, field,
                             want_w ? "a sample is an array [x, y, w]" : "a sample is [x, y]");
@@ -44,10 +59,15 @@ static int decode_samples(const json_t *j, aa_sample **out, size_t *count, const
     if (!s)
         return aa_error_set(err, AA_ENOMEM, field, "out of memory");
     for (size_t i = 0; i < n; i++) {
+        const json_t *e = json_array_get(j, i);
+        if (json_is_array(e) && json_array_size(e) == 3 &&
+            finite_number(json_array_get(e, 0), &s[i].x) &&
+            finite_number(json_array_get(e, 1), &s[i].y) &&
+            finite_number(json_array_get(e, 2), &s[i].w))
+            continue;
         char idx[32];
         snprintf(idx, sizeof idx, "[%zu]", i);
-        int rc =
-            decode_triple(json_array_get(j, i), true, &s[i].x, &s[i].y, &s[i].w, field, idx, err);
+        int rc = decode_triple(e, true, &s[i].x, &s[i].y, &s[i].w, field, idx, err);
         if (rc) {
             free(s);
             return rc;

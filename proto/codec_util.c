@@ -7,14 +7,17 @@
 
 void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub)
 {
+    int n; /* a path longer than cap is cut short on purpose (checking n tells -O3 gcc so) */
     if (!prefix || !*prefix)
-        snprintf(out, cap, "%s", sub ? sub : "");
+        n = snprintf(out, cap, "%s", sub ? sub : "");
     else if (!sub || !*sub)
-        snprintf(out, cap, "%s", prefix);
+        n = snprintf(out, cap, "%s", prefix);
     else if (sub[0] == '[')
-        snprintf(out, cap, "%s%s", prefix, sub);
+        n = snprintf(out, cap, "%s%s", prefix, sub);
     else
-        snprintf(out, cap, "%s.%s", prefix, sub);
+        n = snprintf(out, cap, "%s.%s", prefix, sub);
+    if (cap > 0 && (n < 0 || (size_t)n >= cap))
+        out[cap - 1] = '\0';
 }
 
 json_t *proto_real(double v)

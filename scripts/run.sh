@@ -11,8 +11,10 @@ build="$repo/build/release"
 tcp=${AALAB_TCP:-127.0.0.1:8765}
 
 scripts/install-deps.sh
-cmake -S . -B "$build" -G "Unix Makefiles" -DCMAKE_BUILD_TYPE=Release -DAALAB_WEB_TESTS=OFF >/dev/null
-cmake --build "$build" -j"$(nproc)" --target aalabd aalab >/dev/null
+cmake -S . -B "$build" -G "Unix Makefiles" -DCMAKE_BUILD_TYPE="${AALAB_BUILD_TYPE:-Release}" \
+  -DAALAB_WEB_TESTS=OFF >/dev/null
+cmake --build "$build" -j"$(nproc)" --target aalabd aalab >"$build.log" 2>&1 ||
+  { grep -E "error|Error" "$build.log" | head -30; exit 1; }
 
 # The same default as aalabd (and the aalab client): /run/aalab as root, else
 # $XDG_RUNTIME_DIR/aalab, else /tmp/aalab-UID. Passed explicitly so what is printed is what is used.

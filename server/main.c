@@ -8,6 +8,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <arpa/inet.h>
+#include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -70,6 +72,18 @@ int main(int argc, char **argv)
             if (!listeners[nl]) {
                 fprintf(stderr, "aalabd: %s\n", msg);
                 goto fail;
+            }
+            if (!is_unix && !cfg.tcp_port) {
+                /* Name the activated TCP listener in the dashboard line. */
+                struct sockaddr_storage ss;
+                socklen_t len = sizeof ss;
+                char host[INET6_ADDRSTRLEN] = "";
+                if (!getsockname(fd, (struct sockaddr *)&ss, &len) && ss.ss_family == AF_INET) {
+                    struct sockaddr_in *in = (struct sockaddr_in *)&ss;
+                    inet_ntop(AF_INET, &in->sin_addr, host, sizeof host);
+                    snprintf(cfg.tcp_host, sizeof cfg.tcp_host, "%s", host);
+                    cfg.tcp_port = ntohs(in->sin_port);
+                }
             }
             have_tcp |= !is_unix;
             nl++;

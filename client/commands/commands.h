@@ -14,22 +14,33 @@
 int cmd_eval(cli_session *s);
 int cmd_presets(cli_session *s);
 int cmd_optimize(cli_session *s);
+int cmd_submit(cli_session *s);
 int cmd_jobs(cli_session *s);
 int cmd_job(cli_session *s);
 int cmd_cancel(cli_session *s);
 int cmd_render(cli_session *s);
 int cmd_export(cli_session *s);
 int cmd_health(cli_session *s);
+int cmd_filters(cli_session *s);
+int cmd_acuity(cli_session *s);
+int cmd_enumerate(cli_session *s);
 void cmd_help(FILE *out, const char *command); /* command NULL: overview */
 
 /* Request bodies. Return 0 with *req (new reference), or -1 with err (a usage error). */
 int eval_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 int optimize_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 int render_request(const cli_args *a, json_t **req, char *err, size_t errcap);
+/* submit: the spec file (or stdin) as it is, checked to be an object with a kind. */
+int submit_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 /* --filter NAME[:B=..,C=..] | JSON; --acuity NAME | FILE.json | JSON. */
 int filter_argument(const char *arg, json_t **filter, char *err, size_t errcap);
 int acuity_argument(const char *arg, json_t **acuity, char *err, size_t errcap);
 int angles_argument(const char *arg, json_t **angles, char *err, size_t errcap);
+
+/* After POST /v1/jobs (resp stolen): prints the id, or follows the job with --wait. */
+int job_submitted(cli_session *s, json_t *resp);
+/* Polls GET /v1/jobs/ID until it ends; exit 0 if done, 5 if failed/cancelled/interrupted. */
+int job_wait(cli_session *s, const char *id);
 
 /* Writes len bytes to path, or to out when path is NULL or "-"; returns an exit code. */
 int write_output(FILE *out, FILE *err, const char *path, const char *data, size_t len);
@@ -41,6 +52,9 @@ void jobs_print(FILE *out, const json_t *resp);
 void job_print(FILE *out, const json_t *job);
 void render_print(FILE *out, const json_t *resp);
 void health_print(FILE *out, const json_t *resp);
+void filters_print(FILE *out, const json_t *resp);
+void acuity_print(FILE *out, const json_t *resp);
+void enumerate_print(FILE *out, const json_t *resp);
 /* "[#######.....]  58%  best E2 0.3712" into buf, width columns of bar. */
 void progress_line(char *buf, size_t cap, double fraction, const json_t *job, int width);
 

@@ -12,13 +12,16 @@ static const char OVERVIEW[] =
     "  eval NAME|FILE.json   E2 of a preset or a pattern file (checked locally first)\n"
     "  presets [NAME]        the classic patterns, or one of them\n"
     "  optimize ...          submit an optimization job (--wait to follow it)\n"
-    "  (a pattern argument is a preset NAME, a FILE.json, or job:ID for a job's best)\n"
+    "  submit SPEC.json|-    submit a job of any kind from its JSON spec (--wait)\n"
     "  jobs                  list jobs\n"
     "  job ID                one job: state, progress, best so far, trace summary\n"
     "  cancel ID             cancel a queued or running job (owner or root)\n"
     "  render ...            render a test tile to a PNG\n"
     "  export ID             the best pattern of a job (json, utk, vulkan, d3d12)\n"
     "  health                daemon version, uptime, workers, queue\n"
+    "  filters               reference filters the metric accepts\n"
+    "  acuity                acuity tables (angle weights)\n"
+    "  enumerate ...         configurations of a family and cost\n"
     "  help [COMMAND]        this text, or a command's options\n"
     "\n"
     "global options:\n"
@@ -27,6 +30,9 @@ static const char OVERVIEW[] =
     "                        else /run/aalab/aalabd.sock)\n"
     "      --json            print the daemon's JSON instead of tables\n"
     "      --timeout S       per-request timeout in seconds (default 30)\n"
+    "  -V, --version         print the client's version\n"
+    "\n"
+    "A pattern argument is a preset NAME, a FILE.json, or job:ID (a job's best pattern).\n"
     "\n"
     "exit codes: 0 ok, 1 usage or invalid local file, 2 server answered 4xx,\n"
     "            3 server answered 5xx, 4 cannot connect, 5 job failed/cancelled (--wait)\n";
@@ -47,6 +53,9 @@ static const struct {
                  "                      [--mode weights|positions|both] [--wait] [--poll S]\n"
                  "Prints the job id. With --wait, follows the job with a progress bar on\n"
                  "stderr, prints the finished job and exits 5 if it failed or was cancelled.\n"},
+    {"submit", "usage: aalab submit SPEC.json|- [--wait] [--poll S]\n"
+               "SPEC is the POST /v1/jobs body, e.g. {\"kind\":\"family-sweep\",...}.\n"
+               "With --wait: progress bar on stderr, exit 5 if the job fails or is cancelled.\n"},
     {"jobs", "usage: aalab jobs\n"},
     {"job", "usage: aalab job ID\n"},
     {"cancel", "usage: aalab cancel ID\n"},
@@ -56,6 +65,10 @@ static const struct {
                "Prints the render statistics; -o - writes the PNG to stdout (stats to stderr).\n"},
     {"export", "usage: aalab export ID [--format json|utk|vulkan|d3d12] [-o FILE]\n"},
     {"health", "usage: aalab health\n"},
+    {"filters", "usage: aalab filters\n"},
+    {"acuity", "usage: aalab acuity\n"},
+    {"enumerate", "usage: aalab enumerate --family 'P(4,1+,n)' --cost 1.25\n"
+                  "       aalab enumerate --family 'P(4,1+,1.25)'\n"},
     {"help", "usage: aalab help [COMMAND]\n"},
     {"version", "usage: aalab version\n"},
 };

@@ -7,6 +7,7 @@
 
 #include "../exit_codes.h"
 #include "../pattern_source.h"
+#include "../table.h"
 #include "view_util.h"
 
 int render_request(const cli_args *a, json_t **req, char *err, size_t errcap)
@@ -14,15 +15,13 @@ int render_request(const cli_args *a, json_t **req, char *err, size_t errcap)
     json_t *pattern;
     if (pattern_argument_load(a->pattern, &pattern, NULL, err, errcap))
         return -1;
-    /* The renderer's scene object (server/tiles/tile_render.h): {"name","width","height"}. */
-    json_t *scene = json_pack("{s:s}", "name", a->scene ? a->scene : "siemens-star");
-    if (a->width > 0) {
-        json_object_set_new(scene, "width", json_integer(a->width));
-        json_object_set_new(scene, "height", json_integer(a->height));
-    }
+    /* Issue 4's wire form: "scene" by name and "size":[w,h] beside it (the renderer also takes
+     * a scene object with more parameters; see server/tiles/tile_render.h). */
     json_t *r = json_object();
     json_object_set_new(r, "pattern", pattern);
-    json_object_set_new(r, "scene", scene);
+    json_object_set_new(r, "scene", json_string(a->scene ? a->scene : "siemens-star"));
+    if (a->width > 0)
+        json_object_set_new(r, "size", json_pack("[ii]", a->width, a->height));
     *req = r;
     return 0;
 }
@@ -53,10 +52,33 @@ static int tile_path(const json_t *resp, const char *image, char *out, size_t ca
 
 void render_print(FILE *out, const json_t *resp)
 {
-    json_t *copy = json_deep_copy(resp);
-    json_object_del(copy, "tiles");
-    print_flat(out, copy);
-    json_decref(copy);
+    const json_t *scene = json_object_get(resp, "scene");
+    const json_t *stats = json_object_get(resp, "stats");
+    const json_t *times = json_object_get(resp, "times");
+    const json_t *pixels = json_object_get(resp, "pixels");
+    char size[64], e2[32], rmse[32], maxdev[32], tp[32], tr[32], ss[32], total[32];
+    snprintf(size, sizeof size, "%s x %s",
+             fmt_number(tp, sizeof tp, json_object_get(scene, "width"), 0),
+             fmt_number(tr, sizeof tr, json_object_get(scene, "height"), 0));
+    const char *keys[] = {"scene",        "size",           "pattern",
+                          "E2",           "RMSE (0..255)",  "max deviation",
+                          "pattern time", "reference time", "supersampled pixels"};
+    const char *values[] = {
+        fmt_string(json_object_get(scene, "name")),
+        size,
+        fmt_string(json_object_get(json_object_get(resp, "pattern"), "family")),
+        fmt_number(e2, sizeof e2, json_object_get(resp, "e2"), 6),
+        fmt_number(rmse, sizeof rmse, json_object_get(stats, "rmse"), 3),
+        fmt_number(maxdev, sizeof maxdev, json_object_get(stats, "max_dev"), 3),
+        fmt_number(tp, sizeof tp, json_object_get(times, "pattern_seconds"), 4),
+        fmt_number(tr, sizeof tr, json_object_get(times, "reference_seconds"), 4),
+        NULL};
+    char ssbuf[80];
+    fmt_number(ss, sizeof ss, json_object_get(pixels, "supersampled"), 0);
+    fmt_number(total, sizeof total, json_object_get(pixels, "total"), 0);
+    snprintf(ssbuf, sizeof ssbuf, "%s of %s", ss, total);
+    values[8] = ssbuf;
+    print_key_values(out, keys, values, 9);
 }
 
 int cmd_render(cli_session *s)

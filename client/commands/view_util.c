@@ -29,6 +29,31 @@ const char *fmt_time(char *buf, size_t cap, const json_t *v)
     return buf;
 }
 
+/* A short array of scalars reads as "a, b, c"; anything longer or nested as "[n items]". */
+static const char *fmt_short_array(char *buf, size_t cap, const json_t *a)
+{
+    size_t n = json_array_size(a), used = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < n && n <= 16; i++) {
+        const json_t *v = json_array_get(a, i);
+        char item[64];
+        if (json_is_string(v))
+            snprintf(item, sizeof item, "%s", json_string_value(v));
+        else if (json_is_number(v))
+            snprintf(item, sizeof item, "%.6g", json_number_value(v));
+        else
+            break;
+        int w = snprintf(buf + used, cap - used, "%s%s", i ? ", " : "", item);
+        if (w < 0 || (size_t)w >= cap - used)
+            break;
+        used += (size_t)w;
+        if (i + 1 == n)
+            return buf;
+    }
+    snprintf(buf, cap, "[%zu items]", n);
+    return buf;
+}
+
 /* Members that hold Unix times in the job schema (proto/schemas/job.json). */
 static bool is_time_key(const char *key)
 {
@@ -68,12 +93,14 @@ static void flatten(flat_list *l, const char *prefix, const json_t *obj, int dep
     json_object_foreach((json_t *)obj, key, v)
     {
         char name[128], buf[64];
-        snprintf(name, sizeof name, "%s%s%s", prefix, *prefix ? "." : "", key);
+        int n = snprintf(name, sizeof name, "%s%s%s", prefix, *prefix ? "." : "", key);
+        if (n < 0 || (size_t)n >= sizeof name)
+            continue; /* a key path this long is not for a table; --json has it */
         if (json_is_object(v) && depth < 3) {
             flatten(l, name, v, depth + 1);
         } else if (json_is_array(v)) {
-            snprintf(buf, sizeof buf, "[%zu items]", json_array_size(v));
-            flat_add(l, name, buf);
+            char list[256];
+            flat_add(l, name, fmt_short_array(list, sizeof list, v));
         } else if (json_is_string(v)) {
             flat_add(l, name, json_string_value(v));
         } else if (json_is_boolean(v)) {
@@ -114,5 +141,9 @@ const json_t *job_best_e2(const json_t *job)
             return e2;
     }
     const json_t *e2 = json_object_get(job, "best_e2");
+    if (json_is_number(e2))
+        return e2;
+    const json_t *trace = json_object_get(job, "trace"); /* the last trace point's best */
+    e2 = json_object_get(json_array_get(trace, json_array_size(trace) - 1), "best_e2");
     return json_is_number(e2) ? e2 : NULL;
 }

@@ -13,7 +13,7 @@ const json_t *list_member(const json_t *resp, const char *member);
 void print_flat(FILE *out, const json_t *obj);
 /* Epoch seconds as "2026-11-23 01:20:07" (UTC); other values as fmt_number. */
 const char *fmt_time(char *buf, size_t cap, const json_t *v);
-/* Best E2 of a job: best.e2, best_so_far.e2, result.e2 or best_e2, whichever is present. */
+/* Best E2 of a job: best.e2, best_so_far.e2, result.e2, best_e2 or the last trace point's. */
 const json_t *job_best_e2(const json_t *job);
 
 #endif

@@ -92,6 +92,14 @@ int aa_evaluate(const aa_pattern *p, const aa_metric_params *params, aa_evaluati
                 aa_error_set(err, rc, "", "out of memory");
                 break;
             }
+            if (!isfinite(e1)) {
+                char field[48];
+                snprintf(field, sizeof field, "pattern.kernels[%zu]", k);
+                rc =
+                    aa_error_set(err, AA_ERANGE, field,
+                                 "E1 overflows for kernel %zu (weights or positions too large)", k);
+                break;
+            }
             out->e1[k * na + a] = e1;
             double v = out->weight[a] * e1;
             sum += v;

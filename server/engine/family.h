@@ -39,7 +39,7 @@ const char *aa_seed_kind_name(aa_seed_kind k);
 /* A random seed pattern of the family: positions from the distribution, weights from the
  * filter's impulse response (normalised). For the mirrored family a random placement
  * configuration of the right cost is drawn (corner 0.25, edge 0.5, interior 1). */
-int aa_family_seed(const aa_family *family, aa_seed_kind kind, const aa_filter *filter,
-                   aa_rng *rng, aa_pattern *out, aa_error *err);
+int aa_family_seed(const aa_family *family, aa_seed_kind kind, const aa_filter *filter, aa_rng *rng,
+                   aa_pattern *out, aa_error *err);
 
 #endif

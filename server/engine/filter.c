@@ -247,10 +247,12 @@ static void reset(aa_filter *f, aa_filter_kind kind, const char *name)
 
 int aa_filter_mitchell(aa_filter *f, double B, double C, double radius, aa_error *err)
 {
-    if (!isfinite(B))
-        return aa_error_set(err, AA_EINVAL, "B", "B must be a finite number");
-    if (!isfinite(C))
-        return aa_error_set(err, AA_EINVAL, "C", "C must be a finite number");
+    /* Beyond |B|, |C| = 100 the cubic's coefficients dwarf its unit integral and the CDF table
+     * loses all precision; such filters are not useful references. */
+    if (!isfinite(B) || fabs(B) > 100)
+        return aa_error_set(err, AA_EINVAL, "B", "B must be a finite number in [-100, 100]");
+    if (!isfinite(C) || fabs(C) > 100)
+        return aa_error_set(err, AA_EINVAL, "C", "C must be a finite number in [-100, 100]");
     int rc = check_positive(radius, "radius", err);
     if (rc)
         return rc;

@@ -149,6 +149,8 @@ static int check_sample(const aa_sample *s, const char *prefix, size_t k, size_t
         if (c < 2 && fabs(v[c]) > AA_MAX_COORD)
             return aa_error_set(err, AA_ERANGE, field, "coordinate beyond +-%g pixels",
                                 AA_MAX_COORD);
+        if (c == 2 && fabs(v[c]) > AA_MAX_WEIGHT)
+            return aa_error_set(err, AA_ERANGE, field, "weight beyond +-%g", AA_MAX_WEIGHT);
     }
     return AA_OK;
 }
@@ -498,9 +500,11 @@ int aa_pattern_from_tile(aa_pattern *p, const aa_tile_spec *spec, unsigned flags
                     break;
                 }
                 for (size_t m = 0; m < ker->count; m++) {
-                    if (!isfinite(spec->weights[k][m])) {
+                    if (!isfinite(spec->weights[k][m]) ||
+                        fabs(spec->weights[k][m]) > AA_MAX_WEIGHT) {
                         snprintf(field, sizeof field, "tile.weights[%zu][%zu]", k, m);
-                        rc = aa_error_set(err, AA_EINVAL, field, "must be a finite number");
+                        rc = aa_error_set(err, AA_EINVAL, field,
+                                          "must be a finite number within +-%g", AA_MAX_WEIGHT);
                         break;
                     }
                     ker->samples[m].w = spec->weights[k][m];

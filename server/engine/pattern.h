@@ -38,6 +38,7 @@
 #define AA_MAX_TILE 16             /* T */
 #define AA_MAX_KERNEL_SIZE 8       /* K */
 #define AA_MAX_COORD 1e6           /* |x|, |y| of a kernel sample */
+#define AA_MAX_WEIGHT 1e6          /* |w| of a sample (before normalisation) */
 #define AA_WEIGHT_SUM_TOLERANCE 1e-9
 #define AA_POSITION_EPS 1e-9 /* positions closer than this are the same tile sample */
 

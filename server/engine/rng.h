@@ -11,7 +11,7 @@ typedef struct aa_rng {
 
 void aa_rng_seed(aa_rng *r, uint64_t seed, uint64_t stream);
 uint32_t aa_rng_u32(aa_rng *r);
-double aa_rng_uniform(aa_rng *r);              /* [0, 1) with 53 random bits */
+double aa_rng_uniform(aa_rng *r);             /* [0, 1) with 53 random bits */
 uint32_t aa_rng_below(aa_rng *r, uint32_t n); /* unbiased [0, n) */
 
 #endif

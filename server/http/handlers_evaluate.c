@@ -3,6 +3,7 @@
  * bodies are answered from an LRU cache. Runs on the HTTP thread: a 4-sample pattern over the
  * 36 default angles costs microseconds; the size limits of the codec bound the worst case. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,6 +13,53 @@
 
 static const char *const evaluate_keys[] = {"pattern", "filter", "acuity", "angles",
                                             "lp",      "detail", NULL};
+
+/* Weights like [1e308, -1e308, 1] sum to 1 but overflow the integral: a 400 naming the kernel
+ * rather than a 200 with a null E2. */
+static int check_finite(const aa_pattern *p, const aa_evaluation *ev, aa_error *err)
+{
+    if (isfinite(ev->e2))
+        return AA_OK;
+    size_t bad = 0;
+    for (size_t k = 0; k < ev->kernel_count; k++) {
+        for (size_t i = 0; i < ev->angle_count; i++) {
+            if (!isfinite(ev->e1[k * ev->angle_count + i])) {
+                bad = k;
+                k = ev->kernel_count;
+                break;
+            }
+        }
+    }
+    char field[64];
+    if (p->form == AA_FORM_MIRRORED)
+        snprintf(field, sizeof field, "pattern.mirrored");
+    else if (p->form == AA_FORM_TILE)
+        snprintf(field, sizeof field, "pattern.tile.weights[%zu]", bad);
+    else
+        snprintf(field, sizeof field, "pattern.kernels[%zu]", bad);
+    return aa_error_set(err, AA_ERANGE, field,
+                        "the error integral overflows for this kernel (weights too large)");
+}
+
+/* Evaluate runs on an HTTP thread: bound its work (kernel samples x angles; 2^23 is about half
+ * a second here) so that no request holds a thread for long. Larger studies belong in jobs. */
+#define EVALUATE_MAX_WORK (1L << 23)
+
+static int check_work(const aa_pattern *p, const aa_acuity *a, size_t angle_count, aa_error *err)
+{
+    size_t angles = angle_count;
+    if (!angles) {
+        static _Thread_local double buf[AA_MAX_ANGLES];
+        angles = aa_acuity_default_angles(a, buf, AA_MAX_ANGLES);
+    }
+    double work = (double)aa_pattern_total_kernel_samples(p) * (double)angles;
+    if (work <= (double)EVALUATE_MAX_WORK)
+        return AA_OK;
+    return aa_error_set(err, AA_ERANGE, angle_count ? "angles" : "pattern",
+                        "%zu kernel samples x %zu angles is more than a synchronous evaluate "
+                        "does (%ld); use fewer angles or samples",
+                        aa_pattern_total_kernel_samples(p), angles, EVALUATE_MAX_WORK);
+}
 
 void handle_evaluate(api_context *ctx, const api_request *req, api_response *resp)
 {
@@ -73,6 +121,8 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
     if (!rc)
         rc = proto_decode_angles(json_object_get(body, "angles"), &angles, &angle_count, "angles",
                                  &err);
+    if (!rc)
+        rc = check_work(&pattern, &acuity, angle_count, &err);
     if (!rc) {
         aa_metric_params mp = {.filter = &filter,
                                .acuity = &acuity,
@@ -80,9 +130,11 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
                                .angle_count = angle_count,
                                .lp = lp};
         rc = aa_evaluate(&pattern, &mp, &ev, &err);
-        if (rc == AA_OK)
+        if (rc == AA_OK) {
             have_ev = true;
-        else if (err.field[0] && strncmp(err.field, "angles", 6) && strcmp(err.field, "lp")) {
+            rc = check_finite(&pattern, &ev, &err);
+        } else if (err.field[0] && strncmp(err.field, "angles", 6) && strcmp(err.field, "lp") &&
+                   strncmp(err.field, "pattern", 7)) {
             char f[sizeof err.field];
             proto_join_field(f, sizeof f, "pattern", err.field);
             memcpy(err.field, f, sizeof f);

@@ -37,9 +37,34 @@ void handle_jobs_post(api_context *ctx, const api_request *req, api_response *re
     }
 }
 
+/* GET /v1/jobs?limit=N&state=S: newest first, at most N (default and max 500). */
 void handle_jobs_list(api_context *ctx, const api_request *req, api_response *resp)
 {
-    json_t *jobs = job_manager_list(api_context_jobs(ctx), JOB_LIST_LIMIT);
+    char buf[32];
+    int limit = JOB_LIST_LIMIT, state = -1;
+    const char *v = api_query_get(req->query, "limit", buf, sizeof buf);
+    if (v) {
+        long long n = api_parse_job_id(v); /* a positive decimal */
+        if (n <= 0 || n > JOB_LIST_LIMIT) {
+            api_reply_error(resp, 400, "invalid_field", "limit", "limit must be 1..%d",
+                            JOB_LIST_LIMIT);
+            return;
+        }
+        limit = (int)n;
+    }
+    v = api_query_get(req->query, "state", buf, sizeof buf);
+    if (v) {
+        for (int i = 0; i < JOB_STATE_COUNT && state < 0; i++)
+            if (!strcmp(v, job_state_name((job_state)i)))
+                state = i;
+        if (state < 0) {
+            api_reply_error(resp, 400, "invalid_field", "state",
+                            "state must be queued, running, done, failed, cancelled or "
+                            "interrupted");
+            return;
+        }
+    }
+    json_t *jobs = job_manager_list(api_context_jobs(ctx), limit, state);
     api_reply_json(resp, 200, json_pack("{s:o}", "jobs", jobs));
     resp->cache_control = "no-store";
 }

@@ -16,6 +16,7 @@ int job_live_init(job_live *l)
     *l = (job_live){0};
     l->trace = json_array();
     l->last_point_seconds = -INFINITY;
+    l->last_append = -INFINITY;
     l->last_point_best = INFINITY;
     return l->trace ? AA_OK : AA_ENOMEM;
 }
@@ -81,16 +82,20 @@ void job_ctx_trace(job_ctx *ctx, const job_trace_point *point)
 {
     pthread_mutex_lock(ctx->lock);
     job_live *l = ctx->live;
-    if (l->have_pending && point->seconds - l->last_point_seconds >= TRACE_MIN_INTERVAL)
+    double now = point->seconds;
+    /* Rate limit on the time of appending: at most one append per 0.1 s of job time. */
+    if (l->have_pending && now - l->last_append >= TRACE_MIN_INTERVAL) {
         job_live_flush_pending(l);
+        l->last_append = now;
+    }
     double best = l->have_pending ? l->pending.best_e2 : l->last_point_best;
     bool improves = json_array_size(l->trace) == 0 || point->best_e2 < best;
     if (improves) {
-        if (point->seconds - l->last_point_seconds >= TRACE_MIN_INTERVAL) {
-            l->have_pending = false;
+        if (!l->have_pending && now - l->last_append >= TRACE_MIN_INTERVAL) {
             append_point(l, point);
+            l->last_append = now;
         } else {
-            l->pending = *point;
+            l->pending = *point; /* newer and better than any held point */
             l->have_pending = true;
         }
     }

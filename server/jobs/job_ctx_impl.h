@@ -16,6 +16,7 @@ typedef struct job_live {
     json_t *best;  /* NULL until the kind reports one */
     json_t *trace; /* array of trace points */
     double last_point_seconds;
+    double last_append; /* job time of the last append (the rate limit's clock) */
     double last_point_best;
     bool have_pending;
     job_trace_point pending; /* an improvement held back by the 10 points/s limit */

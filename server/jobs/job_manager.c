@@ -10,6 +10,9 @@
 
 #include "job_ctx_impl.h"
 
+#define COUNTS_MAX_AGE 0.25 /* seconds */
+#define JOB_MAX_CRASHES 3   /* abnormal daemon exits while running one job before giving up */
+
 typedef struct job {
     long long id;
     const job_kind *kind;
@@ -33,6 +36,10 @@ struct job_manager {
     size_t q_len, q_cap;
     job *active; /* every queued or running job */
     int running, busy;
+    size_t admitting; /* submissions between admission and their store insert */
+    pthread_mutex_t counts_lock;
+    long long counts[JOB_STATE_COUNT]; /* jobs by state, cached for COUNTS_MAX_AGE */
+    double counts_at;
     bool stopping;
     pthread_t *threads;
     int thread_count;
@@ -148,7 +155,26 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
                           err && err->message[0] ? err->message : aa_strerror(rc), "field",
                           err ? err->field : "");
     }
-    job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason, jm_now());
+    /* The live best is posted at most 10 times a second, so the last improvement may be
+     * missing from it: a finished job's best is its result's. */
+    json_t *final_pattern = json_is_object(result) ? json_object_get(result, "pattern") : NULL;
+    if (!final_pattern && json_is_object(result))
+        final_pattern = json_object_get(result, "best");
+    json_t *final_e2 = json_is_object(result) ? json_object_get(result, "e2") : NULL;
+    if (st == JOB_DONE && json_is_object(final_pattern) && json_is_number(final_e2)) {
+        json_t *b = json_pack("{s:O,s:O}", "pattern", final_pattern, "e2", final_e2);
+        if (b) {
+            json_decref(best);
+            best = b;
+        }
+    }
+    double now = jm_now();
+    job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason, now);
+    /* One line per finished run for the journal. */
+    fprintf(stderr, "aalabd: job %lld (%s, uid %lld) %s after %.2f s%s%s\n", j->id, j->kind->name,
+            j->owner, shutdown_stop ? "checkpointed as queued" : job_state_name(st),
+            now - j->started, st == JOB_FAILED && err ? ": " : "",
+            st == JOB_FAILED && err ? err->message : "");
     json_decref(best);
     json_decref(trace);
     json_decref(error);
@@ -219,6 +245,19 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
                          jm_now());
         return;
     }
+    /* A job that keeps taking the daemon down with it must not do so forever. */
+    if (state == JOB_RUNNING) {
+        int crashes = job_store_bump_crashes(jm->store, id);
+        if (crashes >= JOB_MAX_CRASHES) {
+            snprintf(reason, sizeof reason,
+                     "the daemon stopped abnormally %d times while running this job; not "
+                     "re-queued again",
+                     crashes);
+            job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL, reason,
+                             jm_now());
+            return;
+        }
+    }
     void *params = NULL;
     aa_error err = {0};
     if (kind->parse(spec, &params, &err) != AA_OK) {
@@ -265,6 +304,8 @@ job_manager *job_manager_create(const char *state_dir, const job_manager_config 
     if (jm->cfg.workers < 1)
         jm->cfg.workers = 1;
     pthread_mutex_init(&jm->lock, NULL);
+    pthread_mutex_init(&jm->counts_lock, NULL);
+    jm->counts_at = -1e300;
     pthread_cond_init(&jm->wake, NULL);
     jm->store = job_store_open(state_dir, err);
     if (!jm->store) {
@@ -315,6 +356,7 @@ void job_manager_destroy(job_manager *jm)
     free(jm->threads);
     job_store_close(jm->store);
     pthread_cond_destroy(&jm->wake);
+    pthread_mutex_destroy(&jm->counts_lock);
     pthread_mutex_destroy(&jm->lock);
     free(jm);
 }
@@ -349,30 +391,49 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     j->state = JOB_QUEUED;
     j->created = jm_now();
 
+    /* Admission under the lock; the store insert (an fsync) outside it, so workers reporting
+     * progress never wait for a disk. The job joins the active list first (id 0, invisible
+     * to lookups) so it counts against the quota and the queue bound meanwhile. */
     pthread_mutex_lock(&jm->lock);
     if (jm->stopping) {
         rc = aa_error_set(err, JM_EQUEUE_FULL, "", "the daemon is shutting down");
-    } else if ((int)jm->q_len >= jm->cfg.queue_size) {
+    } else if ((int)(jm->q_len + jm->admitting) >= jm->cfg.queue_size) {
         rc = aa_error_set(err, JM_EQUEUE_FULL, "", "the job queue is full (%d queued)",
                           (int)jm->q_len);
     } else if (owner >= 0 && owner_load(jm, owner) >= jm->cfg.user_quota) {
         rc = aa_error_set(err, JM_EQUOTA, "",
                           "uid %lld already has %d queued or running jobs (the limit)", owner,
                           jm->cfg.user_quota);
-    } else if (job_store_insert(jm->store, kind->name, spec, owner, j->created, &j->id, err)) {
-        rc = JM_ESTORE;
-    } else if (queue_push(jm, j) != AA_OK) {
-        job_store_finish(jm->store, j->id, JOB_FAILED, 0, NULL, NULL, NULL, NULL, "out of memory",
-                         jm_now());
-        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     } else {
         j->next = jm->active;
         jm->active = j;
-        *id = j->id;
-        pthread_cond_signal(&jm->wake);
-        j = NULL;
+        jm->admitting++;
     }
     pthread_mutex_unlock(&jm->lock);
+    if (rc) {
+        job_free(j);
+        return rc;
+    }
+    long long new_id = 0;
+    if (job_store_insert(jm->store, kind->name, spec, owner, j->created, &new_id, err))
+        rc = JM_ESTORE;
+    pthread_mutex_lock(&jm->lock);
+    jm->admitting--;
+    if (!rc && queue_push(jm, j) != AA_OK)
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    if (rc) {
+        active_remove(jm, j);
+    } else {
+        j->id = new_id;
+        *id = new_id;
+        pthread_cond_signal(&jm->wake);
+    }
+    pthread_mutex_unlock(&jm->lock);
+    if (rc == AA_ENOMEM)
+        job_store_finish(jm->store, new_id, JOB_FAILED, 0, NULL, NULL, NULL, NULL, "out of memory",
+                         jm_now());
+    if (!rc)
+        j = NULL;
     job_free(j);
     return rc;
 }
@@ -382,11 +443,13 @@ static void overlay_live(json_t *o, const job *j)
 {
     json_object_set_new(o, "state", json_string(job_state_name(j->state)));
     json_object_set_new(o, "progress", json_real(j->live.progress));
+    /* Copies, never shared references: jansson's reference counts are not meant to be
+     * touched from two threads (the worker keeps updating live.best). */
     if (j->live.best) {
-        json_object_set(o, "best", j->live.best);
+        json_object_set_new(o, "best", json_deep_copy(j->live.best));
         json_t *e2 = json_is_object(j->live.best) ? json_object_get(j->live.best, "e2") : NULL;
         if (json_is_number(e2))
-            json_object_set(o, "best_e2", e2);
+            json_object_set_new(o, "best_e2", json_real(json_number_value(e2)));
     }
     if (json_object_get(o, "trace"))
         json_object_set_new(o, "trace", json_deep_copy(j->live.trace));
@@ -409,9 +472,9 @@ json_t *job_manager_get(job_manager *jm, long long id)
     return o;
 }
 
-json_t *job_manager_list(job_manager *jm, int limit)
+json_t *job_manager_list(job_manager *jm, int limit, int state)
 {
-    json_t *a = job_store_list(jm->store, limit);
+    json_t *a = job_store_list(jm->store, limit, state);
     pthread_mutex_lock(&jm->lock);
     size_t i;
     json_t *o;
@@ -495,7 +558,16 @@ json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why
 void job_manager_stats_get(job_manager *jm, job_manager_stats *out)
 {
     memset(out, 0, sizeof *out);
-    job_store_counts(jm->store, out->by_state);
+    /* Counting by state scans the table: refresh at most every COUNTS_MAX_AGE seconds so
+     * health probes stay cheap with a long job history. */
+    double now = jm_now();
+    pthread_mutex_lock(&jm->counts_lock);
+    if (now - jm->counts_at > COUNTS_MAX_AGE || now < jm->counts_at) {
+        job_store_counts(jm->store, jm->counts);
+        jm->counts_at = now;
+    }
+    memcpy(out->by_state, jm->counts, sizeof out->by_state);
+    pthread_mutex_unlock(&jm->counts_lock);
     pthread_mutex_lock(&jm->lock);
     out->workers = jm->cfg.workers;
     out->busy = jm->busy;

@@ -54,7 +54,9 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
                        aa_error *err);
 /* The job object (full detail) or NULL. */
 json_t *job_manager_get(job_manager *jm, long long id);
-json_t *job_manager_list(job_manager *jm, int limit);
+/* Newest first; state < 0 = all. A running job listed under "queued" in the store (it just
+ * started) shows its live state. */
+json_t *job_manager_list(job_manager *jm, int limit, int state);
 /* caller < 0 = unknown (refused unless the job has no owner). JM_ENOENT, JM_EFORBIDDEN,
  * JM_EFINISHED. On success *state_out names the state after the call ("cancelled" for a queued
  * job, "running" with cancel requested for a running one). */

@@ -93,6 +93,9 @@ job_store *job_store_open(const char *dir, aa_error *err)
         sqlite3_free(msg);
         goto fail;
     }
+    /* Added after the first schema: ignore "duplicate column" on databases that have it. */
+    sqlite3_exec(st->db, "ALTER TABLE jobs ADD COLUMN crashes INTEGER NOT NULL DEFAULT 0", NULL,
+                 NULL, NULL);
     if (!job_store_integrity_ok(st)) {
         aa_error_set(err, AA_EINVAL, "state_dir", "%s failed PRAGMA integrity_check", path);
         goto fail;
@@ -191,6 +194,23 @@ int job_store_set_state(job_store *st, long long id, job_state state, double whe
     }
     pthread_mutex_unlock(&st->lock);
     return rc;
+}
+
+int job_store_bump_crashes(job_store *st, long long id)
+{
+    pthread_mutex_lock(&st->lock);
+    sqlite3_stmt *q;
+    int n = -1;
+    if (sqlite3_prepare_v2(st->db,
+                           "UPDATE jobs SET crashes = crashes + 1 WHERE id=? RETURNING crashes", -1,
+                           &q, NULL) == SQLITE_OK) {
+        sqlite3_bind_int64(q, 1, id);
+        if (sqlite3_step(q) == SQLITE_ROW)
+            n = sqlite3_column_int(q, 0);
+        sqlite3_finalize(q);
+    }
+    pthread_mutex_unlock(&st->lock);
+    return n;
 }
 
 int job_store_update_progress(job_store *st, long long id, double progress, const json_t *best,
@@ -316,16 +336,19 @@ json_t *job_store_get(job_store *st, long long id, bool full)
     return o;
 }
 
-json_t *job_store_list(job_store *st, int limit)
+json_t *job_store_list(job_store *st, int limit, int state)
 {
     pthread_mutex_lock(&st->lock);
     sqlite3_stmt *q;
     json_t *a = json_array();
     if (sqlite3_prepare_v2(st->db,
                            "SELECT id, kind, owner_uid, state, progress, created, started, "
-                           "finished, reason, error, best FROM jobs ORDER BY id DESC LIMIT ?",
+                           "finished, reason, error, best FROM jobs WHERE ?2 IS NULL OR "
+                           "state = ?2 ORDER BY id DESC LIMIT ?1",
                            -1, &q, NULL) == SQLITE_OK) {
         sqlite3_bind_int(q, 1, limit);
+        if (state >= 0)
+            sqlite3_bind_text(q, 2, job_state_name((job_state)state), -1, SQLITE_STATIC);
         while (sqlite3_step(q) == SQLITE_ROW)
             json_array_append_new(a, row_to_json(q, false));
         sqlite3_finalize(q);

@@ -35,6 +35,9 @@ int job_store_insert(job_store *st, const char *kind, const json_t *spec, long l
                      double created, long long *id, aa_error *err);
 int job_store_set_state(job_store *st, long long id, job_state state, double when,
                         const char *reason);
+/* A job found "running" at start-up: the daemon died while running it (a graceful stop writes
+ * it back as queued). Returns the new count, or -1. */
+int job_store_bump_crashes(job_store *st, long long id);
 /* Live fields of a running job (NULL json leaves the column unchanged). */
 int job_store_update_progress(job_store *st, long long id, double progress, const json_t *best,
                               const json_t *trace);
@@ -45,8 +48,8 @@ int job_store_finish(job_store *st, long long id, job_state state, double progre
 
 /* The job as the API shows it; full adds spec, best, trace, result. NULL if absent. */
 json_t *job_store_get(job_store *st, long long id, bool full);
-/* Newest first, at most limit, summaries. */
-json_t *job_store_list(job_store *st, int limit);
+/* Newest first, at most limit, summaries; state < 0 = every state. */
+json_t *job_store_list(job_store *st, int limit, int state);
 /* Jobs by state counts into counts[JOB_STATE_COUNT]. */
 int job_store_counts(job_store *st, long long counts[JOB_STATE_COUNT]);
 

@@ -190,6 +190,10 @@ static void help_forms(void **state)
     assert_int_equal(PARSE(&a, "help", "render"), 0);
     assert_string_equal(a.target, "render");
     assert_int_equal(PARSE(&a, "help", "nope"), -1);
+    assert_int_equal(PARSE(&a, "--version"), 0);
+    assert_int_equal(a.command, CMD_VERSION);
+    assert_int_equal(PARSE(&a, "version"), 0);
+    assert_int_equal(a.command, CMD_VERSION);
 }
 
 static void double_dash_ends_options(void **state)
@@ -198,6 +202,38 @@ static void double_dash_ends_options(void **state)
     char err[256] = "";
     assert_int_equal(PARSE(&a, "eval", "--", "-odd-name.json"), 0);
     assert_string_equal(a.target, "-odd-name.json");
+}
+
+static void submit_forms(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "submit", "spec.json", "--wait", "--poll", "0.5"), 0);
+    assert_int_equal(a.command, CMD_SUBMIT);
+    assert_string_equal(a.target, "spec.json");
+    assert_true(a.wait && a.poll_s == 0.5);
+    assert_int_equal(PARSE(&a, "submit", "-"), 0);
+    assert_int_equal(PARSE(&a, "submit"), -1);
+    assert_non_null(strstr(err, "job spec"));
+    assert_int_equal(PARSE(&a, "submit", "s.json", "--seeds", "3"), -1);
+}
+
+static void enumerate_forms(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "enumerate", "--family", "P(4,1+,n)", "--cost", "1.25"), 0);
+    assert_int_equal(a.command, CMD_ENUMERATE);
+    assert_string_equal(a.family, "P(4,1+,n)");
+    assert_true(a.has_cost && a.cost == 1.25);
+    assert_int_equal(PARSE(&a, "enumerate", "--family", "P(4,1+,1.5)"), 0);
+    assert_false(a.has_cost);
+    assert_int_equal(PARSE(&a, "enumerate", "--cost", "1"), -1);
+    assert_int_equal(PARSE(&a, "enumerate", "--family", "F", "--cost", "0"), -1);
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--cost", "1"), -1);
+    assert_int_equal(PARSE(&a, "filters"), 0);
+    assert_int_equal(a.command, CMD_FILTERS);
+    assert_int_equal(PARSE(&a, "acuity", "naiman"), -1);
 }
 
 static void number_helpers(void **state)
@@ -236,6 +272,8 @@ int main(void)
         cmocka_unit_test(render_size_and_output),
         cmocka_unit_test(help_forms),
         cmocka_unit_test(double_dash_ends_options),
+        cmocka_unit_test(submit_forms),
+        cmocka_unit_test(enumerate_forms),
         cmocka_unit_test(number_helpers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

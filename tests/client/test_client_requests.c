@@ -111,6 +111,21 @@ static void eval_request_file_with_override(void **state)
     free(path);
 }
 
+static void eval_exported_file(void **state)
+{
+    char *path = write_temp("{\"job\":12,\"pattern\":{\"family\":\"P(1,1,1)\",\"form\":"
+                            "\"kernels\",\"kernels\":[[[0,0,1]]]}}");
+    cli_args a = {.command = CMD_EVAL, .target = path};
+    json_t *req;
+    char err[256];
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"family\":\"P(1,1,1)\",\"form\":\"kernels\","
+                     "\"kernels\":[[[0,0,1]]]}}");
+    json_decref(req);
+    unlink(path);
+    free(path);
+}
+
 static void bad_files_are_local_errors(void **state)
 {
     static const char *const CASES[][2] = {
@@ -219,19 +234,54 @@ static void render_bodies(void **state)
     json_t *req;
     char err[256];
     assert_int_equal(render_request(&a, &req, err, sizeof err), 0);
-    assert_json(req, "{\"pattern\":{\"preset\":\"quincunx\"},\"scene\":{\"name\":"
-                     "\"siemens-star\",\"width\":256,\"height\":128}}");
+    assert_json(req, "{\"pattern\":{\"preset\":\"quincunx\"},\"scene\":\"siemens-star\","
+                     "\"size\":[256,128]}");
     json_decref(req);
     cli_args j = {.command = CMD_RENDER, .pattern = "job:17"};
     assert_int_equal(render_request(&j, &req, err, sizeof err), 0);
-    assert_json(req, "{\"pattern\":{\"job\":\"17\"},\"scene\":{\"name\":\"siemens-star\"}}");
+    assert_json(req, "{\"pattern\":{\"job\":\"17\"},\"scene\":\"siemens-star\"}");
     json_decref(req);
     j.pattern = "job:../x";
     assert_int_equal(render_request(&j, &req, err, sizeof err), -1);
     cli_args b = {.command = CMD_RENDER, .pattern = "rgss", .scene = "circles"};
     assert_int_equal(render_request(&b, &req, err, sizeof err), 0);
-    assert_json(req, "{\"pattern\":{\"preset\":\"rgss\"},\"scene\":{\"name\":\"circles\"}}");
+    assert_json(req, "{\"pattern\":{\"preset\":\"rgss\"},\"scene\":\"circles\"}");
     json_decref(req);
+}
+
+static void submit_specs(void **state)
+{
+    char *path = write_temp("{\"kind\":\"sleep\",\"seconds\":1}");
+    cli_args a = {.command = CMD_SUBMIT, .target = path};
+    json_t *req;
+    char err[400] = "";
+    assert_int_equal(submit_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"kind\":\"sleep\",\"seconds\":1}");
+    json_decref(req);
+    unlink(path);
+    free(path);
+    static const char *const BAD[][2] = {
+        {"{\"seconds\":1}", "\"kind\""},
+        {"[]", "\"kind\""},
+        {"{\"kind\":\"a\",\"kind\":\"b\"}", "duplicate"},
+        {"{\"kind\":\"sleep\",\"pattern\":{\"mirrored\":[[0,0]]}}", "pattern.mirrored[0]"},
+    };
+    for (size_t i = 0; i < sizeof BAD / sizeof BAD[0]; i++) {
+        path = write_temp(BAD[i][0]);
+        a.target = path;
+        assert_int_equal(submit_request(&a, &req, err, sizeof err), -1);
+        if (!strstr(err, BAD[i][1]))
+            fail_msg("case %zu: '%s' lacks '%s'", i, err, BAD[i][1]);
+        unlink(path);
+        free(path);
+    }
+    /* a job reference is left to the daemon */
+    path = write_temp("{\"kind\":\"compare\",\"pattern\":{\"job\":\"3\"}}");
+    a.target = path;
+    assert_int_equal(submit_request(&a, &req, err, sizeof err), 0);
+    json_decref(req);
+    unlink(path);
+    free(path);
 }
 
 static void file_or_preset(void **state)
@@ -251,12 +301,14 @@ int main(void)
         cmocka_unit_test(eval_json_literals),
         cmocka_unit_test(eval_pattern_file),
         cmocka_unit_test(eval_request_file_with_override),
+        cmocka_unit_test(eval_exported_file),
         cmocka_unit_test(bad_files_are_local_errors),
         cmocka_unit_test(codec_names_the_field),
         cmocka_unit_test(filter_arguments),
         cmocka_unit_test(angle_arguments),
         cmocka_unit_test(optimize_bodies),
         cmocka_unit_test(render_bodies),
+        cmocka_unit_test(submit_specs),
         cmocka_unit_test(file_or_preset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -48,6 +48,23 @@ static void missing_cells_and_no_trailing_blanks(void **state)
     table_free(t);
 }
 
+static void empty_trailing_cells(void **state)
+{
+    const char *headers[] = {"a", "b", "c"};
+    table *t = table_new(3, headers);
+    const char *r1[] = {"x", "", ""};
+    const char *r2[] = {"y", "", "z"};
+    table_add_row(t, r1);
+    table_add_row(t, r2);
+    capture c;
+    table_print(t, capture_begin(&c));
+    assert_string_equal(capture_end(&c), "a  b  c\n"
+                                         "x\n"
+                                         "y     z\n");
+    capture_free(&c);
+    table_free(t);
+}
+
 static void many_rows_grow(void **state)
 {
     const char *headers[] = {"n"};
@@ -94,8 +111,11 @@ static void key_values(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(aligns_columns), cmocka_unit_test(missing_cells_and_no_trailing_blanks),
-        cmocka_unit_test(many_rows_grow), cmocka_unit_test(header_only),
+        cmocka_unit_test(aligns_columns),
+        cmocka_unit_test(missing_cells_and_no_trailing_blanks),
+        cmocka_unit_test(empty_trailing_cells),
+        cmocka_unit_test(many_rows_grow),
+        cmocka_unit_test(header_only),
         cmocka_unit_test(key_values),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -92,13 +92,16 @@ static void jobs_table(void **state)
     json_t *r = doc("{\"jobs\":[{\"id\":3,\"kind\":\"optimize\",\"state\":\"running\","
                     "\"progress\":0.425,\"owner\":1000,\"best\":{\"e2\":0.3712}},"
                     "{\"id\":\"4\",\"kind\":\"render\",\"state\":\"queued\",\"progress\":0,"
-                    "\"owner_uid\":0,\"created\":1763861207.5}]}");
+                    "\"owner_uid\":0,\"created\":1763861207.5},"
+                    "{\"id\":5,\"kind\":\"sleep\",\"state\":\"done\",\"progress\":1,"
+                    "\"trace\":[{\"best_e2\":0.5},{\"best_e2\":0.25}]}]}");
     capture c;
     jobs_print(capture_begin(&c), r);
     const char *text = capture_end(&c);
     contains(text, "id  kind      state    progress  owner   best_e2  created\n");
     contains(text, " 3  optimize  running       42%   1000  0.371200  -\n");
     contains(text, " 4  render    queued         0%      0         -  2025-11-23 01:26:47\n");
+    contains(text, " 5  sleep     done         100%      -  0.250000  -\n");
     capture_free(&c);
     json_decref(r);
 }
@@ -136,10 +139,61 @@ static void progress_bar(void **state)
     json_decref(j);
 }
 
+static void render_summary(void **state)
+{
+    json_t *r = doc("{\"scene\":{\"name\":\"siemens-star\",\"width\":128,\"height\":64},"
+                    "\"pattern\":{\"family\":\"P(1,1+,2)\"},\"e2\":0.518044,"
+                    "\"stats\":{\"rmse\":15.88041,\"max_dev\":128.272},"
+                    "\"times\":{\"pattern_seconds\":0.002,\"reference_seconds\":0.3126},"
+                    "\"pixels\":{\"total\":8192,\"supersampled\":4410},"
+                    "\"tiles\":{\"pattern\":{\"url\":\"/v1/tiles/a.png\"}}}");
+    capture c;
+    render_print(capture_begin(&c), r);
+    const char *text = capture_end(&c);
+    contains(text, "scene                siemens-star\n");
+    contains(text, "size                 128 x 64\n");
+    contains(text, "pattern              P(1,1+,2)\n");
+    contains(text, "E2                   0.518044\n");
+    contains(text, "RMSE (0..255)        15.880\n");
+    contains(text, "max deviation        128.272\n");
+    contains(text, "reference time       0.3126\n");
+    contains(text, "supersampled pixels  4410 of 8192\n");
+    capture_free(&c);
+    json_decref(r);
+}
+
+static void catalog_views(void **state)
+{
+    json_t *r = doc("{\"filters\":[{\"name\":\"mitchell\",\"radius\":2.0,\"B\":0.3333333,"
+                    "\"C\":0.3333333,\"default\":true},{\"name\":\"box\",\"radius\":0.5}]}");
+    capture c;
+    filters_print(capture_begin(&c), r);
+    const char *text = capture_end(&c);
+    contains(text, "mitchell    2.00  0.3333  0.3333  yes\n");
+    contains(text, "box         0.50       -       -\n"); /* no trailing blanks */
+    capture_free(&c);
+    json_decref(r);
+
+    r = doc("{\"tables\":[{\"name\":\"naiman\",\"default\":true,\"knots\":[[0,3.93],[45,2.5]]}]}");
+    acuity_print(capture_begin(&c), r);
+    contains(capture_end(&c), "naiman  yes      0:3.93 45:2.5\n");
+    capture_free(&c);
+    json_decref(r);
+
+    r = doc("{\"count\":2,\"configurations\":[{\"corners\":1},{\"edges\":2}]}");
+    enumerate_print(capture_begin(&c), r);
+    assert_string_equal(capture_end(&c), "count  2\n"
+                                         "   1  {\"corners\":1}\n"
+                                         "   2  {\"edges\":2}\n");
+    capture_free(&c);
+    json_decref(r);
+}
+
 static void health_listing(void **state)
 {
     json_t *r = doc("{\"version\":\"0.1.0\",\"uptime_s\":12.5,\"workers\":2,"
-                    "\"jobs\":{\"queued\":1,\"done\":4}}");
+                    "\"jobs\":{\"queued\":1,\"done\":4},\"job_kinds\":[\"sleep\",\"optimize\"],"
+                    "\"big\":[[1],[2]]}");
     capture c;
     health_print(capture_begin(&c), r);
     const char *text = capture_end(&c);
@@ -147,6 +201,8 @@ static void health_listing(void **state)
     contains(text, "uptime_s     12.5\n");
     contains(text, "jobs.queued  1\n");
     contains(text, "jobs.done    4\n");
+    contains(text, "job_kinds    sleep, optimize\n");
+    contains(text, "big          [2 items]\n");
     capture_free(&c);
     json_decref(r);
 }
@@ -235,6 +291,8 @@ int main(void)
         cmocka_unit_test(jobs_table),
         cmocka_unit_test(one_job),
         cmocka_unit_test(progress_bar),
+        cmocka_unit_test(render_summary),
+        cmocka_unit_test(catalog_views),
         cmocka_unit_test(health_listing),
         cmocka_unit_test(error_lines),
         cmocka_unit_test(exit_codes),

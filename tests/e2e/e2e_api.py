@@ -103,6 +103,10 @@ def test_jobs(d):
     check(j["result"]["pattern"]["kernels"], j)
     lst = d.get("/v1/jobs").json()["jobs"]
     check(any(x["id"] == jid for x in lst), lst)
+    lst = d.get("/v1/jobs?state=done&limit=1").json()["jobs"]
+    check(len(lst) == 1 and lst[0]["id"] == jid, lst)
+    expect_error(d.get("/v1/jobs?state=sleepy"), 400, "state")
+    expect_error(d.get("/v1/jobs?limit=0"), 400, "limit")
 
     # export in every format
     r = d.get("/v1/patterns/%d/export?format=json" % jid)
@@ -157,11 +161,28 @@ def test_enumerate_render(d):
     expect_error(d.post("/v1/families/enumerate", {"family": "P(4,1+,n)", "cost": 1.3}), 400,
                  "cost")
     expect_error(d.post("/v1/families/enumerate", {"family": "Q(1)", "cost": 1}), 400, "family")
-    r = d.post("/v1/render", {"pattern": {"preset": "rgss"}, "scene": "siemens-star"})
-    check(r.status in (200, 400, 501) and r.headers["content-type"].startswith("application/json"),
-          r)
-    r = d.get("/v1/tiles/0123456789abcdef0123456789abcdef.png")
-    check(r.status in (404, 501), r)
+    if not d.get("/v1/health").json()["render"]:
+        expect_error(d.post("/v1/render", {"pattern": {"preset": "rgss"}}), 501)
+        expect_error(d.get("/v1/tiles/0123456789abcdef0123456789abcdef.png"), 501)
+        return
+    # a finished job's pattern, by reference, rendered; its tiles are served as PNG
+    r = d.post("/v1/jobs", {"kind": "sleep", "seconds": 0, "pattern": {"preset": "quincunx"}})
+    jid = r.json()["id"]
+    d.wait_job(jid)
+    scene = {"name": "siemens-star", "width": 32, "height": 32}
+    r = d.post("/v1/render", {"pattern": {"job": jid}, "scene": scene})
+    check(r.status == 200, r)
+    out = r.json()
+    check(abs(out["e2"] - 0.518) < 5e-4, out)
+    urls = [t["url"] for t in out["tiles"].values() if isinstance(t, dict) and "url" in t]
+    check(urls, out["tiles"])
+    for u in urls:
+        t = d.get(u)
+        check(t.status == 200 and t.headers["content-type"] == "image/png" and "PNG" in t.body[:8],
+              (u, t.status, t.headers))
+    expect_error(d.post("/v1/render", {"pattern": {"job": 999999}, "scene": scene}), 400,
+                 "pattern.job")
+    expect_error(d.get("/v1/tiles/0123456789abcdef0123456789abcdef.png"), 404)
 
 
 def test_tcp(d):

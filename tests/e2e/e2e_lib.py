@@ -11,6 +11,10 @@ import tempfile
 import time
 
 
+SANITIZER_MARKERS = ("ERROR: AddressSanitizer", "ERROR: LeakSanitizer", "runtime error:",
+                     "WARNING: ThreadSanitizer")
+
+
 def free_port():
     s = socket.socket()
     s.bind(("127.0.0.1", 0))
@@ -88,7 +92,11 @@ class Daemon:
 
     def cleanup(self):
         self.stop()
+        text = self.log_text() if os.path.exists(self.log_path) else ""
         shutil.rmtree(self.root, ignore_errors=True)
+        for marker in SANITIZER_MARKERS:
+            if marker in text:
+                raise AssertionError("sanitizer report in the daemon log:\n" + text)
 
     def curl(self, method, path, body=None, headers=None, tcp=False, raw_body=None, ctype=True):
         args = ["curl", "-sS", "-X", method, "-D", "-", "--max-time", "60"]

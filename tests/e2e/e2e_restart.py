@@ -76,7 +76,22 @@ def test_restart(binary):
         d.delete("/v1/jobs/%d" % running2)
         for w in waiting:
             check(d.wait_job(w)["state"] == "done", "queued job survived kill -9")
-        h = d.get("/v1/health").json()
+        # a job running at three abnormal exits is not re-queued a fourth time
+        crashing = submit(d, 60)
+        for attempt in range(3):
+            d.wait_job(crashing, states=("running",))
+            d.stop(sig=signal.SIGKILL)
+            d.start()
+        j = d.get("/v1/jobs/%d" % crashing).json()
+        check(j["state"] == "interrupted" and "abnormally 3 times" in j.get("reason", ""), j)
+
+        # health's counts by state may lag by up to 0.25 s (cached)
+        deadline = time.time() + 5
+        while True:
+            h = d.get("/v1/health").json()
+            if h["jobs"]["done"] >= 7 or time.time() > deadline:
+                break
+            time.sleep(0.05)
         check(h["jobs"]["done"] >= 7, h)
     except BaseException:
         print(d.log_text())

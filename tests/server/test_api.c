@@ -174,6 +174,33 @@ static void test_limits(void **state)
     api_response_free(&resp);
 }
 
+/* A synchronous evaluate is bounded in kernel samples x angles. */
+static void test_evaluate_work_limit(void **state)
+{
+    fixture *f = *state;
+    size_t cap = 1 << 20, n = 0;
+    char *body = malloc(cap);
+    n += (size_t)snprintf(body + n, cap - n, "{\"pattern\":{\"normalize\":true,\"kernels\":[[");
+    for (int i = 0; i < 4096; i++)
+        n += (size_t)snprintf(body + n, cap - n, "%s[%g,%g,1]", i ? "," : "", (i % 64) / 64.0 - 0.5,
+                              (i / 64) / 64.0 - 0.5);
+    n += (size_t)snprintf(body + n, cap - n, "]]},\"angles\":[");
+    for (int i = 0; i < 4096; i++)
+        n += (size_t)snprintf(body + n, cap - n, "%s%g", i ? "," : "", i * 180.0 / 4096);
+    snprintf(body + n, cap - n, "]}");
+    f->cfg.max_body = cap;
+    int st;
+    api_context_destroy(f->ctx);
+    aa_error err = {0};
+    f->ctx = api_context_create(&f->cfg, NULL, &err);
+    assert_non_null(f->ctx);
+    json_t *j = call(f, "POST", "/v1/evaluate", body, 1000, &st);
+    assert_int_equal(st, 400);
+    assert_string_equal(error_field(j), "angles");
+    json_decref(j);
+    free(body);
+}
+
 static void test_tcp_access(void **state)
 {
     fixture *f = *state;
@@ -324,6 +351,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_routes_and_errors, setup, teardown),
         cmocka_unit_test_setup_teardown(test_limits, setup, teardown),
         cmocka_unit_test_setup_teardown(test_tcp_access, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_evaluate_work_limit, setup, teardown),
         cmocka_unit_test_setup_teardown(test_jobs_owner_quota_queue, setup, teardown),
         cmocka_unit_test_setup_teardown(test_pattern_refs, setup, teardown),
     };

@@ -84,9 +84,13 @@ static void test_persistence(void **state)
     assert_int_equal(s.ids[1], c);
     assert_int_equal(s.states[1], JOB_QUEUED);
 
-    json_t *list = job_store_list(st, 2);
+    json_t *list = job_store_list(st, 2, -1);
     assert_int_equal(json_array_size(list), 2);
     assert_int_equal(json_integer_value(json_object_get(json_array_get(list, 0), "id")), c);
+    json_decref(list);
+    list = job_store_list(st, 10, JOB_DONE);
+    assert_int_equal(json_array_size(list), 1);
+    assert_int_equal(json_integer_value(json_object_get(json_array_get(list, 0), "id")), a);
     json_decref(list);
     job_store_close(st);
 

@@ -1,0 +1,117 @@
+/* aalab filters | aalab acuity | aalab enumerate --family 'P(4,1+,n)' --cost 1.25 */
+#include "commands.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "../exit_codes.h"
+#include "../table.h"
+#include "view_util.h"
+
+void filters_print(FILE *out, const json_t *resp)
+{
+    const char *headers[] = {"name", "radius", "B", "C", "default"};
+    table *t = table_new(5, headers);
+    if (!t)
+        return;
+    size_t i;
+    json_t *f;
+    json_array_foreach(list_member(resp, "filters"), i, f)
+    {
+        char radius[32], b[32], c[32];
+        const char *cells[] = {fmt_string(json_object_get(f, "name")),
+                               fmt_number(radius, sizeof radius, json_object_get(f, "radius"), 2),
+                               fmt_number(b, sizeof b, json_object_get(f, "B"), 4),
+                               fmt_number(c, sizeof c, json_object_get(f, "C"), 4),
+                               json_is_true(json_object_get(f, "default")) ? "yes" : ""};
+        table_add_row(t, cells);
+    }
+    table_print(t, out);
+    table_free(t);
+}
+
+void acuity_print(FILE *out, const json_t *resp)
+{
+    const char *headers[] = {"name", "default", "knots (deg:W)"};
+    table *t = table_new(3, headers);
+    if (!t)
+        return;
+    size_t i;
+    json_t *a;
+    json_array_foreach(list_member(resp, "tables"), i, a)
+    {
+        char knots[512] = "";
+        size_t used = 0, k;
+        json_t *knot;
+        json_array_foreach(json_object_get(a, "knots"), k, knot)
+        {
+            int n = snprintf(knots + used, sizeof knots - used, "%s%g:%g", k ? " " : "",
+                             json_number_value(json_array_get(knot, 0)),
+                             json_number_value(json_array_get(knot, 1)));
+            if (n < 0 || (size_t)n >= sizeof knots - used)
+                break;
+            used += (size_t)n;
+        }
+        const char *cells[] = {fmt_string(json_object_get(a, "name")),
+                               json_is_true(json_object_get(a, "default")) ? "yes" : "", knots};
+        table_add_row(t, cells);
+    }
+    table_print(t, out);
+    table_free(t);
+}
+
+void enumerate_print(FILE *out, const json_t *resp)
+{
+    char count[32];
+    fprintf(out, "count  %s\n", fmt_number(count, sizeof count, json_object_get(resp, "count"), 0));
+    size_t i;
+    json_t *c;
+    json_array_foreach(json_object_get(resp, "configurations"), i, c)
+    {
+        char *line = json_dumps(c, JSON_COMPACT | JSON_PRESERVE_ORDER);
+        if (line)
+            fprintf(out, "%4zu  %s\n", i + 1, line);
+        free(line);
+    }
+}
+
+static int get_and_print(cli_session *s, const char *path, void (*print)(FILE *, const json_t *))
+{
+    json_t *resp;
+    int code = cli_call(s, "GET", path, NULL, &resp);
+    if (code != EXIT_OK)
+        return code;
+    if (s->args->json)
+        cli_print_json(s->out, resp);
+    else
+        print(s->out, resp);
+    json_decref(resp);
+    return EXIT_OK;
+}
+
+int cmd_filters(cli_session *s)
+{
+    return get_and_print(s, "/v1/filters", filters_print);
+}
+
+int cmd_acuity(cli_session *s)
+{
+    return get_and_print(s, "/v1/acuity", acuity_print);
+}
+
+int cmd_enumerate(cli_session *s)
+{
+    json_t *req = json_pack("{s:s}", "family", s->args->family), *resp;
+    if (s->args->has_cost)
+        json_object_set_new(req, "cost", json_real(s->args->cost));
+    int code = cli_call(s, "POST", "/v1/families/enumerate", req, &resp);
+    json_decref(req);
+    if (code != EXIT_OK)
+        return code;
+    if (s->args->json)
+        cli_print_json(s->out, resp);
+    else
+        enumerate_print(s->out, resp);
+    json_decref(resp);
+    return EXIT_OK;
+}

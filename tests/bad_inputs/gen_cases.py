@@ -1,0 +1,292 @@
+import json
+C = []
+EV = "/v1/evaluate"
+JT = {"Content-Type": "application/json"}
+def case(name, status, field=None, method="POST", path=EV, body=None, body_json=None, headers=None,
+         gen=None, via=None, setup=None, check=None, forbid_body=None, body_hex=None, raw=None):
+    c = {"name": name, "method": method, "path": path}
+    h = dict(JT) if method in ("POST", "PUT") and headers is None else (headers or {})
+    if h: c["headers"] = h
+    if body is not None: c["body"] = body
+    if body_json is not None: c["body_json"] = body_json
+    if body_hex is not None: c["body_hex"] = body_hex
+    if gen is not None: c["gen"] = gen
+    if raw is not None: c["raw"] = raw
+    if via: c["via"] = via
+    if setup: c["setup"] = setup
+    if check: c["check"] = check
+    if forbid_body: c["forbid_body"] = forbid_body
+    c["status"] = status
+    c["field"] = field
+    # Cases about a job kind run only when the daemon has that kind (GET /v1/health job_kinds).
+    kind = body_json.get("kind") if isinstance(body_json, dict) else None
+    if setup == "optimize_job" or kind == "optimize":
+        c["needs_kind"] = "optimize"
+    assert name not in [x["name"] for x in C], name
+    C.append(c)
+
+def ev(name, status, field, pattern=None, **extra):
+    b = {"pattern": pattern if pattern is not None else {"preset": "rgss"}}
+    b.update(extra)
+    case(name, status, field, body_json=b)
+def evp(name, status, field, pattern): ev(name, status, field, pattern=pattern)
+OK = {"e2_finite": True}
+
+# --- malformed / truncated JSON
+for n, b in [("empty_body", ""), ("whitespace_only", "   \n\t "), ("lone_brace", "{"),
+             ("truncated_after_key", '{"pattern":'), ("truncated_in_object", '{"pattern":{"preset":"rgss"}'),
+             ("truncated_in_string", '{"pattern":{"preset":"rgs'), ("trailing_garbage", '{"pattern":{"preset":"rgss"}} junk'),
+             ("two_documents", '{"pattern":{"preset":"rgss"}}{"pattern":{"preset":"rgss"}}'),
+             ("extra_closing_brace", '{"pattern":{"preset":"rgss"}}}'), ("single_quotes", "{'pattern':{'preset':'rgss'}}"),
+             ("unquoted_key", '{pattern:{"preset":"rgss"}}'), ("trailing_comma", '{"pattern":{"preset":"rgss",}}'),
+             ("comment", '/* c */ {"pattern":{"preset":"rgss"}}'), ("missing_colon", '{"pattern" {"preset":"rgss"}}'),
+             ("bare_word", "pattern"), ("bom_prefix", '\ufeff{"pattern":{"preset":"rgss"}}'),
+             ("lone_surrogate_escape", '{"pattern":{"preset":"\\ud800"}}'), ("bad_escape", '{"pattern":{"preset":"\\q"}}'),
+             ("control_char_in_string", '{"pattern":{"preset":"rg\tss"}}'), ("leading_zero_number", '{"pattern":{"kernels":[[[00,0,1]]]}}'),
+             ("plus_sign_number", '{"pattern":{"kernels":[[[+1,0,1]]]}}'), ("hex_number", '{"pattern":{"kernels":[[[0x1,0,1]]]}}'),
+             ("dot_number", '{"pattern":{"kernels":[[[.5,0,1]]]}}')]:
+    case("json_" + n, 400, None, body=b)
+case("json_invalid_utf8", 400, None, body_hex="7b227061747465726e223a7b22707265736574223a22ff fe227d7d".replace(" ", ""))
+case("json_deep_nesting_100k", 400, None, gen={"kind": "nest", "depth": 100000})
+# --- top level not an object
+for n, b in [("array", "[]"), ("null", "null"), ("true", "true"), ("number", "1"), ("string", '"pattern"'),
+             ("array_of_request", '[{"pattern":{"preset":"rgss"}}]')]:
+    case("toplevel_" + n, 400, None, body=b)
+# --- duplicate keys
+case("dup_toplevel_pattern", 400, [None, "pattern"], body='{"pattern":{"preset":"rgss"},"pattern":{"preset":"quincunx"}}')
+case("dup_preset", 400, [None, "pattern.preset"], body='{"pattern":{"preset":"rgss","preset":"quincunx"}}')
+case("dup_filter_B", 400, [None, "filter.B"], body='{"pattern":{"preset":"rgss"},"filter":{"name":"mitchell","B":0.3,"B":0.5}}')
+case("dup_job_kind", 400, [None, "kind"], path="/v1/jobs", body='{"kind":"sleep","kind":"optimize","seconds":0}')
+# --- unknown fields
+ev("unknown_toplevel", 400, "bogus", bogus=1)
+ev("unknown_toplevel_case", 400, "Pattern", Pattern={"preset": "rgss"})
+evp("unknown_in_pattern", 400, "pattern.bogus", {"preset": "rgss", "bogus": True})
+ev("unknown_in_filter", 400, "filter.bogus", filter={"name": "mitchell", "bogus": 1})
+ev("unknown_in_acuity", 400, "acuity.bogus", acuity={"name": "naiman", "bogus": 1})
+evp("two_pattern_forms", 400, ["pattern", "pattern.kernels", "pattern.preset"], {"preset": "rgss", "kernels": [[[0, 0, 1]]]})
+evp("empty_pattern_object", 400, "pattern", {})
+case("missing_pattern", 400, "pattern", body_json={})
+case("unknown_in_job", 400, "bogus", path="/v1/jobs", body_json={"kind": "sleep", "seconds": 0, "bogus": 1})
+case("unknown_in_render", 400, "bogus", path="/v1/render", body_json={"pattern": {"preset": "rgss"}, "scene": "siemens-star", "size": [16, 16], "bogus": 1})
+case("unknown_in_enumerate", 400, "bogus", path="/v1/families/enumerate", body_json={"family": "P(4,1+,n)", "cost": 1.25, "bogus": 1})
+# --- wrong types
+ev("type_pattern_string", 400, "pattern", pattern="rgss")
+ev("type_pattern_array", 400, "pattern", pattern=[])
+ev("type_pattern_null", 400, "pattern", pattern=None) if False else case("type_pattern_null", 400, "pattern", body='{"pattern":null}')
+evp("type_preset_number", 400, "pattern.preset", {"preset": 5})
+evp("type_kernels_object", 400, "pattern.kernels", {"kernels": {}})
+evp("type_sample_coord_string", 400, "pattern.kernels[0][0][0]", {"kernels": [[["a", 0, 1]]]})
+evp("type_sample_coord_null", 400, "pattern.kernels[0][0][1]", {"kernels": [[[0, None, 1]]]})
+evp("type_sample_weight_bool", 400, "pattern.kernels[0][0][2]", {"kernels": [[[0, 0, True]]]})
+evp("sample_two_elements", 400, "pattern.kernels[0][0]", {"kernels": [[[0, 0]]]})
+evp("sample_four_elements", 400, "pattern.kernels[0][0]", {"kernels": [[[0, 0, 1, 2]]]})
+evp("sample_empty_array", 400, "pattern.kernels[0][0]", {"kernels": [[[]]]})
+evp("kernel_not_nested", 400, "pattern.kernels[0][0]", {"kernels": [[0, 0, 1]]})
+evp("type_sample_object", 400, "pattern.kernels[0][0]", {"kernels": [[{"x": 0, "y": 0, "w": 1}]]})
+evp("type_mirrored_string", 400, "pattern.mirrored", {"mirrored": "x"})
+evp("type_mirrored_weight_string", 400, "pattern.mirrored[0][2]", {"mirrored": [[0, 0, "1"]]})
+ev("type_filter_number", 400, "filter", filter=5)
+ev("type_filter_name_number", 400, "filter.name", filter={"name": 3})
+ev("type_filter_B_string", 400, "filter.B", filter={"name": "mitchell", "B": "0.3"})
+ev("type_acuity_array", 400, "acuity", acuity=[])
+ev("type_acuity_knots_string", 400, "acuity.knots", acuity={"knots": "x"})
+ev("acuity_knot_one_element", 400, "acuity.knots[0]", acuity={"knots": [[0]]})
+ev("type_angles_string", 400, "angles", angles="0,45")
+ev("type_angle_string", 400, "angles[1]", angles=[0, "45"])
+ev("type_angle_null", 400, "angles[0]", angles=[None])
+ev("type_detail_string", 400, "detail", detail="yes")
+ev("type_detail_number", 400, "detail", detail=1)
+case("type_job_kind_number", 400, "kind", path="/v1/jobs", body_json={"kind": 5})
+case("type_job_seeds_string", 400, "seeds", path="/v1/jobs", body_json={"kind": "optimize", "family": "P(4,1+,2)", "seeds": "10", "max_seconds": 1})
+case("type_job_seeds_fraction", 400, "seeds", path="/v1/jobs", body_json={"kind": "optimize", "family": "P(4,1+,2)", "seeds": 1.5, "max_seconds": 1})
+case("type_job_max_seconds_string", 400, "max_seconds", path="/v1/jobs", body_json={"kind": "optimize", "family": "P(4,1+,2)", "seeds": 1, "max_seconds": "1"})
+case("type_render_size_string", 400, "size", path="/v1/render", body_json={"pattern": {"preset": "rgss"}, "scene": "siemens-star", "size": "64x64"})
+case("type_render_scene_number", 400, "scene", path="/v1/render", body_json={"pattern": {"preset": "rgss"}, "scene": 7, "size": [16, 16]})
+case("type_enumerate_cost_string", 400, "cost", path="/v1/families/enumerate", body_json={"family": "P(4,1+,n)", "cost": "1.25"})
+case("type_enumerate_family_number", 400, "family", path="/v1/families/enumerate", body_json={"family": 4, "cost": 1.25})
+# --- NaN / Infinity / overflow
+for n, b in [("nan_coord", '{"pattern":{"kernels":[[[NaN,0,1]]]}}'), ("infinity_coord", '{"pattern":{"kernels":[[[Infinity,0,1]]]}}'),
+             ("neg_infinity_weight", '{"pattern":{"kernels":[[[0,0,-Infinity]]]}}'), ("nan_angle", '{"pattern":{"preset":"rgss"},"angles":[NaN]}'),
+             ("nan_lowercase_filter_B", '{"pattern":{"preset":"rgss"},"filter":{"name":"mitchell","B":nan}}'),
+             ("double_overflow_coord", '{"pattern":{"kernels":[[[1e999,0,1]]]}}'), ("double_overflow_neg_weight", '{"pattern":{"kernels":[[[0,0,-1e999]]]}}'),
+             ("double_overflow_angle", '{"pattern":{"preset":"rgss"},"angles":[1e400]}')]:
+    case(n, 400, None, body=b)
+case("int64_overflow_seeds", 400, [None, "seeds"], path="/v1/jobs", body='{"kind":"optimize","family":"P(4,1+,2)","seeds":99999999999999999999,"max_seconds":1}')
+case("int64_overflow_coord", 400, [None, "pattern.kernels[0][0][0]"], body='{"pattern":{"kernels":[[[99999999999999999999999,0,1]]]}}')
+case("int64_max_seeds", 400, "seeds", path="/v1/jobs", body_json={"kind": "optimize", "family": "P(4,1+,2)", "seeds": 9223372036854775807, "max_seconds": 1})
+case("int64_min_seeds", 400, "seeds", path="/v1/jobs", body_json={"kind": "optimize", "family": "P(4,1+,2)", "seeds": -9223372036854775808, "max_seconds": 1})
+evp("coord_1e308_beyond_limit", 400, "pattern.kernels[0][0][0]", {"kernels": [[[1e308, 0, 1]]]})
+# Accepted weights whose metric overflows: either refused naming the kernel, or a finite E2.
+case("weights_1e308_cancel", [200, 400], "pattern.kernels[0][0][2]", body_json={"pattern": {"kernels": [[[0, 0, 1e308], [0.1, 0, -1e308], [0.2, 0, 1]]]}}, check=OK)
+case("underflow_coord_ok", 200, None, body='{"pattern":{"kernels":[[[1e-99999,0,1]]]}}', check=OK)
+case("denormal_angle_ok", 200, None, body='{"pattern":{"preset":"rgss"},"angles":[4.9e-324]}', check=OK)
+case("angle_1e308", [200, 400], "angles[0]", body_json={"pattern": {"preset": "rgss"}, "angles": [1e308]}, check=OK)
+# --- strings with NUL
+case("nul_escape_in_preset", 400, [None, "pattern.preset"], body='{"pattern":{"preset":"rgss\\u0000x"}}')
+case("nul_escape_in_filter_name", 400, [None, "filter.name"], body='{"pattern":{"preset":"rgss"},"filter":{"name":"mitchell\\u0000"}}')
+case("nul_escape_in_key", 400, [None, "pattern\u0000x", "pattern\\u0000x"], body='{"pattern\\u0000x":{"preset":"rgss"}}')
+case("nul_escape_in_kind", 400, [None, "kind"], path="/v1/jobs", body='{"kind":"sleep\\u0000","seconds":0}')
+case("raw_nul_in_string", 400, None, body='{"pattern":{"preset":"rg\u0000ss"}}')
+case("raw_nul_after_document", 400, None, body='{"pattern":{"preset":"rgss"}}\u0000garbage')
+case("raw_nul_first_byte", 400, None, body='\u0000{"pattern":{"preset":"rgss"}}')
+# --- empty and huge arrays
+evp("kernels_empty", 400, "pattern.kernels", {"kernels": []})
+evp("kernel_empty", 400, "pattern.kernels[0]", {"kernels": [[]]})
+evp("second_kernel_empty", 400, "pattern.kernels[1]", {"kernels": [[[0, 0, 1]], []]})
+evp("mirrored_empty", 400, "pattern.mirrored", {"mirrored": []})
+ev("angles_empty", 400, "angles", angles=[])
+ev("acuity_knots_empty", 400, "acuity.knots", acuity={"knots": []})
+case("kernel_4096_samples_ok", 200, None, gen={"kind": "kernels", "kernels": 1, "samples": 4096}, check=OK)
+case("kernel_4097_samples", 400, "pattern.kernels[0]", gen={"kind": "kernels", "kernels": 1, "samples": 4097})
+case("kernels_256_ok", 200, None, gen={"kind": "kernels", "kernels": 256, "samples": 1}, check=OK)
+case("kernels_257", 400, "pattern.kernels", gen={"kind": "kernels", "kernels": 257, "samples": 1})
+case("mirrored_4097", 400, "pattern.mirrored", gen={"kind": "mirrored", "samples": 4097})
+case("angles_4096_ok", 200, None, gen={"kind": "angles", "angles": 4096}, check=OK)
+case("angles_4097", 400, "angles", gen={"kind": "angles", "angles": 4097})
+case("acuity_knots_362", 400, "acuity.knots", gen={"kind": "knots", "knots": 362})
+case("kernels_256x4096_oversized", 413, None, gen={"kind": "kernels", "kernels": 256, "samples": 4096})
+case("angles_1m", [400, 413], [None, "angles"], gen={"kind": "angles", "angles": 1000000})
+# --- weights
+evp("weights_sum_zero", 400, "pattern.kernels[0]", {"kernels": [[[0, 0, 1], [0.1, 0, -1]]]})
+evp("weights_all_zero", 400, "pattern.kernels[0]", {"kernels": [[[0, 0, 0]]]})
+evp("weights_sum_two", 400, "pattern.kernels[0]", {"kernels": [[[0, 0, 1], [0.1, 0, 1]]]})
+evp("weights_sum_off_1e-6", 400, "pattern.kernels[0]", {"kernels": [[[0, 0, 0.5], [0.1, 0, 0.500001]]]})
+evp("weights_second_kernel_bad", 400, "pattern.kernels[1]", {"kernels": [[[0, 0, 1]], [[0, 0, 0.5]]]})
+evp("weights_sum_within_tolerance_ok", 200, None, {"kernels": [[[0, 0, 0.5], [0.1, 0, 0.5000000000001]]]})
+evp("mirrored_weights_half", 400, "pattern.mirrored", {"mirrored": [[0, 0, 0.25], [0.25, 0.25, 0.25]]})
+case("negative_weights_ok", 200, None, body_json={"pattern": {"kernels": [[[-0.25, 0, -0.5], [0.25, 0, 1.5]]]}}, check=OK)
+case("negative_weights_mirrored_ok", 200, None, body_json={"pattern": {"mirrored": [[-0.25, -0.25, -0.5], [0.25, 0.25, 1.5]]}}, check=OK)
+case("negative_weights_huge_ok", 200, None, body_json={"pattern": {"kernels": [[[0, 0, 1000000], [0.1, 0, -999999]]]}}, check=OK)
+# --- coincident samples / positions
+case("coincident_kernel_samples_ok", 200, None, body_json={"pattern": {"kernels": [[[0, 0, 0.5], [0, 0, 0.5]]]}}, check=OK)
+evp("coincident_mirrored", 400, "pattern.mirrored[1]", {"mirrored": [[0.1, 0.1, 0.5], [0.1, 0.1, 0.5]]})
+evp("nearly_coincident_mirrored", 400, "pattern.mirrored[1]", {"mirrored": [[0.1, 0.1, 0.5], [0.1 + 1e-12, 0.1, 0.5]]})
+evp("coincident_tile", 400, "pattern.tile.samples[1]", {"tile": {"size": 1, "kernel": 1, "border": False, "samples": [[0.5, 0.5], [0.5, 0.5]], "weights": [[0.5, 0.5]]}})
+evp("position_x_1e7", 400, "pattern.kernels[0][0][0]", {"kernels": [[[1e7, 0, 1]]]})
+evp("position_y_neg_1e7", 400, "pattern.kernels[0][0][1]", {"kernels": [[[0, -1e7, 1]]]})
+case("position_far_but_allowed", 200, None, body_json={"pattern": {"kernels": [[[1000, 0, 0.5], [-1000, 0, 0.5]]]}}, check=OK)
+evp("mirrored_x_outside_pixel", 400, "pattern.mirrored[0][0]", {"mirrored": [[0.6, 0, 1]]})
+evp("mirrored_y_outside_pixel", 400, "pattern.mirrored[0][1]", {"mirrored": [[0, -0.7, 1]]})
+evp("tile_size_zero", 400, "pattern.tile.size", {"tile": {"size": 0, "kernel": 1, "border": False, "samples": [[0.5, 0.5]], "weights": [[1]]}})
+evp("tile_size_huge", 400, "pattern.tile.size", {"tile": {"size": 1000000, "kernel": 1, "border": False, "samples": [[0.5, 0.5]], "weights": [[1]]}})
+evp("tile_kernel_zero", 400, "pattern.tile.kernel", {"tile": {"size": 1, "kernel": 0, "border": False, "samples": [[0.5, 0.5]], "weights": [[1]]}})
+evp("tile_sample_nan_string", 400, "pattern.tile.samples[0][0]", {"tile": {"size": 1, "kernel": 1, "border": False, "samples": [["x", 0.5]], "weights": [[1]]}})
+# --- family strings and costs
+FE = "/v1/families/enumerate"
+for n, f in [("empty", ""), ("unclosed", "P(4,1+"), ("wrong_letter", "Q(4,1+,n)"), ("negative_s", "P(-4,1+,n)"),
+             ("huge_s", "P(99999999999999999999,1,n)"), ("garbage_suffix", "P(4,1+,n)garbage"), ("no_commas", "P(41+n)"),
+             ("unsupported_family", "P(7,3,n)")]:
+    case("family_" + n, 400, "family", path=FE, body_json={"family": f, "cost": 1.25})
+case("family_nul_escape", 400, [None, "family"], path=FE, body='{"family":"P(4,1+,n)\\u0000","cost":1.25}')
+for n, c in [("not_quarter", 1.3), ("zero", 0), ("negative", -1), ("huge", 1e9), ("tiny", 0.1)]:
+    case("cost_" + n, 400, "cost", path=FE, body_json={"family": "P(4,1+,n)", "cost": c})
+OPT = {"kind": "optimize", "seeds": 1, "max_seconds": 1}
+for n, f in [("cost_not_quarter", "P(4,1+,1.3)"), ("cost_zero", "P(4,1+,0)"), ("cost_letters", "P(4,1+,zz)"), ("garbage", "P(4,1+,2)x")]:
+    case("optimize_family_" + n, 400, "family", path="/v1/jobs", body_json=dict(OPT, family=f))
+case("optimize_no_family_no_pattern", 400, ["family", "pattern"], path="/v1/jobs", body_json=dict(OPT))
+case("optimize_seeds_zero", 400, "seeds", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", seeds=0))
+case("optimize_seeds_negative", 400, "seeds", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", seeds=-1))
+case("optimize_seeds_absurd", 400, "seeds", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", seeds=1000000000))
+case("optimize_max_seconds_negative", 400, "max_seconds", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", max_seconds=-5))
+case("optimize_max_seconds_huge", 400, "max_seconds", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", max_seconds=1e300))
+case("optimize_bad_pattern", 400, "pattern.kernels[0]", path="/v1/jobs", body_json={"kind": "optimize", "pattern": {"kernels": [[[0, 0, 2]]]}, "seeds": 1, "max_seconds": 1})
+case("job_kind_unknown", 400, "kind", path="/v1/jobs", body_json={"kind": "nope"})
+case("job_kind_missing", 400, "kind", path="/v1/jobs", body_json={"seeds": 1})
+case("sleep_seconds_negative", 400, "seconds", path="/v1/jobs", body_json={"kind": "sleep", "seconds": -1})
+case("sleep_seconds_string", 400, "seconds", path="/v1/jobs", body_json={"kind": "sleep", "seconds": "1"})
+# --- unknown presets / filters / acuity / scenes
+evp("preset_unknown", 400, "pattern.preset", {"preset": "nope"})
+evp("preset_empty", 400, "pattern.preset", {"preset": ""})
+evp("preset_traversal", 400, "pattern.preset", {"preset": "../../etc/passwd"})
+case("preset_long", [400, 413], [None, "pattern.preset"], gen={"kind": "long_preset", "bytes": 100000})
+case("get_preset_unknown", 404, [None, "name"], method="GET", path="/v1/presets/nope")
+case("get_preset_dotdot", [400, 404], [None, "name"], method="GET", path="/v1/presets/%2e%2e")
+case("get_preset_encoded_slash", [400, 404], [None, "name"], method="GET", path="/v1/presets/..%2f..%2fetc%2fpasswd")
+ev("filter_unknown", 400, "filter.name", filter={"name": "sinc"})
+ev("filter_empty_name", 400, "filter.name", filter={"name": ""})
+ev("acuity_unknown", 400, "acuity.name", acuity={"name": "nope"})
+RB = {"pattern": {"preset": "rgss"}, "scene": "siemens-star", "size": [16, 16]}
+case("scene_unknown", 400, "scene", path="/v1/render", body_json=dict(RB, scene="nope"))
+case("scene_empty", 400, "scene", path="/v1/render", body_json=dict(RB, scene=""))
+case("render_bad_preset", 400, "pattern.preset", path="/v1/render", body_json=dict(RB, pattern={"preset": "nope"}))
+# --- degenerate filters / acuity
+for n, f, fld in [("mitchell_radius_zero", {"name": "mitchell", "radius": 0}, "filter.radius"),
+                  ("mitchell_radius_negative", {"name": "mitchell", "radius": -1}, "filter.radius"),
+                  ("mitchell_radius_huge", {"name": "mitchell", "radius": 65}, "filter.radius"),
+                  ("box_radius_zero", {"name": "box", "radius": 0}, "filter.radius"),
+                  ("tent_radius_negative_zero", {"name": "tent", "radius": -0.0}, "filter.radius"),
+                  ("gaussian_sigma_zero", {"name": "gaussian", "sigma": 0}, "filter.sigma"),
+                  ("gaussian_sigma_tiny", {"name": "gaussian", "sigma": 1e-9}, "filter.sigma"),
+                  ("gaussian_sigma_negative", {"name": "gaussian", "sigma": -0.5}, "filter.sigma"),
+                  ("lanczos_a_zero", {"name": "lanczos", "a": 0}, "filter.a"),
+                  ("lanczos_a_fraction", {"name": "lanczos", "a": 2.5}, "filter.a"),
+                  ("lanczos_a_huge", {"name": "lanczos", "a": 17}, "filter.a")]:
+    ev("filter_" + n, 400, fld, filter=f)
+case("filter_B_1e308", [200, 400], "filter.B", body_json={"pattern": {"preset": "rgss"}, "filter": {"name": "mitchell", "B": 1e308, "C": 0}}, check=OK)
+case("filter_C_1e300", [200, 400], "filter.C", body_json={"pattern": {"preset": "rgss"}, "filter": {"name": "mitchell", "B": 0, "C": -1e300}}, check=OK)
+ev("acuity_knot_negative_weight", 400, "acuity.knots[0][1]", acuity={"knots": [[0, -1]]})
+ev("acuity_knot_angle_180", 400, "acuity.knots[0][0]", acuity={"knots": [[180, 1]]})
+ev("acuity_knot_duplicate_angle", 400, ["acuity.knots[1][0]", "acuity.knots[0][0]"], acuity={"knots": [[10, 1], [10, 0.5]]})
+case("acuity_all_zero_ok", 200, None, body_json={"pattern": {"preset": "rgss"}, "acuity": {"knots": [[0, 0]]}}, check=OK)
+# --- zero / absurd sizes
+for n, s, fld in [("zero_w", [0, 16], "size[0]"), ("zero_h", [16, 0], "size[1]"), ("negative", [-1, 16], "size[0]"),
+                  ("absurd", [1000000, 1000000], "size[0]"), ("fraction", [16.5, 16], ["size", "size[0]"]), ("three", [16, 16, 16], "size"),
+                  ("empty", [], "size")]:
+    case("render_size_" + n, 400, fld, path="/v1/render", body_json=dict(RB, size=s))
+# --- bad job ids, cancelling finished jobs
+for n, m, p, st in [("get_missing", "GET", "/v1/jobs/999999999", 404), ("get_zero", "GET", "/v1/jobs/0", 404),
+                    ("get_alpha", "GET", "/v1/jobs/abc", [400, 404]), ("get_negative", "GET", "/v1/jobs/-1", [400, 404]),
+                    ("get_overflow", "GET", "/v1/jobs/99999999999999999999999999", [400, 404]),
+                    ("get_encoded_nul", "GET", "/v1/jobs/1%00", [400, 404]), ("get_dotdot", "GET", "/v1/jobs/1/../../etc", [400, 404]),
+                    ("get_space", "GET", "/v1/jobs/1%201", [400, 404]),
+                    ("delete_missing", "DELETE", "/v1/jobs/999999999", 404), ("delete_alpha", "DELETE", "/v1/jobs/abc", [400, 404]),
+                    ("export_missing_job", "GET", "/v1/patterns/999999999/export?format=json", 404),
+                    ("tile_bad_id", "GET", "/v1/tiles/999999999.png", [400, 404]),
+                    ("tile_missing", "GET", "/v1/tiles/" + "0" * 32 + ".png", 404), ("tile_traversal", "GET", "/v1/tiles/..%2f..%2fetc%2fpasswd.png", [400, 404])]:
+    case("jobid_" + n, st, [None, "id"], method=m, path=p)
+case("cancel_done_job", 409, None, method="DELETE", path="/v1/jobs/{job}", setup="done_job")
+case("cancel_cancelled_job", 409, None, method="DELETE", path="/v1/jobs/{job}", setup="cancelled_job")
+case("done_job_still_done", 200, None, method="GET", path="/v1/jobs/{job}", setup="done_job", check={"state": "done"})
+for n, q in [("bad_format", "format=bmp"), ("empty_format", "format="), ("nul_format", "format=%00"),
+             ("long_query", "x=" + "a" * 4000 + "&format=bmp")]:
+    case("export_" + n, 400, "format", method="GET", path="/v1/patterns/{job}/export?" + q, setup="pattern_job")
+case("export_job_without_pattern", 409, "id", method="GET", path="/v1/patterns/{job}/export?format=json", setup="done_job")
+case("export_utk_ok", 200, None, method="GET", path="/v1/patterns/{job}/export?format=utk", setup="pattern_job")
+case("sleep_bad_pattern", 400, "pattern.preset", path="/v1/jobs", body_json={"kind": "sleep", "seconds": 0, "pattern": {"preset": "nope"}})
+case("sleep_seconds_too_long", 400, "seconds", path="/v1/jobs", body_json={"kind": "sleep", "seconds": 3601})
+case("sleep_fail_not_bool", 400, "fail", path="/v1/jobs", body_json={"kind": "sleep", "seconds": 0, "fail": "yes"})
+# --- oversized bodies and headers, content type, methods
+case("body_20MiB", 413, None, gen={"kind": "spaces", "bytes": 20 << 20})
+case("content_length_lies_huge", 413, None, raw={"content_length": 10 << 30, "send": '{"pattern":'})
+case("chunked_20MiB", 413, None, gen={"kind": "spaces", "bytes": 20 << 20, "chunked": True})
+case("header_100KiB", [400, 413, 431], "*", method="GET", path="/v1/health", raw={"header_bytes": 100000})
+case("headers_2000", [400, 413, 431], "*", method="GET", path="/v1/health", raw={"header_count": 2000})
+case("url_100KiB", [400, 404, 413, 414, 431], "*", method="GET", path="/v1/presets/", raw={"path_bytes": 100000})
+for n, ct, st in [("text_plain", "text/plain", 415), ("form", "application/x-www-form-urlencoded", 415),
+                  ("multipart", "multipart/form-data; boundary=x", 415), ("jsonx", "application/jsonx", 415),
+                  ("json_charset_ok", "application/json; charset=utf-8", 200), ("json_uppercase_ok", "Application/JSON", 200)]:
+    case("ctype_" + n, st, None, headers={"Content-Type": ct}, body_json={"pattern": {"preset": "rgss"}})
+case("ctype_missing", [200, 415], None, headers={}, body_json={"pattern": {"preset": "rgss"}})
+for n, m, p in [("put_evaluate", "PUT", EV), ("get_evaluate", "GET", EV), ("delete_health", "DELETE", "/v1/health"),
+                ("post_health", "POST", "/v1/health"), ("patch_jobs", "PATCH", "/v1/jobs")]:
+    case("method_" + n, 405, None, method=m, path=p, headers={"Content-Type": "application/json"} if m in ("PUT", "POST", "PATCH") else {},
+         body="{}" if m in ("PUT", "POST", "PATCH") else None)
+case("route_unknown", 404, None, method="GET", path="/v1/nope")
+case("route_v2", 404, None, method="GET", path="/v2/health")
+case("route_double_slash", [400, 404], None, method="GET", path="//v1/health")
+# --- static files over TCP: traversal, symlinks, host, token
+S = "SECRET-MARKER"
+for n, p in [("dotdot", "/../secret.txt"), ("encoded_dotdot", "/%2e%2e/secret.txt"), ("encoded_slash", "/..%2fsecret.txt"),
+             ("double_encoded", "/%252e%252e/secret.txt"), ("deep", "/a/b/../../../secret.txt"), ("backslash", "/..\\secret.txt"),
+             ("absolute_etc", "/../../../../../../etc/passwd"), ("nul_suffix", "/index.html%00.png"), ("symlink_out", "/escape.txt"),
+             ("dot_segment_dir", "/./../secret.txt")]:
+    case("static_" + n, [400, 403, 404], "*", method="GET", path=p, via="tcp", forbid_body=[S, "root:x:0:0"])
+case("static_index_ok", 200, None, method="GET", path="/", via="tcp", check={"content_type_prefix": "text/html"})
+case("tcp_bad_host", [400, 403, 421], "*", method="GET", path="/v1/health", via="tcp", headers={"Host": "evil.example"})
+case("tcp_post_job_no_token", 401, None, path="/v1/jobs", via="tcp", body_json={"kind": "sleep", "seconds": 0})
+case("tcp_post_job_wrong_token", 401, None, path="/v1/jobs", via="tcp", headers={"Content-Type": "application/json", "Authorization": "Bearer wrong"}, body_json={"kind": "sleep", "seconds": 0})
+case("tcp_delete_no_token", [401, 404], None, method="DELETE", path="/v1/jobs/1", via="tcp")
+with open("/work/wt/hardening/tests/bad_inputs/cases.jsonl", "w") as f:
+    for c in C:
+        f.write(json.dumps(c, separators=(",", ":")) + "\n")
+print(len(C))

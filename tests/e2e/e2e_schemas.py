@@ -1,0 +1,104 @@
+"""Validates live daemon answers and example requests against proto/schemas (JSON Schema
+2020-12, python3-jsonschema). Exits 77 (skipped) when jsonschema is not installed."""
+
+import glob
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from e2e_lib import Daemon, check  # noqa: E402
+
+try:
+    import jsonschema
+except ImportError:
+    print("jsonschema not installed: skipped")
+    sys.exit(77)
+
+SCHEMA_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "proto",
+                          "schemas")
+
+
+def load_schemas():
+    schemas = {}
+    for path in glob.glob(os.path.join(SCHEMA_DIR, "*.json")):
+        with open(path) as f:
+            s = json.load(f)
+        jsonschema.Draft202012Validator.check_schema(s)
+        schemas[os.path.basename(path)] = s
+    return schemas
+
+
+def validator(schemas, name):
+    s = schemas[name]
+    try:  # jsonschema >= 4.18: referencing registry
+        from referencing import Registry, Resource
+        reg = Registry().with_resources(
+            (x["$id"], Resource.from_contents(x)) for x in schemas.values())
+        return jsonschema.Draft202012Validator(s, registry=reg)
+    except ImportError:  # Debian 12's 4.10: RefResolver with a store
+        store = {x["$id"]: x for x in schemas.values()}
+        resolver = jsonschema.RefResolver(s["$id"], s, store=store)
+        return jsonschema.Draft202012Validator(s, resolver=resolver)
+
+
+def valid(schemas, name, doc, what):
+    errors = list(validator(schemas, name).iter_errors(doc))
+    check(not errors, "%s does not match %s: %s" % (what, name, [e.message for e in errors[:3]]))
+
+
+def invalid(schemas, name, doc, what):
+    check(list(validator(schemas, name).iter_errors(doc)), "%s should not match %s" % (what, name))
+
+
+def main():
+    schemas = load_schemas()
+    requests = [
+        {"pattern": {"preset": "rgss"}},
+        {"pattern": {"kernels": [[[0, 0, 0.5], [0.25, 0.25, 0.5]]]}, "detail": True,
+         "filter": {"name": "mitchell", "B": 0.3333, "C": 0.3333}, "acuity": {"name": "naiman"}},
+        {"pattern": {"mirrored": [[-0.5, 0.25, 0.25], [-0.25, -0.5, 0.25], [0.5, -0.25, 0.25],
+                                  [0.25, 0.5, 0.25]]}, "acuity": {"knots": [[0, 1], [45, 2]]},
+         "angles": [0, 45, 90]},
+        {"pattern": {"tile": {"size": 2, "kernel": 1, "border": True,
+                              "samples": [[0.5, 0.5], [1.5, 0.5], [0.5, 1.5], [1.5, 1.5]]}}},
+    ]
+    for i, r in enumerate(requests):
+        valid(schemas, "evaluate_request.json", r, "request %d" % i)
+    invalid(schemas, "evaluate_request.json", {"pattern": {"preset": "rgss"}, "bogus": 1}, "bogus")
+    invalid(schemas, "evaluate_request.json", {"pattern": {"kernels": [[[0, 0]]]}}, "2-tuple")
+
+    d = Daemon(sys.argv[1], tcp=False).start()
+    try:
+        for i, r in enumerate(requests):
+            resp = d.post("/v1/evaluate", r)
+            check(resp.status == 200, resp)
+            valid(schemas, "evaluate_response.json", resp.json(), "evaluate answer %d" % i)
+        for p in d.get("/v1/presets").json()["presets"]:
+            full = d.get("/v1/presets/" + p["name"]).json()
+            valid(schemas, "pattern.json", full["pattern"], "encoded preset " + p["name"])
+        for f in d.get("/v1/filters").json()["filters"]:
+            valid(schemas, "filter.json", f, "filter " + f["name"])
+        for bad in ({"pattern": {"preset": "nope"}}, {"pattern": 1}, {"x": 1}):
+            resp = d.post("/v1/evaluate", bad)
+            check(resp.status == 400, resp)
+            valid(schemas, "error.json", resp.json(), "error answer")
+        valid(schemas, "error.json", d.get("/v1/nope").json(), "404 answer")
+        r = d.post("/v1/jobs", {"kind": "sleep", "seconds": 0, "pattern": {"preset": "rgss"}})
+        valid(schemas, "job.json", r.json(), "POST /v1/jobs answer")
+        job = d.wait_job(r.json()["id"])
+        valid(schemas, "job.json", job, "finished job")
+        for j in d.get("/v1/jobs").json()["jobs"]:
+            valid(schemas, "job.json", j, "job summary")
+        exp = d.get("/v1/patterns/%d/export?format=json" % job["id"]).json()
+        valid(schemas, "pattern.json", exp["pattern"], "exported pattern")
+    except BaseException:
+        print(d.log_text())
+        raise
+    finally:
+        d.cleanup()
+    print("e2e_schemas: ok")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,81 @@
+"""End-to-end: socket activation (LISTEN_FDS via systemd-socket-activate) and sd_notify
+readiness (READY=1 at start, STOPPING=1 at SIGTERM) on a NOTIFY_SOCKET of our own."""
+
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from e2e_lib import check  # noqa: E402
+
+
+def curl_health(sock):
+    p = subprocess.run(["curl", "-sS", "--max-time", "5", "--unix-socket", sock,
+                        "http://aalab/v1/health"], capture_output=True)
+    return p.returncode == 0 and b'"status":"ok"' in p.stdout
+
+
+def test_notify(binary, root):
+    notify_path = os.path.join(root, "notify.sock")
+    n = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+    n.bind(notify_path)
+    n.settimeout(20)
+    env = dict(os.environ, NOTIFY_SOCKET=notify_path)
+    env.pop("LISTEN_FDS", None)
+    sock = os.path.join(root, "n.sock")
+    p = subprocess.Popen([binary, "--socket", sock, "--state-dir", os.path.join(root, "st1")],
+                         env=env, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
+    try:
+        msg = n.recv(4096).decode()
+        check("READY=1" in msg, "READY=1 sent: %r" % msg)
+        check(curl_health(sock), "serving once READY")
+        p.send_signal(signal.SIGTERM)
+        msg = n.recv(4096).decode()
+        check("STOPPING=1" in msg, "STOPPING=1 sent: %r" % msg)
+        check(p.wait(20) == 0, "exit 0")
+    finally:
+        if p.poll() is None:
+            p.kill()
+        n.close()
+
+
+def test_activation(binary, root):
+    activate = shutil.which("systemd-socket-activate")
+    if not activate:
+        print("systemd-socket-activate not found: activation part skipped")
+        return False
+    sock = os.path.join(root, "act.sock")
+    p = subprocess.Popen([activate, "-l", sock, binary, "--state-dir", os.path.join(root, "st2")],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
+    try:
+        deadline = time.time() + 20
+        while not os.path.exists(sock) and time.time() < deadline:
+            time.sleep(0.05)
+        check(curl_health(sock), "socket-activated daemon answers on the passed socket")
+        check(curl_health(sock), "and keeps answering")
+        p.send_signal(signal.SIGTERM)
+        check(p.wait(20) == 0, "exit 0")
+    finally:
+        if p.poll() is None:
+            p.kill()
+    return True
+
+
+def main():
+    binary = sys.argv[1]
+    root = tempfile.mkdtemp(prefix="aalab-sd-")
+    try:
+        test_notify(binary, root)
+        test_activation(binary, root)
+    finally:
+        shutil.rmtree(root, ignore_errors=True)
+    print("e2e_systemd: ok")
+
+
+if __name__ == "__main__":
+    main()

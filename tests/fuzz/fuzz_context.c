@@ -1,0 +1,64 @@
+/* The daemon context used by fuzz_request_handler: api_context_create() on embedded defaults
+ * with a fresh temporary state directory and web directory, no listeners. Jobs are accepted
+ * into a small queue; a single worker runs them (sleep jobs are cheap, optimisations are
+ * bounded by their own max_seconds). Created once per fuzzing process. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "aa_error.h"
+#include "api_context.h"
+#include "config.h"
+#include "fuzz_context.h"
+
+static void write_file(const char *dir, const char *name, const char *text)
+{
+    char path[4200];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    if (f) {
+        fputs(text, f);
+        fclose(f);
+    }
+}
+
+api_context *fuzz_context_open(void)
+{
+    static char root[] = "/tmp/aalab-fuzz-XXXXXX";
+    if (!mkdtemp(root)) {
+        perror("mkdtemp");
+        abort();
+    }
+    aalab_config cfg;
+    config_defaults(&cfg);
+    snprintf(cfg.state_dir, sizeof cfg.state_dir, "%s/state", root);
+    snprintf(cfg.web_dir, sizeof cfg.web_dir, "%s/web", root);
+    snprintf(cfg.socket_path, sizeof cfg.socket_path, "%s/unused.sock", root);
+    cfg.tcp_host[0] = '\0';
+    cfg.workers = 1;
+    cfg.queue_size = 8;
+    cfg.user_quota = 8;
+    cfg.tile_bytes = 16u << 20;
+    char web[4200];
+    snprintf(web, sizeof web, "%s/web", root);
+    if (mkdir(web, 0700) != 0)
+        abort();
+    write_file(web, "index.html", "<!doctype html><title>fuzz</title>\n");
+    write_file(root, "secret.txt", "outside the web dir\n");
+    bool created = false;
+    aa_error err;
+    memset(&err, 0, sizeof err);
+    api_context *ctx = api_context_create(&cfg, &created, &err);
+    if (!ctx) {
+        fprintf(stderr, "api_context_create: %s (%s)\n", err.message, err.field);
+        abort();
+    }
+    return ctx;
+}
+
+const char *fuzz_context_token(api_context *ctx)
+{
+    return api_context_token(ctx);
+}

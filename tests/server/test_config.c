@@ -1,0 +1,85 @@
+/* aalabd flags: embedded defaults, every flag, bad values. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "config.h"
+
+static int parse(aalab_config *c, int argc, char **argv)
+{
+    FILE *null = fopen("/dev/null", "w");
+    int rc = config_parse_args(c, argc, argv, null, null);
+    fclose(null);
+    return rc;
+}
+
+static void test_defaults(void **state)
+{
+    (void)state;
+    aalab_config c;
+    config_defaults(&c);
+    assert_true(strlen(c.socket_path) > 0 && strstr(c.socket_path, "aalabd.sock"));
+    assert_true(strlen(c.state_dir) > 0);
+    assert_true(c.workers >= 1);
+    assert_int_equal(c.tcp_port, 0);
+    assert_true(c.max_body >= 1024 && c.queue_size > 0 && c.user_quota > 0);
+    char *argv[] = {"aalabd"};
+    assert_int_equal(parse(&c, 1, argv), 0);
+}
+
+static void test_flags(void **state)
+{
+    (void)state;
+    aalab_config c;
+    config_defaults(&c);
+    char *argv[] = {"aalabd",       "--socket",   "/tmp/x.sock",  "--tcp",     "127.0.0.1:99",
+                    "--state-dir",  "/tmp/st",    "--workers=3",  "--web-dir", "/tmp/web",
+                    "--queue-size", "7",          "--user-quota", "2",         "--socket-group",
+                    "aalab",        "--max-body", "4096"};
+    assert_int_equal(parse(&c, (int)(sizeof argv / sizeof argv[0]), argv), 0);
+    assert_string_equal(c.socket_path, "/tmp/x.sock");
+    assert_string_equal(c.tcp_host, "127.0.0.1");
+    assert_int_equal(c.tcp_port, 99);
+    assert_string_equal(c.state_dir, "/tmp/st");
+    assert_int_equal(c.workers, 3);
+    assert_string_equal(c.web_dir, "/tmp/web");
+    assert_int_equal(c.queue_size, 7);
+    assert_int_equal(c.user_quota, 2);
+    assert_string_equal(c.socket_group, "aalab");
+    assert_int_equal(c.max_body, 4096);
+}
+
+static void test_bad_flags(void **state)
+{
+    (void)state;
+    char *cases[][2] = {{"--workers", "0"},     {"--workers", "x"}, {"--tcp", "nocolon"},
+                        {"--tcp", "h:70000"},   {"--bogus", "1"},   {"--max-body", "10"},
+                        {"--queue-size", "-1"}, {"--tcp", ":80"}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        aalab_config c;
+        config_defaults(&c);
+        char *argv[] = {"aalabd", cases[i][0], cases[i][1]};
+        if (parse(&c, 3, argv) != -1)
+            fail_msg("accepted %s %s", cases[i][0], cases[i][1]);
+    }
+    aalab_config c;
+    config_defaults(&c);
+    char *argv[] = {"aalabd", "--socket"};
+    assert_int_equal(parse(&c, 2, argv), -1);
+    char *help[] = {"aalabd", "--help"};
+    assert_int_equal(parse(&c, 2, help), 1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_flags),
+        cmocka_unit_test(test_bad_flags),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,54 @@
+// Jobs view, with the daemon's harmless "sleep" kind: progress, trace, best pattern, exports and
+// cancel. The optimize job itself is the optimize suite.
+
+import { assert, eventually } from '../lib/check.mjs';
+
+export async function rowOf(page, id) {
+  return page.$eval(`#jobs-table tr[data-job-id="${id}"]`, (tr) => ({ state: tr.dataset.state, progress: Number(tr.querySelector('progress').value) }));
+}
+
+export async function watchToDone(page, id, timeout) {
+  const seen = [];
+  await eventually(async () => {
+    const row = await rowOf(page, id);
+    if (seen[seen.length - 1] !== row.state) seen.push(row.state);
+    return row.state === 'done' && row.progress === 1;
+  }, { timeout, interval: 150, message: `job ${id} to be done with progress 1` });
+  return seen;
+}
+
+export default async function jobsSuite({ page, base, api, step, shot }) {
+  await step('a job (sleep kind, with a pattern) shows progress to done, its trace, best pattern and exports', async () => {
+    await page.goto(`${base}/#/jobs`);
+    const r = await api('POST', '/v1/jobs', { kind: 'sleep', seconds: 1.5, pattern: { preset: 'rgss' } });
+    const id = String(r.id);
+    await page.goto(`${base}/#/jobs?job=${id}`);
+    const seen = await watchToDone(page, id, 20000);
+    console.log(`#   sleep job ${id}: states seen ${seen.join(' → ')}`);
+    const job = await api('GET', `/v1/jobs/${id}`);
+    await page.waitForFunction((n) => Number(document.getElementById('jd-trace').dataset.points) === n, job.trace.length, { timeout: 5000 });
+    assert(job.trace.length > 1, `API trace has ${job.trace.length} points`);
+    assert(await page.$('#jd-trace canvas'), 'no trace chart canvas');
+    const dots = await page.$$eval('#jd-pattern g.dot-primary', (g) => g.length);
+    assert(dots === 4, `best pattern (RGSS) should draw 4 samples, found ${dots}`);
+    for (const format of ['json', 'utk', 'vulkan', 'd3d12']) {
+      await page.click(`#jd-export button[data-format="${format}"]`);
+      await page.waitForFunction((f) => document.getElementById('jd-download').download.includes(`.${f === 'utk' ? 'dat' : f}`), format, { timeout: 5000 });
+      const text = await page.textContent('#jd-export-text');
+      const ref = await fetch(`${base}/v1/patterns/${id}/export?format=${format}`).then((x) => x.text());
+      if (format === 'utk') assert(text === ref, `UTK export shown differs from the API's`);
+      else assert(JSON.stringify(JSON.parse(text)) === JSON.stringify(JSON.parse(ref)), `${format} export shown differs from the API's`);
+    }
+    await shot('jobs-detail');
+  });
+
+  await step('cancel a running job from the list', async () => {
+    const r = await api('POST', '/v1/jobs', { kind: 'sleep', seconds: 120 });
+    const cid = String(r.id);
+    await page.waitForSelector(`#jobs-table tr[data-job-id="${cid}"][data-state="running"]`, { timeout: 10000 });
+    await page.click(`#jobs-table tr[data-job-id="${cid}"] button[data-action="cancel"]`);
+    await eventually(async () => (await page.getAttribute(`#jobs-table tr[data-job-id="${cid}"]`, 'data-state')) === 'cancelled', { timeout: 15000, message: `job ${cid} cancelled` });
+    const shown = await page.textContent(`#jobs-table tr[data-job-id="${cid}"] td.state`);
+    assert(/⊘\s*cancelled/.test(shown), `state cell "${shown}" should carry a symbol and the word`);
+  });
+}

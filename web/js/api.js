@@ -1,0 +1,117 @@
+// Thin client for the aalabd JSON API (issue 4). Every request carries the bearer token when one
+// is known, because the TCP listener refuses state-changing requests without it.
+
+const TOKEN_KEY = 'aalab.token';
+
+export class ApiError extends Error {
+  constructor(status, code, message, field) {
+    super(field ? `${message} (field ${field})` : message);
+    this.status = status;
+    this.code = code;
+    this.field = field;
+  }
+}
+
+export function getToken() {
+  try {
+    return localStorage.getItem(TOKEN_KEY) || '';
+  } catch {
+    return '';
+  }
+}
+
+export function setToken(token) {
+  try {
+    if (token) localStorage.setItem(TOKEN_KEY, token);
+    else localStorage.removeItem(TOKEN_KEY);
+  } catch {
+    /* storage disabled: the token then lives only as long as the page */
+  }
+  memoryToken = token;
+}
+
+let memoryToken = '';
+
+/* A token in the URL fragment (#token=...) is stored and then removed from the address bar, so
+ * it does not end up in bookmarks or screenshots. Returns the rest of the fragment. */
+export function takeTokenFromFragment() {
+  const frag = location.hash.replace(/^#/, '');
+  const m = /(?:^|&)token=([^&]*)/.exec(frag);
+  if (!m) return frag;
+  setToken(decodeURIComponent(m[1]));
+  const rest = frag.replace(m[0], '').replace(/^&/, '');
+  history.replaceState(null, '', location.pathname + location.search + (rest ? '#' + rest : '#/evaluate'));
+  return rest;
+}
+
+function authHeaders() {
+  const token = getToken() || memoryToken;
+  return token ? { Authorization: `Bearer ${token}` } : {};
+}
+
+async function decode(resp) {
+  const type = resp.headers.get('Content-Type') || '';
+  let body = null;
+  if (type.includes('json')) {
+    try {
+      body = await resp.json();
+    } catch {
+      body = null;
+    }
+  } else {
+    body = await resp.text();
+  }
+  if (!resp.ok) {
+    const e = body && body.error ? body.error : {};
+    let msg = e.message || `HTTP ${resp.status} ${resp.statusText}`;
+    if (resp.status === 401 || resp.status === 403)
+      msg += ' — set the API token (button “Token” at the top right; it is in <state-dir>/token)';
+    if (resp.status === 429) msg += ` — server busy, retry after ${resp.headers.get('Retry-After') || '?'} s`;
+    throw new ApiError(resp.status, e.code || 'http_error', msg, e.field);
+  }
+  return body;
+}
+
+export async function apiGet(path, { signal } = {}) {
+  const resp = await fetch(path, { headers: { Accept: 'application/json', ...authHeaders() }, signal });
+  return decode(resp);
+}
+
+export async function apiPost(path, body, { signal } = {}) {
+  const resp = await fetch(path, {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json', Accept: 'application/json', ...authHeaders() },
+    body: JSON.stringify(body),
+    signal,
+  });
+  return decode(resp);
+}
+
+export async function apiDelete(path) {
+  const resp = await fetch(path, { method: 'DELETE', headers: { Accept: 'application/json', ...authHeaders() } });
+  return decode(resp);
+}
+
+/* Text download (export formats are not all JSON). */
+export async function apiGetText(path) {
+  const resp = await fetch(path, { headers: authHeaders() });
+  const text = await resp.text();
+  if (!resp.ok) {
+    let msg = `HTTP ${resp.status}`;
+    try {
+      const j = JSON.parse(text);
+      if (j.error) msg = j.error.message || msg;
+    } catch {
+      /* not JSON: keep the status */
+    }
+    throw new ApiError(resp.status, 'http_error', msg);
+  }
+  return { text, type: resp.headers.get('Content-Type') || 'text/plain' };
+}
+
+/* Images need the token too when the tile endpoint is protected: fetch as a blob URL. */
+export async function apiImageUrl(path) {
+  const resp = await fetch(path, { headers: authHeaders() });
+  if (!resp.ok) throw new ApiError(resp.status, 'http_error', `image ${path}: HTTP ${resp.status}`);
+  return URL.createObjectURL(await resp.blob());
+}

@@ -1,0 +1,125 @@
+// Dashboard shell: token, tabs with hash routing (#/view?key=value), health line, error toast.
+
+import { apiGet, getToken, setToken, takeTokenFromFragment } from './api.js';
+import { setHealth } from './store.js';
+import * as evaluate from './views/evaluate.js';
+import * as families from './views/families.js';
+import * as jobs from './views/jobs.js';
+import * as tiles from './views/tiles.js';
+
+const views = { evaluate, families, jobs, tiles };
+const inited = new Set();
+let current = null;
+
+export function toast(message) {
+  const t = document.getElementById('toast');
+  t.textContent = message;
+  t.hidden = false;
+  clearTimeout(toast.timer);
+  toast.timer = setTimeout(() => (t.hidden = true), 8000);
+}
+
+export function parseRoute(hash = location.hash) {
+  const frag = hash.replace(/^#\/?/, '');
+  const [name, query = ''] = frag.split('?');
+  const params = Object.fromEntries(new URLSearchParams(query));
+  return { name: views[name] ? name : 'evaluate', params };
+}
+
+export function navigate(name, params = {}) {
+  const q = new URLSearchParams(params).toString();
+  location.hash = `#/${name}${q ? '?' + q : ''}`;
+}
+
+async function route() {
+  const { name, params } = parseRoute();
+  for (const [n] of Object.entries(views)) {
+    const tab = document.getElementById(`tab-${n}`);
+    const panel = document.getElementById(`view-${n}`);
+    const active = n === name;
+    tab.setAttribute('aria-selected', String(active));
+    tab.tabIndex = active ? 0 : -1;
+    panel.hidden = !active;
+  }
+  if (current && current !== name && views[current].hide) views[current].hide();
+  current = name;
+  const view = views[name];
+  try {
+    if (!inited.has(name)) {
+      inited.add(name);
+      await view.init({ toast, navigate });
+    }
+    await view.show(params);
+  } catch (e) {
+    toast(`${name}: ${e.message}`);
+  }
+}
+
+function setupTabs() {
+  const tabs = [...document.querySelectorAll('[role=tab]')];
+  tabs.forEach((tab, i) => {
+    tab.addEventListener('click', () => navigate(tab.dataset.view));
+    tab.addEventListener('keydown', (e) => {
+      const d = { ArrowRight: 1, ArrowLeft: -1 }[e.key];
+      if (d == null) return;
+      const next = tabs[(i + d + tabs.length) % tabs.length];
+      next.focus();
+      navigate(next.dataset.view);
+    });
+  });
+}
+
+function setupToken() {
+  const btn = document.getElementById('token-button');
+  const form = document.getElementById('token-form');
+  const input = document.getElementById('token-input');
+  const refresh = () => {
+    btn.textContent = getToken() ? 'Token ✓' : 'Token (none)';
+  };
+  btn.addEventListener('click', () => {
+    form.hidden = !form.hidden;
+    btn.setAttribute('aria-expanded', String(!form.hidden));
+    if (!form.hidden) {
+      input.value = getToken();
+      input.focus();
+    }
+  });
+  form.addEventListener('submit', (e) => {
+    e.preventDefault();
+    setToken(input.value.trim());
+    form.hidden = true;
+    btn.setAttribute('aria-expanded', 'false');
+    refresh();
+    btn.focus();
+  });
+  document.getElementById('token-clear').addEventListener('click', () => {
+    setToken('');
+    input.value = '';
+    refresh();
+  });
+  refresh();
+}
+
+async function pollHealth() {
+  const el = document.getElementById('health');
+  try {
+    const h = await apiGet('/v1/health');
+    setHealth(h);
+    const byState = h.jobs && typeof h.jobs === 'object' ? Object.entries(h.jobs).filter(([, n]) => n).map(([s, n]) => `${n} ${s}`).join(', ') : '';
+    const workers = typeof h.workers === 'object' && h.workers ? `${h.workers.busy ?? '?'}/${h.workers.count ?? '?'}` : h.workers ?? '?';
+    const queue = typeof h.queue === 'object' && h.queue ? h.queue.length : h.queue_length ?? h.queue ?? 0;
+    el.textContent = `aalabd ${h.version || ''} · workers busy ${workers} · queue ${queue}${byState ? ' · jobs ' + byState : ''}`;
+    el.classList.remove('down');
+  } catch (e) {
+    el.textContent = `server unreachable: ${e.message}`;
+    el.classList.add('down');
+  }
+}
+
+takeTokenFromFragment();
+setupTabs();
+setupToken();
+window.addEventListener('hashchange', route);
+pollHealth();
+setInterval(pollHealth, 5000);
+route();

@@ -1,0 +1,72 @@
+// Polar plot of a per-angle error, one closed curve per kernel (E1 is even in θ+180°, so the
+// computed half-turn is drawn twice). Kernels differ by dash pattern as well as colour; the
+// maximum is marked with a ring and a text label.
+
+import { el, text, clear, COLOURS, DASHES, niceTicks } from './svg.js';
+
+const SIZE = 360;
+const PAD = 40;
+
+export function drawPolar(container, { title, series, argmax, valueLabel }) {
+  clear(container);
+  const svg = el('svg', { viewBox: `0 0 ${SIZE} ${SIZE + 24}`, class: 'polar-svg', role: 'img' }, container);
+  const rMaxData = Math.max(1e-9, ...series.flatMap((s) => s.points.map((p) => p.r ?? 0)));
+  const ticks = niceTicks(0, rMaxData, 4).filter((t) => t > 0);
+  const rTop = Math.max(rMaxData, ticks[ticks.length - 1] || rMaxData);
+  const R = SIZE / 2 - PAD;
+  const cx = SIZE / 2;
+  const cy = SIZE / 2 + 6;
+  const toXY = (deg, r) => {
+    const a = (deg * Math.PI) / 180;
+    const rr = (r / rTop) * R;
+    return [cx + rr * Math.cos(a), cy - rr * Math.sin(a)];
+  };
+  svg.setAttribute('aria-label', `${title}; maximum ${argmax ? `${argmax.value.toFixed(4)} at ${argmax.angle}° in kernel ${argmax.kernel + 1}` : 'n/a'}`);
+  text(svg, 6, 16, title, { class: 'plot-title' });
+  for (const t of ticks) {
+    el('circle', { cx, cy, r: (t / rTop) * R, class: 'polar-ring' }, svg);
+    const [lx, ly] = toXY(80, t);
+    text(svg, lx + 2, ly, t.toPrecision(2), { class: 'polar-tick' });
+  }
+  for (let d = 0; d < 360; d += 45) {
+    const [x, y] = toXY(d, rTop);
+    el('line', { x1: cx, y1: cy, x2: x, y2: y, class: 'polar-spoke' }, svg);
+    const [tx, ty] = toXY(d, rTop * 1.1);
+    text(svg, tx, ty + 4, `${d}°`, { class: 'polar-tick', 'text-anchor': 'middle' });
+  }
+  series.forEach((s, k) => {
+    const pts = s.points.filter((p) => p.r != null);
+    if (!pts.length) return;
+    const full = [...pts, ...pts.map((p) => ({ angle: p.angle + 180, r: p.r }))];
+    const d = full.map((p, i) => `${i ? 'L' : 'M'}${toXY(p.angle, p.r).map((v) => v.toFixed(1)).join(',')}`).join('') + 'Z';
+    el('path', {
+      d,
+      class: 'polar-curve',
+      stroke: COLOURS[k % COLOURS.length],
+      'stroke-dasharray': DASHES[k % DASHES.length] || null,
+      'data-kernel': k,
+    }, svg);
+  });
+  if (argmax && argmax.value != null) {
+    const [x, y] = toXY(argmax.angle, argmax.value);
+    el('circle', { cx: x, cy: y, r: 7, class: 'polar-argmax' }, svg);
+    el('circle', { cx: x, cy: y, r: 2.5, class: 'polar-argmax-dot' }, svg);
+    const label = `max ${argmax.value.toFixed(3)} @ ${argmax.angle}°${series.length > 1 ? `, k${argmax.kernel + 1}` : ''}`;
+    text(svg, 6, SIZE + 18, label, { class: 'polar-argmax-label' });
+  }
+  if (valueLabel) text(svg, SIZE - 6, 16, valueLabel, { class: 'polar-tick', 'text-anchor': 'end' });
+  return svg;
+}
+
+/* A legend of dash styles shared by both polar plots. */
+export function polarLegend(container, count) {
+  clear(container);
+  for (let k = 0; k < count; k++) {
+    const item = document.createElement('span');
+    item.className = 'legend-item';
+    const svg = el('svg', { width: 36, height: 10, 'aria-hidden': 'true' }, item);
+    el('line', { x1: 0, y1: 5, x2: 36, y2: 5, stroke: COLOURS[k % COLOURS.length], 'stroke-width': 2.5, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);
+    item.append(` kernel ${k + 1}`);
+    container.appendChild(item);
+  }
+}

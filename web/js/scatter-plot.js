@@ -1,0 +1,95 @@
+// Scatter/line plot in SVG with linear or log axes whose points are links (keyboard focusable,
+// with a title), one marker shape per series so series read without colour.
+
+import { el, text, clear, marker, MARKERS, COLOURS, DASHES, niceTicks, logTicks } from './svg.js';
+
+export function drawScatter(container, { series, xLabel, yLabel, xLog = false, yLog = false, width = 640, height = 360, lines = false, title = '', labels = false }) {
+  clear(container);
+  const m = { l: 56, r: 16, t: title ? 26 : 12, b: 44 };
+  const svg = el('svg', { viewBox: `0 0 ${width} ${height}`, class: 'scatter-svg', role: 'group', 'aria-label': title || `${yLabel} against ${xLabel}` }, container);
+  const all = series.flatMap((s) => s.points).filter((p) => Number.isFinite(p.x) && Number.isFinite(p.y) && (!xLog || p.x > 0) && (!yLog || p.y > 0));
+  if (title) text(svg, 6, 16, title, { class: 'plot-title' });
+  if (!all.length) {
+    text(svg, width / 2, height / 2, 'no data yet', { 'text-anchor': 'middle', class: 'plot-empty' });
+    return svg;
+  }
+  const range = (vals, log) => {
+    let lo = Math.min(...vals);
+    let hi = Math.max(...vals);
+    if (log) {
+      lo /= 1.25;
+      hi *= 1.25;
+    } else {
+      const pad = (hi - lo) * 0.08 || Math.abs(hi) * 0.1 || 1;
+      lo -= pad;
+      hi += pad;
+    }
+    return [lo, hi];
+  };
+  const [x0, x1] = range(all.map((p) => p.x), xLog);
+  const [y0, y1] = range(all.map((p) => p.y), yLog);
+  const f = (log) => (log ? Math.log10 : (v) => v);
+  const fx = f(xLog);
+  const fy = f(yLog);
+  const X = (v) => m.l + ((fx(v) - fx(x0)) / (fx(x1) - fx(x0))) * (width - m.l - m.r);
+  const Y = (v) => height - m.b - ((fy(v) - fy(y0)) / (fy(y1) - fy(y0))) * (height - m.t - m.b);
+  const xt = xLog ? logTicks(x0, x1) : niceTicks(x0, x1, 6);
+  const yt = yLog ? logTicks(y0, y1) : niceTicks(y0, y1, 5);
+  for (const t of xt) {
+    el('line', { x1: X(t), x2: X(t), y1: m.t, y2: height - m.b, class: 'grid' }, svg);
+    text(svg, X(t), height - m.b + 16, fmtTick(t), { 'text-anchor': 'middle', class: 'tick' });
+  }
+  for (const t of yt) {
+    el('line', { x1: m.l, x2: width - m.r, y1: Y(t), y2: Y(t), class: 'grid' }, svg);
+    text(svg, m.l - 6, Y(t) + 4, fmtTick(t), { 'text-anchor': 'end', class: 'tick' });
+  }
+  el('rect', { x: m.l, y: m.t, width: width - m.l - m.r, height: height - m.t - m.b, class: 'frame' }, svg);
+  text(svg, (m.l + width - m.r) / 2, height - 8, xLabel + (xLog ? ' (log)' : ''), { 'text-anchor': 'middle', class: 'axis-label' });
+  const yl = text(svg, 14, (m.t + height - m.b) / 2, yLabel + (yLog ? ' (log)' : ''), { 'text-anchor': 'middle', class: 'axis-label' });
+  yl.setAttribute('transform', `rotate(-90 14 ${(m.t + height - m.b) / 2})`);
+  series.forEach((s, k) => {
+    const colour = COLOURS[k % COLOURS.length];
+    const shape = MARKERS[k % MARKERS.length];
+    const pts = s.points.filter((p) => all.includes(p));
+    if (s.envelope && pts.length > 1) {
+      // The best (lowest) y at each x, joined: the family's frontier.
+      const best = new Map();
+      for (const p of pts) if (!best.has(p.x) || p.y < best.get(p.x)) best.set(p.x, p.y);
+      const env = [...best].sort((a, b) => a[0] - b[0]);
+      if (env.length > 1)
+        el('path', { d: env.map(([x, y], i) => `${i ? 'L' : 'M'}${X(x).toFixed(1)},${Y(y).toFixed(1)}`).join(''), class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);
+    }
+    if ((lines || s.line) && pts.length > 1) {
+      const sorted = [...pts].sort((a, b) => a.x - b.x);
+      el('path', { d: sorted.map((p, i) => `${i ? 'L' : 'M'}${X(p.x).toFixed(1)},${Y(p.y).toFixed(1)}`).join(''), class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);
+    }
+    for (const p of pts) {
+      const holder = p.href ? el('a', { href: p.href, class: 'point-link' }, svg) : el('g', { class: 'point' }, svg);
+      const t = el('title', {}, holder);
+      t.textContent = p.title || `${s.label}: ${p.x}, ${p.y}`;
+      if (p.href) holder.setAttribute('aria-label', t.textContent);
+      marker(holder, shape, X(p.x), Y(p.y), 6, { fill: p.hollow ? 'white' : colour, stroke: colour, 'stroke-width': 1.5, class: 'point-marker' });
+      if (labels) text(svg, X(p.x) + 9, Y(p.y) + 4, s.label, { class: 'point-label' });
+    }
+  });
+  return svg;
+}
+
+export function scatterLegend(container, labels) {
+  clear(container);
+  labels.forEach((label, k) => {
+    const item = document.createElement('span');
+    item.className = 'legend-item';
+    const svg = el('svg', { width: 16, height: 16, 'aria-hidden': 'true' }, item);
+    marker(svg, MARKERS[k % MARKERS.length], 8, 8, 5.5, { fill: COLOURS[k % COLOURS.length], stroke: COLOURS[k % COLOURS.length] });
+    item.append(` ${label}`);
+    container.appendChild(item);
+  });
+}
+
+function fmtTick(v) {
+  if (v === 0) return '0';
+  const a = Math.abs(v);
+  if (a >= 1e5 || a < 1e-4) return v.toExponential(0);
+  return String(+v.toPrecision(3));
+}

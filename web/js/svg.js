@@ -1,0 +1,84 @@
+// Small helpers for building SVG by hand (pattern drawings and the plots that need focusable,
+// labelled points, which canvas charts cannot give).
+
+export const SVG_NS = 'http://www.w3.org/2000/svg';
+
+export function el(name, attrs = {}, parent = null) {
+  const e = document.createElementNS(SVG_NS, name);
+  for (const [k, v] of Object.entries(attrs)) if (v != null) e.setAttribute(k, String(v));
+  if (parent) parent.appendChild(e);
+  return e;
+}
+
+export function text(parent, x, y, str, attrs = {}) {
+  const t = el('text', { x, y, ...attrs }, parent);
+  t.textContent = str;
+  return t;
+}
+
+/* Marker shapes, so series differ by shape as well as colour. */
+export const MARKERS = ['circle', 'square', 'triangle', 'diamond', 'cross', 'triangle-down', 'star', 'plus'];
+export const COLOURS = ['#1f5fbf', '#c2410c', '#15803d', '#7e22ce', '#a16207', '#be123c', '#0f766e', '#4b5563'];
+export const DASHES = ['', '6 3', '2 3', '8 3 2 3', '12 4', '1 2'];
+
+export function marker(parent, shape, cx, cy, r, attrs = {}) {
+  const pts = (list) => list.map(([x, y]) => `${cx + x * r},${cy + y * r}`).join(' ');
+  switch (shape) {
+    case 'square':
+      return el('rect', { x: cx - r * 0.85, y: cy - r * 0.85, width: r * 1.7, height: r * 1.7, ...attrs }, parent);
+    case 'triangle':
+      return el('polygon', { points: pts([[0, -1.15], [1, 0.75], [-1, 0.75]]), ...attrs }, parent);
+    case 'triangle-down':
+      return el('polygon', { points: pts([[0, 1.15], [1, -0.75], [-1, -0.75]]), ...attrs }, parent);
+    case 'diamond':
+      return el('polygon', { points: pts([[0, -1.2], [1.2, 0], [0, 1.2], [-1.2, 0]]), ...attrs }, parent);
+    case 'cross':
+      return el('polygon', {
+        points: pts([[-1, -0.6], [-0.6, -1], [0, -0.4], [0.6, -1], [1, -0.6], [0.4, 0], [1, 0.6], [0.6, 1], [0, 0.4], [-0.6, 1], [-1, 0.6], [-0.4, 0]]),
+        ...attrs,
+      }, parent);
+    case 'plus':
+      return el('polygon', {
+        points: pts([[-0.35, -1], [0.35, -1], [0.35, -0.35], [1, -0.35], [1, 0.35], [0.35, 0.35], [0.35, 1], [-0.35, 1], [-0.35, 0.35], [-1, 0.35], [-1, -0.35], [-0.35, -0.35]]),
+        ...attrs,
+      }, parent);
+    case 'star': {
+      const p = [];
+      for (let i = 0; i < 10; i++) {
+        const a = -Math.PI / 2 + (i * Math.PI) / 5;
+        const rr = i % 2 ? 0.5 : 1.2;
+        p.push([Math.cos(a) * rr, Math.sin(a) * rr]);
+      }
+      return el('polygon', { points: pts(p), ...attrs }, parent);
+    }
+    default:
+      return el('circle', { cx, cy, r, ...attrs }, parent);
+  }
+}
+
+/* "Nice" tick values for a linear range. */
+export function niceTicks(lo, hi, count = 5) {
+  if (!(hi > lo)) return [lo];
+  const raw = (hi - lo) / count;
+  const mag = 10 ** Math.floor(Math.log10(raw));
+  const step = [1, 2, 2.5, 5, 10].map((m) => m * mag).find((s) => s >= raw) || raw;
+  const out = [];
+  for (let v = Math.ceil(lo / step - 1e-9) * step; v <= hi + step * 1e-9; v += step) out.push(+v.toPrecision(12));
+  return out;
+}
+
+export function logTicks(lo, hi) {
+  const out = [];
+  for (let e = Math.floor(Math.log10(lo)); e <= Math.ceil(Math.log10(hi)); e++)
+    for (const m of [1, 2, 5]) {
+      const v = m * 10 ** e;
+      if (v >= lo * 0.999 && v <= hi * 1.001) out.push(v);
+    }
+  // Less than a decade: 1-2-5 steps give too few ticks, use linear nice ticks inside the range.
+  if (out.length < 3) return niceTicks(lo, hi, 4).filter((v) => v > 0);
+  return out;
+}
+
+export function clear(node) {
+  while (node.firstChild) node.removeChild(node.firstChild);
+}

@@ -1,0 +1,245 @@
+// Tiles: render a scene with a pattern beside the reference and their difference, with zoom,
+// RMSE / max deviation / penalised histogram; and the comparison job as error against time.
+
+import uPlot from '../../vendor/uplot/uPlot.esm.js';
+import { apiPost, apiImageUrl } from '../api.js';
+import { renderImages, renderStats, comparisonRows, fmt, fmtSeconds, ACTIVE_STATES } from '../model.js';
+import { loadPresets, loadJob, jobKinds, loadFinishedWithBest } from '../store.js';
+import { drawScatter, scatterLegend } from '../scatter-plot.js';
+
+const $ = (id) => document.getElementById(id);
+// Scene names of the renderer (issue 5).
+export const SCENES = ['siemens-star', 'checkerboard', 'rings', 'sliver', 'spiral', 'half-plane'];
+const CMP_DEFAULT = new Set(['centroid', 'quincunx', 'rgss', 'flipquad', 'fliptri', 'grid-2x2']);
+
+let ctx = null;
+let hist = null;
+let patterns = new Map(); // option value -> wire pattern
+let imageUrls = [];
+let cmpTimer = null;
+
+export async function init(context) {
+  ctx = context;
+  $('tile-scene').replaceChildren(...SCENES.map((s) => new Option(s, s)));
+  $('tile-form').addEventListener('submit', (e) => {
+    e.preventDefault();
+    renderTile();
+  });
+  $('tile-zoom').addEventListener('input', applyZoom);
+  $('cmp-form').addEventListener('submit', (e) => {
+    e.preventDefault();
+    startComparison();
+  });
+  // Scroll the three zoomed frames together so the same region stays side by side.
+  const frames = [...document.querySelectorAll('#tile-images .tile-frame')];
+  let syncing = false;
+  frames.forEach((f) =>
+    f.addEventListener('scroll', () => {
+      if (syncing) return;
+      syncing = true;
+      for (const g of frames) if (g !== f) {
+        g.scrollLeft = f.scrollLeft;
+        g.scrollTop = f.scrollTop;
+      }
+      syncing = false;
+    }),
+  );
+  window.addEventListener('resize', () => hist && hist.setSize(histSize()));
+}
+
+export async function show() {
+  await fillPatterns();
+  const kinds = await jobKinds().catch(() => null);
+  const missing = kinds && !kinds.includes('compare');
+  $('cmp-start').disabled = !!missing;
+  if (missing) $('cmp-status').textContent = `this daemon runs no compare jobs (its job kinds: ${kinds.join(', ')})`;
+}
+
+export function hide() {
+  clearTimeout(cmpTimer);
+}
+
+async function fillPatterns() {
+  const presets = await loadPresets();
+  const jobs = await loadFinishedWithBest({ exclude: new Set(['compare', 'animation', 'reference-convergence']) }).catch(() => []);
+  const prev = $('tile-pattern').value;
+  patterns = new Map();
+  const opts = [];
+  for (const p of presets) {
+    patterns.set(`preset:${p.name}`, { preset: p.name });
+    opts.push(new Option(`${p.name} (${p.family})`, `preset:${p.name}`));
+  }
+  for (const j of jobs) {
+    patterns.set(`job:${j.id}`, { job: j.id }); // the API resolves {"job": id} to its best pattern
+    opts.push(new Option(`job #${j.id} best (${j.family || j.kind})`, `job:${j.id}`));
+  }
+  $('tile-pattern').replaceChildren(...opts);
+  $('tile-pattern').value = patterns.has(prev) ? prev : patterns.has('preset:quincunx') ? 'preset:quincunx' : opts[0]?.value;
+  const checked = new Set([...document.querySelectorAll('#cmp-patterns input:checked')].map((i) => i.value));
+  $('cmp-patterns').replaceChildren(
+    ...[...patterns.keys()].map((key) => {
+      const label = document.createElement('label');
+      const input = document.createElement('input');
+      input.type = 'checkbox';
+      input.value = key;
+      input.checked = checked.size ? checked.has(key) : CMP_DEFAULT.has(key.replace(/^preset:/, ''));
+      label.append(input, ` ${key.replace(/^preset:/, '')}`);
+      return label;
+    }),
+  );
+}
+
+async function renderTile() {
+  const n = +$('tile-size').value;
+  // Request shape of the renderer (server/tiles/tile_render.h): scene and reference objects.
+  const body = {
+    pattern: patterns.get($('tile-pattern').value),
+    scene: { name: $('tile-scene').value, width: n, height: n },
+    reference: { spp: +$('tile-ref').value },
+  };
+  $('tile-render').disabled = true;
+  $('tile-status').textContent = 'rendering…';
+  try {
+    const r = await apiPost('/v1/render', body);
+    const urls = renderImages(r);
+    const missing = ['pattern', 'reference', 'difference'].filter((k) => !urls[k]);
+    if (missing.length) throw new Error(`the render answer names no ${missing.join(', ')} image`);
+    for (const u of imageUrls) URL.revokeObjectURL(u);
+    imageUrls = await Promise.all(['pattern', 'reference', 'difference'].map((k) => apiImageUrl(urls[k])));
+    await Promise.all(
+      ['pattern', 'reference', 'difference'].map(
+        (k, i) =>
+          new Promise((resolve, reject) => {
+            const img = $(`tile-img-${k}`);
+            img.onload = () => resolve();
+            img.onerror = () => reject(new Error(`${k} image did not load`));
+            img.dataset.loaded = 'false';
+            img.src = imageUrls[i];
+          }),
+      ),
+    );
+    for (const k of ['pattern', 'reference', 'difference']) $(`tile-img-${k}`).dataset.loaded = 'true';
+    applyZoom();
+    showStats(renderStats(r));
+    $('tile-status').textContent = `${body.scene.name} with ${$('tile-pattern').selectedOptions[0].textContent}, ${n}×${n}`;
+  } catch (e) {
+    $('tile-status').textContent = `render failed: ${e.message}`;
+  } finally {
+    $('tile-render').disabled = false;
+  }
+}
+
+function applyZoom() {
+  const z = +$('tile-zoom').value;
+  $('tile-zoom-out').textContent = `${z}×`;
+  $('tile-zoom').setAttribute('aria-valuetext', `${z}×`);
+  for (const k of ['pattern', 'reference', 'difference']) {
+    const img = $(`tile-img-${k}`);
+    if (img.naturalWidth) img.style.width = `${img.naturalWidth * z}px`;
+  }
+}
+
+function showStats(s) {
+  $('tile-rmse').textContent = fmt(s.rmse, 3);
+  $('tile-maxdev').textContent = fmt(s.maxDev, 1);
+  $('tile-e2').textContent = fmt(s.e2, 4);
+  $('tile-tpat').textContent = fmtSeconds(s.patternSeconds);
+  $('tile-tref').textContent = fmtSeconds(s.referenceSeconds);
+  $('tile-ss').textContent = s.supersampled == null ? '—' : `${s.supersampled}${s.totalPixels ? ` of ${s.totalPixels}` : ''}`;
+  const holder = $('tile-hist');
+  if (!s.histogram) {
+    holder.textContent = 'no histogram in the answer';
+    return;
+  }
+  const xs = s.histogram.map((_, i) => i);
+  if (hist) hist.destroy();
+  holder.replaceChildren();
+  hist = new uPlot(
+    {
+      ...histSize(),
+      scales: { x: { time: false } },
+      axes: [{ label: 'absolute error i (0..255)' }, { label: 'C(i)·i²/n', size: 60 }],
+      series: [
+        { label: 'i' },
+        { label: 'penalised count', stroke: '#c2410c', fill: 'rgba(194,65,12,0.35)', paths: uPlot.paths.bars({ size: [1, 100] }), points: { show: false } },
+      ],
+    },
+    [xs, s.histogram],
+    holder,
+  );
+}
+
+function histSize() {
+  const w = Math.max(280, $('tile-hist').clientWidth || 480);
+  return { width: w, height: 220 };
+}
+
+async function startComparison() {
+  clearTimeout(cmpTimer);
+  const keys = [...document.querySelectorAll('#cmp-patterns input:checked')].map((i) => i.value);
+  if (!keys.length) {
+    $('cmp-status').textContent = 'choose at least one pattern';
+    return;
+  }
+  const n = +$('tile-size').value;
+  const spec = {
+    kind: 'compare',
+    scene: { name: $('tile-scene').value, width: n, height: n },
+    reference: { spp: +$('tile-ref').value },
+    patterns: keys.map((k) => patterns.get(k)),
+  };
+  $('cmp-start').disabled = true;
+  try {
+    const r = await apiPost('/v1/jobs', spec);
+    $('cmp-status').textContent = `comparison job ${r.id} queued`;
+    pollComparison(r.id, keys);
+  } catch (e) {
+    $('cmp-status').textContent = `comparison not started: ${e.message}`;
+    $('cmp-start').disabled = false;
+  }
+}
+
+async function pollComparison(id, keys) {
+  try {
+    const j = await loadJob(id);
+    $('cmp-status').textContent = `comparison job ${id}: ${j.state} (${Math.round(j.progress * 100)}%)`;
+    if (ACTIVE_STATES.has(j.state)) {
+      cmpTimer = setTimeout(() => pollComparison(id, keys), 700);
+      return;
+    }
+    $('cmp-start').disabled = false;
+    if (j.state === 'done') showComparison(comparisonRows(j.result || {}), keys);
+    else if (j.error) $('cmp-status').textContent += `: ${j.error}`;
+  } catch (e) {
+    $('cmp-status').textContent = `comparison job ${id}: ${e.message}`;
+    $('cmp-start').disabled = false;
+  }
+}
+
+function showComparison(rows, keys) {
+  rows.forEach((r, i) => {
+    if (/^#\d+$/.test(r.label) && keys[i]) r.label = keys[i].replace(/^preset:/, '');
+  });
+  drawScatter($('cmp-plot'), {
+    series: rows.map((r) => ({ label: r.label, points: [{ x: r.seconds, y: r.rmse, title: `${r.label}: RMSE ${fmt(r.rmse, 3)} in ${fmtSeconds(r.seconds)}` }] })),
+    xLabel: 'render time (s)',
+    yLabel: 'RMSE (0..255)',
+    xLog: true,
+    labels: true,
+    width: 760,
+    height: 360,
+  });
+  scatterLegend($('cmp-legend'), rows.map((r) => r.label));
+  $('cmp-table').tBodies[0].replaceChildren(
+    ...rows.map((r) => {
+      const tr = document.createElement('tr');
+      for (const [i, v] of [r.label, r.spp ?? '—', fmt(r.e2, 4), fmt(r.rmse, 3), fmt(r.maxDev, 1), fmtSeconds(r.seconds)].entries()) {
+        const td = document.createElement('td');
+        td.textContent = String(v);
+        if (i) td.className = 'num';
+        tr.appendChild(td);
+      }
+      return tr;
+    }),
+  );
+}
