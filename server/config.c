@@ -54,6 +54,7 @@ void config_defaults(aalab_config *cfg)
     cfg->max_body = 8u << 20;
     cfg->connection_limit = 256;
     cfg->connection_timeout = 30;
+    cfg->request_timeout = 10;
     cfg->connection_memory = 64u << 10;
     cfg->eval_cache = 1024;
     cfg->tile_bytes = 256u << 20;
@@ -73,7 +74,8 @@ void config_usage(FILE *out)
             "  --user-quota N       queued+running jobs per user (default 16)\n"
             "  --socket-group NAME  group owning the socket (mode 0660)\n"
             "  --max-body BYTES     request body limit (default 8388608)\n"
-            "  --connection-limit N, --connection-timeout S, --eval-cache N, --tile-bytes B\n"
+            "  --connection-limit N, --connection-timeout S (idle), --request-timeout S (whole\n"
+            "  request, against slow clients), --eval-cache N, --tile-bytes B\n"
             "  --help, --version\n");
 }
 
@@ -124,21 +126,11 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
         } else if (i + 1 < argc) {
             v = argv[i + 1];
         }
-        static const char *const known[] = {"--socket",
-                                            "--tcp",
-                                            "--state-dir",
-                                            "--web-dir",
-                                            "--socket-group",
-                                            "--workers",
-                                            "--http-threads",
-                                            "--queue-size",
-                                            "--user-quota",
-                                            "--max-body",
-                                            "--connection-limit",
-                                            "--connection-timeout",
-                                            "--eval-cache",
-                                            "--tile-bytes",
-                                            NULL};
+        static const char *const known[] = {
+            "--socket",          "--tcp",        "--state-dir",        "--web-dir",
+            "--socket-group",    "--workers",    "--http-threads",     "--queue-size",
+            "--user-quota",      "--max-body",   "--connection-limit", "--connection-timeout",
+            "--request-timeout", "--eval-cache", "--tile-bytes",       NULL};
         bool is_known = false;
         for (size_t k = 0; known[k] && !is_known; k++)
             is_known = !strcmp(a, known[k]);
@@ -180,6 +172,8 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
             cfg->connection_limit = (int)n;
         else if (!strcmp(a, "--connection-timeout") && !(bad = parse_long(v, 1, 86400, &n)))
             cfg->connection_timeout = (int)n;
+        else if (!strcmp(a, "--request-timeout") && !(bad = parse_long(v, 1, 86400, &n)))
+            cfg->request_timeout = (int)n;
         else if (!strcmp(a, "--eval-cache") && !(bad = parse_long(v, 0, 1000000, &n)))
             cfg->eval_cache = (size_t)n;
         else if (!strcmp(a, "--tile-bytes") && !(bad = parse_long(v, 1, 1L << 40, &n)))

@@ -21,6 +21,7 @@ typedef struct aalab_config {
     size_t max_body;       /* request body limit in bytes (413 beyond) */
     int connection_limit;
     int connection_timeout;   /* seconds of inactivity */
+    int request_timeout;      /* seconds to deliver one whole request (slowloris bound) */
     size_t connection_memory; /* per-connection memory (headers and buffers) */
     size_t eval_cache;        /* entries of the evaluate cache, 0 = off */
     size_t tile_bytes;        /* tile store budget */

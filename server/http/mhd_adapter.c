@@ -15,12 +15,15 @@
 
 #include <microhttpd.h>
 
+#include "request_deadline.h"
+
 struct http_listener {
     struct MHD_Daemon *daemon;
     api_context *ctx;
     size_t max_body;
     bool is_unix;
     int fd;
+    request_deadline *deadline;
 };
 
 typedef struct request_state {
@@ -311,6 +314,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
             req.peer_uid = cred.uid;
         }
     }
+    request_deadline_received(conn);
     api_response resp;
     api_handle(l->ctx, &req, &resp);
     return send_response(conn, &resp);
@@ -319,6 +323,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
 static void on_completed(void *cls, struct MHD_Connection *conn, void **con_cls,
                          enum MHD_RequestTerminationCode toe)
 {
+    request_deadline_completed(conn);
     request_state *st = *con_cls;
     if (st) {
         free(st->body);
@@ -342,16 +347,23 @@ http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, in
     /* epoll with a small internal thread pool: request handlers only do fast work (jobs go
      * to the worker pool), so a pool the size of the core count keeps both cores busy. */
     unsigned int flags = MHD_USE_EPOLL_INTERNAL_THREAD | MHD_USE_ERROR_LOG | MHD_USE_ITC;
+    l->deadline = request_deadline_start(cfg->request_timeout);
+    if (!l->deadline) {
+        snprintf(msg, cap, "could not start the request watchdog");
+        free(l);
+        return NULL;
+    }
     l->daemon = MHD_start_daemon(
         flags, 0, NULL, NULL, on_request, l, MHD_OPTION_LISTEN_SOCKET, (MHD_socket)fd,
         MHD_OPTION_THREAD_POOL_SIZE, (unsigned int)cfg->http_threads, MHD_OPTION_CONNECTION_LIMIT,
         (unsigned int)cfg->connection_limit, MHD_OPTION_CONNECTION_TIMEOUT,
         (unsigned int)cfg->connection_timeout, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
         cfg->connection_memory, MHD_OPTION_UNESCAPE_CALLBACK, unescape_keep_nul, NULL,
-        MHD_OPTION_NOTIFY_COMPLETED, on_completed, NULL, MHD_OPTION_LISTEN_BACKLOG_SIZE, 128u,
-        MHD_OPTION_END);
+        MHD_OPTION_NOTIFY_COMPLETED, on_completed, NULL, MHD_OPTION_NOTIFY_CONNECTION,
+        request_deadline_notify, l->deadline, MHD_OPTION_LISTEN_BACKLOG_SIZE, 128u, MHD_OPTION_END);
     if (!l->daemon) {
         snprintf(msg, cap, "libmicrohttpd could not start on fd %d", fd);
+        request_deadline_stop(l->deadline);
         free(l);
         return NULL;
     }
@@ -373,5 +385,6 @@ void http_listener_stop(http_listener *l)
         return;
     if (l->daemon)
         MHD_stop_daemon(l->daemon);
+    request_deadline_stop(l->deadline);
     free(l);
 }

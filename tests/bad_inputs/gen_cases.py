@@ -117,7 +117,7 @@ case("int64_max_seeds", 400, "seeds", path="/v1/jobs", body_json={"kind": "optim
 case("int64_min_seeds", 400, "seeds", path="/v1/jobs", body_json={"kind": "optimize", "family": "P(4,1+,2)", "seeds": -9223372036854775808, "max_seconds": 1})
 evp("coord_1e308_beyond_limit", 400, "pattern.kernels[0][0][0]", {"kernels": [[[1e308, 0, 1]]]})
 # Accepted weights whose metric overflows: either refused naming the kernel, or a finite E2.
-case("weights_1e308_cancel", [200, 400], ["pattern.kernels[0]", "pattern.kernels[0][0][2]"], body_json={"pattern": {"kernels": [[[0, 0, 1e308], [0.1, 0, -1e308], [0.2, 0, 1]]]}}, check=OK)
+case("weights_1e308_cancel", [200, 400], "pattern.kernels[0][0][2]", body_json={"pattern": {"kernels": [[[0, 0, 1e308], [0.1, 0, -1e308], [0.2, 0, 1]]]}}, check=OK)
 case("underflow_coord_ok", 200, None, body='{"pattern":{"kernels":[[[1e-99999,0,1]]]}}', check=OK)
 case("denormal_angle_ok", 200, None, body='{"pattern":{"preset":"rgss"},"angles":[4.9e-324]}', check=OK)
 case("angle_1e308", [200, 400], "angles[0]", body_json={"pattern": {"preset": "rgss"}, "angles": [1e308]}, check=OK)

@@ -16,7 +16,7 @@ import { Report } from './lib/check.mjs';
 import { CHROMIUM } from './lib/browser.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
-const SUITES = ['evaluate', 'families', 'jobs', 'tiles'];
+const SUITES = ['evaluate', 'families', 'jobs', 'optimize', 'tiles'];
 
 function parseArgs(argv) {
   const o = { suites: SUITES, daemonArgs: [], widths: [1366, 1920] };
@@ -40,6 +40,9 @@ function die(lines) {
   console.log(`${bar}\n0 passed, 1 failed`);
   process.exit(1);
 }
+
+// A reader that goes away (| head) must not kill the run before it has stopped its daemons.
+process.stdout.on('error', () => {});
 
 async function main() {
   const opts = parseArgs(process.argv.slice(2));

@@ -19,6 +19,13 @@ function freePort() {
 
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
+// Daemons still running; killed when this process exits however it exits.
+const live = new Set();
+process.on('exit', () => {
+  for (const c of live) c.kill('SIGKILL');
+});
+for (const sig of ['SIGINT', 'SIGTERM', 'SIGHUP']) process.on(sig, () => process.exit(1));
+
 export async function startDaemon({ binary, webDir, logFile, extraArgs = [] }) {
   const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'aalab-webtest-'));
   const stateDir = path.join(dir, 'state');
@@ -30,6 +37,10 @@ export async function startDaemon({ binary, webDir, logFile, extraArgs = [] }) {
   const child = spawn(binary, args, { stdio: ['ignore', log, log], env: { ...process.env, XDG_RUNTIME_DIR: dir } });
   let exited = null;
   child.on('exit', (code, signal) => (exited = { code, signal }));
+  live.add(child);
+  // If this runner dies without cleaning up (killed by a ctest timeout, a closed pipe, ...), the
+  // watchdog sees its stdin close and kills the daemon, so no aalabd outlives its test.
+  const watchdog = spawn('sh', ['-c', 'read _; kill -KILL "$1" 2>/dev/null', 'aalabd-watchdog', String(child.pid)], { stdio: ['pipe', 'ignore', 'ignore'] });
   const base = `http://127.0.0.1:${port}`;
   const deadline = Date.now() + 20000;
   let lastError = '';
@@ -54,11 +65,13 @@ export async function startDaemon({ binary, webDir, logFile, extraArgs = [] }) {
     token,
     stateDir,
     async stop() {
+      watchdog.kill('SIGKILL');
       if (!exited) {
         child.kill('SIGTERM');
         for (let i = 0; i < 100 && !exited; i++) await sleep(50);
         if (!exited) child.kill('SIGKILL');
       }
+      live.delete(child);
       fs.closeSync(log);
       fs.rmSync(dir, { recursive: true, force: true });
       return exited;

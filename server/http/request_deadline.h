@@ -1,0 +1,29 @@
+/* Bounds the time a client may take to deliver one whole request (headers and body).
+ *
+ * libmicrohttpd's connection timeout is an inactivity timeout: a client trickling one byte a
+ * second (slowloris) resets it forever and pins a connection slot. This watchdog tracks every
+ * connection (MHD_OPTION_NOTIFY_CONNECTION): a connection is "receiving" from its start, and
+ * again after each completed response, until its request has fully arrived. A thread wakes
+ * every 250 ms and shuts down the socket of any connection that has been receiving for longer
+ * than the deadline; libmicrohttpd then sees the error and cleans up as usual. The CLOSED
+ * notification runs before libmicrohttpd closes the fd and takes the same lock, so a shut-down
+ * fd is never one that has been reused. */
+#ifndef AALAB_REQUEST_DEADLINE_H
+#define AALAB_REQUEST_DEADLINE_H
+
+#include <microhttpd.h>
+
+typedef struct request_deadline request_deadline;
+
+request_deadline *request_deadline_start(double seconds);
+void request_deadline_stop(request_deadline *rd);
+
+/* MHD_OPTION_NOTIFY_CONNECTION callback; cls is the request_deadline. */
+void request_deadline_notify(void *cls, struct MHD_Connection *conn, void **socket_context,
+                             enum MHD_ConnectionNotificationCode code);
+/* The connection's request has fully arrived: stop the clock until its response completes. */
+void request_deadline_received(struct MHD_Connection *conn);
+/* Its response was sent: the clock runs again for the next request on this connection. */
+void request_deadline_completed(struct MHD_Connection *conn);
+
+#endif

@@ -1,0 +1,158 @@
+/* Job kind "random-stats" (L&A Table 3): N random patterns of a distribution in a family, with
+ * weights from the filter's impulse response; min / average / max E2; then the best of them
+ * optimised for weights only ("Opt W") and from there for weights and positions ("Opt W+P"),
+ * each with half of the remaining time budget. Spec: {"kind":"random-stats",
+ * "family":"P(1,4,2)", "count":N?, "distribution":"uniform"?, "max_seconds":S?, "rng_seed":K?,
+ * "filter":F?, "acuity":A?, "angles":[...]?}. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "codec.h"
+#include "kind_optimize_spec.h"
+
+typedef struct stats_params {
+    opt_common_spec common;
+    aa_family family;
+    size_t count;
+    aa_seed_kind kind;
+} stats_params;
+
+static void stats_free(void *params)
+{
+    stats_params *sp = params;
+    if (!sp)
+        return;
+    opt_common_free(&sp->common);
+    free(sp);
+}
+
+static const char *const stats_keys[] = {"kind",        "family",   "count",  "distribution",
+                                         "max_seconds", "rng_seed", "filter", "acuity",
+                                         "angles",      NULL};
+
+static int stats_parse(const json_t *spec, void **params, aa_error *err)
+{
+    *params = NULL;
+    int rc = opt_spec_check_keys(spec, stats_keys, err);
+    if (rc)
+        return rc;
+    stats_params *sp = calloc(1, sizeof *sp);
+    if (!sp)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    rc = opt_common_parse(spec, 30, &sp->common, err);
+    const char *family = NULL, *dist = "uniform";
+    if (!rc)
+        rc = opt_spec_string(spec, "family", &family, err);
+    if (!rc && !family)
+        rc = aa_error_set(err, AA_EINVAL, "family", "family is required");
+    if (!rc)
+        rc = aa_family_parse(family, &sp->family, err);
+    json_int_t n = 1000;
+    if (!rc)
+        rc = opt_spec_integer(spec, "count", 1, 1000000, &n, err);
+    sp->count = (size_t)n;
+    if (!rc)
+        rc = opt_spec_string(spec, "distribution", &dist, err);
+    if (!rc && aa_seed_kind_parse(dist, &sp->kind))
+        rc = aa_error_set(err, AA_EINVAL, "distribution",
+                          "must be uniform, jittered, n-rooks, poisson or lloyd");
+    if (rc) {
+        stats_free(sp);
+        return rc;
+    }
+    *params = sp;
+    return AA_OK;
+}
+
+static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric,
+                          aa_optimize_mode mode, double seconds, opt_job_bridge *b, aa_pattern *out,
+                          aa_optimize_result *r, aa_error *err)
+{
+    aa_optimize_params op;
+    aa_optimize_params_default(&op);
+    op.mode = mode;
+    op.max_seconds = seconds;
+    op.max_iterations = 1000000;
+    op.stall_iterations = 2000;
+    int rc = aa_optimize(seed, metric, &op, opt_job_progress, b, out, r, err);
+    b->iterations_before += r->iterations;
+    b->evaluations_before += r->evaluations;
+    b->seconds_before += r->seconds;
+    return rc;
+}
+
+static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+{
+    stats_params *sp = params;
+    aa_metric_params metric = opt_common_metric(&sp->common);
+    aa_rng rng;
+    aa_rng_seed(&rng, sp->common.rng_seed, 0);
+    double mn = INFINITY, mx = -INFINITY, sum = 0;
+    aa_pattern best;
+    memset(&best, 0, sizeof best);
+    opt_job_bridge b = {ctx, 0, 0.2, 0, 0, 0, INFINITY, -1};
+    int rc = AA_OK;
+    size_t done = 0;
+    for (size_t i = 0; i < sp->count && !rc; i++) {
+        aa_pattern p;
+        rc = aa_family_seed(&sp->family, sp->kind, &sp->common.filter, &rng, &p, err);
+        aa_evaluation ev;
+        if (!rc)
+            rc = aa_evaluate(&p, &metric, &ev, err);
+        if (rc) {
+            aa_pattern_free(&p);
+            break;
+        }
+        sum += ev.e2;
+        mx = fmax(mx, ev.e2);
+        if (ev.e2 < mn) {
+            mn = ev.e2;
+            aa_pattern_free(&best);
+            best = p;
+        } else {
+            aa_pattern_free(&p);
+        }
+        aa_evaluation_free(&ev);
+        done++;
+        if (i % 64 == 0 && job_ctx_progress(ctx, 0.2 * (double)i / (double)sp->count, NULL))
+            rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
+    }
+    aa_pattern optw, optwp;
+    memset(&optw, 0, sizeof optw);
+    memset(&optwp, 0, sizeof optwp);
+    aa_optimize_result rw, rwp;
+    memset(&rw, 0, sizeof rw);
+    memset(&rwp, 0, sizeof rwp);
+    b.base = 0.2;
+    b.span = 0.4;
+    if (!rc)
+        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_WEIGHTS, sp->common.max_seconds / 2, &b,
+                            &optw, &rw, err);
+    b.base = 0.6;
+    if (!rc)
+        rc = optimize_stage(&optw, &metric, AA_OPTIMIZE_BOTH, sp->common.max_seconds / 2, &b,
+                            &optwp, &rwp, err);
+    if (!rc) {
+        *result = json_pack("{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:{s:o,s:o},s:{s:o,s:o}}", "family",
+                            sp->family.label, "distribution", aa_seed_kind_name(sp->kind), "count",
+                            (json_int_t)done, "random", "min", proto_real(mn), "avg",
+                            proto_real(sum / done), "max", proto_real(mx), "best_random",
+                            proto_encode_pattern(&best), "opt_w", "e2", proto_real(rw.e2),
+                            "pattern", proto_encode_pattern(&optw), "opt_wp", "e2",
+                            proto_real(rwp.e2), "pattern", proto_encode_pattern(&optwp));
+        if (!*result)
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        /* Opt W+P as the job's "best" / "e2", like the optimize kind's result. */
+        if (!rc) {
+            json_object_set_new(*result, "best", proto_encode_pattern(&optwp));
+            json_object_set_new(*result, "e2", proto_real(rwp.e2));
+        }
+    }
+    aa_pattern_free(&best);
+    aa_pattern_free(&optw);
+    aa_pattern_free(&optwp);
+    return rc;
+}
+
+const job_kind job_kind_random_stats = {"random-stats", stats_parse, stats_run, stats_free};

@@ -1,0 +1,362 @@
+/* Optimizer: gradient direction, site constraints, determinism, cancellation, monotone trace. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <cmocka.h>
+
+#include "enumerate.h"
+#include "family.h"
+#include "optimizer.h"
+
+static aa_filter filter;
+static aa_acuity acuity;
+static aa_metric_params metric;
+
+static int setup(void **state)
+{
+    (void)state;
+    aa_filter_default(&filter);
+    aa_acuity_naiman(&acuity);
+    metric = (aa_metric_params){&filter, &acuity, NULL, 0, 0};
+    return 0;
+}
+
+static double mono(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void seed_of(const char *label, uint64_t s, aa_pattern *p)
+{
+    aa_family fam;
+    assert_int_equal(aa_family_parse(label, &fam, NULL), AA_OK);
+    aa_rng rng;
+    aa_rng_seed(&rng, s, 3);
+    assert_int_equal(aa_family_seed(&fam, AA_SEED_JITTERED, &filter, &rng, p, NULL), AA_OK);
+}
+
+static void small_step_against_gradient_lowers_e1(void **state)
+{
+    (void)state;
+    aa_pattern p;
+    seed_of("P(1,4,3)", 11, &p);
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    const aa_kernel *k = &p.kernels[0];
+    size_t n = k->count;
+    double *dx = malloc(n * sizeof *dx), *dy = malloc(n * sizeof *dy), *dw = malloc(n * sizeof *dw);
+    aa_sample *moved = malloc(n * sizeof *moved);
+    for (int a = 0; a < 36; a += 5) {
+        double th = a * 5 * 3.14159265358979323846 / 180, e1, e1m;
+        assert_int_equal(aa_e1_gradient_at_angle(&filter, k->samples, n, th, &ws, &e1, dx, dy, dw),
+                         AA_OK);
+        double h = 1e-4;
+        for (size_t i = 0; i < n; i++)
+            moved[i] = (aa_sample){k->samples[i].x - h * dx[i], k->samples[i].y - h * dy[i],
+                                   k->samples[i].w - h * dw[i]};
+        assert_int_equal(aa_e1_at_angle(&filter, moved, n, th, &ws, &e1m), AA_OK);
+        assert_true(e1m < e1);
+    }
+    free(dx);
+    free(dy);
+    free(dw);
+    free(moved);
+    aa_metric_workspace_free(&ws);
+    aa_pattern_free(&p);
+}
+
+static void optimize_never_raises_e2(void **state)
+{
+    (void)state;
+    const char *fams[] = {"P(1,1,3)", "P(4,1+,2)", "P(1,4,2)", "P(4,4,1)"};
+    aa_optimize_mode modes[] = {AA_OPTIMIZE_WEIGHTS, AA_OPTIMIZE_POSITIONS, AA_OPTIMIZE_BOTH};
+    for (size_t f = 0; f < 4; f++) {
+        for (size_t m = 0; m < 3; m++) {
+            aa_pattern seed, best;
+            seed_of(fams[f], 5 + f, &seed);
+            aa_optimize_params op;
+            aa_optimize_params_default(&op);
+            op.mode = modes[m];
+            op.max_iterations = 150;
+            op.max_seconds = 0;
+            aa_optimize_result r;
+            assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &best, &r, NULL), AA_OK);
+            assert_true(r.e2 <= r.initial_e2 + 1e-12);
+            assert_true(r.e2 < r.initial_e2); /* 150 steps from a random seed always help */
+            aa_pattern_free(&seed);
+            aa_pattern_free(&best);
+        }
+    }
+}
+
+static void mirrored_sites_are_preserved(void **state)
+{
+    (void)state;
+    aa_mirrored_config c = {{1, 0, 0, 0}, {0, 2, 1, 0}, 1};
+    aa_rng rng;
+    aa_rng_seed(&rng, 9, 0);
+    aa_pattern seed, best;
+    assert_int_equal(aa_mirrored_config_seed(&c, AA_SEED_UNIFORM, &filter, &rng, &seed, NULL),
+                     AA_OK);
+    aa_optimize_params op;
+    aa_optimize_params_default(&op);
+    op.max_iterations = 300;
+    op.max_seconds = 0;
+    aa_optimize_result r;
+    assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &best, &r, NULL), AA_OK);
+    assert_int_equal(best.form, AA_FORM_MIRRORED);
+    assert_int_equal(best.source_count, seed.source_count);
+    assert_true(fabs(best.cost_spp - seed.cost_spp) < 1e-12);
+    double wsum = 0;
+    int moved = 0;
+    for (size_t i = 0; i < seed.source_count; i++) {
+        const aa_sample *a = &seed.source[i], *b = &best.source[i];
+        bool ax = fabs(fabs(a->x) - 0.5) < 1e-9, ay = fabs(fabs(a->y) - 0.5) < 1e-9;
+        if (ax)
+            assert_true(b->x == a->x); /* on a vertical edge or corner: x fixed */
+        else
+            assert_true(fabs(b->x) < 0.5);
+        if (ay)
+            assert_true(b->y == a->y);
+        else
+            assert_true(fabs(b->y) < 0.5);
+        moved += b->x != a->x || b->y != a->y;
+        wsum += b->w;
+    }
+    assert_true(moved > 0);
+    assert_true(fabs(wsum - 1) < 1e-9);
+    /* Mirror structure: every kernel is the source mirrored. */
+    for (size_t k = 0; k < 4; k++)
+        for (size_t i = 0; i < best.source_count; i++)
+            assert_true(fabs(fabs(best.kernels[k].samples[i].x) - fabs(best.source[i].x)) < 1e-12);
+    aa_pattern_free(&seed);
+    aa_pattern_free(&best);
+}
+
+static void tile_sites_and_pixels_are_preserved(void **state)
+{
+    (void)state;
+    const char *fams[] = {"P(1,1+,3)", "P(4,4,2)"};
+    for (int f = 0; f < 2; f++) {
+        aa_pattern seed, best;
+        seed_of(fams[f], 21, &seed);
+        aa_optimize_params op;
+        aa_optimize_params_default(&op);
+        op.max_iterations = 200;
+        op.max_seconds = 0;
+        aa_optimize_result r;
+        assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &best, &r, NULL), AA_OK);
+        assert_int_equal(best.tile_count, seed.tile_count);
+        assert_string_equal(best.family, seed.family);
+        for (size_t t = 0; t < seed.tile_count; t++) {
+            /* from_tile may renumber samples: find the one in the same pixel with the same site
+             * nearest to the seed's. */
+            aa_point a = seed.tile_samples[t];
+            double bd = INFINITY;
+            size_t bi = 0;
+            for (size_t u = 0; u < best.tile_count; u++) {
+                aa_point b = best.tile_samples[u];
+                double d = hypot(b.x - a.x, b.y - a.y);
+                if (floor(b.x + 1e-9) == floor(a.x + 1e-9) &&
+                    floor(b.y + 1e-9) == floor(a.y + 1e-9) &&
+                    best.tile_site[u] == seed.tile_site[t] && d < bd) {
+                    bd = d;
+                    bi = u;
+                }
+            }
+            assert_true(bd < INFINITY);
+            aa_point b = best.tile_samples[bi];
+            if (seed.tile_site[t] == AA_SITE_VERTICAL_EDGE || seed.tile_site[t] == AA_SITE_CORNER)
+                assert_true(fabs(b.x - a.x) < 1e-9);
+            if (seed.tile_site[t] == AA_SITE_HORIZONTAL_EDGE || seed.tile_site[t] == AA_SITE_CORNER)
+                assert_true(fabs(b.y - a.y) < 1e-9);
+        }
+        for (size_t k = 0; k < best.kernel_count; k++) {
+            double s = 0;
+            for (size_t i = 0; i < best.kernels[k].count; i++)
+                s += best.kernels[k].samples[i].w;
+            assert_true(fabs(s - 1) < 1e-9);
+        }
+        aa_pattern_free(&seed);
+        aa_pattern_free(&best);
+    }
+}
+
+static void run_multistart(int workers, aa_pattern *best, aa_multistart_result *r)
+{
+    aa_family fam;
+    assert_int_equal(aa_family_parse("P(4,1+,1.5)", &fam, NULL), AA_OK);
+    aa_multistart_params mp;
+    aa_multistart_params_default(&mp);
+    mp.family = &fam;
+    mp.seed_count = 6;
+    mp.workers = workers;
+    mp.rng_seed = 42;
+    mp.max_seconds = 0;
+    mp.local.max_iterations = 150;
+    assert_int_equal(aa_multistart(&mp, &metric, NULL, NULL, best, r, NULL), AA_OK);
+}
+
+static void multistart_is_deterministic(void **state)
+{
+    (void)state;
+    aa_pattern a, b, c;
+    aa_multistart_result ra, rb, rc;
+    run_multistart(2, &a, &ra);
+    run_multistart(2, &b, &rb);
+    run_multistart(1, &c, &rc);
+    assert_true(ra.e2 == rb.e2);
+    assert_true(ra.e2 == rc.e2);
+    assert_int_equal(ra.best_seed, rb.best_seed);
+    assert_int_equal(a.source_count, b.source_count);
+    assert_memory_equal(a.source, b.source, a.source_count * sizeof *a.source);
+    assert_memory_equal(a.source, c.source, a.source_count * sizeof *a.source);
+    for (size_t i = 0; i < ra.seed_count; i++)
+        assert_true(ra.per_seed[i].e2 == rb.per_seed[i].e2);
+    aa_pattern_free(&a);
+    aa_pattern_free(&b);
+    aa_pattern_free(&c);
+    aa_multistart_result_free(&ra);
+    aa_multistart_result_free(&rb);
+    aa_multistart_result_free(&rc);
+}
+
+typedef struct cancel_probe {
+    double start, cancelled_at;
+    int calls;
+    double last_e2;
+    int nonmonotone;
+    int improvements;
+} cancel_probe;
+
+static int cancel_after_50ms(void *user, const aa_optimize_progress *p)
+{
+    cancel_probe *c = user;
+    c->calls++;
+    if (p->best_e2 > c->last_e2 + 1e-15)
+        c->nonmonotone++;
+    c->last_e2 = p->best_e2;
+    if (mono() - c->start >= 0.05) {
+        c->cancelled_at = mono();
+        return 1;
+    }
+    return 0;
+}
+
+static void cancel_stops_within_100ms(void **state)
+{
+    (void)state;
+    aa_pattern seed, best;
+    seed_of("P(16,16,4)", 3, &seed);
+    aa_optimize_params op;
+    aa_optimize_params_default(&op);
+    op.max_iterations = 1000000;
+    op.max_seconds = 60;
+    cancel_probe c = {mono(), 0, 0, INFINITY, 0, 0};
+    aa_optimize_result r;
+    int rc = aa_optimize(&seed, &metric, &op, cancel_after_50ms, &c, &best, &r, NULL);
+    double stopped = mono();
+    assert_int_equal(rc, AA_ECANCELED);
+    assert_true(c.cancelled_at > 0);
+    assert_true(stopped - c.cancelled_at < 0.1);
+    assert_non_null(best.kernels); /* best so far is handed back */
+    aa_pattern_free(&best);
+
+    aa_family fam;
+    assert_int_equal(aa_family_parse("P(16,16,4)", &fam, NULL), AA_OK);
+    aa_multistart_params mp;
+    aa_multistart_params_default(&mp);
+    mp.family = &fam;
+    mp.seed_count = 8;
+    mp.workers = 2;
+    mp.max_seconds = 60;
+    mp.local.max_iterations = 1000000;
+    cancel_probe c2 = {mono(), 0, 0, INFINITY, 0, 0};
+    aa_multistart_result mr;
+    rc = aa_multistart(&mp, &metric, cancel_after_50ms, &c2, &best, &mr, NULL);
+    stopped = mono();
+    assert_int_equal(rc, AA_ECANCELED);
+    assert_true(stopped - c2.cancelled_at < 0.1);
+    aa_pattern_free(&best);
+    aa_multistart_result_free(&mr);
+    aa_pattern_free(&seed);
+}
+
+static int record_trace(void *user, const aa_optimize_progress *p)
+{
+    cancel_probe *c = user;
+    c->calls++;
+    if (p->best_e2 > c->last_e2 + 1e-15)
+        c->nonmonotone++;
+    c->improvements += p->improved;
+    c->last_e2 = p->best_e2;
+    return 0;
+}
+
+static void trace_is_monotone(void **state)
+{
+    (void)state;
+    aa_family fam;
+    assert_int_equal(aa_family_parse("P(1,4,2)", &fam, NULL), AA_OK);
+    aa_multistart_params mp;
+    aa_multistart_params_default(&mp);
+    mp.family = &fam;
+    mp.seed_count = 6;
+    mp.workers = 2;
+    mp.max_seconds = 0;
+    mp.local.max_iterations = 3000;
+    cancel_probe c = {mono(), 0, 0, INFINITY, 0, 0};
+    aa_pattern best;
+    aa_multistart_result r;
+    assert_int_equal(aa_multistart(&mp, &metric, record_trace, &c, &best, &r, NULL), AA_OK);
+    assert_true(c.calls >= 1);
+    assert_int_equal(c.nonmonotone, 0);
+    assert_true(fabs(c.last_e2 - r.e2) < 1e-9 || c.last_e2 >= r.e2);
+    aa_pattern_free(&best);
+    aa_multistart_result_free(&r);
+}
+
+static void grid_snapping_reports_quantisation(void **state)
+{
+    (void)state;
+    aa_pattern seed, best;
+    seed_of("P(4,1+,2)", 8, &seed);
+    aa_optimize_params op;
+    aa_optimize_params_default(&op);
+    op.max_iterations = 300;
+    op.max_seconds = 0;
+    op.grid_bits = 4;
+    op.d3d12_range = true;
+    aa_optimize_result r;
+    assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &best, &r, NULL), AA_OK);
+    for (size_t i = 0; i < best.source_count; i++) {
+        double x = best.source[i].x * 16, y = best.source[i].y * 16;
+        assert_true(fabs(x - round(x)) < 1e-9 && fabs(y - round(y)) < 1e-9);
+    }
+    assert_true(isfinite(r.e2_before_snap));
+    aa_pattern_free(&seed);
+    aa_pattern_free(&best);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(small_step_against_gradient_lowers_e1),
+        cmocka_unit_test(optimize_never_raises_e2),
+        cmocka_unit_test(mirrored_sites_are_preserved),
+        cmocka_unit_test(tile_sites_and_pixels_are_preserved),
+        cmocka_unit_test(multistart_is_deterministic),
+        cmocka_unit_test(cancel_stops_within_100ms),
+        cmocka_unit_test(trace_is_monotone),
+        cmocka_unit_test(grid_snapping_reports_quantisation),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
