@@ -25,10 +25,10 @@ static void write_file(const char *dir, const char *name, const char *text)
     }
 }
 
-static char root[] = "/tmp/aalab-fuzz-XXXXXX";
+static char root[32];
 static api_context *opened;
 
-static void fuzz_context_close(void)
+void fuzz_context_close(void)
 {
     if (!opened)
         return;
@@ -42,6 +42,8 @@ static void fuzz_context_close(void)
 
 api_context *fuzz_context_open(void)
 {
+    static bool registered;
+    snprintf(root, sizeof root, "/tmp/aalab-fuzz-XXXXXX");
     if (!mkdtemp(root)) {
         perror("mkdtemp");
         abort();
@@ -71,7 +73,9 @@ api_context *fuzz_context_open(void)
         abort();
     }
     opened = ctx;
-    atexit(fuzz_context_close);
+    if (!registered)
+        atexit(fuzz_context_close);
+    registered = true;
     return ctx;
 }
 

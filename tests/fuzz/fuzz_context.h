@@ -6,6 +6,8 @@
 #include "api.h"
 
 api_context *fuzz_context_open(void);
+/* Destroys the context and removes its directory (also registered with atexit). */
+void fuzz_context_close(void);
 /* The bearer token the context accepts on "TCP" requests, or NULL. */
 const char *fuzz_context_token(api_context *ctx);
 

@@ -20,6 +20,11 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static api_context *ctx;
+static unsigned long inputs;
+
+/* Jobs, tiles and cache entries accumulate in the context; a fresh one every so many inputs
+ * keeps the per-input cost bounded in long runs (and exercises start-up on a fresh state). */
+#define FUZZ_CONTEXT_INPUTS 20000
 
 /* Splits off one line (without '\n') into a fresh NUL-terminated string. */
 static char *take_line(const uint8_t **p, size_t *n)
@@ -56,6 +61,10 @@ static void check_response(const api_response *r)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
+    if (ctx && ++inputs % FUZZ_CONTEXT_INPUTS == 0) {
+        fuzz_context_close();
+        ctx = NULL;
+    }
     if (!ctx)
         ctx = fuzz_context_open();
     const uint8_t *p = data;
