@@ -356,7 +356,7 @@ def test_disconnect(binary, rounds):
             base = proc_counts(d.pid())
             jobs0 = jobs_count(d)
             t0 = time.time()
-        vanish(d, b"POST /v1/eval")                                              # mid request line
+        vanish(d, b"POST /v1/eval")                                     # mid request line
         vanish(d, head)                                                         # mid headers
         vanish(d, head + b"Content-Length: %d\r\n\r\n" % len(ev) + ev[:10])     # mid body
         vanish(d, head + b"Content-Length: 1000000\r\n\r\n" + b" " * 65536)     # mid big upload
