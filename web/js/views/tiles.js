@@ -70,7 +70,7 @@ async function fillPatterns() {
     opts.push(new Option(`${p.name} (${p.family})`, `preset:${p.name}`));
   }
   for (const j of jobs) {
-    patterns.set(`job:${j.id}`, { job: j.id }); // the API resolves {"job": id} to its best pattern
+    patterns.set(`job:${j.id}`, j.best.pattern); // the finished job's result pattern
     opts.push(new Option(`job #${j.id} best (${j.family || j.kind})`, `job:${j.id}`));
   }
   $('tile-pattern').replaceChildren(...opts);
