@@ -3,8 +3,9 @@
 #   0. the Release build scripts/run.sh uses compiles (-O3 finds other warnings)  build/release
 #   1. the whole ctest suite in a normal (RelWithDebInfo) build        build/ci
 #   2. the whole ctest suite with AddressSanitizer + UBSan            build/ci-sanitize
-#   3. tests labelled "tsan" (else the threaded ones by name) under ThreadSanitizer  build/ci-tsan
-#   4. tests labelled "fuzz" in a clang libFuzzer build (if tests/fuzz exists)  build/ci-fuzz
+#   3. ThreadSanitizer: tests/tsan.sh's selection (else tests labelled "tsan" or the threaded
+#      ones by name), then the end-to-end tests                             build/ci-tsan
+#   4. tests labelled "fuzz" (60 s per target) in a clang libFuzzer build   build/ci-fuzz
 #   5. systemd-analyze verify of systemd/*.socket|service (any output fails) and sysusers.d
 #   6. systemd-analyze security --offline=yes aalabd.service, exposure <= 2.0
 # and prints a summary with the time of each stage. Exit status 0 only if every stage passed.
@@ -71,24 +72,33 @@ sanitize() {
 }
 
 tsan() {
-  # Tests labelled "tsan", else the threaded ones by name (job store/manager, worker pool,
-  # multi-threaded metric, and the end-to-end tests, which drive the daemon's pools for real);
+  # tests/tsan.sh (the hardening work's selection: worker pool, job store, ...) when present,
+  # else tests labelled "tsan" or the threaded ones by name; then, in the same ThreadSanitizer
+  # build, the end-to-end tests, which drive the daemon's HTTP and worker threads for real.
   # AALAB_TSAN_TESTS overrides the name pattern.
-  local select=(-L tsan)
-  if ! has_label build/ci tsan; then
-    select=(-R "${AALAB_TSAN_TESTS:-job_store|job_manager|worker|pool|threads|e2e}")
-    (cd build/ci && ctest -N "${select[@]}" | grep -q "Total Tests: [1-9]") ||
-      { echo "no threaded tests"; return 77; }
+  local dir=build/ci-tsan
+  export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}
+  if [ -f tests/tsan.sh ]; then
+    sh tests/tsan.sh "$repo/$dir" || return 1
+  else
+    local select=(-L tsan)
+    if ! has_label build/ci tsan; then
+      select=(-R "${AALAB_TSAN_TESTS:-job_store|job_manager|worker|pool|threads}")
+    fi
+    build $dir -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAALAB_TSAN=ON -DAALAB_WEB_TESTS=OFF || return 1
+    if (cd $dir && ctest -N "${select[@]}" | grep -q "Total Tests: [1-9]"); then
+      suite $dir "${select[@]}" || return 1
+    fi
   fi
-  build build/ci-tsan -DCMAKE_BUILD_TYPE=Debug -DAALAB_TSAN=ON -DAALAB_WEB_TESTS=OFF &&
-    (export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}
-     suite build/ci-tsan "${select[@]}")
+  (cd $dir && ctest -N -R e2e | grep -q "Total Tests: [1-9]") || { echo "no e2e tests"; return 0; }
+  suite $dir -R e2e
 }
 
 fuzz() {
   [ -f tests/fuzz/CMakeLists.txt ] || { echo "no tests/fuzz"; return 77; }
-  CC=clang build build/ci-fuzz -DCMAKE_BUILD_TYPE=Debug -DAALAB_FUZZ=ON -DAALAB_WEB_TESTS=OFF ||
-    return 1
+  # libFuzzer needs clang, and the fuzz build needs ASan+UBSan (tests/fuzz/CMakeLists.txt).
+  build build/ci-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=Debug -DAALAB_FUZZ=ON \
+    -DAALAB_SANITIZE=ON -DAALAB_WEB_TESTS=OFF || return 1
   has_label build/ci-fuzz fuzz || { echo "no tests labelled fuzz"; return 77; }
   suite build/ci-fuzz -L fuzz
 }

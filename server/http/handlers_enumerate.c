@@ -1,20 +1,14 @@
 /* POST /v1/families/enumerate {"family":"P(4,1+,n)","cost":1.25}: the mirrored configurations
  * of a cost (the optimizer's aa_enumerate_mirrored, server/engine/enumerate.h). The request is
- * validated here; without the optimizer's engine code the route answers 501. */
+ * validated here. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "handlers.h"
 
-#if defined(__has_include)
-/* Both the optimizer's header and the encoder of its struct must exist. */
-#if __has_include("enumerate.h") && __has_include("enumerate_encode.h")
-#define AALAB_HAVE_ENUMERATE 1
 #include "enumerate.h"
 #include "enumerate_encode.h"
-#endif
-#endif
 
 #define ENUMERATE_MAX_COST 16.0
 
@@ -92,7 +86,6 @@ void handle_enumerate(api_context *ctx, const api_request *req, api_response *re
     }
     if (isnan(cost))
         cost = fam_cost;
-#ifdef AALAB_HAVE_ENUMERATE
     aa_mirrored_config *configs = NULL;
     size_t count = 0;
     rc = aa_enumerate_mirrored(cost, &configs, &count, &err);
@@ -102,9 +95,4 @@ void handle_enumerate(api_context *ctx, const api_request *req, api_response *re
     }
     api_reply_json(resp, 200, enumerate_encode(cost, configs, count));
     free(configs);
-#else
-    api_reply_error(resp, 501, "not_implemented", "",
-                    "family enumeration is not built into this daemon yet (cost %g validated)",
-                    cost);
-#endif
 }

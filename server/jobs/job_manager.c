@@ -155,6 +155,19 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
                           err && err->message[0] ? err->message : aa_strerror(rc), "field",
                           err ? err->field : "");
     }
+    /* The live best is posted at most 10 times a second, so the last improvement may be
+     * missing from it: a finished job's best is its result's. */
+    json_t *final_pattern = json_is_object(result) ? json_object_get(result, "pattern") : NULL;
+    if (!final_pattern && json_is_object(result))
+        final_pattern = json_object_get(result, "best");
+    json_t *final_e2 = json_is_object(result) ? json_object_get(result, "e2") : NULL;
+    if (st == JOB_DONE && json_is_object(final_pattern) && json_is_number(final_e2)) {
+        json_t *b = json_pack("{s:O,s:O}", "pattern", final_pattern, "e2", final_e2);
+        if (b) {
+            json_decref(best);
+            best = b;
+        }
+    }
     double now = jm_now();
     job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason, now);
     /* One line per finished run for the journal. */
