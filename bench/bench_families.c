@@ -82,6 +82,8 @@ int main(int argc, char **argv)
         mp.seed_count = 100000; /* the time budget ends the search */
         mp.local.max_iterations = big ? 200000 : 4000;
         mp.local.stall_iterations = big ? 2000 : 300;
+        mp.screen_iterations = 150; /* mirrored families: screen configurations first */
+        mp.screen_top = 8;
         aa_pattern best;
         aa_multistart_result r;
         int rc = aa_multistart(&mp, &metric, NULL, NULL, &best, &r, &err);

@@ -129,7 +129,7 @@ static int eval_e2(opt_run *r, opt_state *st, double *e2)
 /* The L&A sec. 5 direction: sum over kernels and angles of W grad E1, terms with
  * W E1 >= t E2 scaled by c1/c0, mapped back to the free variables (mirror signs, shared
  * samples summed). r->value must hold the values of the current state. */
-static int descent_direction(opt_run *r, opt_state *st, double e2)
+static int descent_direction(opt_run *r, opt_state *st, double e2, double threshold)
 {
     const aa_optimize_params *p = r->params;
     memset(r->dir_x, 0, st->point_count * sizeof *r->dir_x);
@@ -142,7 +142,7 @@ static int descent_direction(opt_run *r, opt_state *st, double e2)
             double v = r->value[k * r->angle_count + a];
             if (v <= 0 || r->weight[a] <= 0)
                 continue;
-            double c = v >= p->threshold * e2 ? p->active_ratio : 1.0;
+            double c = v >= threshold * e2 ? p->active_ratio : 1.0;
             double e1;
             int rc = aa_e1_gradient_at_angle(r->metric->filter, ker->samples, ker->count,
                                              r->theta[a], &r->ws, &e1, want_pos ? r->gx : NULL,
@@ -254,6 +254,8 @@ static void snap_to_grid(opt_state *st, int bits, bool d3d12)
     opt_state_apply(st);
 }
 
+#define NONMONO 10
+
 typedef struct opt_progress_state {
     aa_optimize_progress_fn fn;
     void *user;
@@ -323,8 +325,20 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
     long it = 0, mark_it = 0;
     bool cancelled = false;
     opt_progress_state ps = {progress, user, start, start, true};
+    /* cur_value: W E1 of cur, kept so the direction can be recomputed after rejected steps. */
+    size_t nvalues = run.angle_count * cur.work.kernel_count;
+    double *cur_value = rc ? NULL : malloc(nvalues * sizeof *cur_value);
+    if (!rc && !cur_value)
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     if (!rc)
-        rc = descent_direction(&run, &cur, e2);
+        memcpy(cur_value, run.value, nvalues * sizeof *cur_value);
+    int band = 0, fails = 0, hpos = 0;
+    double history[NONMONO];
+    for (int h = 0; h < NONMONO; h++)
+        history[h] = e2;
+    double accepted_step = step;
+    if (!rc)
+        rc = descent_direction(&run, &cur, e2, params->threshold);
     while (!rc && it < params->max_iterations) {
         double t = now_seconds();
         if (params->max_seconds > 0 && t - start >= params->max_seconds)
@@ -341,23 +355,44 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
         double te2;
         if ((rc = eval_e2(&run, &trial, &te2)))
             break;
-        if (te2 <= e2) {
+        /* Nonmonotone acceptance (Grippo et al. 1986): compare against the largest of the last
+         * NONMONO accepted values, so the iterate can cross the kinks of the max; the best
+         * pattern is tracked separately, so the result and its trace are still monotone. */
+        double ref = e2;
+        for (int h = 0; h < NONMONO; h++)
+            ref = fmax(ref, history[h]);
+        if (te2 <= ref && te2 < e2 * (1 + 1e-2)) {
             /* Accepted: move, grow the step a little, new direction from here. */
             copy_vars(&cur, &trial);
+            memcpy(cur_value, run.value, nvalues * sizeof *cur_value);
             e2 = te2;
+            history[hpos++ % NONMONO] = e2;
             step *= 1.2;
+            accepted_step = step;
+            band = 0;
+            fails = 0;
             if (e2 < best_e2) {
                 best_e2 = e2;
                 copy_vars(&top, &cur);
                 ps.improved = true;
             }
-            if ((rc = descent_direction(&run, &cur, e2)))
+            if ((rc = descent_direction(&run, &cur, e2, params->threshold)))
                 break;
         } else {
-            /* E2 rose: undo (cur is untouched) and retry the same direction with half the step.
-             * r->value must describe cur again for the next direction, so re-evaluate lazily:
-             * the direction itself is unchanged. */
+            /* E2 rose: cur is untouched; retry with half the step. At a kink of the max the
+             * active terms' summed gradient may not descend for all of them: after 3 failed
+             * halvings, widen the band of terms stepped with c1 (t -> 1 - 4^band (1 - t)) so
+             * near-active terms steer too, and restart from the last good step size. */
             step *= 0.5;
+            if (++fails >= 3 && band < 6) {
+                band++;
+                fails = 0;
+                double t_eff = fmax(0.5, 1 - pow(4.0, band) * (1 - params->threshold));
+                memcpy(run.value, cur_value, nvalues * sizeof *cur_value);
+                if ((rc = descent_direction(&run, &cur, e2, t_eff)))
+                    break;
+                step = accepted_step;
+            }
         }
         if (best_e2 < mark_e2 * (1 - params->rel_tolerance)) {
             mark_e2 = best_e2;
@@ -396,6 +431,7 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
         report(&ps, &top, best_e2, it, run.evaluations, 1.0, true);
     }
     aa_evaluation_free(&ev);
+    free(cur_value);
     run_free(&run);
     opt_state_free(&cur);
     opt_state_free(&trial);

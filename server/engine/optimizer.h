@@ -6,10 +6,16 @@
  * (tile_index), then projected onto the sample's site (corner: fixed, edge: along the edge,
  * interior: clamped inside its pixel); mirrored patterns move their source pixel and are
  * rebuilt, so the mirror structure holds by construction; weights move along the Sigma w = 1
- * projected gradient and are renormalised. Robustness beyond the paper: when a step raises E2
- * the step is undone and c0 halved (grown by 1.2x after a success); the run stops when E2 has
- * not improved by rel_tolerance over stall_iterations steps, at max_iterations, at max_seconds,
- * or when progress returns nonzero (checked at least every 10 ms).
+ * projected gradient and are renormalised. Robustness beyond the paper (the max over kernels
+ * and angles has kinks where the summed active gradients stop descending): a step is accepted
+ * when E2 is below the largest of the last 10 accepted values and within 1% of the current one
+ * (nonmonotone acceptance, Grippo et al. 1986; the best pattern is kept separately, so results
+ * and traces are monotone); a rejected step halves c0, an accepted one grows it by 1.2x; after 3
+ * rejections in a row the band of terms stepped with c1 widens (t -> 1 - 4^k (1 - t), k <= 6,
+ * t >= 0.5) and the step restarts from the last accepted size. The run stops when the best E2
+ * has not improved by rel_tolerance over stall_iterations steps, at max_iterations, at
+ * max_seconds, when c0 falls below 1e-14, or when progress returns nonzero (it is called at
+ * most every 10 ms, between steps; one step of P(16,16,4) takes ~10 ms).
  * Deterministic: no clock-dependent decisions except the time budget. */
 #ifndef AA_OPTIMIZER_H
 #define AA_OPTIMIZER_H
@@ -82,6 +88,8 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
  * at clock-dependent points. progress is called from worker threads, serialised by a mutex, at
  * most every 10 ms plus once at the end; nonzero cancels every worker (AA_ECANCELED, *best
  * holds the best so far when any seed has produced one). */
+#include "enumerate.h"
+#include "enumerate.h"
 #include "family.h"
 
 typedef struct aa_multistart_params {
@@ -94,6 +102,15 @@ typedef struct aa_multistart_params {
     const aa_seed_kind *kinds; /* distributions used in turn; NULL: all five */
     size_t kind_count;
     const aa_pattern *seeds; /* given seeds (family == NULL): seed_count of them */
+    /* Mirrored families: seed i takes configs[i % config_count]; NULL: all configurations of
+     * the family's cost (aa_enumerate_mirrored). */
+    const aa_mirrored_config *configs;
+    size_t config_count;
+    /* Mirrored families only, 0 = off: first run every configuration once for
+     * screen_iterations steps (within a quarter of max_seconds), then spend the rest on the
+     * screen_top configurations with the lowest E2 (per_seed then describes the second phase). */
+    long screen_iterations;
+    size_t screen_top;
 } aa_multistart_params;
 
 void aa_multistart_params_default(aa_multistart_params *p);

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "enumerate.h"
 #include "optimizer.h"
 
 void aa_multistart_params_default(aa_multistart_params *p)
@@ -125,6 +126,25 @@ static int make_seed(const aa_multistart_params *p, const aa_metric_params *metr
     *kind = kinds[i % kc];
     aa_rng rng;
     aa_rng_seed(&rng, p->rng_seed, (uint64_t)i);
+    if (p->family->mirrored) {
+        /* The placement configuration matters more than the positions: seed i takes
+         * configuration i mod count, so every configuration is tried in turn. */
+        if (p->configs && p->config_count)
+            return aa_mirrored_config_seed(&p->configs[i % p->config_count], *kind, metric->filter,
+                                           &rng, out, err);
+        aa_mirrored_config *configs;
+        size_t count;
+        int rc = aa_enumerate_mirrored(p->family->cost, &configs, &count, err);
+        if (rc)
+            return rc;
+        if (count == 0) {
+            free(configs);
+            return aa_error_set(err, AA_EINVAL, "family", "no configuration of this cost");
+        }
+        rc = aa_mirrored_config_seed(&configs[i % count], *kind, metric->filter, &rng, out, err);
+        free(configs);
+        return rc;
+    }
     return aa_family_seed(p->family, *kind, metric->filter, &rng, out, err);
 }
 
@@ -186,9 +206,100 @@ static void *worker_main(void *arg)
     return NULL;
 }
 
+static int multistart_once(const aa_multistart_params *p, const aa_metric_params *metric,
+                           aa_optimize_progress_fn progress, void *user, aa_pattern *best,
+                           aa_multistart_result *result, aa_error *err);
+
+typedef struct ranked_config {
+    double e2;
+    size_t index;
+} ranked_config;
+
+static int ranked_cmp(const void *a, const void *b)
+{
+    const ranked_config *x = a, *y = b;
+    if (x->e2 != y->e2)
+        return (x->e2 > y->e2) - (x->e2 < y->e2);
+    return (x->index > y->index) - (x->index < y->index);
+}
+
+/* Two phases for mirrored families: screen every configuration briefly, then multi-start on the
+ * best few. */
+static int multistart_screened(const aa_multistart_params *p, const aa_metric_params *metric,
+                               aa_optimize_progress_fn progress, void *user, aa_pattern *best,
+                               aa_multistart_result *result, aa_error *err)
+{
+    aa_mirrored_config *all;
+    size_t count;
+    int rc = aa_enumerate_mirrored(p->family->cost, &all, &count, err);
+    if (rc)
+        return rc;
+    double start = mono_seconds();
+    aa_multistart_params screen = *p;
+    screen.screen_top = 0;
+    screen.configs = all;
+    screen.config_count = count;
+    screen.seed_count = count;
+    screen.local.max_iterations = p->screen_iterations;
+    screen.max_seconds = p->max_seconds > 0 ? p->max_seconds / 4 : 0;
+    aa_pattern first;
+    aa_multistart_result r1;
+    rc = multistart_once(&screen, metric, progress, user, &first, &r1, err);
+    if (rc) {
+        aa_pattern_free(&first);
+        aa_multistart_result_free(&r1);
+        free(all);
+        return rc;
+    }
+    aa_pattern_free(&first);
+    ranked_config *rank = malloc(count * sizeof *rank);
+    aa_mirrored_config *top = malloc(count * sizeof *top);
+    if (!rank || !top) {
+        free(rank);
+        free(top);
+        free(all);
+        aa_multistart_result_free(&r1);
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    for (size_t i = 0; i < count; i++)
+        rank[i] = (ranked_config){isnan(r1.per_seed[i].e2) ? INFINITY : r1.per_seed[i].e2, i};
+    qsort(rank, count, sizeof *rank, ranked_cmp);
+    size_t keep = p->screen_top < count ? p->screen_top : count;
+    for (size_t i = 0; i < keep; i++)
+        top[i] = all[rank[i].index];
+    aa_multistart_params focus = *p;
+    focus.screen_top = 0;
+    focus.configs = top;
+    focus.config_count = keep;
+    if (p->max_seconds > 0)
+        focus.max_seconds = fmax(0.01, p->max_seconds - (mono_seconds() - start));
+    rc = multistart_once(&focus, metric, progress, user, best, result, err);
+    result->iterations += r1.iterations;
+    result->evaluations += r1.evaluations;
+    result->seconds = mono_seconds() - start;
+    free(rank);
+    free(top);
+    free(all);
+    aa_multistart_result_free(&r1);
+    return rc;
+}
+
 int aa_multistart(const aa_multistart_params *p, const aa_metric_params *metric,
                   aa_optimize_progress_fn progress, void *user, aa_pattern *best,
                   aa_multistart_result *result, aa_error *err)
+{
+    if (p->family && p->family->mirrored && p->screen_top > 0 && p->screen_iterations > 0 &&
+        !p->configs) {
+        memset(best, 0, sizeof *best);
+        memset(result, 0, sizeof *result);
+        return multistart_screened(p, metric, progress, user, best, result, err);
+    }
+    return multistart_once(p, metric, progress, user, best, result, err);
+}
+
+static int multistart_once(const aa_multistart_params *p, const aa_metric_params *metric,
+                           aa_optimize_progress_fn progress, void *user, aa_pattern *best,
+                           aa_multistart_result *result, aa_error *err)
 {
     memset(best, 0, sizeof *best);
     memset(result, 0, sizeof *result);

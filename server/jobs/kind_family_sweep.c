@@ -177,6 +177,11 @@ static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
                       "seeds_per_config", (json_int_t)sp->per_config, "ranked", list);
         if (!*result)
             rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        /* The winner also as the job's "best" / "e2", like the optimize kind's result. */
+        if (!rc && count && rows[0].pattern) {
+            json_object_set(*result, "best", rows[0].pattern);
+            json_object_set_new(*result, "e2", proto_real(rows[0].e2));
+        }
     }
     for (size_t c = 0; c < count; c++)
         json_decref(rows[c].pattern);

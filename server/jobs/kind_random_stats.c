@@ -143,6 +143,11 @@ static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
                             proto_real(rwp.e2), "pattern", proto_encode_pattern(&optwp));
         if (!*result)
             rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        /* Opt W+P as the job's "best" / "e2", like the optimize kind's result. */
+        if (!rc) {
+            json_object_set_new(*result, "best", proto_encode_pattern(&optwp));
+            json_object_set_new(*result, "e2", proto_real(rwp.e2));
+        }
     }
     aa_pattern_free(&best);
     aa_pattern_free(&optw);
