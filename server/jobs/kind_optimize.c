@@ -2,8 +2,8 @@
  * pattern. Spec: {"kind":"optimize", "family":"P(4,1+,2)" | "pattern":P, "seeds":N,
  * "max_seconds":S, "rng_seed":K, "mode":"weights|positions|both", "filter":F?, "acuity":A?,
  * "angles":[...]?, "grid":{"bits":4,"d3d12":false}?, "distributions":["uniform",...]?}.
- * For P(4,1+,n) with seeds >= 16 every placement configuration is screened first (150 steps
- * each, a quarter of the budget) and the seeds go to the best 8 configurations.
+ * For P(4,1+,n) every placement configuration is screened first (150 steps each, at most a
+ * quarter of the budget) and the seeds go to the best min(seeds, 8) configurations.
  * Also holds the helpers shared with family-sweep and random-stats (kind_optimize_spec.h). */
 #include <math.h>
 #include <stdlib.h>
@@ -274,10 +274,11 @@ static int optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *e
     mp.max_seconds = op->common.max_seconds;
     if (op->have_family) {
         mp.family = &op->family;
-        if (op->family.mirrored && op->seeds >= 16) {
-            /* Screen every placement configuration, then multi-start on the best 8. */
+        if (op->family.mirrored) {
+            /* Screen every placement configuration (cheap: 150 steps each), then multi-start
+             * on the best few; without it a handful of seeds lands on poor placements. */
             mp.screen_iterations = 150;
-            mp.screen_top = 8;
+            mp.screen_top = op->seeds < 8 ? op->seeds : 8;
         }
         mp.kinds = op->kind_count ? op->kinds : NULL;
         mp.kind_count = op->kind_count;
