@@ -48,6 +48,10 @@ json_t *proto_encode_acuity(const aa_acuity *a);
 
 /* "prefix.sub" (or "prefix[..]" when sub starts with '['), written to out. */
 void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub);
+/* Rejects keys of obj not in the NULL-terminated allowed list, naming the first one
+ * ("prefix.key", "unknown field"). */
+int proto_check_keys(const json_t *obj, const char *const *allowed, aa_error *err,
+                     const char *prefix);
 /* A JSON number for a double; null for non-finite values (JSON has no NaN). */
 json_t *proto_real(double v);
 

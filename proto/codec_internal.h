@@ -12,8 +12,5 @@ int proto_fail(aa_error *err, int code, const char *prefix, const char *sub, con
 int proto_prefix_error(aa_error *err, const char *prefix);
 /* A finite JSON number (integer or real). */
 int proto_number(const json_t *j, double *out, aa_error *err, const char *prefix, const char *sub);
-/* Rejects keys of obj not in the NULL-terminated allowed list, naming the first one. */
-int proto_check_keys(const json_t *obj, const char *const *allowed, aa_error *err,
-                     const char *prefix);
 
 #endif

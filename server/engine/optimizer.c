@@ -31,6 +31,10 @@ static double now_seconds(void)
 }
 
 /* Everything one run needs besides the state: angles, acuity weights, gradient scratch. */
+struct opt_progress_state;
+struct opt_run;
+static int poll_cancel(const struct opt_run *r);
+
 typedef struct opt_run {
     const aa_metric_params *metric;
     const aa_optimize_params *params;
@@ -42,6 +46,12 @@ typedef struct opt_run {
     double *dir_x, *dir_y, *dir_w; /* descent direction on the free variables */
     aa_metric_workspace ws;
     long evaluations;
+    /* Polled between kernels so a cancel is seen within a fraction of a step (a step of
+     * P(16,16,4) can take 50+ ms on a loaded machine). */
+    struct opt_progress_state *poll_ps;
+    const struct opt_state *poll_top;
+    const double *poll_best_e2;
+    const long *poll_it;
 } opt_run;
 
 static void run_free(opt_run *r)
@@ -109,6 +119,8 @@ static int eval_e2(opt_run *r, opt_state *st, double *e2)
     double best = 0;
     for (size_t k = 0; k < st->work.kernel_count; k++) {
         const aa_kernel *ker = &st->work.kernels[k];
+        if (poll_cancel(r))
+            return AA_ECANCELED;
         for (size_t a = 0; a < r->angle_count; a++) {
             double e1;
             int rc = aa_e1_at_angle(r->metric->filter, ker->samples, ker->count, r->theta[a],
@@ -138,6 +150,8 @@ static int descent_direction(opt_run *r, opt_state *st, double e2, double thresh
     bool want_pos = p->mode != AA_OPTIMIZE_WEIGHTS, want_w = p->mode != AA_OPTIMIZE_POSITIONS;
     for (size_t k = 0; k < st->work.kernel_count; k++) {
         const aa_kernel *ker = &st->work.kernels[k];
+        if (poll_cancel(r))
+            return AA_ECANCELED;
         for (size_t a = 0; a < r->angle_count; a++) {
             double v = r->value[k * r->angle_count + a];
             if (v <= 0 || r->weight[a] <= 0)
@@ -261,6 +275,7 @@ typedef struct opt_progress_state {
     void *user;
     double start, last_call;
     bool improved;
+    double last_fraction;
 } opt_progress_state;
 
 static int report(opt_progress_state *ps, const opt_state *best, double best_e2, long it,
@@ -282,6 +297,14 @@ static int report(opt_progress_state *ps, const opt_state *best, double best_e2,
     if (have)
         aa_pattern_free(&snap);
     return stop;
+}
+
+static int poll_cancel(const opt_run *r)
+{
+    if (!r->poll_ps || !r->poll_ps->fn)
+        return 0;
+    return report(r->poll_ps, r->poll_top, *r->poll_best_e2, *r->poll_it, r->evaluations, -1,
+                  false);
 }
 
 int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
@@ -317,14 +340,20 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
     }
     rc = run_init(&run, &cur, metric, params, err);
     opt_state_apply(&cur);
-    double e2 = 0;
-    if (!rc)
-        rc = eval_e2(&run, &cur, &e2);
-    double initial = e2, best_e2 = e2, mark_e2 = e2;
-    double step = params->step;
+    double e2 = 0, best_e2 = INFINITY; /* INFINITY until the seed has been evaluated */
     long it = 0, mark_it = 0;
     bool cancelled = false;
-    opt_progress_state ps = {progress, user, start, start, true};
+    opt_progress_state ps = {progress, user, start, start, true, 0};
+    run.poll_ps = &ps;
+    run.poll_top = &top;
+    run.poll_best_e2 = &best_e2;
+    run.poll_it = &it;
+    if (!rc)
+        rc = eval_e2(&run, &cur, &e2);
+    double initial = e2, mark_e2 = e2;
+    if (!rc)
+        best_e2 = e2;
+    double step = params->step;
     /* cur_value: W E1 of cur, kept so the direction can be recomputed after rejected steps. */
     size_t nvalues = run.angle_count * cur.work.kernel_count;
     double *cur_value = rc ? NULL : malloc(nvalues * sizeof *cur_value);
@@ -402,6 +431,11 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
         }
         if (step < 1e-14)
             break; /* no step along this direction lowers E2: a (nonsmooth) stationary point */
+    }
+    if (rc == AA_ECANCELED) {
+        /* The progress callback asked to stop in the middle of a step: cur is intact. */
+        rc = AA_OK;
+        cancelled = true;
     }
     if (!rc && params->grid_bits > 0) {
         double before = best_e2;

@@ -168,7 +168,7 @@ int aa_seed_points(aa_seed_kind kind, size_t n, int T, aa_rng *rng, aa_point *ou
             out[i].x = aa_rng_uniform(rng) * T;
             out[i].y = aa_rng_uniform(rng) * T;
         }
-        rc = aa_lloyd_torus(out, n, T, 20, 64, rng);
+        rc = aa_lloyd_torus(out, n, T, 12, 16, rng); /* enough for seeding */
         break;
     case AA_SEED_UNIFORM:
     default:

@@ -16,10 +16,10 @@
 typedef struct job_ctx job_ctx;
 
 typedef struct job_trace_point {
-    double seconds;     /* wall time since the job started running */
-    long iterations;    /* optimizer steps so far (all seeds) */
-    long evaluations;   /* E2 evaluations so far */
-    double best_e2;     /* best E2 so far */
+    double seconds;   /* wall time since the job started running */
+    long iterations;  /* optimizer steps so far (all seeds) */
+    long evaluations; /* E2 evaluations so far */
+    double best_e2;   /* best E2 so far */
 } job_trace_point;
 
 /* Progress 0..1 and, optionally, the best result so far (borrowed; NULL keeps the previous).
@@ -29,6 +29,14 @@ bool job_ctx_progress(job_ctx *ctx, double fraction, json_t *best_so_far);
 void job_ctx_trace(job_ctx *ctx, const job_trace_point *point);
 bool job_ctx_cancelled(const job_ctx *ctx);
 int job_ctx_workers(const job_ctx *ctx); /* threads a job may use for its own parallel work */
+/* Maps an engine progress callback's fraction 0..1 onto [base, base + span] of the job's
+ * progress; pass job_progress_span_report as the callback and the span as its user pointer.
+ * Returns nonzero when the job is cancelled, as engine callbacks expect. */
+typedef struct job_progress_span {
+    job_ctx *ctx;
+    double base, span;
+} job_progress_span;
+int job_progress_span_report(void *user, double fraction);
 /* Opaque pointer to daemon services a kind may need (tile store for renders); may be NULL. */
 void *job_ctx_services(job_ctx *ctx);
 

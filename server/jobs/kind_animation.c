@@ -31,26 +31,15 @@ static void animation_free(void *params)
     free(ap);
 }
 
-static bool allowed_key(const char *key)
-{
-    static const char *const keys[] = {"kind",    "label",     "priority", "scene", "size",
-                                       "pattern", "reference", "acuity",   "tiles", NULL};
-    for (size_t i = 0; keys[i]; i++)
-        if (strcmp(key, keys[i]) == 0)
-            return true;
-    return false;
-}
+static const char *const spec_keys[] = {"kind",    "label",     "priority", "scene", "size",
+                                        "pattern", "reference", "acuity",   "tiles", NULL};
 
 static int animation_parse(const json_t *spec, void **params, aa_error *err)
 {
     *params = NULL;
-    const char *key;
-    json_t *v;
-    json_object_foreach((json_t *)spec, key, v)
-    {
-        if (!allowed_key(key))
-            return aa_error_set(err, AA_EINVAL, key, "unknown field");
-    }
+    int rc0 = proto_check_keys(spec, spec_keys, err, "");
+    if (rc0)
+        return rc0;
     animation_params *ap = calloc(1, sizeof *ap);
     if (!ap)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
@@ -93,17 +82,6 @@ static int animation_parse(const json_t *spec, void **params, aa_error *err)
     return AA_OK;
 }
 
-typedef struct cancel_probe {
-    job_ctx *ctx;
-    double base, span;
-} cancel_probe;
-
-static int reference_progress(void *user, double fraction)
-{
-    cancel_probe *p = user;
-    return job_ctx_progress(p->ctx, p->base + p->span * fraction, NULL);
-}
-
 static int animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
     animation_params *ap = params;
@@ -114,8 +92,8 @@ static int animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *
     rp.reference = ap->ref.params;
     rp.acuity = &ap->acuity;
     int F = rp.scene.frames;
-    cancel_probe probe = {ctx, 0, 1.0 / F};
-    rp.reference.progress = reference_progress;
+    job_progress_span probe = {ctx, 0, 1.0 / F};
+    rp.reference.progress = job_progress_span_report;
     rp.reference.user = &probe;
     double e2 = 0;
     int rc = aa_pattern_e2(&ap->pattern, rp.reference.filter, &ap->acuity, &e2, err);

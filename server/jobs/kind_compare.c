@@ -38,26 +38,15 @@ static void compare_free(void *params)
     free(cp);
 }
 
-static bool allowed_key(const char *key)
-{
-    static const char *const keys[] = {"kind",     "label",     "priority", "scene", "size",
-                                       "patterns", "reference", "acuity",   "tiles", NULL};
-    for (size_t i = 0; keys[i]; i++)
-        if (strcmp(key, keys[i]) == 0)
-            return true;
-    return false;
-}
+static const char *const spec_keys[] = {"kind",     "label",     "priority", "scene", "size",
+                                        "patterns", "reference", "acuity",   "tiles", NULL};
 
 static int compare_parse(const json_t *spec, void **params, aa_error *err)
 {
     *params = NULL;
-    const char *key;
-    json_t *v;
-    json_object_foreach((json_t *)spec, key, v)
-    {
-        if (!allowed_key(key))
-            return aa_error_set(err, AA_EINVAL, key, "unknown field");
-    }
+    int rc0 = proto_check_keys(spec, spec_keys, err, "");
+    if (rc0)
+        return rc0;
     compare_params *cp = calloc(1, sizeof *cp);
     if (!cp)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
@@ -111,17 +100,6 @@ static int compare_parse(const json_t *spec, void **params, aa_error *err)
     return AA_OK;
 }
 
-typedef struct cancel_probe {
-    job_ctx *ctx;
-    double base, span;
-} cancel_probe;
-
-static int reference_progress(void *user, double fraction)
-{
-    cancel_probe *p = user;
-    return job_ctx_progress(p->ctx, p->base + p->span * fraction, NULL);
-}
-
 /* References at output offsets 0.5 (odd K) and 1 (even K), rendered when first needed. */
 typedef struct reference_slot {
     bool done;
@@ -152,9 +130,9 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
         int s = p->kernel_size % 2 == 0;
         double off = aa_output_offset(p->kernel_size);
         if (!slot[s].done) {
-            cancel_probe probe = {ctx, units / steps, 1.0 / steps};
+            job_progress_span probe = {ctx, units / steps, 1.0 / steps};
             aa_reference_params rp = cp->ref.params;
-            rp.progress = reference_progress;
+            rp.progress = job_progress_span_report;
             rp.user = &probe;
             rc = aa_image_init(&slot[s].img, cp->scene.width, cp->scene.height, err);
             double t0 = aa_seconds_now();

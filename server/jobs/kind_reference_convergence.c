@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "codec.h"
 #include "job_kind.h"
 #include "raster.h"
 #include "render.h"
@@ -24,15 +25,9 @@ typedef struct convergence_params {
     int kernel_size; /* selects the output grid: 0.5 (odd) or 1 (even) */
 } convergence_params;
 
-static bool allowed_key(const char *key)
-{
-    static const char *const keys[] = {"kind",      "label",  "priority",     "scene",       "size",
-                                       "reference", "levels", "baseline_spp", "kernel_size", NULL};
-    for (size_t i = 0; keys[i]; i++)
-        if (strcmp(key, keys[i]) == 0)
-            return true;
-    return false;
-}
+static const char *const spec_keys[] = {"kind",        "label",     "priority", "scene",
+                                        "size",        "reference", "levels",   "baseline_spp",
+                                        "kernel_size", NULL};
 
 static bool valid_spp(json_t *v, int *out)
 {
@@ -49,13 +44,9 @@ static bool valid_spp(json_t *v, int *out)
 static int convergence_parse(const json_t *spec, void **params, aa_error *err)
 {
     *params = NULL;
-    const char *key;
-    json_t *v;
-    json_object_foreach((json_t *)spec, key, v)
-    {
-        if (!allowed_key(key))
-            return aa_error_set(err, AA_EINVAL, key, "unknown field");
-    }
+    int rc0 = proto_check_keys(spec, spec_keys, err, "");
+    if (rc0)
+        return rc0;
     convergence_params *cp = calloc(1, sizeof *cp);
     if (!cp)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
@@ -105,25 +96,14 @@ static int convergence_parse(const json_t *spec, void **params, aa_error *err)
     return AA_OK;
 }
 
-typedef struct cancel_probe {
-    job_ctx *ctx;
-    double base, span;
-} cancel_probe;
-
-static int reference_progress(void *user, double fraction)
-{
-    cancel_probe *p = user;
-    return job_ctx_progress(p->ctx, p->base + p->span * fraction, NULL);
-}
-
 static int render_level(const aa_scene *scene, const convergence_params *cp, int spp, uint64_t seed,
-                        cancel_probe *probe, aa_image *img, aa_reference_stats *st, double *seconds,
-                        aa_error *err)
+                        job_progress_span *probe, aa_image *img, aa_reference_stats *st,
+                        double *seconds, aa_error *err)
 {
     aa_reference_params rp = cp->ref.params;
     rp.spp = spp;
     rp.seed = seed;
-    rp.progress = reference_progress;
+    rp.progress = job_progress_span_report;
     rp.user = probe;
     double t0 = aa_seconds_now();
     int rc = tile_reference_parallel(scene, &rp, aa_output_offset(cp->kernel_size), img,
@@ -150,7 +130,7 @@ static int convergence_run(void *params, job_ctx *ctx, json_t **result, aa_error
         total += cp->levels[i];
     aa_reference_stats st;
     double seconds = 0;
-    cancel_probe probe = {ctx, 0, cp->baseline_spp / total};
+    job_progress_span probe = {ctx, 0, cp->baseline_spp / total};
     if (!rc)
         rc = render_level(&scene, cp, cp->baseline_spp, cp->ref.params.seed + 1, &probe, &base, &st,
                           &seconds, err);

@@ -91,6 +91,7 @@ function setupToken() {
     btn.setAttribute('aria-expanded', 'false');
     refresh();
     btn.focus();
+    route(); // redo what failed for want of the token
   });
   document.getElementById('token-clear').addEventListener('click', () => {
     setToken('');
@@ -98,6 +99,11 @@ function setupToken() {
     refresh();
   });
   refresh();
+  // Without a token every POST on the TCP listener is refused: ask for it straight away.
+  if (!getToken()) {
+    form.hidden = false;
+    btn.setAttribute('aria-expanded', 'true');
+  }
 }
 
 async function pollHealth() {

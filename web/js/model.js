@@ -109,17 +109,29 @@ export function normTrace(trace) {
     .filter((p) => p.seconds != null && p.best_e2 != null);
 }
 
-/* The best pattern a job has found: {e2, pattern, family, cost} or null. */
+/* The best pattern a job has found: {e2, pattern, family, cost} or null. A finished job's result
+ * is authoritative ({best: pattern, e2, ...}); "best" is the best-so-far posted while running. */
 export function jobBest(j) {
-  const cands = [j.best, j.best_so_far, j.result && j.result.best, j.result];
-  for (const c of cands) {
+  const specFamily = (j.spec && j.spec.family) || j.family || '';
+  const r = j.result;
+  if (r && typeof r === 'object' && r.best && typeof r.best === 'object') {
+    const pattern = patternOf(r.best);
+    if (pattern)
+      return {
+        e2: num(r.e2) ?? num(r.best.e2) ?? num(r.best_e2),
+        pattern,
+        family: r.family || r.best.family || (r.best.pattern && r.best.pattern.family) || specFamily,
+        cost: num(r.best.cost_spp) ?? num(r.cost_spp) ?? num(r.best.pattern && r.best.pattern.cost_spp),
+      };
+  }
+  for (const c of [j.best, j.best_so_far, r]) {
     if (!c || typeof c !== 'object') continue;
     const pattern = patternOf(c);
     if (pattern || num(c.e2) != null)
       return {
         e2: num(c.e2) ?? num(c.best_e2),
         pattern,
-        family: c.family || (c.pattern && c.pattern.family) || (j.spec && j.spec.family) || j.family || '',
+        family: c.family || (c.pattern && c.pattern.family) || specFamily,
         cost: num(c.cost_spp) ?? num(c.cost) ?? num(c.pattern && c.pattern.cost_spp),
       };
   }

@@ -69,7 +69,11 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
       t.textContent = p.title || `${s.label}: ${p.x}, ${p.y}`;
       if (p.href) holder.setAttribute('aria-label', t.textContent);
       marker(holder, shape, X(p.x), Y(p.y), 6, { fill: p.hollow ? 'white' : colour, stroke: colour, 'stroke-width': 1.5, class: 'point-marker' });
-      if (labels) text(svg, X(p.x) + 9, Y(p.y) + 4, s.label, { class: 'point-label' });
+      if (labels) {
+        // Labels of points in the right quarter go to their left, so they stay inside the frame.
+        const left = X(p.x) > m.l + 0.75 * (width - m.l - m.r);
+        text(svg, X(p.x) + (left ? -9 : 9), Y(p.y) + 4, s.label, { class: 'point-label', 'text-anchor': left ? 'end' : 'start' });
+      }
     }
   });
   return svg;

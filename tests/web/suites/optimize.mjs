@@ -35,8 +35,31 @@ export default async function optimizeSuite({ page, base, api, step, shot }) {
     assert(await page.$('#jd-trace canvas'), 'no trace chart canvas');
     const e2Text = await page.textContent('#jd-e2');
     const last = job.trace[job.trace.length - 1].best_e2;
-    assert(/^\d\.\d{6}$/.test(e2Text), `best E2 shown "${e2Text}"`);
-    console.log(`#   optimize job ${id}: states seen ${seen.join(' → ')}, best E2 shown ${e2Text}, last trace point ${last}`);
+    console.log(`#   optimize job ${id}: states seen ${seen.join(' → ')}, best E2 shown ${e2Text}, result e2 ${job.result && job.result.e2}, last trace point ${last}`);
+    assert(job.result && typeof job.result.e2 === 'number', 'the finished job has no result e2');
+    assert(e2Text === job.result.e2.toFixed(6), `best E2 shown ${e2Text}, the job's result says ${job.result.e2}`);
+    assert(Math.abs(last - job.result.e2) < 1e-12, `last trace point ${last} is not the result e2 ${job.result.e2}`);
+    const dots = await page.$$eval('#jd-pattern g.dot-primary', (g) => g.length);
+    assert(dots === job.result.best.mirrored.length, `best pattern drawn with ${dots} samples, result has ${job.result.best.mirrored.length}`);
     await shot('jobs');
+  });
+
+  await step('the optimized pattern appears in Families and opens in Evaluate with its E2', async () => {
+    const job = await api('GET', `/v1/jobs/${id}`);
+    await page.goto(`${base}/#/families`);
+    await page.waitForFunction(() => /\d+ points/.test(document.getElementById('fam-status').textContent), null, { timeout: 30000 });
+    const link = page.locator(`#fam-plot a.point-link[href$="job=${id}"]`);
+    assert((await link.count()) === 1, `no point for job ${id} in Families`);
+    await link.focus();
+    await page.keyboard.press('Enter');
+    await page.waitForFunction((e2) => Math.abs(Number(document.getElementById('ev-e2').dataset.e2) - e2) < 1e-9, job.result.e2, { timeout: 10000 });
+    await shot('families-with-job');
+  });
+
+  await step('the JSON export is the pattern shown (its E2 is the job\'s best)', async () => {
+    const job = await api('GET', `/v1/jobs/${id}`);
+    const exported = await api('GET', `/v1/patterns/${id}/export?format=json`);
+    const ev = await api('POST', '/v1/evaluate', { pattern: exported.pattern || exported });
+    assert(Math.abs(ev.e2 - job.result.e2) < 1e-9, `exported pattern has E2 ${ev.e2}, the job's best is ${job.result.e2} (GET /v1/jobs/${id} best.e2 ${job.best && job.best.e2}): the export is not the best pattern`);
   });
 }

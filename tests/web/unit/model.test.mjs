@@ -167,3 +167,16 @@ test('published E2 as a number (API) or an object by source (data file)', async 
   assert.equal(normPreset({ name: 'b', published_e2: { 'laine-aila-table-2': 0.439 } }).published, 0.439);
   assert.equal(normPreset({ name: 'c', published_e2: null }).published, null);
 });
+
+test('a finished optimize job: the result best wins over a stale best-so-far', () => {
+  const j = normJob({
+    id: 1, kind: 'optimize', state: 'done', progress: 1,
+    best: { pattern: { family: 'P(4,1+,2)', form: 'mirrored', mirrored: [[0.5, -0.5, 1]] }, e2: 0.94 },
+    result: { best: { family: 'P(4,1+,2)', cost_spp: 2, form: 'mirrored', mirrored: [[0.5, 0.5, 1]] }, e2: 0.538, family: 'P(4,1+,2)' },
+    trace: [{ seconds: 0.001, best_e2: 0.94 }, { seconds: 0.04, best_e2: 0.538 }],
+  });
+  assert.equal(j.bestE2, 0.538);
+  assert.deepEqual(j.best.pattern, { mirrored: [[0.5, 0.5, 1]] });
+  assert.equal(j.best.cost, 2);
+  assert.equal(j.family, 'P(4,1+,2)');
+});

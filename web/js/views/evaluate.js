@@ -75,6 +75,7 @@ export async function init(context) {
 export async function show(params) {
   if (params.preset) await usePreset(params.preset);
   else if (params.job) await useJob(params.job);
+  else if (state.pattern && $('ev-status').classList.contains('error-text')) requestEvaluation();
   else if (!state.pattern) {
     const presets = await loadPresets();
     const first = presets.find((p) => p.name === 'quincunx') || presets[0];

@@ -59,8 +59,7 @@ async function doLoad() {
   const jobs = await loadFinishedWithBest({ exclude: NOT_OPTIMIZER_KINDS }).catch(() => []);
   const items = [
     ...presets.map((p) => ({ key: `preset:${p.name}`, label: p.name, pattern: { preset: p.name }, href: `#/evaluate?preset=${encodeURIComponent(p.name)}`, preset: p, hollow: false })),
-    ...jobs.map((j) => ({ key: `job:${j.id}`, label: `job #${j.id}`, pattern: { job: j.id }, // the API resolves a job to its best pattern
-      href: `#/evaluate?job=${encodeURIComponent(j.id)}`, hollow: true })),
+    ...jobs.map((j) => ({ key: `job:${j.id}`, label: `job #${j.id}`, pattern: j.best.pattern, href: `#/evaluate?job=${encodeURIComponent(j.id)}`, hollow: true })),
   ];
   const evals = await mapLimited(items, 3, (it) => evaluateOnce(it.key, it.pattern));
   const failed = evals.filter((e) => e && e.error).length;

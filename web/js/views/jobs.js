@@ -194,19 +194,31 @@ function drawTrace(j) {
   chart = new uPlot(
     {
       ...chartSize(),
-      scales: { x: { time: false, distr: 3 }, y: { distr: 3 } },
+      // Log scales fitted to the data (uPlot's default snaps to whole decades, which squeezes a
+      // curve that spans 0.5..0.6 into a corner).
+      scales: {
+        x: { time: false, distr: 3, range: (u, lo, hi) => logRange(lo, hi, 1.5) },
+        y: { distr: 3, range: (u, lo, hi) => logRange(lo, hi, 1.08) },
+      },
       axes: [
         { label: 'seconds', values: (u, v) => v.map((x) => (x == null ? '' : String(+x.toPrecision(3)))) },
         { label: 'best E2', size: 60, values: (u, v) => v.map((x) => (x == null ? '' : String(+x.toPrecision(3)))) },
       ],
       series: [
         { label: 's', value: (u, v) => (v == null ? '—' : v.toPrecision(3)) },
-        { label: 'best E2', stroke: '#1f5fbf', width: 2, points: { show: true, size: 5 }, value: (u, v) => (v == null ? '—' : v.toFixed(5)) },
+        // Best-so-far is constant between improvements: a step after each point.
+        { label: 'best E2', stroke: '#1f5fbf', width: 2, paths: uPlot.paths.stepped({ align: 1 }), points: { show: true, size: 5 }, value: (u, v) => (v == null ? '—' : v.toFixed(5)) },
       ],
     },
     data,
     $('jd-trace'),
   );
+}
+
+function logRange(lo, hi, pad) {
+  if (!(lo > 0) || !(hi > 0)) return [1e-3, 1];
+  if (hi / lo < 1.0001) return [lo / pad / 1.05, hi * pad * 1.05];
+  return [lo / pad, hi * pad];
 }
 
 async function exportPattern(id, format) {

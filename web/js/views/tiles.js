@@ -70,7 +70,7 @@ async function fillPatterns() {
     opts.push(new Option(`${p.name} (${p.family})`, `preset:${p.name}`));
   }
   for (const j of jobs) {
-    patterns.set(`job:${j.id}`, { job: j.id }); // the API resolves {"job": id} to its best pattern
+    patterns.set(`job:${j.id}`, j.best.pattern); // the finished job's result pattern
     opts.push(new Option(`job #${j.id} best (${j.family || j.kind})`, `job:${j.id}`));
   }
   $('tile-pattern').replaceChildren(...opts);
@@ -83,7 +83,7 @@ async function fillPatterns() {
       input.type = 'checkbox';
       input.value = key;
       input.checked = checked.size ? checked.has(key) : CMP_DEFAULT.has(key.replace(/^preset:/, ''));
-      label.append(input, ` ${key.replace(/^preset:/, '')}`);
+      label.append(input, ` ${key.replace(/^preset:/, '').replace(/^job:/, 'job #')}`);
       return label;
     }),
   );
@@ -218,7 +218,7 @@ async function pollComparison(id, keys) {
 
 function showComparison(rows, keys) {
   rows.forEach((r, i) => {
-    if (/^#\d+$/.test(r.label) && keys[i]) r.label = keys[i].replace(/^preset:/, '');
+    if (/^#\d+$/.test(r.label) && keys[i]) r.label = keys[i].replace(/^preset:/, '').replace(/^job:/, 'job #');
   });
   drawScatter($('cmp-plot'), {
     series: rows.map((r) => ({ label: r.label, points: [{ x: r.seconds, y: r.rmse, title: `${r.label}: RMSE ${fmt(r.rmse, 3)} in ${fmtSeconds(r.seconds)}` }] })),
