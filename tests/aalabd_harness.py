@@ -2,8 +2,10 @@
 directory, and speak HTTP/1.1 to it over the Unix socket or TCP loopback with raw sockets (so that
 malformed, oversized and half-sent requests can be expressed). Standard library only."""
 
+import atexit
 import json
 import os
+import shutil
 import signal
 import socket
 import subprocess
@@ -83,7 +85,12 @@ class Daemon:
     def __init__(self, binary, workers=2, tcp=True, web_dir=None, state_dir=None, extra_args=(),
                  root=None):
         self.binary = binary
-        self.root = root or tempfile.mkdtemp(prefix="aalab-test-")
+        if root is None:
+            root = tempfile.mkdtemp(prefix="aalab-test-")
+            # Removed when the test script ends (AALAB_KEEP_TEST_DIRS=1 keeps it for debugging).
+            if not os.environ.get("AALAB_KEEP_TEST_DIRS"):
+                atexit.register(shutil.rmtree, root, True)
+        self.root = root
         self.socket_path = os.path.join(self.root, "aalabd.sock")
         self.state_dir = state_dir or os.path.join(self.root, "state")
         os.makedirs(self.state_dir, exist_ok=True)
