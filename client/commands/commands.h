@@ -39,6 +39,10 @@ int angles_argument(const char *arg, json_t **angles, char *err, size_t errcap);
 
 /* After POST /v1/jobs (resp stolen): prints the id, or follows the job with --wait. */
 int job_submitted(cli_session *s, json_t *resp);
+/* Builds a job spec with build(), POSTs it to /v1/jobs and reports it (waits with --wait);
+ * name is the command for messages. */
+typedef int (*job_request_builder)(const cli_args *a, json_t **req, char *err, size_t errcap);
+int job_submit_built(cli_session *s, const char *name, job_request_builder build);
 /* Polls GET /v1/jobs/ID until it ends; exit 0 if done, 5 if failed/cancelled/interrupted. */
 int job_wait(cli_session *s, const char *id);
 

@@ -108,3 +108,18 @@ int job_submitted(cli_session *s, json_t *resp)
     json_decref(resp);
     return EXIT_OK;
 }
+
+int job_submit_built(cli_session *s, const char *name, job_request_builder build)
+{
+    json_t *req, *resp;
+    char err[512];
+    if (build(s->args, &req, err, sizeof err)) {
+        fprintf(s->err, "aalab %s: %s\n", name, err);
+        return EXIT_USAGE;
+    }
+    int code = cli_call(s, "POST", "/v1/jobs", req, &resp);
+    json_decref(req);
+    if (code != EXIT_OK)
+        return code;
+    return job_submitted(s, resp);
+}

@@ -39,15 +39,5 @@ int submit_request(const cli_args *a, json_t **req, char *err, size_t errcap)
 
 int cmd_submit(cli_session *s)
 {
-    json_t *req, *resp;
-    char err[512];
-    if (submit_request(s->args, &req, err, sizeof err)) {
-        fprintf(s->err, "aalab submit: %s\n", err);
-        return EXIT_USAGE;
-    }
-    int code = cli_call(s, "POST", "/v1/jobs", req, &resp);
-    json_decref(req);
-    if (code != EXIT_OK)
-        return code;
-    return job_submitted(s, resp);
+    return job_submit_built(s, "submit", submit_request);
 }
