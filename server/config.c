@@ -58,6 +58,8 @@ void config_defaults(aalab_config *cfg)
     cfg->connection_memory = 64u << 10;
     cfg->eval_cache = 1024;
     cfg->tile_bytes = 256u << 20;
+    cfg->render_max_pixels = 512 * 512;
+    cfg->render_seconds = 20.0;
 }
 
 void config_usage(FILE *out)
@@ -76,6 +78,8 @@ void config_usage(FILE *out)
             "  --max-body BYTES     request body limit (default 8388608)\n"
             "  --connection-limit N, --connection-timeout S (idle), --request-timeout S (whole\n"
             "  request, against slow clients), --eval-cache N, --tile-bytes B\n"
+            "  --render-max-pixels N, --render-seconds S  limits of POST /v1/render (default\n"
+            "  262144 pixels, 20 s; larger renders go to a compare job)\n"
             "  --help, --version\n");
 }
 
@@ -85,6 +89,17 @@ static int parse_long(const char *s, long lo, long hi, long *out)
     errno = 0;
     long v = strtol(s, &end, 10);
     if (errno || end == s || *end || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_seconds(const char *s, double lo, double hi, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || end == s || *end || !(v >= lo && v <= hi))
         return -1;
     *out = v;
     return 0;
@@ -126,11 +141,15 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
         } else if (i + 1 < argc) {
             v = argv[i + 1];
         }
-        static const char *const known[] = {
-            "--socket",          "--tcp",        "--state-dir",        "--web-dir",
-            "--socket-group",    "--workers",    "--http-threads",     "--queue-size",
-            "--user-quota",      "--max-body",   "--connection-limit", "--connection-timeout",
-            "--request-timeout", "--eval-cache", "--tile-bytes",       NULL};
+        static const char *const known[] = {"--socket",           "--tcp",
+                                            "--state-dir",        "--web-dir",
+                                            "--socket-group",     "--workers",
+                                            "--http-threads",     "--queue-size",
+                                            "--user-quota",       "--max-body",
+                                            "--connection-limit", "--connection-timeout",
+                                            "--request-timeout",  "--eval-cache",
+                                            "--tile-bytes",       "--render-max-pixels",
+                                            "--render-seconds",   NULL};
         bool is_known = false;
         for (size_t k = 0; known[k] && !is_known; k++)
             is_known = !strcmp(a, known[k]);
@@ -178,6 +197,10 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
             cfg->eval_cache = (size_t)n;
         else if (!strcmp(a, "--tile-bytes") && !(bad = parse_long(v, 1, 1L << 40, &n)))
             cfg->tile_bytes = (size_t)n;
+        else if (!strcmp(a, "--render-max-pixels") && !(bad = parse_long(v, 1, 1L << 24, &n)))
+            cfg->render_max_pixels = n;
+        else if (!strcmp(a, "--render-seconds"))
+            bad = parse_seconds(v, 0.001, 86400.0, &cfg->render_seconds);
         else if (!bad) {
             fprintf(err, "aalabd: unknown option %s (see --help)\n", a);
             return -1;

@@ -25,6 +25,8 @@ typedef struct aalab_config {
     size_t connection_memory; /* per-connection memory (headers and buffers) */
     size_t eval_cache;        /* entries of the evaluate cache, 0 = off */
     size_t tile_bytes;        /* tile store budget */
+    long render_max_pixels;   /* largest tile POST /v1/render draws (larger: a compare job) */
+    double render_seconds;    /* wall-time budget of one POST /v1/render reference */
 } aalab_config;
 
 /* Embedded defaults: socket under $RUNTIME_DIRECTORY / $XDG_RUNTIME_DIR (or /run/aalab as root),

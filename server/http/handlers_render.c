@@ -78,10 +78,11 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
         reply_engine_error(resp, &err);
         goto done;
     }
-    if ((long long)rp.scene.width * rp.scene.height > RENDER_MAX_PIXELS) {
+    const aalab_config *cfg = api_context_config(ctx);
+    if ((long long)rp.scene.width * rp.scene.height > cfg->render_max_pixels) {
         api_reply_error(resp, 400, "out_of_range", "scene.width",
-                        "at most %d pixels per tile here; use a compare job for larger renders",
-                        RENDER_MAX_PIXELS);
+                        "at most %ld pixels per tile here; use a compare job for larger renders",
+                        cfg->render_max_pixels);
         goto done;
     }
     json_t *pj = json_object_get(root, "pattern");
@@ -112,14 +113,14 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
     }
     rp.reference = ref.params;
     rp.acuity = &acuity;
-    double deadline = aa_seconds_now() + RENDER_TIME_BUDGET_SECONDS;
+    double deadline = aa_seconds_now() + cfg->render_seconds;
     rp.reference.progress = over_budget;
     rp.reference.user = &deadline;
     rc = aa_render_tile(&rp, &pattern, &result, &err);
     if (rc == AA_ECANCELED) {
         api_reply_error(resp, 422, "out_of_range", "reference.spp",
-                        "the reference exceeded %.0f s; lower spp or submit a compare job",
-                        RENDER_TIME_BUDGET_SECONDS);
+                        "the reference exceeded %g s; lower spp or submit a compare job",
+                        cfg->render_seconds);
         goto done;
     }
     if (rc) {

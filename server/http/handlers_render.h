@@ -6,9 +6,9 @@
 
 #include "api.h"
 
-/* Limits of the synchronous endpoint; larger renders belong in a job ("compare"). */
-#define RENDER_MAX_PIXELS (512 * 512)
-#define RENDER_TIME_BUDGET_SECONDS 20.0
+/* Limits of the synchronous endpoint (tile size and reference wall time are in the daemon's
+ * configuration: --render-max-pixels, --render-seconds); larger renders belong in a job
+ * ("compare"). */
 #define RENDER_MAX_KERNEL_WORK (1L << 26) /* pixels x samples of the largest kernel */
 
 void handle_render(api_context *ctx, const api_request *req, api_response *resp);

@@ -1,8 +1,8 @@
 /* The daemon context used by fuzz_request_handler: api_context_create() on embedded defaults
  * with a fresh temporary state directory and web directory, no listeners. Jobs are accepted
  * into a small queue; a single worker runs them (sleep jobs are cheap, optimisations are
- * bounded by their own max_seconds). Created once per fuzzing process; destroyed, and its
- * directory removed, at exit. */
+ * bounded by their own max_seconds); synchronous renders are limited to tiny tiles. Created once
+ * per fuzzing process; destroyed, and its directory removed, at exit. */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
@@ -58,6 +58,12 @@ api_context *fuzz_context_open(void)
     cfg.queue_size = 8;
     cfg.user_quota = 8;
     cfg.tile_bytes = 16u << 20;
+    /* POST /v1/render runs synchronously in api_handle(): at the daemon's limits one render
+     * takes seconds under ASan and starves the fuzzer (7 exec/s). Tiny tiles and a short
+     * reference budget keep every render path (decode, render, budget exceeded, PNG, store)
+     * reachable at a per-input cost of milliseconds. */
+    cfg.render_max_pixels = 64;
+    cfg.render_seconds = 0.02;
     char web[4200];
     snprintf(web, sizeof web, "%s/web", root);
     if (mkdir(web, 0700) != 0)

@@ -27,6 +27,8 @@ static void test_defaults(void **state)
     assert_true(c.workers >= 1);
     assert_int_equal(c.tcp_port, 0);
     assert_true(c.max_body >= 1024 && c.queue_size > 0 && c.user_quota > 0);
+    assert_int_equal(c.render_max_pixels, 512 * 512);
+    assert_true(c.render_seconds == 20.0);
     char *argv[] = {"aalabd"};
     assert_int_equal(parse(&c, 1, argv), 0);
 }
@@ -36,10 +38,27 @@ static void test_flags(void **state)
     (void)state;
     aalab_config c;
     config_defaults(&c);
-    char *argv[] = {"aalabd",       "--socket",   "/tmp/x.sock",  "--tcp",     "127.0.0.1:99",
-                    "--state-dir",  "/tmp/st",    "--workers=3",  "--web-dir", "/tmp/web",
-                    "--queue-size", "7",          "--user-quota", "2",         "--socket-group",
-                    "aalab",        "--max-body", "4096"};
+    char *argv[] = {"aalabd",
+                    "--socket",
+                    "/tmp/x.sock",
+                    "--tcp",
+                    "127.0.0.1:99",
+                    "--state-dir",
+                    "/tmp/st",
+                    "--workers=3",
+                    "--web-dir",
+                    "/tmp/web",
+                    "--queue-size",
+                    "7",
+                    "--user-quota",
+                    "2",
+                    "--socket-group",
+                    "aalab",
+                    "--max-body",
+                    "4096",
+                    "--render-max-pixels=4096",
+                    "--render-seconds",
+                    "0.5"};
     assert_int_equal(parse(&c, (int)(sizeof argv / sizeof argv[0]), argv), 0);
     assert_string_equal(c.socket_path, "/tmp/x.sock");
     assert_string_equal(c.tcp_host, "127.0.0.1");
@@ -51,14 +70,19 @@ static void test_flags(void **state)
     assert_int_equal(c.user_quota, 2);
     assert_string_equal(c.socket_group, "aalab");
     assert_int_equal(c.max_body, 4096);
+    assert_int_equal(c.render_max_pixels, 4096);
+    assert_true(c.render_seconds == 0.5);
 }
 
 static void test_bad_flags(void **state)
 {
     (void)state;
-    char *cases[][2] = {{"--workers", "0"},     {"--workers", "x"}, {"--tcp", "nocolon"},
-                        {"--tcp", "h:70000"},   {"--bogus", "1"},   {"--max-body", "10"},
-                        {"--queue-size", "-1"}, {"--tcp", ":80"}};
+    char *cases[][2] = {
+        {"--workers", "0"},          {"--workers", "x"},        {"--tcp", "nocolon"},
+        {"--tcp", "h:70000"},        {"--bogus", "1"},          {"--max-body", "10"},
+        {"--queue-size", "-1"},      {"--tcp", ":80"},          {"--render-max-pixels", "0"},
+        {"--render-seconds", "nan"}, {"--render-seconds", "0"}, {"--render-seconds", "1e9"},
+        {"--render-seconds", "2s"}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         aalab_config c;
         config_defaults(&c);
