@@ -76,10 +76,15 @@ void config_usage(FILE *out)
             "  --user-quota N       queued+running jobs per user (default 16)\n"
             "  --socket-group NAME  group owning the socket (mode 0660)\n"
             "  --max-body BYTES     request body limit (default 8388608)\n"
-            "  --connection-limit N, --connection-timeout S (idle), --request-timeout S (whole\n"
-            "  request, against slow clients), --eval-cache N, --tile-bytes B\n"
-            "  --render-max-pixels N, --render-seconds S  limits of POST /v1/render (default\n"
-            "  262144 pixels, 20 s; larger renders go to a compare job)\n"
+            "  --connection-limit N  open connections per listener (default 256)\n"
+            "  --connection-timeout S  idle connection timeout (default 30)\n"
+            "  --request-timeout S  time to deliver one whole request, against slow clients\n"
+            "                       (default 10)\n"
+            "  --eval-cache N       cached evaluate answers, 0 = off (default 1024)\n"
+            "  --tile-bytes B       tile store budget (default 268435456)\n"
+            "  --render-max-pixels N  largest POST /v1/render tile (default 262144; larger\n"
+            "                       renders go to a compare job)\n"
+            "  --render-seconds S   reference time budget of POST /v1/render (default 20)\n"
             "  --help, --version\n");
 }
 
