@@ -32,7 +32,7 @@ typedef struct api_response {
     const char *content_type; /* static string */
     char *body;               /* malloc'd, owned by the response */
     size_t body_len;
-    int retry_after; /* seconds, > 0 adds Retry-After */
+    int retry_after;           /* seconds, > 0 adds Retry-After */
     const char *cache_control; /* static string or NULL */
 } api_response;
 
@@ -41,6 +41,8 @@ void api_response_free(api_response *resp);
 
 /* Handler helpers. api_reply_json steals body. */
 void api_reply_json(api_response *resp, int status, json_t *body);
+/* A JSON body already encoded (a cached answer); takes ownership of the malloc'd body. */
+void api_reply_owned(api_response *resp, int status, char *body, size_t body_len);
 void api_reply_error(api_response *resp, int status, const char *code, const char *field,
                      const char *fmt, ...) __attribute__((format(printf, 5, 6)));
 

@@ -16,6 +16,15 @@ void api_response_free(api_response *resp)
     resp->body_len = 0;
 }
 
+void api_reply_owned(api_response *resp, int status, char *body, size_t body_len)
+{
+    free(resp->body);
+    resp->status = status;
+    resp->content_type = "application/json";
+    resp->body = body;
+    resp->body_len = body_len;
+}
+
 void api_reply_json(api_response *resp, int status, json_t *body)
 {
     free(resp->body);

@@ -6,7 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define EVAL_CACHE_MAX_KEY (64u << 10) /* larger requests are not cached */
+#define EVAL_CACHE_MAX_KEY (64u << 10)   /* larger requests are not cached */
+#define EVAL_CACHE_MAX_BYTES (64u << 20) /* keys + values held at most */
+#define EVAL_CACHE_MAX_VALUE (8u << 20)  /* larger answers are not cached */
 
 typedef struct entry {
     uint64_t hash;
@@ -18,7 +20,7 @@ typedef struct entry {
 
 struct eval_cache {
     pthread_mutex_t lock;
-    size_t capacity, count, nbuckets;
+    size_t capacity, count, nbuckets, bytes;
     entry **buckets;
     entry *head, *tail;
     unsigned long long hits, misses;
@@ -139,7 +141,7 @@ static void bucket_remove(eval_cache *c, entry *e)
 
 void eval_cache_put(eval_cache *c, const char *key, size_t key_len, const char *val, size_t val_len)
 {
-    if (!c || key_len > EVAL_CACHE_MAX_KEY)
+    if (!c || key_len > EVAL_CACHE_MAX_KEY || val_len > EVAL_CACHE_MAX_VALUE)
         return;
     uint64_t h = fnv1a(key, key_len);
     entry *e = calloc(1, sizeof *e);
@@ -167,11 +169,13 @@ void eval_cache_put(eval_cache *c, const char *key, size_t key_len, const char *
         free(e);
         return;
     }
-    if (c->count == c->capacity) {
+    while (c->tail &&
+           (c->count == c->capacity || c->bytes + key_len + val_len > EVAL_CACHE_MAX_BYTES)) {
         entry *victim = c->tail;
         lru_unlink(c, victim);
         bucket_remove(c, victim);
         c->count--;
+        c->bytes -= victim->key_len + victim->val_len;
         free(victim->key);
         free(victim->val);
         free(victim);
@@ -180,6 +184,7 @@ void eval_cache_put(eval_cache *c, const char *key, size_t key_len, const char *
     c->buckets[h % c->nbuckets] = e;
     lru_push_front(c, e);
     c->count++;
+    c->bytes += key_len + val_len;
     pthread_mutex_unlock(&c->lock);
 }
 
@@ -191,6 +196,7 @@ void eval_cache_stats_get(eval_cache *c, eval_cache_stats *out)
     pthread_mutex_lock(&c->lock);
     out->entries = c->count;
     out->capacity = c->capacity;
+    out->bytes = c->bytes;
     out->hits = c->hits;
     out->misses = c->misses;
     pthread_mutex_unlock(&c->lock);

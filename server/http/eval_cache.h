@@ -1,5 +1,7 @@
-/* An LRU cache of identical POST /v1/evaluate requests: key = the exact request body bytes,
- * value = the exact response body. Thread-safe (one mutex; lookups are a hash and a memcmp). */
+/* An LRU cache of deterministic answers: POST /v1/evaluate (key = the exact request body
+ * bytes) and POST /v1/families/enumerate (key = "enumerate P(4,1+,n) <cost>"); value = the exact
+ * response body. Bounded by entries (--eval-cache) and by 64 MiB of keys and values; answers
+ * over 8 MiB are not kept. Thread-safe (one mutex; lookups are a hash and a memcmp). */
 #ifndef AALAB_EVAL_CACHE_H
 #define AALAB_EVAL_CACHE_H
 
@@ -16,7 +18,7 @@ void eval_cache_put(eval_cache *c, const char *key, size_t key_len, const char *
                     size_t val_len);
 
 typedef struct eval_cache_stats {
-    size_t entries, capacity;
+    size_t entries, capacity, bytes;
     unsigned long long hits, misses;
 } eval_cache_stats;
 void eval_cache_stats_get(eval_cache *c, eval_cache_stats *out);

@@ -67,10 +67,7 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
     char *hit;
     size_t hit_len;
     if (eval_cache_get(cache, req->body, req->body_len, &hit, &hit_len)) {
-        resp->status = 200;
-        resp->content_type = "application/json";
-        resp->body = hit;
-        resp->body_len = hit_len;
+        api_reply_owned(resp, 200, hit, hit_len);
         return;
     }
     json_t *body = api_parse_body(req, resp);

@@ -17,13 +17,13 @@ void handle_health(api_context *ctx, const api_request *req, api_response *resp)
     for (const job_kind *const *k = job_kinds_all(); *k; k++)
         json_array_append_new(kinds, json_string((*k)->name));
     json_t *o = json_pack(
-        "{s:s,s:s,s:f,s:{s:i,s:i},s:{s:i,s:i,s:i},s:o,s:o,s:{s:I,s:I,s:I,s:I},s:b,s:b}", "status",
-        "ok", "version", AALAB_VERSION, "uptime_seconds", api_context_uptime(ctx), "workers",
-        "count", st.workers, "busy", st.busy, "queue", "length", st.queued, "capacity",
+        "{s:s,s:s,s:f,s:{s:i,s:i},s:{s:i,s:i,s:i},s:o,s:o,s:{s:I,s:I,s:I,s:I,s:I},s:b,s:b}",
+        "status", "ok", "version", AALAB_VERSION, "uptime_seconds", api_context_uptime(ctx),
+        "workers", "count", st.workers, "busy", st.busy, "queue", "length", st.queued, "capacity",
         st.queue_size, "running", st.running, "jobs", by_state, "job_kinds", kinds, "eval_cache",
-        "entries", (json_int_t)cs.entries, "capacity", (json_int_t)cs.capacity, "hits",
-        (json_int_t)cs.hits, "misses", (json_int_t)cs.misses, "render",
-        api_context_tiles(ctx) != NULL, "tcp", req->via_tcp);
+        "entries", (json_int_t)cs.entries, "capacity", (json_int_t)cs.capacity, "bytes",
+        (json_int_t)cs.bytes, "hits", (json_int_t)cs.hits, "misses", (json_int_t)cs.misses,
+        "render", api_context_tiles(ctx) != NULL, "tcp", req->via_tcp);
     api_reply_json(resp, 200, o);
     resp->cache_control = "no-store";
 }

@@ -175,6 +175,32 @@ static void test_limits(void **state)
 }
 
 /* A synchronous evaluate is bounded in kernel samples x angles. */
+/* Enumerations are cached by cost: the second answer is the same bytes, served from the cache. */
+static void test_enumerate_cached(void **state)
+{
+    fixture *f = *state;
+    int st;
+    json_t *a = call(f, "POST", "/v1/families/enumerate", "{\"family\":\"P(4,1+,n)\",\"cost\":2}",
+                     1000, &st);
+    assert_int_equal(st, 200);
+    json_t *b = call(f, "POST", "/v1/families/enumerate", "{\"cost\":2.0,\"family\":\"P(4,1+,2)\"}",
+                     1000, &st);
+    assert_int_equal(st, 200);
+    assert_int_equal(json_integer_value(json_object_get(a, "count")), 38);
+    assert_true(json_equal(a, b));
+    json_t *c = call(f, "POST", "/v1/families/enumerate",
+                     "{\"family\":\"P(4,1+,n)\",\"cost\":1.75}", 1000, &st);
+    assert_int_equal(json_integer_value(json_object_get(c, "count")), 19);
+    json_t *h = call(f, "GET", "/v1/health", NULL, 1000, &st);
+    json_t *cache = json_object_get(h, "eval_cache");
+    assert_int_equal(json_integer_value(json_object_get(cache, "hits")), 1);
+    assert_int_equal(json_integer_value(json_object_get(cache, "entries")), 2);
+    json_decref(a);
+    json_decref(b);
+    json_decref(c);
+    json_decref(h);
+}
+
 static void test_evaluate_work_limit(void **state)
 {
     fixture *f = *state;
@@ -352,6 +378,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_limits, setup, teardown),
         cmocka_unit_test_setup_teardown(test_tcp_access, setup, teardown),
         cmocka_unit_test_setup_teardown(test_evaluate_work_limit, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_enumerate_cached, setup, teardown),
         cmocka_unit_test_setup_teardown(test_jobs_owner_quota_queue, setup, teardown),
         cmocka_unit_test_setup_teardown(test_pattern_refs, setup, teardown),
     };
