@@ -153,6 +153,28 @@ def test_jobs(d):
                  "pattern.kernels[0]")
 
 
+def test_random_stats(d):
+    """L&A Table 3 workflow: random patterns, then Opt W and Opt W+P of the best one."""
+    r = d.post("/v1/jobs", {"kind": "random-stats", "family": "P(1,4,3)", "count": 200,
+                            "distribution": "poisson", "max_seconds": 3, "rng_seed": 7})
+    check(r.status == 202, r)
+    j = d.wait_job(r.json()["id"])
+    check(j["state"] == "done", j)
+    res = j["result"]
+    rnd = res["random"]
+    check(res["count"] == 200 and res["distribution"] == "poisson", res)
+    check(0 < rnd["min"] <= rnd["avg"] <= rnd["max"], rnd)
+    check(res["opt_w"]["e2"] <= rnd["min"] and res["opt_wp"]["e2"] <= rnd["min"], res)
+    # positions add freedom: W+P reaches below the weights-only optimum
+    check(res["opt_wp"]["e2"] < res["opt_w"]["e2"], res)
+    check(res["e2"] == res["opt_wp"]["e2"], res)
+    for key in ("best_random", "best"):
+        e = d.post("/v1/evaluate", {"pattern": res[key]})
+        check(e.status == 200, e)
+    e = d.post("/v1/evaluate", {"pattern": res["best"]}).json()
+    check(abs(e["e2"] - res["e2"]) < 1e-9 and e["family"] == "P(1,4,3)", (e, res["e2"]))
+
+
 def test_enumerate_render(d):
     r = d.post("/v1/families/enumerate", {"family": "P(4,1+,n)", "cost": 1.25})
     check(r.status in (200, 501), r)
@@ -217,6 +239,7 @@ def main():
         test_catalogue(d)
         test_evaluate(d)
         test_jobs(d)
+        test_random_stats(d)
         test_enumerate_render(d)
         test_tcp(d)
         check(d.stop() == 0, "clean exit on SIGTERM")
