@@ -27,6 +27,7 @@
 #include "aa_error.h"
 #include "metric.h"
 #include "pattern.h"
+#include "rng.h"
 
 typedef enum aa_optimize_mode {
     AA_OPTIMIZE_WEIGHTS, /* L&A Table 3 "Opt W" */
@@ -80,6 +81,23 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
                 const aa_optimize_params *params, aa_optimize_progress_fn progress, void *user,
                 aa_pattern *best, aa_optimize_result *result, aa_error *err);
 
+/* Iterated local search from a local optimum of a tile pattern without border samples
+ * (aa_perturbable): up to `rounds` times, jitter every sample by N(0, sigma^2) pixels inside its
+ * pixel, reset the weights to the filter's impulse response, descend with `local`, and keep the
+ * result if E2 is lower; stop after `stall` rounds in a row without improvement or when a round
+ * is cancelled (AA_ECANCELED, *best = the best so far). result sums iterations, evaluations and
+ * seconds over the rounds; initial_e2 is start's. Deterministic for a given rng state. */
+typedef struct aa_perturb_params {
+    long rounds;  /* 0: off */
+    double sigma; /* pixels, default 0.01 */
+    int stall;    /* default 30 */
+} aa_perturb_params;
+bool aa_perturbable(const aa_pattern *p);
+int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metric,
+                          const aa_optimize_params *local, const aa_perturb_params *pp, aa_rng *rng,
+                          aa_optimize_progress_fn progress, void *user, aa_pattern *best,
+                          aa_optimize_result *result, aa_error *err);
+
 /* Multi-start: seed_count local runs from random seeds of a family (or given patterns), spread
  * over worker threads (seed i goes to worker i % workers; each seed draws from its own PCG32
  * stream (rng_seed, i), so the seeds do not depend on the worker count). The best is the lowest
@@ -111,6 +129,10 @@ typedef struct aa_multistart_params {
      * screen_top configurations with the lowest E2 (per_seed then describes the second phase). */
     long screen_iterations;
     size_t screen_top;
+    /* After each seed's descent, iterated local search (aa_optimize_perturbed) on its result
+     * when the pattern allows it; perturb.rounds = 0 (the default) turns it off. Each seed's
+     * rounds draw from their own stream, so the result stays deterministic per seed. */
+    aa_perturb_params perturb;
 } aa_multistart_params;
 
 void aa_multistart_params_default(aa_multistart_params *p);

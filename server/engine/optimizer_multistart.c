@@ -17,6 +17,8 @@ void aa_multistart_params_default(aa_multistart_params *p)
     p->rng_seed = 1;
     p->workers = 1;
     p->max_seconds = 60;
+    p->perturb.sigma = 0.01;
+    p->perturb.stall = 30;
 }
 
 void aa_multistart_result_free(aa_multistart_result *r)
@@ -172,6 +174,26 @@ static void *worker_main(void *arg)
             inner_ctx ic = {w};
             rc = aa_optimize(&seed, sh->metric, &local, inner_progress, &ic, &out, &r, &e);
             aa_pattern_free(&seed);
+            if (rc == AA_OK && p->perturb.rounds > 0 && aa_perturbable(&out)) {
+                /* Stream 2^32 + i: seed i's perturbations, apart from every seed's stream. */
+                aa_rng rng;
+                aa_rng_seed(&rng, p->rng_seed, (UINT64_C(1) << 32) + (uint64_t)i);
+                aa_pattern refined;
+                aa_optimize_result rr;
+                rc = aa_optimize_perturbed(&out, sh->metric, &local, &p->perturb, &rng,
+                                           inner_progress, &ic, &refined, &rr, &e);
+                if (rc != AA_OK && rc != AA_ECANCELED) {
+                    rc = AA_OK; /* the refinement failed: the seed's own optimum stands */
+                } else {
+                    aa_pattern_free(&out);
+                    out = refined;
+                    rr.initial_e2 = r.initial_e2;
+                    rr.iterations += r.iterations;
+                    rr.evaluations += r.evaluations;
+                    rr.seconds += r.seconds;
+                    r = rr;
+                }
+            }
         }
         pthread_mutex_lock(&sh->lock);
         sh->per_seed[i].kind = kind;

@@ -3,7 +3,9 @@
  * "max_seconds":S, "rng_seed":K, "mode":"weights|positions|both", "filter":F?, "acuity":A?,
  * "angles":[...]?, "grid":{"bits":4,"d3d12":false}?, "distributions":["uniform",...]?}.
  * For P(4,1+,n) every placement configuration is screened first (150 steps each, at most a
- * quarter of the budget) and the seeds go to the best min(seeds, 8) configurations.
+ * quarter of the budget) and the seeds go to the best min(seeds, 8) configurations. For tiled
+ * families without border samples (mode both) each seed's optimum is refined by iterated local
+ * search (aa_optimize_perturbed).
  * Also holds the helpers shared with family-sweep and random-stats (kind_optimize_spec.h). */
 #include <math.h>
 #include <stdlib.h>
@@ -280,6 +282,10 @@ static int optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *e
             mp.screen_iterations = 150;
             mp.screen_top = op->seeds < 8 ? op->seeds : 8;
         }
+        /* Tiled families (P(4,4,n), P(16,16,n)) stall at kinks after a few seconds per seed:
+         * refine each seed's optimum by iterated local search until 30 rounds bring nothing. */
+        if (op->family.tile > 1 && !op->family.border && op->common.mode == AA_OPTIMIZE_BOTH)
+            mp.perturb.rounds = 1000000;
         mp.kinds = op->kind_count ? op->kinds : NULL;
         mp.kind_count = op->kind_count;
     } else {

@@ -190,6 +190,89 @@ static void tile_sites_and_pixels_are_preserved(void **state)
     }
 }
 
+/* Iterated local search: never worse than its start, same family and per-pixel structure,
+ * deterministic for a given rng state, refused where samples sit on borders. */
+static void perturbed_search_keeps_structure_and_is_deterministic(void **state)
+{
+    (void)state;
+    aa_pattern seed, local, a, b;
+    seed_of("P(4,4,2)", 5, &seed);
+    aa_optimize_params op;
+    aa_optimize_params_default(&op);
+    op.max_iterations = 300;
+    op.max_seconds = 0;
+    aa_optimize_result r, ra, rb;
+    assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &local, &r, NULL), AA_OK);
+    assert_true(aa_perturbable(&local));
+    aa_perturb_params pp = {8, 0.02, 30};
+    aa_rng rng;
+    aa_rng_seed(&rng, 9, 1);
+    assert_int_equal(
+        aa_optimize_perturbed(&local, &metric, &op, &pp, &rng, NULL, NULL, &a, &ra, NULL), AA_OK);
+    aa_rng_seed(&rng, 9, 1);
+    assert_int_equal(
+        aa_optimize_perturbed(&local, &metric, &op, &pp, &rng, NULL, NULL, &b, &rb, NULL), AA_OK);
+    assert_true(ra.e2 <= r.e2);
+    assert_true(fabs(ra.initial_e2 - r.e2) < 1e-12);
+    assert_true(ra.e2 == rb.e2);
+    assert_true(ra.iterations > 0);
+    assert_int_equal(a.tile_count, local.tile_count);
+    assert_memory_equal(a.tile_samples, b.tile_samples, a.tile_count * sizeof *a.tile_samples);
+    assert_string_equal(a.family, local.family);
+    /* every pixel of the 2x2 tile keeps its number of samples */
+    int per_pixel[4] = {0}, before[4] = {0};
+    for (size_t t = 0; t < a.tile_count; t++) {
+        per_pixel[(int)floor(a.tile_samples[t].y) * 2 + (int)floor(a.tile_samples[t].x)]++;
+        before[(int)floor(local.tile_samples[t].y) * 2 + (int)floor(local.tile_samples[t].x)]++;
+    }
+    for (int px = 0; px < 4; px++)
+        assert_int_equal(per_pixel[px], before[px]);
+    aa_evaluation ev;
+    assert_int_equal(aa_evaluate(&a, &metric, &ev, NULL), AA_OK);
+    assert_true(fabs(ev.e2 - ra.e2) < 1e-12);
+    aa_evaluation_free(&ev);
+
+    aa_pattern border, out;
+    seed_of("P(1,1+,3)", 5, &border);
+    assert_false(aa_perturbable(&border));
+    aa_error err = {0};
+    assert_int_equal(
+        aa_optimize_perturbed(&border, &metric, &op, &pp, &rng, NULL, NULL, &out, &ra, &err),
+        AA_EINVAL);
+    aa_pattern_free(&border);
+    aa_pattern_free(&seed);
+    aa_pattern_free(&local);
+    aa_pattern_free(&a);
+    aa_pattern_free(&b);
+}
+
+/* Multi-start with the refinement on: the same result for 1 and 2 workers. */
+static void perturbed_multistart_is_deterministic(void **state)
+{
+    (void)state;
+    aa_family fam;
+    assert_int_equal(aa_family_parse("P(4,4,1)", &fam, NULL), AA_OK);
+    double e2[2];
+    for (int w = 1; w <= 2; w++) {
+        aa_multistart_params mp;
+        aa_multistart_params_default(&mp);
+        mp.family = &fam;
+        mp.seed_count = 4;
+        mp.workers = w;
+        mp.rng_seed = 3;
+        mp.max_seconds = 0;
+        mp.local.max_iterations = 100;
+        mp.perturb.rounds = 4;
+        aa_pattern best;
+        aa_multistart_result r;
+        assert_int_equal(aa_multistart(&mp, &metric, NULL, NULL, &best, &r, NULL), AA_OK);
+        e2[w - 1] = r.e2;
+        aa_pattern_free(&best);
+        aa_multistart_result_free(&r);
+    }
+    assert_true(e2[0] == e2[1]);
+}
+
 static void run_multistart(int workers, aa_pattern *best, aa_multistart_result *r)
 {
     aa_family fam;
@@ -354,6 +437,8 @@ int main(void)
         cmocka_unit_test(mirrored_sites_are_preserved),
         cmocka_unit_test(tile_sites_and_pixels_are_preserved),
         cmocka_unit_test(multistart_is_deterministic),
+        cmocka_unit_test(perturbed_search_keeps_structure_and_is_deterministic),
+        cmocka_unit_test(perturbed_multistart_is_deterministic),
         cmocka_unit_test(cancel_stops_within_100ms),
         cmocka_unit_test(trace_is_monotone),
         cmocka_unit_test(grid_snapping_reports_quantisation),

@@ -1,0 +1,103 @@
+/* Iterated local search for tile patterns (optimizer.h, aa_optimize_perturbed). The L&A
+ * descent stops at kinks of the max long before a good optimum of the large families (P(16,16,4)
+ * from a Poisson seed: 0.199 after ~4 s, then no accepted step). Jittering the positions of the
+ * local optimum by a small fraction of a pixel, resetting the weights to the filter's impulse
+ * response and descending again moves to a neighbouring basin; keeping only improvements, 60 s of
+ * such rounds reach 0.177 where 60 s of fresh seeds stay near 0.19. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "optimizer.h"
+
+/* A standard normal deviate (Box-Muller; u1 in (0, 1]). */
+static double normal_deviate(aa_rng *rng)
+{
+    double u1 = 1.0 - aa_rng_uniform(rng), u2 = aa_rng_uniform(rng);
+    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+}
+
+bool aa_perturbable(const aa_pattern *p)
+{
+    /* Border samples sit on edges and corners; moving them would change the family. */
+    return p->form == AA_FORM_TILE && p->tile_count > 0 && !p->border;
+}
+
+/* The jittered neighbour of p: every sample moved by N(0, sigma^2) in x and y, kept inside its
+ * own pixel (so the per-pixel structure and the cost stay), weights from the filter. */
+static int jittered_neighbour(const aa_pattern *p, double sigma, const aa_filter *filter,
+                              aa_rng *rng, aa_pattern *out, aa_error *err)
+{
+    aa_point *pts = malloc(p->tile_count * sizeof *pts);
+    if (!pts)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    const double margin = 1e-6;
+    for (size_t i = 0; i < p->tile_count; i++) {
+        double x = p->tile_samples[i].x, y = p->tile_samples[i].y;
+        double px = floor(x), py = floor(y);
+        pts[i].x = fmin(fmax(x + sigma * normal_deviate(rng), px + margin), px + 1 - margin);
+        pts[i].y = fmin(fmax(y + sigma * normal_deviate(rng), py + margin), py + 1 - margin);
+    }
+    aa_tile_spec spec = {p->tile, p->kernel_size, p->border, p->tile_count,
+                         pts,     NULL,           NULL,      filter};
+    int rc = aa_pattern_from_tile(out, &spec, 0, err);
+    free(pts);
+    return rc;
+}
+
+int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metric,
+                          const aa_optimize_params *local, const aa_perturb_params *pp, aa_rng *rng,
+                          aa_optimize_progress_fn progress, void *user, aa_pattern *best,
+                          aa_optimize_result *result, aa_error *err)
+{
+    memset(best, 0, sizeof *best);
+    if (!aa_perturbable(start))
+        return aa_error_set(err, AA_EINVAL, "pattern",
+                            "only tile patterns without border samples can be perturbed");
+    if (!(pp->sigma > 0 && pp->sigma < 0.5) || pp->rounds < 0 || pp->stall < 1)
+        return aa_error_set(err, AA_EINVAL, "perturb",
+                            "sigma in (0, 0.5), rounds >= 0, stall >= 1");
+    aa_evaluation ev;
+    int rc = aa_evaluate(start, metric, &ev, err);
+    if (rc)
+        return rc;
+    memset(result, 0, sizeof *result);
+    result->initial_e2 = result->e2 = result->e2_before_snap = ev.e2;
+    result->argmax_kernel = ev.argmax_kernel;
+    result->argmax_angle_deg = ev.argmax_angle_deg;
+    aa_evaluation_free(&ev);
+    if ((rc = aa_pattern_copy(best, start)))
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    int since_better = 0;
+    for (long round = 0; round < pp->rounds && since_better < pp->stall; round++) {
+        aa_pattern trial, out;
+        if ((rc = jittered_neighbour(best, pp->sigma, metric->filter, rng, &trial, err)))
+            break;
+        aa_optimize_result r;
+        rc = aa_optimize(&trial, metric, local, progress, user, &out, &r, err);
+        aa_pattern_free(&trial);
+        if (rc && rc != AA_ECANCELED)
+            break;
+        result->iterations += r.iterations;
+        result->evaluations += r.evaluations;
+        result->seconds += r.seconds;
+        if (out.kernels && r.e2 < result->e2) {
+            aa_pattern_free(best);
+            *best = out;
+            result->e2 = result->e2_before_snap = r.e2;
+            result->argmax_kernel = r.argmax_kernel;
+            result->argmax_angle_deg = r.argmax_angle_deg;
+            since_better = 0;
+        } else {
+            aa_pattern_free(&out);
+            since_better++;
+        }
+        if (rc == AA_ECANCELED)
+            break;
+    }
+    if (rc && rc != AA_ECANCELED) {
+        aa_pattern_free(best);
+        return rc;
+    }
+    return rc;
+}
