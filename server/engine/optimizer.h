@@ -84,13 +84,15 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
 /* Iterated local search from a local optimum of a tile pattern without border samples
  * (aa_perturbable): up to `rounds` times, jitter every sample by N(0, sigma^2) pixels inside its
  * pixel, reset the weights to the filter's impulse response, descend with `local`, and keep the
- * result if E2 is lower; stop after `stall` rounds in a row without improvement or when a round
- * is cancelled (AA_ECANCELED, *best = the best so far). result sums iterations, evaluations and
- * seconds over the rounds; initial_e2 is start's. Deterministic for a given rng state. */
+ * result if E2 is lower; stop after `stall` rounds in a row without improvement, when
+ * max_seconds are spent (AA_OK), or when a round is cancelled (AA_ECANCELED, *best = the best so
+ * far). result sums iterations, evaluations and seconds over the rounds; initial_e2 is start's.
+ * Deterministic for a given rng state. */
 typedef struct aa_perturb_params {
-    long rounds;  /* 0: off */
-    double sigma; /* pixels, default 0.01 */
-    int stall;    /* default 30 */
+    long rounds;        /* 0: off */
+    double sigma;       /* pixels, default 0.01 */
+    int stall;          /* default 30 */
+    double max_seconds; /* the whole search; <= 0: none (each round keeps local's budget) */
 } aa_perturb_params;
 bool aa_perturbable(const aa_pattern *p);
 int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metric,

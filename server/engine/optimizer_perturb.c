@@ -17,6 +17,25 @@ static double normal_deviate(aa_rng *rng)
     return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
 }
 
+/* Forwards each round's progress with the earlier rounds' seconds, iterations and evaluations
+ * added, so that the caller sees one run whose counters only grow. */
+typedef struct chain_progress {
+    aa_optimize_progress_fn fn;
+    void *user;
+    double seconds;
+    long iterations, evaluations;
+} chain_progress;
+
+static int forward_progress(void *user, const aa_optimize_progress *p)
+{
+    const chain_progress *c = user;
+    aa_optimize_progress q = *p;
+    q.seconds += c->seconds;
+    q.iterations += c->iterations;
+    q.evaluations += c->evaluations;
+    return c->fn(c->user, &q);
+}
+
 bool aa_perturbable(const aa_pattern *p)
 {
     /* Border samples sit on edges and corners; moving them would change the family. */
@@ -69,18 +88,33 @@ int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metri
     if ((rc = aa_pattern_copy(best, start)))
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     int since_better = 0;
+    chain_progress chain = {progress, user, 0, 0, 0};
     for (long round = 0; round < pp->rounds && since_better < pp->stall; round++) {
         aa_pattern trial, out;
         if ((rc = jittered_neighbour(best, pp->sigma, metric->filter, rng, &trial, err)))
             break;
+        aa_optimize_params round_params = *local;
+        if (pp->max_seconds > 0) {
+            double left = pp->max_seconds - result->seconds;
+            if (left <= 0) {
+                aa_pattern_free(&trial);
+                break;
+            }
+            if (round_params.max_seconds <= 0 || round_params.max_seconds > left)
+                round_params.max_seconds = left;
+        }
         aa_optimize_result r;
-        rc = aa_optimize(&trial, metric, local, progress, user, &out, &r, err);
+        rc = aa_optimize(&trial, metric, &round_params, progress ? forward_progress : NULL, &chain,
+                         &out, &r, err);
         aa_pattern_free(&trial);
         if (rc && rc != AA_ECANCELED)
             break;
         result->iterations += r.iterations;
         result->evaluations += r.evaluations;
         result->seconds += r.seconds;
+        chain.seconds = result->seconds;
+        chain.iterations = result->iterations;
+        chain.evaluations = result->evaluations;
         if (out.kernels && r.e2 < result->e2) {
             aa_pattern_free(best);
             *best = out;

@@ -69,8 +69,8 @@ static int stats_parse(const json_t *spec, void **params, aa_error *err)
 }
 
 static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric,
-                          aa_optimize_mode mode, double seconds, opt_job_bridge *b, aa_pattern *out,
-                          aa_optimize_result *r, aa_error *err)
+                          aa_optimize_mode mode, double seconds, uint64_t rng_seed,
+                          opt_job_bridge *b, aa_pattern *out, aa_optimize_result *r, aa_error *err)
 {
     aa_optimize_params op;
     aa_optimize_params_default(&op);
@@ -82,6 +82,30 @@ static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric
     b->iterations_before += r->iterations;
     b->evaluations_before += r->evaluations;
     b->seconds_before += r->seconds;
+    if (rc == AA_OK && mode == AA_OPTIMIZE_BOTH && aa_perturbable(out) && r->seconds < seconds) {
+        /* The descent stops at a kink within seconds: spend the rest of the stage's budget on
+         * iterated local search from its optimum (as optimize jobs do for tiled families). */
+        aa_perturb_params pp = {1000000, 0.01, 30, seconds - r->seconds};
+        aa_rng rng;
+        aa_rng_seed(&rng, rng_seed, 1);
+        aa_pattern refined;
+        aa_optimize_result rr;
+        int prc = aa_optimize_perturbed(out, metric, &op, &pp, &rng, opt_job_progress, b, &refined,
+                                        &rr, err);
+        if (prc == AA_OK || prc == AA_ECANCELED) {
+            b->iterations_before += rr.iterations;
+            b->evaluations_before += rr.evaluations;
+            b->seconds_before += rr.seconds;
+            aa_pattern_free(out);
+            *out = refined;
+            rr.initial_e2 = r->initial_e2;
+            rr.iterations += r->iterations;
+            rr.evaluations += r->evaluations;
+            rr.seconds += r->seconds;
+            *r = rr;
+            rc = prc; /* AA_ECANCELED: the job was cancelled */
+        }
+    }
     return rc;
 }
 
@@ -130,12 +154,12 @@ static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     b.base = 0.2;
     b.span = 0.4;
     if (!rc)
-        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_WEIGHTS, sp->common.max_seconds / 2, &b,
-                            &optw, &rw, err);
+        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_WEIGHTS, sp->common.max_seconds / 2,
+                            sp->common.rng_seed, &b, &optw, &rw, err);
     b.base = 0.6;
     if (!rc)
-        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_BOTH, sp->common.max_seconds / 2, &b,
-                            &optwp, &rwp, err);
+        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_BOTH, sp->common.max_seconds / 2,
+                            sp->common.rng_seed, &b, &optwp, &rwp, err);
     if (!rc) {
         *result = json_pack("{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:{s:o,s:o},s:{s:o,s:o}}", "family",
                             sp->family.label, "distribution", aa_seed_kind_name(sp->kind), "count",

@@ -204,7 +204,7 @@ static void perturbed_search_keeps_structure_and_is_deterministic(void **state)
     aa_optimize_result r, ra, rb;
     assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &local, &r, NULL), AA_OK);
     assert_true(aa_perturbable(&local));
-    aa_perturb_params pp = {8, 0.02, 30};
+    aa_perturb_params pp = {8, 0.02, 30, 0};
     aa_rng rng;
     aa_rng_seed(&rng, 9, 1);
     assert_int_equal(
