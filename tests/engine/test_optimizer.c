@@ -246,46 +246,43 @@ static void perturbed_search_keeps_structure_and_is_deterministic(void **state)
     aa_pattern_free(&b);
 }
 
+static void run_multistart_of(const char *label, size_t seeds, uint64_t rng_seed, long iterations,
+                              long perturb_rounds, int workers, aa_pattern *best,
+                              aa_multistart_result *r)
+{
+    aa_family fam;
+    assert_int_equal(aa_family_parse(label, &fam, NULL), AA_OK);
+    aa_multistart_params mp;
+    aa_multistart_params_default(&mp);
+    mp.family = &fam;
+    mp.seed_count = seeds;
+    mp.workers = workers;
+    mp.rng_seed = rng_seed;
+    mp.max_seconds = 0;
+    mp.local.max_iterations = iterations;
+    mp.perturb.rounds = perturb_rounds;
+    assert_int_equal(aa_multistart(&mp, &metric, NULL, NULL, best, r, NULL), AA_OK);
+}
+
+static void run_multistart(int workers, aa_pattern *best, aa_multistart_result *r)
+{
+    run_multistart_of("P(4,1+,1.5)", 6, 42, 150, 0, workers, best, r);
+}
+
 /* Multi-start with the refinement on: the same result for 1 and 2 workers. */
 static void perturbed_multistart_is_deterministic(void **state)
 {
     (void)state;
-    aa_family fam;
-    assert_int_equal(aa_family_parse("P(4,4,1)", &fam, NULL), AA_OK);
     double e2[2];
     for (int w = 1; w <= 2; w++) {
-        aa_multistart_params mp;
-        aa_multistart_params_default(&mp);
-        mp.family = &fam;
-        mp.seed_count = 4;
-        mp.workers = w;
-        mp.rng_seed = 3;
-        mp.max_seconds = 0;
-        mp.local.max_iterations = 100;
-        mp.perturb.rounds = 4;
         aa_pattern best;
         aa_multistart_result r;
-        assert_int_equal(aa_multistart(&mp, &metric, NULL, NULL, &best, &r, NULL), AA_OK);
+        run_multistart_of("P(4,4,1)", 4, 3, 100, 4, w, &best, &r);
         e2[w - 1] = r.e2;
         aa_pattern_free(&best);
         aa_multistart_result_free(&r);
     }
     assert_true(e2[0] == e2[1]);
-}
-
-static void run_multistart(int workers, aa_pattern *best, aa_multistart_result *r)
-{
-    aa_family fam;
-    assert_int_equal(aa_family_parse("P(4,1+,1.5)", &fam, NULL), AA_OK);
-    aa_multistart_params mp;
-    aa_multistart_params_default(&mp);
-    mp.family = &fam;
-    mp.seed_count = 6;
-    mp.workers = workers;
-    mp.rng_seed = 42;
-    mp.max_seconds = 0;
-    mp.local.max_iterations = 150;
-    assert_int_equal(aa_multistart(&mp, &metric, NULL, NULL, best, r, NULL), AA_OK);
 }
 
 static void multistart_is_deterministic(void **state)
