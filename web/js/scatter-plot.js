@@ -20,7 +20,9 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
       lo /= 1.25;
       hi *= 1.25;
     } else {
-      const pad = (hi - lo) * 0.08 || Math.abs(hi) * 0.1 || 1;
+      // Values equal up to rounding count as one value (the padding of a few ulps gives no axis).
+      const span = hi - lo > 1e-9 * Math.max(Math.abs(lo), Math.abs(hi)) ? hi - lo : 0;
+      const pad = span * 0.08 || Math.abs(hi) * 0.1 || 1;
       lo -= pad;
       hi += pad;
     }

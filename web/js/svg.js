@@ -58,12 +58,15 @@ export function marker(parent, shape, cx, cy, r, attrs = {}) {
 
 /* "Nice" tick values for a linear range. */
 export function niceTicks(lo, hi, count = 5) {
-  if (!(hi > lo)) return [lo];
+  // A range of a few ulps (two E2 values that differ only by rounding) has steps too small to
+  // move v: one tick, not an endless loop.
+  if (!(hi > lo) || hi - lo <= 1e-12 * Math.max(Math.abs(lo), Math.abs(hi))) return [lo];
   const raw = (hi - lo) / count;
   const mag = 10 ** Math.floor(Math.log10(raw));
   const step = [1, 2, 2.5, 5, 10].map((m) => m * mag).find((s) => s >= raw) || raw;
   const out = [];
-  for (let v = Math.ceil(lo / step - 1e-9) * step; v <= hi + step * 1e-9; v += step) out.push(+v.toPrecision(12));
+  for (let v = Math.ceil(lo / step - 1e-9) * step; v <= hi + step * 1e-9 && out.length <= 4 * count + 4; v += step)
+    out.push(+v.toPrecision(12));
   return out;
 }
 
