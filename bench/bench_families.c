@@ -84,10 +84,9 @@ int main(int argc, char **argv)
         mp.local.stall_iterations = big ? 2000 : 300;
         mp.screen_iterations = 150; /* mirrored families: screen configurations first */
         mp.screen_top = 8;
-        /* The tiled families stall at kinks after a few seconds per seed: refine each seed's
-         * optimum by iterated local search (optimizer.h) until 30 rounds bring nothing. */
-        if (fam.tile > 1 && !fam.border)
-            mp.perturb.rounds = 1000000;
+        /* As optimize jobs do: iterated local search for the tiled families (optimizer.h). */
+        if (aa_family_perturbable(&fam))
+            mp.perturb.rounds = AA_PERTURB_UNTIL_STALL;
         aa_pattern best;
         aa_multistart_result r;
         int rc = aa_multistart(&mp, &metric, NULL, NULL, &best, &r, &err);

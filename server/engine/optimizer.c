@@ -113,6 +113,16 @@ static int run_init(opt_run *r, const opt_state *st, const aa_metric_params *met
     return AA_OK;
 }
 
+void aa_optimize_result_chain(aa_optimize_result *first, const aa_optimize_result *then)
+{
+    aa_optimize_result both = *then;
+    both.initial_e2 = first->initial_e2;
+    both.iterations += first->iterations;
+    both.evaluations += first->evaluations;
+    both.seconds += first->seconds;
+    *first = both;
+}
+
 /* E2 of the state's current kernels (opt_state_apply first). */
 static int eval_e2(opt_run *r, opt_state *st, double *e2)
 {

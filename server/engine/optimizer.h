@@ -25,6 +25,8 @@
 #include <stdint.h>
 
 #include "aa_error.h"
+#include "enumerate.h"
+#include "family.h"
 #include "metric.h"
 #include "pattern.h"
 #include "rng.h"
@@ -76,6 +78,10 @@ typedef struct aa_optimize_result {
     double argmax_angle_deg;
 } aa_optimize_result;
 
+/* first := first followed by then: then's E2 and argmax, the work of both, first's initial_e2
+ * (a refinement chained after the descent that produced its start). */
+void aa_optimize_result_chain(aa_optimize_result *first, const aa_optimize_result *then);
+
 /* Local optimisation from one seed pattern. *best receives a new pattern (free it). */
 int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
                 const aa_optimize_params *params, aa_optimize_progress_fn progress, void *user,
@@ -89,12 +95,19 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
  * far). result sums iterations, evaluations and seconds over the rounds; initial_e2 is start's.
  * Deterministic for a given rng state. */
 typedef struct aa_perturb_params {
-    long rounds;        /* 0: off */
+    long rounds;        /* 0: off; AA_PERTURB_UNTIL_STALL: until stall or a budget ends it */
     double sigma;       /* pixels, default 0.01 */
     int stall;          /* default 30 */
     double max_seconds; /* the whole search; <= 0: none (each round keeps local's budget) */
 } aa_perturb_params;
+#define AA_PERTURB_UNTIL_STALL 1000000000L
+/* rounds 0 (off), sigma 0.01, stall 30, no budget of its own. */
+void aa_perturb_params_default(aa_perturb_params *pp);
 bool aa_perturbable(const aa_pattern *p);
+/* The families whose optimizations use the search: tiled (T > 1) without border samples, i.e.
+ * P(4,4,n) and P(16,16,n). The one-pixel families converge to the published optima without it
+ * (bench_families), and it has not been measured there. */
+bool aa_family_perturbable(const aa_family *f);
 int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metric,
                           const aa_optimize_params *local, const aa_perturb_params *pp, aa_rng *rng,
                           aa_optimize_progress_fn progress, void *user, aa_pattern *best,
@@ -108,9 +121,6 @@ int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metri
  * at clock-dependent points. progress is called from worker threads, serialised by a mutex, at
  * most every 10 ms plus once at the end; nonzero cancels every worker (AA_ECANCELED, *best
  * holds the best so far when any seed has produced one). */
-#include "enumerate.h"
-#include "enumerate.h"
-#include "family.h"
 
 typedef struct aa_multistart_params {
     aa_optimize_params local; /* per seed (its max_seconds is capped by the call's budget) */

@@ -17,8 +17,7 @@ void aa_multistart_params_default(aa_multistart_params *p)
     p->rng_seed = 1;
     p->workers = 1;
     p->max_seconds = 60;
-    p->perturb.sigma = 0.01;
-    p->perturb.stall = 30;
+    aa_perturb_params_default(&p->perturb);
 }
 
 void aa_multistart_result_free(aa_multistart_result *r)
@@ -187,11 +186,7 @@ static void *worker_main(void *arg)
                 } else {
                     aa_pattern_free(&out);
                     out = refined;
-                    rr.initial_e2 = r.initial_e2;
-                    rr.iterations += r.iterations;
-                    rr.evaluations += r.evaluations;
-                    rr.seconds += r.seconds;
-                    r = rr;
+                    aa_optimize_result_chain(&r, &rr);
                 }
             }
         }

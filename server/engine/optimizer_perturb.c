@@ -36,6 +36,16 @@ static int forward_progress(void *user, const aa_optimize_progress *p)
     return c->fn(c->user, &q);
 }
 
+void aa_perturb_params_default(aa_perturb_params *pp)
+{
+    *pp = (aa_perturb_params){0, 0.01, 30, 0};
+}
+
+bool aa_family_perturbable(const aa_family *f)
+{
+    return f->tile > 1 && !f->border;
+}
+
 bool aa_perturbable(const aa_pattern *p)
 {
     /* Border samples sit on edges and corners; moving them would change the family. */

@@ -282,10 +282,10 @@ static int optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *e
             mp.screen_iterations = 150;
             mp.screen_top = op->seeds < 8 ? op->seeds : 8;
         }
-        /* Tiled families (P(4,4,n), P(16,16,n)) stall at kinks after a few seconds per seed:
-         * refine each seed's optimum by iterated local search until 30 rounds bring nothing. */
-        if (op->family.tile > 1 && !op->family.border && op->common.mode == AA_OPTIMIZE_BOTH)
-            mp.perturb.rounds = 1000000;
+        /* Tiled families stall at kinks after a few seconds per seed: refine each seed's
+         * optimum by iterated local search (it resets weights, so only in mode both). */
+        if (aa_family_perturbable(&op->family) && op->common.mode == AA_OPTIMIZE_BOTH)
+            mp.perturb.rounds = AA_PERTURB_UNTIL_STALL;
         mp.kinds = op->kind_count ? op->kinds : NULL;
         mp.kind_count = op->kind_count;
     } else {

@@ -85,7 +85,10 @@ static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric
     if (rc == AA_OK && mode == AA_OPTIMIZE_BOTH && aa_perturbable(out) && r->seconds < seconds) {
         /* The descent stops at a kink within seconds: spend the rest of the stage's budget on
          * iterated local search from its optimum (as optimize jobs do for tiled families). */
-        aa_perturb_params pp = {1000000, 0.01, 30, seconds - r->seconds};
+        aa_perturb_params pp;
+        aa_perturb_params_default(&pp);
+        pp.rounds = AA_PERTURB_UNTIL_STALL;
+        pp.max_seconds = seconds - r->seconds;
         aa_rng rng;
         aa_rng_seed(&rng, rng_seed, 1);
         aa_pattern refined;
@@ -98,11 +101,7 @@ static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric
             b->seconds_before += rr.seconds;
             aa_pattern_free(out);
             *out = refined;
-            rr.initial_e2 = r->initial_e2;
-            rr.iterations += r->iterations;
-            rr.evaluations += r->evaluations;
-            rr.seconds += r->seconds;
-            *r = rr;
+            aa_optimize_result_chain(r, &rr);
             rc = prc; /* AA_ECANCELED: the job was cancelled */
         }
     }
