@@ -1,7 +1,8 @@
 /* The family searches of issue 3 (L&A Table 3 / Hasselgren Fig. 3 figures): multi-start
  * optimisation of positions and weights per family, printed beside the published best E2.
  * Flags: --family-seconds S (default 60), --p16-seconds S (default 600), --quick (8 s per family,
- * 30 s for P(16,16,4)), --workers W (default 2), --seed K, --only LABEL. */
+ * 30 s for P(16,16,4)), --workers W (default 2), --seed K, --only LABEL, --method
+ * auto|laine-aila|minimax|smooth (default auto: the step rule optimize jobs choose). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,6 +29,8 @@ static const bench_case cases[] = {
 int main(int argc, char **argv)
 {
     double family_seconds = 60, p16_seconds = 600;
+    aa_optimize_method method = AA_METHOD_LAINE_AILA;
+    bool method_auto = true;
     int workers = 2;
     unsigned long long rng_seed = 1;
     const char *only = NULL;
@@ -43,6 +46,13 @@ int main(int argc, char **argv)
             workers = atoi(argv[++i]);
         } else if (!strcmp(argv[i], "--seed") && i + 1 < argc) {
             rng_seed = strtoull(argv[++i], NULL, 10);
+        } else if (!strcmp(argv[i], "--method") && i + 1 < argc) {
+            ++i;
+            method_auto = !strcmp(argv[i], "auto");
+            if (!method_auto && aa_optimize_method_parse(argv[i], &method)) {
+                fprintf(stderr, "--method: auto, laine-aila, minimax or smooth\n");
+                return 2;
+            }
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             only = argv[++i];
         } else {
@@ -58,10 +68,10 @@ int main(int argc, char **argv)
     aa_filter_default(&filter);
     aa_acuity_naiman(&acuity);
     aa_metric_params metric = {&filter, &acuity, NULL, 0, 0};
-    printf("bench_families: multi-start L&A sec. 5 descent, Opt W+P, %d workers, rng_seed %llu\n",
-           workers, rng_seed);
-    printf("%-14s %8s %8s %9s %8s %7s %9s\n", "family", "best_e2", "seconds", "published", "diff",
-           "seeds", "ratio");
+    printf("bench_families: multi-start descent, Opt W+P, %d workers, rng_seed %llu, method %s\n",
+           workers, rng_seed, method_auto ? "auto" : aa_optimize_method_name(method));
+    printf("%-14s %8s %8s %9s %8s %7s %9s  %s\n", "family", "best_e2", "seconds", "published",
+           "diff", "seeds", "ratio", "method");
     int short_count = 0, total = 0;
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         if (only && strcmp(only, cases[c].label))
@@ -80,6 +90,9 @@ int main(int argc, char **argv)
         mp.rng_seed = rng_seed;
         mp.max_seconds = big ? p16_seconds : family_seconds;
         mp.seed_count = 100000; /* the time budget ends the search */
+        /* As optimize jobs do by default ("method":"auto"). */
+        mp.local.method =
+            method_auto ? aa_auto_method(aa_family_perturbable(&fam), mp.local.mode) : method;
         mp.local.max_iterations = big ? 200000 : 4000;
         mp.local.stall_iterations = big ? 2000 : 300;
         mp.screen_iterations = 150; /* mirrored families: screen configurations first */
@@ -87,6 +100,7 @@ int main(int argc, char **argv)
         /* As optimize jobs do: iterated local search for the tiled families (optimizer.h). */
         if (aa_family_perturbable(&fam))
             mp.perturb.rounds = AA_PERTURB_UNTIL_STALL;
+
         aa_pattern best;
         aa_multistart_result r;
         int rc = aa_multistart(&mp, &metric, NULL, NULL, &best, &r, &err);
@@ -95,9 +109,9 @@ int main(int argc, char **argv)
             return 1;
         }
         double diff = r.e2 - cases[c].published;
-        printf("%-14s %8.4f %8.1f %9.3f %+8.4f %7zu %9.4f%s\n", cases[c].label, r.e2, r.seconds,
-               cases[c].published, diff, r.seeds_run, r.e2 / cases[c].published,
-               diff > 0.005 ? "  short" : "");
+        printf("%-14s %8.4f %8.1f %9.3f %+8.4f %7zu %9.4f  %-10s%s\n", cases[c].label, r.e2,
+               r.seconds, cases[c].published, diff, r.seeds_run, r.e2 / cases[c].published,
+               aa_optimize_method_name(mp.local.method), diff > 0.005 ? "  short" : "");
         fflush(stdout);
         total++;
         short_count += diff > 0.005;

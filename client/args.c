@@ -29,6 +29,7 @@ typedef enum opt_id {
     OPT_MAX_SECONDS,
     OPT_RNG_SEED,
     OPT_MODE,
+    OPT_METHOD,
     OPT_WAIT,
     OPT_POLL,
     OPT_SCENE,
@@ -64,6 +65,7 @@ static const opt_spec OPTIONS[] = {
     {"max-seconds", 0, true, BIT(CMD_OPTIMIZE), OPT_MAX_SECONDS},
     {"rng-seed", 0, true, BIT(CMD_OPTIMIZE), OPT_RNG_SEED},
     {"mode", 0, true, BIT(CMD_OPTIMIZE), OPT_MODE},
+    {"method", 0, true, BIT(CMD_OPTIMIZE), OPT_METHOD},
     {"wait", 'w', false, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_WAIT},
     {"poll", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_POLL},
     {"scene", 0, true, BIT(CMD_RENDER), OPT_SCENE},
@@ -185,6 +187,7 @@ static bool one_of(const char *v, const char *const *allowed)
 static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err, size_t cap)
 {
     static const char *const MODES[] = {"weights", "positions", "both", NULL};
+    static const char *const METHODS[] = {"auto", "laine-aila", "minimax", "smooth", NULL};
     static const char *const IMAGES[] = {"pattern", "reference", "difference", NULL};
     static const char *const FORMATS[] = {"json", "utk", "vulkan", "d3d12", NULL};
     long l;
@@ -240,6 +243,12 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
         if (!one_of(v, MODES))
             return fail(err, cap, "--mode wants weights, positions or both, got '%s'", v);
         a->mode = v;
+        break;
+    case OPT_METHOD:
+        if (!one_of(v, METHODS))
+            return fail(err, cap, "--method wants auto, laine-aila, minimax or smooth, got '%s'",
+                        v);
+        a->method = v;
         break;
     case OPT_WAIT:
         a->wait = true;

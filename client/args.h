@@ -42,6 +42,7 @@ typedef struct cli_args {
     const char *family;
     const char *pattern; /* optimize: FILE or preset NAME; render: NAME or FILE */
     const char *mode;
+    const char *method; /* optimize: the step rule, NULL = the daemon's choice */
     long seeds;
     double max_seconds;
     long long rng_seed;

@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 
 PACKAGES="build-essential cmake pkg-config git ca-certificates
   libmicrohttpd-dev libjansson-dev libsqlite3-dev libpng-dev libcurl4-openssl-dev libsystemd-dev
-  libcmocka-dev clang libclang-rt-14-dev clang-format
+  liblbfgs-dev libcmocka-dev clang libclang-rt-14-dev clang-format
   curl jq python3 sqlite3 wrk chromium systemd"
 
 missing=""

@@ -50,9 +50,13 @@ static const struct {
     {"presets", "usage: aalab presets [NAME]\n"},
     {"optimize", "usage: aalab optimize --family 'P(4,1+,2)' | --pattern NAME|FILE.json\n"
                  "                      [--seeds N] [--max-seconds S] [--rng-seed K]\n"
-                 "                      [--mode weights|positions|both] [--wait] [--poll S]\n"
+                 "                      [--mode weights|positions|both]\n"
+                 "                      [--method auto|laine-aila|minimax|smooth]\n"
+                 "                      [--wait] [--poll S]\n"
                  "Prints the job id. With --wait, follows the job with a progress bar on\n"
-                 "stderr, prints the finished job and exits 5 if it failed or was cancelled.\n"},
+                 "stderr, prints the finished job and exits 5 if it failed or was cancelled.\n"
+                 "--method picks the step rule (default auto: minimax for --mode weights,\n"
+                 "smooth for P(4,4,n) and P(16,16,n), laine-aila otherwise).\n"},
     {"submit", "usage: aalab submit SPEC.json|- [--wait] [--poll S]\n"
                "SPEC is the POST /v1/jobs body, e.g. {\"kind\":\"family-sweep\",...}.\n"
                "With --wait: progress bar on stderr, exit 5 if the job fails or is cancelled.\n"},

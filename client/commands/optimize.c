@@ -1,5 +1,5 @@
 /* aalab optimize --family F | --pattern FILE [--seeds N] [--max-seconds S] [--rng-seed K]
- *                [--mode weights|positions|both] [--wait] */
+ *                [--mode weights|positions|both] [--method NAME] [--wait] */
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
@@ -30,6 +30,8 @@ int optimize_request(const cli_args *a, json_t **req, char *err, size_t errcap)
         json_object_set_new(r, "rng_seed", json_integer(a->rng_seed));
     if (a->mode)
         json_object_set_new(r, "mode", json_string(a->mode));
+    if (a->method)
+        json_object_set_new(r, "method", json_string(a->method));
     *req = r;
     return 0;
 }

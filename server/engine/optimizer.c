@@ -1,17 +1,17 @@
-#define _POSIX_C_SOURCE 200809L /* clock_gettime(CLOCK_MONOTONIC) for the time budget */
 #include "optimizer.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "optimizer_run.h"
 #include "optimizer_state.h"
 
 void aa_optimize_params_default(aa_optimize_params *p)
 {
     p->mode = AA_OPTIMIZE_BOTH;
+    p->method = AA_METHOD_LAINE_AILA;
     p->threshold = 0.99;
     p->step = 1e-4;
     p->active_ratio = 100;
@@ -23,96 +23,6 @@ void aa_optimize_params_default(aa_optimize_params *p)
     p->d3d12_range = false;
 }
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-/* Everything one run needs besides the state: angles, acuity weights, gradient scratch. */
-struct opt_progress_state;
-struct opt_run;
-static int poll_cancel(const struct opt_run *r);
-
-typedef struct opt_run {
-    const aa_metric_params *metric;
-    const aa_optimize_params *params;
-    size_t angle_count;
-    double *theta;                 /* radians */
-    double *weight;                /* W(theta) */
-    double *value;                 /* W E1 per kernel x angle */
-    double *gx, *gy, *gw;          /* per-kernel gradient scratch (max kernel size) */
-    double *dir_x, *dir_y, *dir_w; /* descent direction on the free variables */
-    aa_metric_workspace ws;
-    long evaluations;
-    /* Polled between kernels so a cancel is seen within a fraction of a step (a step of
-     * P(16,16,4) can take 50+ ms on a loaded machine). */
-    struct opt_progress_state *poll_ps;
-    const struct opt_state *poll_top;
-    const double *poll_best_e2;
-    const long *poll_it;
-} opt_run;
-
-static void run_free(opt_run *r)
-{
-    free(r->theta);
-    free(r->weight);
-    free(r->value);
-    free(r->gx);
-    free(r->gy);
-    free(r->gw);
-    free(r->dir_x);
-    free(r->dir_y);
-    free(r->dir_w);
-    aa_metric_workspace_free(&r->ws);
-}
-
-static int run_init(opt_run *r, const opt_state *st, const aa_metric_params *metric,
-                    const aa_optimize_params *params, aa_error *err)
-{
-    memset(r, 0, sizeof *r);
-    r->metric = metric;
-    r->params = params;
-    aa_metric_workspace_init(&r->ws);
-    double defaults[AA_MAX_ANGLES];
-    const double *deg = metric->angles_deg;
-    size_t n = metric->angle_count;
-    if (!deg) {
-        n = aa_acuity_default_angles(metric->acuity, defaults, AA_MAX_ANGLES);
-        deg = defaults;
-    }
-    if (n == 0 || n > AA_MAX_ANGLES)
-        return aa_error_set(err, AA_EINVAL, "angles", "1..%d angles are needed", AA_MAX_ANGLES);
-    size_t maxk = 1;
-    for (size_t k = 0; k < st->work.kernel_count; k++)
-        if (st->work.kernels[k].count > maxk)
-            maxk = st->work.kernels[k].count;
-    r->angle_count = n;
-    r->theta = malloc(n * sizeof *r->theta);
-    r->weight = malloc(n * sizeof *r->weight);
-    r->value = malloc(n * st->work.kernel_count * sizeof *r->value);
-    r->gx = malloc(maxk * sizeof *r->gx);
-    r->gy = malloc(maxk * sizeof *r->gy);
-    r->gw = malloc(maxk * sizeof *r->gw);
-    r->dir_x = calloc(st->point_count + 1, sizeof *r->dir_x);
-    r->dir_y = calloc(st->point_count + 1, sizeof *r->dir_y);
-    r->dir_w = calloc(st->weight_count + 1, sizeof *r->dir_w);
-    if (!r->theta || !r->weight || !r->value || !r->gx || !r->gy || !r->gw || !r->dir_x ||
-        !r->dir_y || !r->dir_w)
-        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    for (size_t a = 0; a < n; a++) {
-        char field[32];
-        if (!isfinite(deg[a])) {
-            snprintf(field, sizeof field, "angles[%zu]", a);
-            return aa_error_set(err, AA_EINVAL, field, "angle must be finite");
-        }
-        r->theta[a] = deg[a] * (3.14159265358979323846 / 180.0);
-        r->weight[a] = aa_acuity_weight(metric->acuity, deg[a]);
-    }
-    return AA_OK;
-}
-
 void aa_optimize_result_chain(aa_optimize_result *first, const aa_optimize_result *then)
 {
     aa_optimize_result both = *then;
@@ -121,31 +31,6 @@ void aa_optimize_result_chain(aa_optimize_result *first, const aa_optimize_resul
     both.evaluations += first->evaluations;
     both.seconds += first->seconds;
     *first = both;
-}
-
-/* E2 of the state's current kernels (opt_state_apply first). */
-static int eval_e2(opt_run *r, opt_state *st, double *e2)
-{
-    double best = 0;
-    for (size_t k = 0; k < st->work.kernel_count; k++) {
-        const aa_kernel *ker = &st->work.kernels[k];
-        if (poll_cancel(r))
-            return AA_ECANCELED;
-        for (size_t a = 0; a < r->angle_count; a++) {
-            double e1;
-            int rc = aa_e1_at_angle(r->metric->filter, ker->samples, ker->count, r->theta[a],
-                                    &r->ws, &e1);
-            if (rc)
-                return rc;
-            double v = r->weight[a] * e1;
-            r->value[k * r->angle_count + a] = v;
-            if (v > best)
-                best = v;
-        }
-    }
-    r->evaluations++;
-    *e2 = best;
-    return AA_OK;
 }
 
 /* The L&A sec. 5 direction: sum over kernels and angles of W grad E1, terms with
@@ -160,7 +45,7 @@ static int descent_direction(opt_run *r, opt_state *st, double e2, double thresh
     bool want_pos = p->mode != AA_OPTIMIZE_WEIGHTS, want_w = p->mode != AA_OPTIMIZE_POSITIONS;
     for (size_t k = 0; k < st->work.kernel_count; k++) {
         const aa_kernel *ker = &st->work.kernels[k];
-        if (poll_cancel(r))
+        if (opt_poll_cancel(r))
             return AA_ECANCELED;
         for (size_t a = 0; a < r->angle_count; a++) {
             double v = r->value[k * r->angle_count + a];
@@ -206,13 +91,6 @@ static void take_step(opt_state *trial, const opt_state *base, const opt_run *r,
     opt_state_apply(trial);
 }
 
-static void copy_vars(opt_state *dst, const opt_state *src)
-{
-    memcpy(dst->points, src->points, src->point_count * sizeof *src->points);
-    memcpy(dst->weights, src->weights, src->weight_count * sizeof *src->weights);
-    opt_state_apply(dst);
-}
-
 static int validate(const aa_pattern *seed, const aa_metric_params *metric,
                     const aa_optimize_params *p, aa_error *err)
 {
@@ -223,6 +101,10 @@ static int validate(const aa_pattern *seed, const aa_metric_params *metric,
     if (p->mode != AA_OPTIMIZE_WEIGHTS && p->mode != AA_OPTIMIZE_POSITIONS &&
         p->mode != AA_OPTIMIZE_BOTH)
         return aa_error_set(err, AA_EINVAL, "mode", "mode must be weights, positions or both");
+    if (p->method != AA_METHOD_LAINE_AILA && p->method != AA_METHOD_MINIMAX &&
+        p->method != AA_METHOD_SMOOTH)
+        return aa_error_set(err, AA_EINVAL, "method",
+                            "method must be laine-aila, minimax or smooth");
     if (!(p->threshold > 0 && p->threshold <= 1))
         return aa_error_set(err, AA_EINVAL, "threshold", "t must be in (0, 1]");
     if (!(p->step > 0 && p->step < 1))
@@ -280,41 +162,78 @@ static void snap_to_grid(opt_state *st, int bits, bool d3d12)
 
 #define NONMONO 10
 
-typedef struct opt_progress_state {
-    aa_optimize_progress_fn fn;
-    void *user;
-    double start, last_call;
-    bool improved;
-    double last_fraction;
-} opt_progress_state;
-
-static int report(opt_progress_state *ps, const opt_state *best, double best_e2, long it,
-                  long evals, double fraction, bool force)
+/* Laine & Aila's step rule with the safeguards of the header comment. */
+int opt_descend_laine_aila(opt_loop *L)
 {
-    if (!ps->fn)
-        return 0;
-    double t = now_seconds();
-    if (!force && t - ps->last_call < 0.01)
-        return 0;
-    ps->last_call = t;
-    aa_pattern snap;
-    aa_error e;
-    bool have = opt_state_to_pattern(best, &snap, &e) == AA_OK;
-    aa_optimize_progress pr = {t - ps->start,      it, evals, best_e2, fraction, ps->improved,
-                               have ? &snap : NULL};
-    ps->improved = false;
-    int stop = ps->fn(ps->user, &pr);
-    if (have)
-        aa_pattern_free(&snap);
-    return stop;
-}
-
-static int poll_cancel(const opt_run *r)
-{
-    if (!r->poll_ps || !r->poll_ps->fn)
-        return 0;
-    return report(r->poll_ps, r->poll_top, *r->poll_best_e2, *r->poll_it, r->evaluations, -1,
-                  false);
+    const aa_optimize_params *params = L->run.params;
+    opt_run *r = &L->run;
+    double step = params->step;
+    long mark_it = L->it;
+    double mark_e2 = L->best_e2;
+    /* cur_value: W E1 of cur, kept so the direction can be recomputed after rejected steps. */
+    size_t nvalues = r->angle_count * L->cur.work.kernel_count;
+    double *cur_value = malloc(nvalues * sizeof *cur_value);
+    if (!cur_value)
+        return aa_error_set(L->err, AA_ENOMEM, "", "out of memory");
+    memcpy(cur_value, r->value, nvalues * sizeof *cur_value);
+    int band = 0, fails = 0, hpos = 0;
+    double history[NONMONO];
+    for (int h = 0; h < NONMONO; h++)
+        history[h] = L->e2;
+    double accepted_step = step;
+    int rc = descent_direction(r, &L->cur, L->e2, params->threshold);
+    while (!rc && !(rc = opt_loop_tick(L))) {
+        L->it++;
+        take_step(&L->trial, &L->cur, r, step);
+        double te2;
+        if ((rc = opt_run_eval_e2(r, &L->trial, &te2)))
+            break;
+        /* Nonmonotone acceptance (Grippo et al. 1986): compare against the largest of the last
+         * NONMONO accepted values, so the iterate can cross the kinks of the max; the best
+         * pattern is tracked separately, so the result and its trace are still monotone. */
+        double ref = L->e2;
+        for (int h = 0; h < NONMONO; h++)
+            ref = fmax(ref, history[h]);
+        if (te2 <= ref && te2 < L->e2 * (1 + 1e-2)) {
+            /* Accepted: move, grow the step a little, new direction from here. */
+            opt_state_copy_vars(&L->cur, &L->trial);
+            memcpy(cur_value, r->value, nvalues * sizeof *cur_value);
+            L->e2 = te2;
+            history[hpos++ % NONMONO] = L->e2;
+            step *= 1.2;
+            accepted_step = step;
+            band = 0;
+            fails = 0;
+            opt_loop_note_best(L);
+            if ((rc = descent_direction(r, &L->cur, L->e2, params->threshold)))
+                break;
+        } else {
+            /* E2 rose: cur is untouched; retry with half the step. At a kink of the max the
+             * active terms' summed gradient may not descend for all of them: after 3 failed
+             * halvings, widen the band of terms stepped with c1 (t -> 1 - 4^band (1 - t)) so
+             * near-active terms steer too, and restart from the last good step size. */
+            step *= 0.5;
+            if (++fails >= 3 && band < 6) {
+                band++;
+                fails = 0;
+                double t_eff = fmax(0.5, 1 - pow(4.0, band) * (1 - params->threshold));
+                memcpy(r->value, cur_value, nvalues * sizeof *cur_value);
+                if ((rc = descent_direction(r, &L->cur, L->e2, t_eff)))
+                    break;
+                step = accepted_step;
+            }
+        }
+        if (L->best_e2 < mark_e2 * (1 - params->rel_tolerance)) {
+            mark_e2 = L->best_e2;
+            mark_it = L->it;
+        } else if (L->it - mark_it >= params->stall_iterations) {
+            break;
+        }
+        if (step < 1e-14)
+            break; /* no step along this direction lowers E2: a (nonsmooth) stationary point */
+    }
+    free(cur_value);
+    return rc == 1 ? AA_OK : rc;
 }
 
 int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
@@ -332,129 +251,53 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
     int rc = validate(seed, metric, params, err);
     if (rc)
         return rc;
-    double start = now_seconds();
-    opt_state cur, trial, top;
-    opt_run run;
-    memset(&run, 0, sizeof run);
-    rc = opt_state_init(&cur, seed, err);
+    opt_loop L;
+    memset(&L, 0, sizeof L);
+    L.start = opt_now_seconds();
+    L.err = err;
+    rc = opt_state_init(&L.cur, seed, err);
     if (rc)
         return rc;
-    if ((rc = opt_state_init(&trial, seed, err))) {
-        opt_state_free(&cur);
+    if ((rc = opt_state_init(&L.trial, seed, err))) {
+        opt_state_free(&L.cur);
         return rc;
     }
-    if ((rc = opt_state_init(&top, seed, err))) {
-        opt_state_free(&cur);
-        opt_state_free(&trial);
+    if ((rc = opt_state_init(&L.top, seed, err))) {
+        opt_state_free(&L.cur);
+        opt_state_free(&L.trial);
         return rc;
     }
-    rc = run_init(&run, &cur, metric, params, err);
-    opt_state_apply(&cur);
-    double e2 = 0, best_e2 = INFINITY; /* INFINITY until the seed has been evaluated */
-    long it = 0, mark_it = 0;
+    rc = opt_run_init(&L.run, &L.cur, metric, params, err);
+    opt_state_apply(&L.cur);
+    L.best_e2 = INFINITY; /* until the seed has been evaluated */
     bool cancelled = false;
-    opt_progress_state ps = {progress, user, start, start, true, 0};
-    run.poll_ps = &ps;
-    run.poll_top = &top;
-    run.poll_best_e2 = &best_e2;
-    run.poll_it = &it;
+    L.ps = (opt_progress_state){progress, user, L.start, L.start, true};
+    L.run.poll_ps = &L.ps;
+    L.run.poll_top = &L.top;
+    L.run.poll_best_e2 = &L.best_e2;
+    L.run.poll_it = &L.it;
     if (!rc)
-        rc = eval_e2(&run, &cur, &e2);
-    double initial = e2, mark_e2 = e2;
-    if (!rc)
-        best_e2 = e2;
-    double step = params->step;
-    /* cur_value: W E1 of cur, kept so the direction can be recomputed after rejected steps. */
-    size_t nvalues = run.angle_count * cur.work.kernel_count;
-    double *cur_value = rc ? NULL : malloc(nvalues * sizeof *cur_value);
-    if (!rc && !cur_value)
-        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    if (!rc)
-        memcpy(cur_value, run.value, nvalues * sizeof *cur_value);
-    int band = 0, fails = 0, hpos = 0;
-    double history[NONMONO];
-    for (int h = 0; h < NONMONO; h++)
-        history[h] = e2;
-    double accepted_step = step;
-    if (!rc)
-        rc = descent_direction(&run, &cur, e2, params->threshold);
-    while (!rc && it < params->max_iterations) {
-        double t = now_seconds();
-        if (params->max_seconds > 0 && t - start >= params->max_seconds)
-            break;
-        double fraction = (double)it / (double)params->max_iterations;
-        if (params->max_seconds > 0)
-            fraction = fmax(fraction, (t - start) / params->max_seconds);
-        if (report(&ps, &top, best_e2, it, run.evaluations, fmin(fraction, 1), false)) {
-            cancelled = true;
-            break;
-        }
-        it++;
-        take_step(&trial, &cur, &run, step);
-        double te2;
-        if ((rc = eval_e2(&run, &trial, &te2)))
-            break;
-        /* Nonmonotone acceptance (Grippo et al. 1986): compare against the largest of the last
-         * NONMONO accepted values, so the iterate can cross the kinks of the max; the best
-         * pattern is tracked separately, so the result and its trace are still monotone. */
-        double ref = e2;
-        for (int h = 0; h < NONMONO; h++)
-            ref = fmax(ref, history[h]);
-        if (te2 <= ref && te2 < e2 * (1 + 1e-2)) {
-            /* Accepted: move, grow the step a little, new direction from here. */
-            copy_vars(&cur, &trial);
-            memcpy(cur_value, run.value, nvalues * sizeof *cur_value);
-            e2 = te2;
-            history[hpos++ % NONMONO] = e2;
-            step *= 1.2;
-            accepted_step = step;
-            band = 0;
-            fails = 0;
-            if (e2 < best_e2) {
-                best_e2 = e2;
-                copy_vars(&top, &cur);
-                ps.improved = true;
-            }
-            if ((rc = descent_direction(&run, &cur, e2, params->threshold)))
-                break;
-        } else {
-            /* E2 rose: cur is untouched; retry with half the step. At a kink of the max the
-             * active terms' summed gradient may not descend for all of them: after 3 failed
-             * halvings, widen the band of terms stepped with c1 (t -> 1 - 4^band (1 - t)) so
-             * near-active terms steer too, and restart from the last good step size. */
-            step *= 0.5;
-            if (++fails >= 3 && band < 6) {
-                band++;
-                fails = 0;
-                double t_eff = fmax(0.5, 1 - pow(4.0, band) * (1 - params->threshold));
-                memcpy(run.value, cur_value, nvalues * sizeof *cur_value);
-                if ((rc = descent_direction(&run, &cur, e2, t_eff)))
-                    break;
-                step = accepted_step;
-            }
-        }
-        if (best_e2 < mark_e2 * (1 - params->rel_tolerance)) {
-            mark_e2 = best_e2;
-            mark_it = it;
-        } else if (it - mark_it >= params->stall_iterations) {
-            break;
-        }
-        if (step < 1e-14)
-            break; /* no step along this direction lowers E2: a (nonsmooth) stationary point */
+        rc = opt_run_eval_e2(&L.run, &L.cur, &L.e2);
+    double initial = L.e2;
+    if (!rc) {
+        L.best_e2 = L.e2;
+        rc = params->method == AA_METHOD_MINIMAX  ? opt_descend_minimax(&L)
+             : params->method == AA_METHOD_SMOOTH ? opt_descend_smooth(&L)
+                                                  : opt_descend_laine_aila(&L);
     }
     if (rc == AA_ECANCELED) {
-        /* The progress callback asked to stop in the middle of a step: cur is intact. */
+        /* The progress callback asked to stop in the middle of a step: top is intact. */
         rc = AA_OK;
         cancelled = true;
     }
     if (!rc && params->grid_bits > 0) {
-        double before = best_e2;
-        snap_to_grid(&top, params->grid_bits, params->d3d12_range);
+        double before = L.best_e2;
+        snap_to_grid(&L.top, params->grid_bits, params->d3d12_range);
         if (result)
             result->e2_before_snap = before;
     }
     if (!rc)
-        rc = opt_state_to_pattern(&top, best, err);
+        rc = opt_state_to_pattern(&L.top, best, err);
     aa_evaluation ev;
     memset(&ev, 0, sizeof ev);
     if (!rc)
@@ -464,22 +307,21 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
         result->e2 = ev.e2;
         if (params->grid_bits == 0)
             result->e2_before_snap = ev.e2;
-        result->iterations = it;
-        result->evaluations = run.evaluations;
-        result->seconds = now_seconds() - start;
+        result->iterations = L.it;
+        result->evaluations = L.run.evaluations;
+        result->seconds = opt_now_seconds() - L.start;
         result->argmax_kernel = ev.argmax_kernel;
         result->argmax_angle_deg = ev.argmax_angle_deg;
     }
     if (!rc && progress && !cancelled) {
-        ps.improved = true;
-        report(&ps, &top, best_e2, it, run.evaluations, 1.0, true);
+        L.ps.improved = true;
+        opt_report(&L.ps, &L.top, L.best_e2, L.it, L.run.evaluations, 1.0, true);
     }
     aa_evaluation_free(&ev);
-    free(cur_value);
-    run_free(&run);
-    opt_state_free(&cur);
-    opt_state_free(&trial);
-    opt_state_free(&top);
+    opt_run_free(&L.run);
+    opt_state_free(&L.cur);
+    opt_state_free(&L.trial);
+    opt_state_free(&L.top);
     if (rc) {
         aa_pattern_free(best);
         return rc;

@@ -1,21 +1,29 @@
-/* Steepest-descent pattern optimizer of Laine & Aila (2005), section 5, with multi-start.
+/* The pattern optimizer: Laine & Aila (2005) section 5 and two step rules beyond it, with
+ * multi-start and iterated local search.
  *
- * One step: evaluate W(theta) E1(theta) and its analytic gradient for every kernel and angle;
- * terms with W E1 >= t E2 ("active") move with step c1, the rest with c0 (L&A: t = 0.99,
- * c1 = 100 c0); position gradients of a tile sample are summed over every kernel that reads it
- * (tile_index), then projected onto the sample's site (corner: fixed, edge: along the edge,
- * interior: clamped inside its pixel); mirrored patterns move their source pixel and are
- * rebuilt, so the mirror structure holds by construction; weights move along the Sigma w = 1
- * projected gradient and are renormalised. Robustness beyond the paper (the max over kernels
- * and angles has kinks where the summed active gradients stop descending): a step is accepted
- * when E2 is below the largest of the last 10 accepted values and within 1% of the current one
- * (nonmonotone acceptance, Grippo et al. 1986; the best pattern is kept separately, so results
- * and traces are monotone); a rejected step halves c0, an accepted one grows it by 1.2x; after 3
- * rejections in a row the band of terms stepped with c1 widens (t -> 1 - 4^k (1 - t), k <= 6,
- * t >= 0.5) and the step restarts from the last accepted size. The run stops when the best E2
- * has not improved by rel_tolerance over stall_iterations steps, at max_iterations, at
- * max_seconds, when c0 falls below 1e-14, or when progress returns nonzero (it is called at
- * most every 10 ms, between steps; one step of P(16,16,4) takes ~10 ms).
+ * Step rules (aa_optimize_params.method; aa_auto_method picks one by measurement):
+ *  - AA_METHOD_LAINE_AILA, the paper's. One step: evaluate W(theta) E1(theta) and its analytic
+ *    gradient for every kernel and angle; terms with W E1 >= t E2 ("active") move with step c1,
+ *    the rest with c0 (L&A: t = 0.99, c1 = 100 c0). Robustness beyond the paper (the max over
+ *    kernels and angles has kinks where the summed active gradients stop descending): a step is
+ *    accepted when E2 is below the largest of the last 10 accepted values and within 1% of the
+ *    current one (nonmonotone acceptance, Grippo et al. 1986; the best pattern is kept
+ *    separately, so results and traces are monotone); a rejected step halves c0, an accepted one
+ *    grows it by 1.2x; after 3 rejections in a row the band of terms stepped with c1 widens
+ *    (t -> 1 - 4^k (1 - t), k <= 6, t >= 0.5) and the step restarts from the last accepted size.
+ *  - AA_METHOD_MINIMAX (optimizer_minimax.c): each step solves for the blend of near-maximal
+ *    gradients that lowers all of them (a proximal QP over the simplex, simplex_qp.h) under a
+ *    trust region. On the weights alone E2 is convex and this converges to the optimum.
+ *  - AA_METHOD_SMOOTH (optimizer_smooth.c): L-BFGS on the Lp norm of the terms, p = 16 ... 65536,
+ *    keeping the best true E2 seen; it crosses the kinks the other two stop at.
+ * Common to all: position gradients of a tile sample are summed over every kernel that reads it
+ * (tile_index), then the sample is kept on its site (corner: fixed, edge: along the edge,
+ * interior: clamped inside its pixel); mirrored patterns move their source pixel and are rebuilt,
+ * so the mirror structure holds by construction; weights move along the Sigma w = 1 projected
+ * gradient and are renormalised. A run stops when the best E2 has not improved by rel_tolerance
+ * over stall_iterations steps (smooth: when its last stage converges), at max_iterations, at
+ * max_seconds, or when progress returns nonzero (it is called at most every 10 ms, between steps
+ * and between kernels; one step of P(16,16,4) takes ~2-10 ms).
  * Deterministic: no clock-dependent decisions except the time budget. */
 #ifndef AA_OPTIMIZER_H
 #define AA_OPTIMIZER_H
@@ -37,15 +45,33 @@ typedef enum aa_optimize_mode {
     AA_OPTIMIZE_BOTH /* "Opt W+P" */
 } aa_optimize_mode;
 
+/* The step rule of a local run. */
+typedef enum aa_optimize_method {
+    AA_METHOD_LAINE_AILA, /* the paper's rule with the safeguards above */
+    AA_METHOD_MINIMAX,    /* proximal minimax QP step with a trust region (optimizer_minimax.c) */
+    AA_METHOD_SMOOTH      /* L-BFGS on the Lp norm, p -> large (optimizer_smooth.c) */
+} aa_optimize_method;
+
+const char *aa_optimize_method_name(aa_optimize_method m); /* "laine-aila", "minimax", "smooth" */
+int aa_optimize_method_parse(const char *name, aa_optimize_method *out); /* AA_EINVAL if unknown */
+/* The rule used when the caller leaves the choice to the engine ("auto"), by measurement
+ * (README, Benchmarks): weights only -> minimax (the problem is convex in the weights and the
+ * minimax step converges to its optimum, where the L&A rule stops ~1-2% above it); tiled
+ * families without border samples (P(4,4,n), P(16,16,n); aa_family_perturbable) -> smooth
+ * (P(16,16,4), 60 s: 0.174 against 0.182); everything else -> laine-aila, which reaches the
+ * published optima of the one-pixel families. */
+aa_optimize_method aa_auto_method(bool tiled_without_border, aa_optimize_mode mode);
+
 typedef struct aa_optimize_params {
     aa_optimize_mode mode;
-    double threshold;      /* t, default 0.99 */
-    double step;           /* c0, default 1e-4 (c1 = step * active_ratio) */
-    double active_ratio;   /* c1 / c0, default 100 */
-    long max_iterations;   /* per seed, default 20000 */
-    double max_seconds;    /* wall budget for the whole call, default 10; <= 0: none */
-    long stall_iterations; /* default 500 */
-    double rel_tolerance;  /* default 1e-6 */
+    aa_optimize_method method; /* default AA_METHOD_LAINE_AILA */
+    double threshold;          /* t, default 0.99 */
+    double step;               /* c0, default 1e-4 (c1 = step * active_ratio) */
+    double active_ratio;       /* c1 / c0, default 100 */
+    long max_iterations;       /* per seed, default 20000 */
+    double max_seconds;        /* wall budget for the whole call, default 10; <= 0: none */
+    long stall_iterations;     /* default 500 */
+    double rel_tolerance;      /* default 1e-6 */
     /* Hardware grid: positions snapped to 1/2^grid_bits pixel after optimisation (and the
      * quantisation cost reported); d3d12_range also clamps offsets to [-8, 7]/16. */
     int grid_bits; /* 0: off; default 0 (4 = 1/16 pixel) */
@@ -126,10 +152,12 @@ typedef struct aa_multistart_params {
     aa_optimize_params local; /* per seed (its max_seconds is capped by the call's budget) */
     size_t seed_count;
     uint64_t rng_seed;
-    int workers;               /* 1..64 threads */
-    double max_seconds;        /* whole call; <= 0: none */
-    const aa_family *family;   /* random seeds of this family, or NULL to use seeds[] */
-    const aa_seed_kind *kinds; /* distributions used in turn; NULL: all five */
+    int workers;             /* 1..64 threads */
+    double max_seconds;      /* whole call; <= 0: none */
+    const aa_family *family; /* random seeds of this family, or NULL to use seeds[] */
+    /* Distributions used in turn; NULL: Poisson and jittered for the tiled families without
+     * border samples (aa_family_perturbable), all five otherwise. */
+    const aa_seed_kind *kinds;
     size_t kind_count;
     const aa_pattern *seeds; /* given seeds (family == NULL): seed_count of them */
     /* Mirrored families: seed i takes configs[i % config_count]; NULL: all configurations of

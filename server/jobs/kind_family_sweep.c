@@ -1,7 +1,7 @@
 /* Job kind "family-sweep" (Hasselgren et al. Fig. 3 workflow): enumerate the mirrored
  * P(4,1+,n) placement configurations of a cost, optimise each from K seeds, rank by E2 and keep
  * every configuration's best pattern. Spec: {"kind":"family-sweep", "family":"P(4,1+,1.25)" |
- * "cost":1.25, "seeds_per_config":K?, "max_seconds":S?, "rng_seed":K?, "mode":...?,
+ * "cost":1.25, "seeds_per_config":K?, "max_seconds":S?, "rng_seed":K?, "mode":...?, "method":...?,
  * "distributions":[...]?, "filter":F?, "acuity":A?, "angles":[...]?, "grid":{...}?}.
  * The time budget is split evenly over the configurations. */
 #include <math.h>
@@ -30,8 +30,8 @@ static void sweep_free(void *params)
 }
 
 static const char *const sweep_keys[] = {
-    "kind",          "family", "cost",   "seeds_per_config", "max_seconds", "rng_seed", "mode",
-    "distributions", "filter", "acuity", "angles",           "grid",        NULL};
+    "kind",   "family",        "cost",   "seeds_per_config", "max_seconds", "rng_seed", "mode",
+    "method", "distributions", "filter", "acuity",           "angles",      "grid",     NULL};
 
 static int sweep_parse(const json_t *spec, void **params, aa_error *err)
 {
@@ -126,6 +126,8 @@ static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
         aa_multistart_params mp;
         aa_multistart_params_default(&mp);
         mp.local.mode = sp->common.mode;
+        /* Mirrored configurations are never tiled without border samples. */
+        mp.local.method = opt_common_method(&sp->common, false, sp->common.mode);
         mp.local.grid_bits = sp->common.grid_bits;
         mp.local.d3d12_range = sp->common.d3d12;
         mp.local.max_iterations = 20000;

@@ -1,6 +1,7 @@
 /* Job kind "optimize" (issue 3): multi-start L&A sec. 5 descent for a family or from a given
  * pattern. Spec: {"kind":"optimize", "family":"P(4,1+,2)" | "pattern":P, "seeds":N,
- * "max_seconds":S, "rng_seed":K, "mode":"weights|positions|both", "filter":F?, "acuity":A?,
+ * "max_seconds":S, "rng_seed":K, "mode":"weights|positions|both",
+ * "method":"auto|laine-aila|minimax|smooth"?, "filter":F?, "acuity":A?,
  * "angles":[...]?, "grid":{"bits":4,"d3d12":false}?, "distributions":["uniform",...]?}.
  * For P(4,1+,n) every placement configuration is screened first (150 steps each, at most a
  * quarter of the budget) and the seeds go to the best min(seeds, 8) configurations. For tiled
@@ -104,6 +105,16 @@ int opt_common_parse(const json_t *spec, double def_seconds, opt_common_spec *c,
         else
             rc = aa_error_set(err, AA_EINVAL, "mode", "must be weights, positions or both");
     }
+    const char *method = NULL;
+    c->method_auto = true;
+    if (!rc)
+        rc = opt_spec_string(spec, "method", &method, err);
+    if (!rc && method && strcmp(method, "auto")) {
+        c->method_auto = false;
+        if (aa_optimize_method_parse(method, &c->method))
+            rc = aa_error_set(err, AA_EINVAL, "method",
+                              "must be auto, laine-aila, minimax or smooth");
+    }
     json_t *grid = json_object_get(spec, "grid");
     if (!rc && grid) {
         json_int_t bits = 4;
@@ -122,6 +133,12 @@ int opt_common_parse(const json_t *spec, double def_seconds, opt_common_spec *c,
     if (rc)
         opt_common_free(c);
     return rc;
+}
+
+aa_optimize_method opt_common_method(const opt_common_spec *c, bool tiled_without_border,
+                                     aa_optimize_mode mode)
+{
+    return c->method_auto ? aa_auto_method(tiled_without_border, mode) : c->method;
 }
 
 void opt_common_free(opt_common_spec *c)
@@ -182,8 +199,8 @@ static void optimize_free(void *params)
 }
 
 static const char *const optimize_keys[] = {
-    "kind",   "family", "pattern", "seeds", "max_seconds",   "rng_seed", "mode",
-    "filter", "acuity", "angles",  "grid",  "distributions", NULL};
+    "kind",   "family", "pattern", "seeds",  "max_seconds", "rng_seed",      "mode",
+    "method", "filter", "acuity",  "angles", "grid",        "distributions", NULL};
 
 int opt_parse_distributions(const json_t *spec, aa_seed_kind *kinds, size_t *count, aa_error *err)
 {
@@ -291,6 +308,9 @@ static int optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *e
     } else {
         mp.seeds = &op->pattern;
     }
+    bool tiled =
+        op->have_family ? aa_family_perturbable(&op->family) : aa_perturbable(&op->pattern);
+    mp.local.method = opt_common_method(&op->common, tiled, op->common.mode);
     opt_job_bridge b = {ctx, 0, 1, 0, 0, 0, INFINITY, -1};
     aa_pattern best;
     aa_multistart_result r;
@@ -301,11 +321,12 @@ static int optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *e
         return rc;
     }
     json_t *res = json_pack(
-        "{s:o,s:o,s:{s:I,s:o},s:I,s:I,s:I,s:o,s:s,s:o}", "best", proto_encode_pattern(&best), "e2",
-        proto_real(r.e2), "argmax", "kernel", (json_int_t)r.argmax_kernel, "angle_deg",
+        "{s:o,s:o,s:{s:I,s:o},s:I,s:I,s:I,s:o,s:s,s:s,s:o}", "best", proto_encode_pattern(&best),
+        "e2", proto_real(r.e2), "argmax", "kernel", (json_int_t)r.argmax_kernel, "angle_deg",
         proto_real(r.argmax_angle_deg), "seeds_run", (json_int_t)r.seeds_run, "iterations",
         (json_int_t)r.iterations, "evaluations", (json_int_t)r.evaluations, "seconds",
-        proto_real(r.seconds), "family", best.family, "per_seed", opt_per_seed_json(&r));
+        proto_real(r.seconds), "family", best.family, "method",
+        aa_optimize_method_name(mp.local.method), "per_seed", opt_per_seed_json(&r));
     if (res && op->common.grid_bits)
         json_object_set_new(res, "grid",
                             json_pack("{s:I,s:b,s:o,s:o}", "bits", (json_int_t)op->common.grid_bits,

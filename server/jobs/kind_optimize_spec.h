@@ -22,6 +22,8 @@ typedef struct opt_common_spec {
     double max_seconds;
     uint64_t rng_seed;
     aa_optimize_mode mode;
+    bool method_auto; /* "method" absent or "auto": the engine's choice (aa_auto_method) */
+    aa_optimize_method method;
     int grid_bits;
     bool d3d12;
 } opt_common_spec;
@@ -34,10 +36,14 @@ int opt_spec_number(const json_t *spec, const char *key, double lo, double hi, d
 int opt_spec_integer(const json_t *spec, const char *key, json_int_t lo, json_int_t hi,
                      json_int_t *out, aa_error *err);
 int opt_spec_string(const json_t *spec, const char *key, const char **out, aa_error *err);
-/* filter, acuity, angles, max_seconds (default def_seconds), rng_seed, mode, grid. */
+/* filter, acuity, angles, max_seconds (default def_seconds), rng_seed, mode, method, grid. */
 int opt_common_parse(const json_t *spec, double def_seconds, opt_common_spec *out, aa_error *err);
 void opt_common_free(opt_common_spec *c);
 aa_metric_params opt_common_metric(const opt_common_spec *c);
+/* The step rule for a run of the spec's mode on patterns that are (or not) tiled without border
+ * samples: the spec's "method", or the engine's choice for "auto". */
+aa_optimize_method opt_common_method(const opt_common_spec *c, bool tiled_without_border,
+                                     aa_optimize_mode mode);
 
 /* Engine progress -> job_ctx. base/span map the run's 0..1 onto the job's progress. */
 typedef struct opt_job_bridge {

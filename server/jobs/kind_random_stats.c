@@ -31,8 +31,8 @@ static void stats_free(void *params)
 }
 
 static const char *const stats_keys[] = {"kind",        "family",   "count",  "distribution",
-                                         "max_seconds", "rng_seed", "filter", "acuity",
-                                         "angles",      NULL};
+                                         "max_seconds", "rng_seed", "method", "filter",
+                                         "acuity",      "angles",   NULL};
 
 static int stats_parse(const json_t *spec, void **params, aa_error *err)
 {
@@ -69,12 +69,14 @@ static int stats_parse(const json_t *spec, void **params, aa_error *err)
 }
 
 static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric,
-                          aa_optimize_mode mode, double seconds, uint64_t rng_seed,
-                          opt_job_bridge *b, aa_pattern *out, aa_optimize_result *r, aa_error *err)
+                          aa_optimize_mode mode, aa_optimize_method method, double seconds,
+                          uint64_t rng_seed, opt_job_bridge *b, aa_pattern *out,
+                          aa_optimize_result *r, aa_error *err)
 {
     aa_optimize_params op;
     aa_optimize_params_default(&op);
     op.mode = mode;
+    op.method = method;
     op.max_seconds = seconds;
     op.max_iterations = 1000000;
     op.stall_iterations = 2000;
@@ -152,21 +154,25 @@ static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     memset(&rwp, 0, sizeof rwp);
     b.base = 0.2;
     b.span = 0.4;
+    bool tiled = !rc && aa_perturbable(&best);
+    aa_optimize_method mw = opt_common_method(&sp->common, tiled, AA_OPTIMIZE_WEIGHTS);
+    aa_optimize_method mwp = opt_common_method(&sp->common, tiled, AA_OPTIMIZE_BOTH);
     if (!rc)
-        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_WEIGHTS, sp->common.max_seconds / 2,
+        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_WEIGHTS, mw, sp->common.max_seconds / 2,
                             sp->common.rng_seed, &b, &optw, &rw, err);
     b.base = 0.6;
     if (!rc)
-        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_BOTH, sp->common.max_seconds / 2,
+        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_BOTH, mwp, sp->common.max_seconds / 2,
                             sp->common.rng_seed, &b, &optwp, &rwp, err);
     if (!rc) {
-        *result = json_pack("{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:{s:o,s:o},s:{s:o,s:o}}", "family",
-                            sp->family.label, "distribution", aa_seed_kind_name(sp->kind), "count",
-                            (json_int_t)done, "random", "min", proto_real(mn), "avg",
-                            proto_real(sum / done), "max", proto_real(mx), "best_random",
-                            proto_encode_pattern(&best), "opt_w", "e2", proto_real(rw.e2),
-                            "pattern", proto_encode_pattern(&optw), "opt_wp", "e2",
-                            proto_real(rwp.e2), "pattern", proto_encode_pattern(&optwp));
+        *result = json_pack(
+            "{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:{s:o,s:o,s:s},s:{s:o,s:o,s:s}}", "family",
+            sp->family.label, "distribution", aa_seed_kind_name(sp->kind), "count",
+            (json_int_t)done, "random", "min", proto_real(mn), "avg", proto_real(sum / done), "max",
+            proto_real(mx), "best_random", proto_encode_pattern(&best), "opt_w", "e2",
+            proto_real(rw.e2), "pattern", proto_encode_pattern(&optw), "method",
+            aa_optimize_method_name(mw), "opt_wp", "e2", proto_real(rwp.e2), "pattern",
+            proto_encode_pattern(&optwp), "method", aa_optimize_method_name(mwp));
         if (!*result)
             rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
         /* Opt W+P as the job's "best" / "e2", like the optimize kind's result. */

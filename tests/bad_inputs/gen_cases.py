@@ -1,4 +1,5 @@
 import json
+import os
 C = []
 EV = "/v1/evaluate"
 JT = {"Content-Type": "application/json"}
@@ -189,6 +190,10 @@ case("optimize_seeds_negative", 400, "seeds", path="/v1/jobs", body_json=dict(OP
 case("optimize_seeds_absurd", 400, "seeds", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", seeds=1000000000))
 case("optimize_max_seconds_negative", 400, "max_seconds", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", max_seconds=-5))
 case("optimize_max_seconds_huge", 400, "max_seconds", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", max_seconds=1e300))
+case("optimize_method_unknown", 400, "method", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", method="newton"))
+case("optimize_method_number", 400, "method", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", method=1))
+case("optimize_method_case", 400, "method", path="/v1/jobs", body_json=dict(OPT, family="P(4,1+,2)", method="Smooth"))
+case("random_stats_method_unknown", 400, "method", path="/v1/jobs", body_json={"kind": "random-stats", "family": "P(1,4,2)", "count": 10, "max_seconds": 1, "method": "bfgs"})
 case("optimize_bad_pattern", 400, "pattern.kernels[0]", path="/v1/jobs", body_json={"kind": "optimize", "pattern": {"kernels": [[[0, 0, 2]]]}, "seeds": 1, "max_seconds": 1})
 case("job_kind_unknown", 400, "kind", path="/v1/jobs", body_json={"kind": "nope"})
 case("job_kind_missing", 400, "kind", path="/v1/jobs", body_json={"seeds": 1})
@@ -286,7 +291,7 @@ case("tcp_bad_host", [400, 403, 421], "*", method="GET", path="/v1/health", via=
 case("tcp_post_job_no_token", 401, None, path="/v1/jobs", via="tcp", body_json={"kind": "sleep", "seconds": 0})
 case("tcp_post_job_wrong_token", 401, None, path="/v1/jobs", via="tcp", headers={"Content-Type": "application/json", "Authorization": "Bearer wrong"}, body_json={"kind": "sleep", "seconds": 0})
 case("tcp_delete_no_token", [401, 404], None, method="DELETE", path="/v1/jobs/1", via="tcp")
-with open("/work/wt/hardening/tests/bad_inputs/cases.jsonl", "w") as f:
+with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "cases.jsonl"), "w") as f:
     for c in C:
         f.write(json.dumps(c, separators=(",", ":")) + "\n")
 print(len(C))

@@ -56,7 +56,8 @@ static void optimize_family_and_numbers(void **state)
     cli_args a;
     char err[256] = "";
     assert_int_equal(PARSE(&a, "optimize", "--family", "P(4,1+,2)", "--seeds", "64",
-                           "--max-seconds", "1.5", "--rng-seed", "7", "--mode", "both", "-w"),
+                           "--max-seconds", "1.5", "--rng-seed", "7", "--mode", "both", "--method",
+                           "smooth", "-w"),
                      0);
     assert_int_equal(a.command, CMD_OPTIMIZE);
     assert_string_equal(a.family, "P(4,1+,2)");
@@ -64,6 +65,7 @@ static void optimize_family_and_numbers(void **state)
     assert_true(a.has_max_seconds && a.max_seconds == 1.5);
     assert_true(a.has_rng_seed && a.rng_seed == 7);
     assert_string_equal(a.mode, "both");
+    assert_string_equal(a.method, "smooth");
     assert_true(a.wait);
 }
 
@@ -89,6 +91,8 @@ static void bad_numbers_are_usage_errors(void **state)
     assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--rng-seed", "-3"), -1);
     assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--mode", "all"), -1);
     assert_non_null(strstr(err, "--mode"));
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--method", "newton"), -1);
+    assert_non_null(strstr(err, "--method"));
     assert_int_equal(PARSE(&a, "health", "--timeout", "0"), -1);
 }
 

@@ -168,6 +168,8 @@ def test_random_stats(d):
     # positions add freedom: W+P reaches below the weights-only optimum
     check(res["opt_wp"]["e2"] < res["opt_w"]["e2"], res)
     check(res["e2"] == res["opt_wp"]["e2"], res)
+    # the automatic step rules: minimax for the convex weights-only stage
+    check(res["opt_w"]["method"] == "minimax" and res["opt_wp"]["method"] == "laine-aila", res)
     for key in ("best_random", "best"):
         e = d.post("/v1/evaluate", {"pattern": res[key]})
         check(e.status == 200, e)

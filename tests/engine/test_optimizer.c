@@ -1,4 +1,5 @@
-/* Optimizer: gradient direction, site constraints, determinism, cancellation, monotone trace. */
+/* Optimizer: gradient direction, site constraints, determinism, cancellation, monotone trace;
+ * the structural tests run for every step rule (laine-aila, minimax, smooth). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <setjmp.h>
@@ -26,6 +27,10 @@ static int setup(void **state)
     metric = (aa_metric_params){&filter, &acuity, NULL, 0, 0};
     return 0;
 }
+
+static const aa_optimize_method methods[] = {AA_METHOD_LAINE_AILA, AA_METHOD_MINIMAX,
+                                             AA_METHOD_SMOOTH};
+#define METHOD_COUNT (sizeof methods / sizeof methods[0])
 
 static double mono(void)
 {
@@ -79,12 +84,13 @@ static void optimize_never_raises_e2(void **state)
     const char *fams[] = {"P(1,1,3)", "P(4,1+,2)", "P(1,4,2)", "P(4,4,1)"};
     aa_optimize_mode modes[] = {AA_OPTIMIZE_WEIGHTS, AA_OPTIMIZE_POSITIONS, AA_OPTIMIZE_BOTH};
     for (size_t f = 0; f < 4; f++) {
-        for (size_t m = 0; m < 3; m++) {
+        for (size_t m = 0; m < 3 * METHOD_COUNT; m++) {
             aa_pattern seed, best;
             seed_of(fams[f], 5 + f, &seed);
             aa_optimize_params op;
             aa_optimize_params_default(&op);
-            op.mode = modes[m];
+            op.mode = modes[m % 3];
+            op.method = methods[m / 3];
             op.max_iterations = 150;
             op.max_seconds = 0;
             aa_optimize_result r;
@@ -97,9 +103,8 @@ static void optimize_never_raises_e2(void **state)
     }
 }
 
-static void mirrored_sites_are_preserved(void **state)
+static void mirrored_sites_are_preserved_by(aa_optimize_method method)
 {
-    (void)state;
     aa_mirrored_config c = {{1, 0, 0, 0}, {0, 2, 1, 0}, 1};
     aa_rng rng;
     aa_rng_seed(&rng, 9, 0);
@@ -108,6 +113,7 @@ static void mirrored_sites_are_preserved(void **state)
                      AA_OK);
     aa_optimize_params op;
     aa_optimize_params_default(&op);
+    op.method = method;
     op.max_iterations = 300;
     op.max_seconds = 0;
     aa_optimize_result r;
@@ -141,15 +147,23 @@ static void mirrored_sites_are_preserved(void **state)
     aa_pattern_free(&best);
 }
 
+static void mirrored_sites_are_preserved(void **state)
+{
+    (void)state;
+    for (size_t m = 0; m < METHOD_COUNT; m++)
+        mirrored_sites_are_preserved_by(methods[m]);
+}
+
 static void tile_sites_and_pixels_are_preserved(void **state)
 {
     (void)state;
     const char *fams[] = {"P(1,1+,3)", "P(4,4,2)"};
-    for (int f = 0; f < 2; f++) {
+    for (size_t f = 0; f < 2 * METHOD_COUNT; f++) {
         aa_pattern seed, best;
-        seed_of(fams[f], 21, &seed);
+        seed_of(fams[f % 2], 21, &seed);
         aa_optimize_params op;
         aa_optimize_params_default(&op);
+        op.method = methods[f / 2];
         op.max_iterations = 200;
         op.max_seconds = 0;
         aa_optimize_result r;
@@ -204,7 +218,10 @@ static void perturbed_search_keeps_structure_and_is_deterministic(void **state)
     aa_optimize_result r, ra, rb;
     assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &local, &r, NULL), AA_OK);
     assert_true(aa_perturbable(&local));
-    aa_perturb_params pp = {8, 0.02, 30, 0};
+    aa_perturb_params pp;
+    aa_perturb_params_default(&pp);
+    pp.rounds = 8;
+    pp.sigma = 0.02;
     aa_rng rng;
     aa_rng_seed(&rng, 9, 1);
     assert_int_equal(
@@ -309,6 +326,33 @@ static void multistart_is_deterministic(void **state)
     aa_multistart_result_free(&rc);
 }
 
+/* Every step rule is deterministic without a time budget: the same seed, the same result. */
+static void every_method_is_deterministic(void **state)
+{
+    (void)state;
+    for (size_t m = 0; m < METHOD_COUNT; m++) {
+        aa_pattern seed, a, b;
+        seed_of("P(4,4,2)", 17, &seed);
+        aa_optimize_params op;
+        aa_optimize_params_default(&op);
+        op.method = methods[m];
+        op.max_iterations = 120;
+        op.max_seconds = 0;
+        aa_optimize_result ra, rb;
+        assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &a, &ra, NULL), AA_OK);
+        assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &b, &rb, NULL), AA_OK);
+        assert_true(ra.e2 == rb.e2);
+        assert_int_equal(ra.iterations, rb.iterations);
+        assert_memory_equal(a.tile_samples, b.tile_samples, a.tile_count * sizeof *a.tile_samples);
+        for (size_t k = 0; k < a.kernel_count; k++)
+            assert_memory_equal(a.kernels[k].samples, b.kernels[k].samples,
+                                a.kernels[k].count * sizeof *a.kernels[k].samples);
+        aa_pattern_free(&seed);
+        aa_pattern_free(&a);
+        aa_pattern_free(&b);
+    }
+}
+
 typedef struct cancel_probe {
     double start, cancelled_at;
     int calls;
@@ -336,19 +380,25 @@ static void cancel_stops_within_100ms(void **state)
     (void)state;
     aa_pattern seed, best;
     seed_of("P(16,16,4)", 3, &seed);
-    aa_optimize_params op;
-    aa_optimize_params_default(&op);
-    op.max_iterations = 1000000;
-    op.max_seconds = 60;
-    cancel_probe c = {mono(), 0, 0, INFINITY, 0, 0};
-    aa_optimize_result r;
-    int rc = aa_optimize(&seed, &metric, &op, cancel_after_50ms, &c, &best, &r, NULL);
-    double stopped = mono();
-    assert_int_equal(rc, AA_ECANCELED);
-    assert_true(c.cancelled_at > 0);
-    assert_true(stopped - c.cancelled_at < 0.1);
-    assert_non_null(best.kernels); /* best so far is handed back */
-    aa_pattern_free(&best);
+    int rc;
+    double stopped;
+    for (size_t m = 0; m < METHOD_COUNT; m++) {
+        aa_optimize_params op;
+        aa_optimize_params_default(&op);
+        op.method = methods[m];
+        op.max_iterations = 1000000;
+        op.max_seconds = 60;
+        cancel_probe c = {mono(), 0, 0, INFINITY, 0, 0};
+        aa_optimize_result r;
+        rc = aa_optimize(&seed, &metric, &op, cancel_after_50ms, &c, &best, &r, NULL);
+        stopped = mono();
+        assert_int_equal(rc, AA_ECANCELED);
+        assert_true(c.cancelled_at > 0);
+        assert_true(stopped - c.cancelled_at < 0.1);
+        assert_int_equal(c.nonmonotone, 0);
+        assert_non_null(best.kernels); /* best so far is handed back */
+        aa_pattern_free(&best);
+    }
 
     aa_family fam;
     assert_int_equal(aa_family_parse("P(16,16,4)", &fam, NULL), AA_OK);
@@ -386,22 +436,25 @@ static void trace_is_monotone(void **state)
     (void)state;
     aa_family fam;
     assert_int_equal(aa_family_parse("P(1,4,2)", &fam, NULL), AA_OK);
-    aa_multistart_params mp;
-    aa_multistart_params_default(&mp);
-    mp.family = &fam;
-    mp.seed_count = 6;
-    mp.workers = 2;
-    mp.max_seconds = 0;
-    mp.local.max_iterations = 3000;
-    cancel_probe c = {mono(), 0, 0, INFINITY, 0, 0};
-    aa_pattern best;
-    aa_multistart_result r;
-    assert_int_equal(aa_multistart(&mp, &metric, record_trace, &c, &best, &r, NULL), AA_OK);
-    assert_true(c.calls >= 1);
-    assert_int_equal(c.nonmonotone, 0);
-    assert_true(fabs(c.last_e2 - r.e2) < 1e-9 || c.last_e2 >= r.e2);
-    aa_pattern_free(&best);
-    aa_multistart_result_free(&r);
+    for (size_t m = 0; m < METHOD_COUNT; m++) {
+        aa_multistart_params mp;
+        aa_multistart_params_default(&mp);
+        mp.family = &fam;
+        mp.seed_count = 6;
+        mp.workers = 2;
+        mp.max_seconds = 0;
+        mp.local.method = methods[m];
+        mp.local.max_iterations = m == 0 ? 3000 : 300;
+        cancel_probe c = {mono(), 0, 0, INFINITY, 0, 0};
+        aa_pattern best;
+        aa_multistart_result r;
+        assert_int_equal(aa_multistart(&mp, &metric, record_trace, &c, &best, &r, NULL), AA_OK);
+        assert_true(c.calls >= 1);
+        assert_int_equal(c.nonmonotone, 0);
+        assert_true(fabs(c.last_e2 - r.e2) < 1e-9 || c.last_e2 >= r.e2);
+        aa_pattern_free(&best);
+        aa_multistart_result_free(&r);
+    }
 }
 
 static void grid_snapping_reports_quantisation(void **state)
@@ -434,6 +487,7 @@ int main(void)
         cmocka_unit_test(mirrored_sites_are_preserved),
         cmocka_unit_test(tile_sites_and_pixels_are_preserved),
         cmocka_unit_test(multistart_is_deterministic),
+        cmocka_unit_test(every_method_is_deterministic),
         cmocka_unit_test(perturbed_search_keeps_structure_and_is_deterministic),
         cmocka_unit_test(perturbed_multistart_is_deterministic),
         cmocka_unit_test(cancel_stops_within_100ms),

@@ -1,5 +1,6 @@
-// Jobs view with the optimizer: a short optimize job started from the form; its progress must
-// reach done and its E2-against-run-time curve appear, with the API's trace points.
+// Jobs view with the optimizer: a short optimize job started from the form (with a chosen step
+// rule); its progress must reach done and its E2-against-run-time curve appear, with the API's
+// trace points.
 
 import { assert, eventually } from '../lib/check.mjs';
 import { watchToDone } from './jobs.mjs';
@@ -15,6 +16,7 @@ export default async function optimizeSuite({ page, base, api, step, shot }) {
     await page.fill('#job-seeds', '4');
     await page.fill('#job-seconds', '2');
     await page.fill('#job-rng', '7');
+    await page.selectOption('#job-method', 'minimax');
     await page.click('#job-submit');
     const status = await eventually(async () => {
       const t = await page.textContent('#job-form-status');
@@ -37,6 +39,7 @@ export default async function optimizeSuite({ page, base, api, step, shot }) {
     const last = job.trace[job.trace.length - 1].best_e2;
     console.log(`#   optimize job ${id}: states seen ${seen.join(' → ')}, best E2 shown ${e2Text}, result e2 ${job.result && job.result.e2}, last trace point ${last}`);
     assert(job.result && typeof job.result.e2 === 'number', 'the finished job has no result e2');
+    assert(job.result.method === 'minimax', `the form asked for the minimax step rule, the job used ${job.result.method}`);
     assert(e2Text === job.result.e2.toFixed(6), `best E2 shown ${e2Text}, the job's result says ${job.result.e2}`);
     assert(Math.abs(last - job.result.e2) < 1e-12, `last trace point ${last} is not the result e2 ${job.result.e2}`);
     const dots = await page.$$eval('#jd-pattern g.dot-primary', (g) => g.length);

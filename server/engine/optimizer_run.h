@@ -1,0 +1,85 @@
+/* Internal to the optimizer: what one local run needs besides the free variables (angles,
+ * acuity weights, per-term values, gradient scratch, the clock, progress and cancel polling),
+ * shared by the step rules (optimizer.c: Laine & Aila; optimizer_minimax.c: the minimax QP
+ * step). Not part of the public API. */
+#ifndef AA_OPTIMIZER_RUN_H
+#define AA_OPTIMIZER_RUN_H
+
+#include <stdbool.h>
+
+#include "metric.h"
+#include "optimizer.h"
+#include "optimizer_state.h"
+
+double opt_now_seconds(void);
+
+/* Progress reporting of one run: at most every 10 ms unless forced. */
+typedef struct opt_progress_state {
+    aa_optimize_progress_fn fn;
+    void *user;
+    double start, last_call;
+    bool improved;
+} opt_progress_state;
+
+typedef struct opt_run {
+    const aa_metric_params *metric;
+    const aa_optimize_params *params;
+    size_t angle_count;
+    double *theta;                 /* radians */
+    double *weight;                /* W(theta) */
+    double *value;                 /* W E1 per kernel x angle, kernel-major */
+    double *gx, *gy, *gw;          /* per-kernel gradient scratch (max kernel size) */
+    double *dir_x, *dir_y, *dir_w; /* descent direction on the free variables */
+    aa_metric_workspace ws;
+    long evaluations;
+    /* Polled between kernels so a cancel is seen within a fraction of a step (a step of
+     * P(16,16,4) can take 50+ ms on a loaded machine). */
+    opt_progress_state *poll_ps;
+    const opt_state *poll_top;
+    const double *poll_best_e2;
+    const long *poll_it;
+} opt_run;
+
+/* One local run in progress, as the step rules see it: they move cur (trial is scratch), keep
+ * the best state in top and its E2 in best_e2, count steps in it, and return when a stopping
+ * rule holds (AA_OK), on error, or with AA_ECANCELED when the progress callback cancels. */
+typedef struct opt_loop {
+    opt_run run;
+    opt_state cur, trial, top;
+    opt_progress_state ps;
+    double start;   /* opt_now_seconds() when the run began */
+    double e2;      /* of cur */
+    double best_e2; /* of top */
+    long it;
+    aa_error *err;
+} opt_loop;
+
+/* Call between steps: AA_OK to go on, 1 if the time budget or max_iterations is spent,
+ * AA_ECANCELED if the progress callback cancels. */
+int opt_loop_tick(opt_loop *L);
+/* Records cur as the new best (when it is) for the result and the trace. */
+void opt_loop_note_best(opt_loop *L);
+/* Records st (of E2 e2) as the new best when it is lower and a valid pattern: no two samples of
+ * a kernel at the same position (clamping two points into the same corner of their boxes would
+ * make one; the pattern constructors refuse such patterns). Returns whether it was taken. */
+bool opt_loop_offer_best(opt_loop *L, const opt_state *st, double e2);
+
+/* The step rules. */
+int opt_descend_laine_aila(opt_loop *L);
+int opt_descend_minimax(opt_loop *L);
+int opt_descend_smooth(opt_loop *L);
+
+int opt_run_init(opt_run *r, const opt_state *st, const aa_metric_params *metric,
+                 const aa_optimize_params *params, aa_error *err);
+void opt_run_free(opt_run *r);
+/* E2 of the state's current kernels (opt_state_apply first); fills r->value. AA_ECANCELED when
+ * the progress callback asks to stop. */
+int opt_run_eval_e2(opt_run *r, opt_state *st, double *e2);
+/* Calls the progress callback (rate-limited unless force) with a snapshot of best. */
+int opt_report(opt_progress_state *ps, const opt_state *best, double best_e2, long it, long evals,
+               double fraction, bool force);
+int opt_poll_cancel(const opt_run *r);
+/* dst's variables := src's (same shape), applied to dst's kernels. */
+void opt_state_copy_vars(opt_state *dst, const opt_state *src);
+
+#endif
