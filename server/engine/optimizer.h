@@ -134,6 +134,9 @@ bool aa_perturbable(const aa_pattern *p);
  * P(4,4,n) and P(16,16,n). The one-pixel families converge to the published optima without it
  * (bench_families), and it has not been measured there. */
 bool aa_family_perturbable(const aa_family *f);
+/* The same test on a pattern: a tile form with T > 1 and no border samples (what
+ * aa_auto_method's tiled_without_border means). */
+bool aa_pattern_tiled_without_border(const aa_pattern *p);
 int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metric,
                           const aa_optimize_params *local, const aa_perturb_params *pp, aa_rng *rng,
                           aa_optimize_progress_fn progress, void *user, aa_pattern *best,

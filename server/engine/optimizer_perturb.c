@@ -46,6 +46,11 @@ bool aa_family_perturbable(const aa_family *f)
     return f->tile > 1 && !f->border;
 }
 
+bool aa_pattern_tiled_without_border(const aa_pattern *p)
+{
+    return p->form == AA_FORM_TILE && p->tile > 1 && !p->border;
+}
+
 bool aa_perturbable(const aa_pattern *p)
 {
     /* Border samples sit on edges and corners; moving them would change the family. */

@@ -154,7 +154,7 @@ static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     memset(&rwp, 0, sizeof rwp);
     b.base = 0.2;
     b.span = 0.4;
-    bool tiled = !rc && aa_perturbable(&best);
+    bool tiled = !rc && aa_pattern_tiled_without_border(&best);
     aa_optimize_method mw = opt_common_method(&sp->common, tiled, AA_OPTIMIZE_WEIGHTS);
     aa_optimize_method mwp = opt_common_method(&sp->common, tiled, AA_OPTIMIZE_BOTH);
     if (!rc)

@@ -197,11 +197,25 @@ static void names_and_the_automatic_choice(void **state)
     assert_int_equal(aa_auto_method(false, AA_OPTIMIZE_WEIGHTS), AA_METHOD_MINIMAX);
     assert_int_equal(aa_auto_method(true, AA_OPTIMIZE_WEIGHTS), AA_METHOD_MINIMAX);
 
+    /* What the choice is made on: tiles of T > 1 without border samples, family or pattern. */
+    const char *labels[] = {"P(1,1,2)",  "P(1,4,2)", "P(1,1+,3)",
+                            "P(4,1+,2)", "P(4,4,1)", "P(16,16,2)"};
+    const bool tiled[] = {false, false, false, false, true, true};
+    aa_rng rng;
+    aa_rng_seed(&rng, 1, 1);
+    for (size_t i = 0; i < sizeof labels / sizeof labels[0]; i++) {
+        aa_family f;
+        aa_pattern p;
+        assert_int_equal(aa_family_parse(labels[i], &f, NULL), AA_OK);
+        assert_int_equal(aa_family_seed(&f, AA_SEED_JITTERED, &filter, &rng, &p, NULL), AA_OK);
+        assert_int_equal(aa_family_perturbable(&f), tiled[i]);
+        assert_int_equal(aa_pattern_tiled_without_border(&p), tiled[i]);
+        aa_pattern_free(&p);
+    }
+
     aa_pattern seed, best;
     aa_family fam;
     assert_int_equal(aa_family_parse("P(1,1,2)", &fam, NULL), AA_OK);
-    aa_rng rng;
-    aa_rng_seed(&rng, 1, 1);
     assert_int_equal(aa_family_seed(&fam, AA_SEED_UNIFORM, &filter, &rng, &seed, NULL), AA_OK);
     aa_optimize_params op;
     aa_optimize_params_default(&op);
