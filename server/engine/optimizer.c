@@ -75,22 +75,6 @@ static int descent_direction(opt_run *r, opt_state *st, double e2, double thresh
     return AA_OK;
 }
 
-/* trial = base - step * direction, projected onto the sites and renormalised. */
-static void take_step(opt_state *trial, const opt_state *base, const opt_run *r, double step)
-{
-    for (size_t m = 0; m < base->point_count; m++) {
-        opt_point *p = &trial->points[m];
-        *p = base->points[m];
-        p->x -= step * r->dir_x[m];
-        p->y -= step * r->dir_y[m];
-        opt_point_clamp(p);
-    }
-    for (size_t s = 0; s < base->weight_count; s++)
-        trial->weights[s] = base->weights[s] - step * r->dir_w[s];
-    opt_state_normalize_weights(trial);
-    opt_state_apply(trial);
-}
-
 static int validate(const aa_pattern *seed, const aa_metric_params *metric,
                     const aa_optimize_params *p, aa_error *err)
 {
@@ -184,7 +168,7 @@ int opt_descend_laine_aila(opt_loop *L)
     int rc = descent_direction(r, &L->cur, L->e2, params->threshold);
     while (!rc && !(rc = opt_loop_tick(L))) {
         L->it++;
-        take_step(&L->trial, &L->cur, r, step);
+        opt_run_take_step(r, &L->trial, &L->cur, step);
         double te2;
         if ((rc = opt_run_eval_e2(r, &L->trial, &te2)))
             break;

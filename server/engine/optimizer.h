@@ -58,7 +58,7 @@ int aa_optimize_method_parse(const char *name, aa_optimize_method *out); /* AA_E
  * (README, Benchmarks): weights only -> minimax (the problem is convex in the weights and the
  * minimax step converges to its optimum, where the L&A rule stops ~1-2% above it); tiled
  * families without border samples (P(4,4,n), P(16,16,n); aa_family_perturbable) -> smooth
- * (P(16,16,4), 60 s: 0.174 against 0.182); everything else -> laine-aila, which reaches the
+ * (P(16,16,4): 0.1730 against 0.1764 in 600 s); everything else -> laine-aila, which reaches the
  * published optima of the one-pixel families. */
 aa_optimize_method aa_auto_method(bool tiled_without_border, aa_optimize_mode mode);
 

@@ -243,21 +243,6 @@ static bool freeze_blocked(const opt_run *r, const opt_state *st, mm_work *w)
     return any;
 }
 
-static void take_step(opt_state *trial, const opt_state *base, const opt_run *r, double delta)
-{
-    for (size_t m = 0; m < base->point_count; m++) {
-        opt_point *p = &trial->points[m];
-        *p = base->points[m];
-        p->x -= delta * r->dir_x[m];
-        p->y -= delta * r->dir_y[m];
-        opt_point_clamp(p);
-    }
-    for (size_t s = 0; s < base->weight_count; s++)
-        trial->weights[s] = base->weights[s] - delta * r->dir_w[s];
-    opt_state_normalize_weights(trial);
-    opt_state_apply(trial);
-}
-
 /* Solves the step's QP for the current delta; returns the predicted decrease of E2. */
 static double solve_step(mm_work *w, size_t m, double delta, double e2)
 {
@@ -316,7 +301,7 @@ int opt_descend_minimax(opt_loop *L)
             if ((rc = opt_loop_tick(L)))
                 break;
             L->it++;
-            take_step(&L->trial, &L->cur, r, delta);
+            opt_run_take_step(r, &L->trial, &L->cur, delta);
             double te2;
             if ((rc = opt_run_eval_e2(r, &L->trial, &te2)))
                 break;

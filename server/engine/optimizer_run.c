@@ -97,6 +97,21 @@ int opt_run_eval_e2(opt_run *r, opt_state *st, double *e2)
     return AA_OK;
 }
 
+void opt_run_take_step(const opt_run *r, opt_state *trial, const opt_state *base, double step)
+{
+    for (size_t m = 0; m < base->point_count; m++) {
+        opt_point *p = &trial->points[m];
+        *p = base->points[m];
+        p->x -= step * r->dir_x[m];
+        p->y -= step * r->dir_y[m];
+        opt_point_clamp(p);
+    }
+    for (size_t s = 0; s < base->weight_count; s++)
+        trial->weights[s] = base->weights[s] - step * r->dir_w[s];
+    opt_state_normalize_weights(trial);
+    opt_state_apply(trial);
+}
+
 void opt_state_copy_vars(opt_state *dst, const opt_state *src)
 {
     memcpy(dst->points, src->points, src->point_count * sizeof *src->points);

@@ -79,6 +79,9 @@ int opt_run_eval_e2(opt_run *r, opt_state *st, double *e2);
 int opt_report(opt_progress_state *ps, const opt_state *best, double best_e2, long it, long evals,
                double fraction, bool force);
 int opt_poll_cancel(const opt_run *r);
+/* trial := base - step * (r->dir_x, r->dir_y, r->dir_w), projected onto the sites and
+ * renormalised, applied to trial's kernels. */
+void opt_run_take_step(const opt_run *r, opt_state *trial, const opt_state *base, double step);
 /* dst's variables := src's (same shape), applied to dst's kernels. */
 void opt_state_copy_vars(opt_state *dst, const opt_state *src);
 

@@ -9,12 +9,13 @@
  * automatically. L-BFGS (liblbfgs, More-Thuente line search) minimises F_p for p = 16, 32, ...,
  * 65536, each stage from the best pattern so far; the best true E2 seen at any evaluation is
  * kept, so the result and the trace are monotone in E2. Measured on P(16,16,4) from a Poisson
- * seed: 0.176-0.181 in 12-18 s, where the L&A rule stops at 0.196 and the minimax step at 0.187;
- * neither of them improves the smooth rule's end point. Stages past 4096 gain ~3e-5. Positions
- * leave their box only at a quadratic penalty and are clamped into it before E1 is evaluated;
- * weights move along Sigma w = 1 (the metric's projected gradients), so every iterate keeps the
- * family's structure. Cost per evaluation of P(16,16,4): all E1 values (~1.3 ms) and the gradients
- * of the terms whose factor (f_i / F_p)^(p-1) exceeds 1e-9. */
+ * seed: 0.176-0.181 in 13-19 s, where the L&A rule stops at 0.196-0.199 and the minimax step at
+ * 0.185-0.213 (bench_step_rules); neither of them improves the smooth rule's end point. Stages
+ * past 4096 gain ~3e-5. Positions leave their box only at a quadratic penalty and are clamped
+ * into it before E1 is evaluated; weights move along Sigma w = 1 (the metric's projected
+ * gradients), so every iterate keeps the family's structure. Cost per evaluation of P(16,16,4):
+ * all E1 values (~1.3 ms) and the gradients of the terms whose factor (f_i / F_p)^(p-1) exceeds
+ * 1e-9. */
 #include <lbfgs.h>
 #include <math.h>
 #include <stdlib.h>
