@@ -35,8 +35,9 @@ void aa_optimize_result_chain(aa_optimize_result *first, const aa_optimize_resul
 
 /* The L&A sec. 5 direction: sum over kernels and angles of W grad E1, terms with
  * W E1 >= t E2 scaled by c1/c0, mapped back to the free variables (mirror signs, shared
- * samples summed). r->value must hold the values of the current state. */
-static int descent_direction(opt_run *r, opt_state *st, double e2, double threshold)
+ * samples summed). value: W E1 of st's terms. */
+static int descent_direction(opt_run *r, opt_state *st, const double *value, double e2,
+                             double threshold)
 {
     const aa_optimize_params *p = r->params;
     memset(r->dir_x, 0, st->point_count * sizeof *r->dir_x);
@@ -48,7 +49,7 @@ static int descent_direction(opt_run *r, opt_state *st, double e2, double thresh
         if (opt_poll_cancel(r))
             return AA_ECANCELED;
         for (size_t a = 0; a < r->angle_count; a++) {
-            double v = r->value[k * r->angle_count + a];
+            double v = value[k * r->angle_count + a];
             if (v <= 0 || r->weight[a] <= 0)
                 continue;
             double c = v >= threshold * e2 ? p->active_ratio : 1.0;
@@ -154,18 +155,12 @@ int opt_descend_laine_aila(opt_loop *L)
     double step = params->step;
     long mark_it = L->it;
     double mark_e2 = L->best_e2;
-    /* cur_value: W E1 of cur, kept so the direction can be recomputed after rejected steps. */
-    size_t nvalues = r->angle_count * L->cur.work.kernel_count;
-    double *cur_value = malloc(nvalues * sizeof *cur_value);
-    if (!cur_value)
-        return aa_error_set(L->err, AA_ENOMEM, "", "out of memory");
-    memcpy(cur_value, r->value, nvalues * sizeof *cur_value);
     int band = 0, fails = 0, hpos = 0;
     double history[NONMONO];
     for (int h = 0; h < NONMONO; h++)
         history[h] = L->e2;
     double accepted_step = step;
-    int rc = descent_direction(r, &L->cur, L->e2, params->threshold);
+    int rc = descent_direction(r, &L->cur, r->cur_value, L->e2, params->threshold);
     while (!rc && !(rc = opt_loop_tick(L))) {
         L->it++;
         opt_run_take_step(r, &L->trial, &L->cur, step);
@@ -180,16 +175,13 @@ int opt_descend_laine_aila(opt_loop *L)
             ref = fmax(ref, history[h]);
         if (te2 <= ref && te2 < L->e2 * (1 + 1e-2)) {
             /* Accepted: move, grow the step a little, new direction from here. */
-            opt_state_copy_vars(&L->cur, &L->trial);
-            memcpy(cur_value, r->value, nvalues * sizeof *cur_value);
-            L->e2 = te2;
+            opt_loop_accept(L, te2);
             history[hpos++ % NONMONO] = L->e2;
             step *= 1.2;
             accepted_step = step;
             band = 0;
             fails = 0;
-            opt_loop_note_best(L);
-            if ((rc = descent_direction(r, &L->cur, L->e2, params->threshold)))
+            if ((rc = descent_direction(r, &L->cur, r->cur_value, L->e2, params->threshold)))
                 break;
         } else {
             /* E2 rose: cur is untouched; retry with half the step. At a kink of the max the
@@ -201,8 +193,7 @@ int opt_descend_laine_aila(opt_loop *L)
                 band++;
                 fails = 0;
                 double t_eff = fmax(0.5, 1 - pow(4.0, band) * (1 - params->threshold));
-                memcpy(r->value, cur_value, nvalues * sizeof *cur_value);
-                if ((rc = descent_direction(r, &L->cur, L->e2, t_eff)))
+                if ((rc = descent_direction(r, &L->cur, r->cur_value, L->e2, t_eff)))
                     break;
                 step = accepted_step;
             }
@@ -216,7 +207,6 @@ int opt_descend_laine_aila(opt_loop *L)
         if (step < 1e-14)
             break; /* no step along this direction lowers E2: a (nonsmooth) stationary point */
     }
-    free(cur_value);
     return rc == 1 ? AA_OK : rc;
 }
 
@@ -256,15 +246,14 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
     L.best_e2 = INFINITY; /* until the seed has been evaluated */
     bool cancelled = false;
     L.ps = (opt_progress_state){progress, user, L.start, L.start, true};
-    L.run.poll_ps = &L.ps;
-    L.run.poll_top = &L.top;
-    L.run.poll_best_e2 = &L.best_e2;
-    L.run.poll_it = &L.it;
+    L.run.loop = &L;
     if (!rc)
         rc = opt_run_eval_e2(&L.run, &L.cur, &L.e2);
     double initial = L.e2;
     if (!rc) {
         L.best_e2 = L.e2;
+        memcpy(L.run.cur_value, L.run.value,
+               L.run.angle_count * L.cur.work.kernel_count * sizeof *L.run.value);
         rc = params->method == AA_METHOD_MINIMAX  ? opt_descend_minimax(&L)
              : params->method == AA_METHOD_SMOOTH ? opt_descend_smooth(&L)
                                                   : opt_descend_laine_aila(&L);

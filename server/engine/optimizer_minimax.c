@@ -40,7 +40,6 @@ typedef struct mm_span {
 
 typedef struct mm_term {
     size_t k, a;
-    double f;
     double *g; /* [2 pn + wn] of kernel k: d f / d x, d f / d y, d f / d w */
 } mm_term;
 
@@ -186,9 +185,8 @@ static int build_model(opt_run *r, const opt_state *st, mm_work *w, const double
         size_t idx = w->order[j];
         t->k = idx / r->angle_count;
         t->a = idx % r->angle_count;
-        t->f = value[idx];
         t->g = w->gbuf + j * w->stride;
-        w->f[j] = t->f;
+        w->f[j] = value[idx];
         int rc = term_gradient(r, st, w, t);
         if (rc)
             return rc;
@@ -260,17 +258,13 @@ int opt_descend_minimax(opt_loop *L)
     opt_run *r = &L->run;
     const aa_optimize_params *params = r->params;
     size_t total = r->angle_count * L->cur.work.kernel_count;
+    const double *cur_value = r->cur_value;
     mm_work w;
     int rc = mm_init(&w, &L->cur, r->angle_count, L->err);
-    double *cur_value = rc ? NULL : malloc(total * sizeof *cur_value);
-    if (!rc && !cur_value)
-        rc = aa_error_set(L->err, AA_ENOMEM, "", "out of memory");
     if (rc) {
-        free(cur_value);
         mm_free(&w);
         return rc;
     }
-    memcpy(cur_value, r->value, total * sizeof *cur_value);
     double delta = 0;
     long mark_it = L->it;
     double mark_e2 = L->best_e2;
@@ -307,10 +301,7 @@ int opt_descend_minimax(opt_loop *L)
                 break;
             double ratio = (L->e2 - te2) / pred;
             if (te2 < L->e2 && ratio >= 0.1) {
-                opt_state_copy_vars(&L->cur, &L->trial);
-                memcpy(cur_value, r->value, total * sizeof *cur_value);
-                L->e2 = te2;
-                opt_loop_note_best(L);
+                opt_loop_accept(L, te2);
                 if (ratio > 0.75)
                     delta *= 2;
                 else if (ratio < 0.25)
@@ -330,7 +321,6 @@ int opt_descend_minimax(opt_loop *L)
             break;
         }
     }
-    free(cur_value);
     mm_free(&w);
     return rc == 1 ? AA_OK : rc;
 }

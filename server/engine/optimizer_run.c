@@ -19,6 +19,7 @@ void opt_run_free(opt_run *r)
     free(r->theta);
     free(r->weight);
     free(r->value);
+    free(r->cur_value);
     free(r->gx);
     free(r->gy);
     free(r->gw);
@@ -52,14 +53,15 @@ int opt_run_init(opt_run *r, const opt_state *st, const aa_metric_params *metric
     r->theta = malloc(n * sizeof *r->theta);
     r->weight = malloc(n * sizeof *r->weight);
     r->value = malloc(n * st->work.kernel_count * sizeof *r->value);
+    r->cur_value = malloc(n * st->work.kernel_count * sizeof *r->cur_value);
     r->gx = malloc(maxk * sizeof *r->gx);
     r->gy = malloc(maxk * sizeof *r->gy);
     r->gw = malloc(maxk * sizeof *r->gw);
     r->dir_x = calloc(st->point_count + 1, sizeof *r->dir_x);
     r->dir_y = calloc(st->point_count + 1, sizeof *r->dir_y);
     r->dir_w = calloc(st->weight_count + 1, sizeof *r->dir_w);
-    if (!r->theta || !r->weight || !r->value || !r->gx || !r->gy || !r->gw || !r->dir_x ||
-        !r->dir_y || !r->dir_w)
+    if (!r->theta || !r->weight || !r->value || !r->cur_value || !r->gx || !r->gy || !r->gw ||
+        !r->dir_x || !r->dir_y || !r->dir_w)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     for (size_t a = 0; a < n; a++) {
         char field[32];
@@ -142,10 +144,10 @@ int opt_report(opt_progress_state *ps, const opt_state *best, double best_e2, lo
 
 int opt_poll_cancel(const opt_run *r)
 {
-    if (!r->poll_ps || !r->poll_ps->fn)
+    opt_loop *L = r->loop;
+    if (!L || !L->ps.fn)
         return 0;
-    return opt_report(r->poll_ps, r->poll_top, *r->poll_best_e2, *r->poll_it, r->evaluations, -1,
-                      false);
+    return opt_report(&L->ps, &L->top, L->best_e2, L->it, r->evaluations, -1, false);
 }
 
 int opt_loop_tick(opt_loop *L)
@@ -190,7 +192,11 @@ bool opt_loop_offer_best(opt_loop *L, const opt_state *st, double e2)
     return true;
 }
 
-void opt_loop_note_best(opt_loop *L)
+void opt_loop_accept(opt_loop *L, double te2)
 {
+    opt_state_copy_vars(&L->cur, &L->trial);
+    memcpy(L->run.cur_value, L->run.value,
+           L->run.angle_count * L->cur.work.kernel_count * sizeof *L->run.value);
+    L->e2 = te2;
     opt_loop_offer_best(L, &L->cur, L->e2);
 }

@@ -1,7 +1,7 @@
 /* Internal to the optimizer: what one local run needs besides the free variables (angles,
  * acuity weights, per-term values, gradient scratch, the clock, progress and cancel polling),
  * shared by the step rules (optimizer.c: Laine & Aila; optimizer_minimax.c: the minimax QP
- * step). Not part of the public API. */
+ * step; optimizer_smooth.c: the smoothed max). Not part of the public API. */
 #ifndef AA_OPTIMIZER_RUN_H
 #define AA_OPTIMIZER_RUN_H
 
@@ -21,23 +21,23 @@ typedef struct opt_progress_state {
     bool improved;
 } opt_progress_state;
 
+struct opt_loop;
+
 typedef struct opt_run {
     const aa_metric_params *metric;
     const aa_optimize_params *params;
     size_t angle_count;
     double *theta;                 /* radians */
     double *weight;                /* W(theta) */
-    double *value;                 /* W E1 per kernel x angle, kernel-major */
+    double *value;                 /* W E1 per kernel x angle, kernel-major, of the last eval */
+    double *cur_value;             /* the same of the loop's cur (opt_loop_accept keeps it) */
     double *gx, *gy, *gw;          /* per-kernel gradient scratch (max kernel size) */
     double *dir_x, *dir_y, *dir_w; /* descent direction on the free variables */
     aa_metric_workspace ws;
     long evaluations;
-    /* Polled between kernels so a cancel is seen within a fraction of a step (a step of
-     * P(16,16,4) can take 50+ ms on a loaded machine). */
-    opt_progress_state *poll_ps;
-    const opt_state *poll_top;
-    const double *poll_best_e2;
-    const long *poll_it;
+    /* The loop this run belongs to, polled between kernels so a cancel is seen within a
+     * fraction of a step (a step of P(16,16,4) can take 50+ ms on a loaded machine). */
+    struct opt_loop *loop;
 } opt_run;
 
 /* One local run in progress, as the step rules see it: they move cur (trial is scratch), keep
@@ -57,8 +57,9 @@ typedef struct opt_loop {
 /* Call between steps: AA_OK to go on, 1 if the time budget or max_iterations is spent,
  * AA_ECANCELED if the progress callback cancels. */
 int opt_loop_tick(opt_loop *L);
-/* Records cur as the new best (when it is) for the result and the trace. */
-void opt_loop_note_best(opt_loop *L);
+/* cur := trial, whose E2 is te2 and whose values are in run.value (the last evaluation); cur
+ * becomes the best when it is (for the result and the trace). */
+void opt_loop_accept(opt_loop *L, double te2);
 /* Records st (of E2 e2) as the new best when it is lower and a valid pattern: no two samples of
  * a kernel at the same position (clamping two points into the same corner of their boxes would
  * make one; the pattern constructors refuse such patterns). Returns whether it was taken. */

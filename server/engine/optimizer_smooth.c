@@ -33,8 +33,7 @@ typedef struct smooth_ctx {
     opt_loop *L;
     size_t np, nw; /* points, weight slots */
     double p;      /* current exponent */
-    int stop;      /* why the stage was stopped from the progress callback */
-    long stage_evals;
+    int stop;      /* why the run stops: 1 (budget), AA_ECANCELED or an error */
 } smooth_ctx;
 
 /* x = [x_0..x_np-1, y_0..y_np-1, w_0..w_nw-1] into trial (points clamped), kernels applied;
@@ -71,11 +70,11 @@ static lbfgsfloatval_t evaluate(void *instance, const lbfgsfloatval_t *x, lbfgsf
     memset(g, 0, (size_t)n * sizeof *g);
     double pen = load_trial(c, x, g);
     double e2;
-    if (opt_run_eval_e2(r, st, &e2)) {
-        c->stop = AA_ECANCELED;
+    int rc = opt_run_eval_e2(r, st, &e2);
+    if (rc) {
+        c->stop = rc;
         return INFINITY;
     }
-    c->stage_evals++;
     opt_loop_offer_best(L, st, e2);
     size_t kc = st->work.kernel_count, na = r->angle_count;
     /* F_p scaled by the max so that f^p neither overflows nor underflows. */
@@ -128,7 +127,7 @@ static int progress(void *instance, const lbfgsfloatval_t *x, const lbfgsfloatva
 
 int opt_descend_smooth(opt_loop *L)
 {
-    smooth_ctx c = {L, L->cur.point_count, L->cur.weight_count, SMOOTH_FIRST_P, 0, 0};
+    smooth_ctx c = {L, L->cur.point_count, L->cur.weight_count, SMOOTH_FIRST_P, 0};
     int n = (int)(2 * c.np + c.nw);
     lbfgsfloatval_t *x = lbfgs_malloc(n);
     if (!x)
@@ -160,9 +159,6 @@ int opt_descend_smooth(opt_loop *L)
         }
     }
     lbfgs_free(x);
-    /* cur follows top: the caller reads the result from top. */
-    opt_state_copy_vars(&L->cur, &L->top);
-    L->e2 = L->best_e2;
-    int rc = c.stop;
+    int rc = c.stop; /* the result is read from top */
     return rc == 1 ? AA_OK : rc;
 }
