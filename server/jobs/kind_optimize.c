@@ -308,8 +308,8 @@ static int optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *e
     } else {
         mp.seeds = &op->pattern;
     }
-    bool tiled =
-        op->have_family ? aa_family_perturbable(&op->family) : aa_perturbable(&op->pattern);
+    bool tiled = op->have_family ? aa_family_perturbable(&op->family)
+                                 : aa_pattern_tiled_without_border(&op->pattern);
     mp.local.method = opt_common_method(&op->common, tiled, op->common.mode);
     opt_job_bridge b = {ctx, 0, 1, 0, 0, 0, INFINITY, -1};
     aa_pattern best;

@@ -177,6 +177,25 @@ def test_random_stats(d):
     check(abs(e["e2"] - res["e2"]) < 1e-9 and e["family"] == "P(1,4,3)", (e, res["e2"]))
 
 
+def test_optimize_methods(d):
+    """The step rule a job uses: "auto" picks by family and mode, the same for a family and for a
+    pattern of it; an explicit one is used as asked; the result names it."""
+    p142 = {"tile": {"size": 1, "kernel": 2, "border": False,
+                     "samples": [[0.25, 0.25], [0.75, 0.75]]}}
+    cases = [({"family": "P(1,4,2)"}, "laine-aila"),
+             ({"pattern": p142}, "laine-aila"),
+             ({"family": "P(4,4,1)"}, "smooth"),
+             ({"family": "P(1,1,2)", "mode": "weights"}, "minimax"),
+             ({"pattern": p142, "method": "smooth"}, "smooth"),
+             ({"family": "P(1,1,2)", "method": "auto"}, "laine-aila")]
+    for spec, want in cases:
+        body = dict({"kind": "optimize", "seeds": 1, "max_seconds": 1, "rng_seed": 3}, **spec)
+        r = d.post("/v1/jobs", body)
+        check(r.status == 202, (spec, r))
+        j = d.wait_job(r.json()["id"])
+        check(j["state"] == "done" and j["result"]["method"] == want, (spec, want, j.get("result")))
+
+
 def test_enumerate_render(d):
     r = d.post("/v1/families/enumerate", {"family": "P(4,1+,n)", "cost": 1.25})
     check(r.status in (200, 501), r)
@@ -242,6 +261,7 @@ def main():
         test_evaluate(d)
         test_jobs(d)
         test_random_stats(d)
+        test_optimize_methods(d)
         test_enumerate_render(d)
         test_tcp(d)
         check(d.stop() == 0, "clean exit on SIGTERM")
