@@ -263,6 +263,12 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
         rc = AA_OK;
         cancelled = true;
     }
+    /* The last improvement may have been rate-limited away: report it, before snapping, so
+     * the reported E2 is the pattern's (progress follows the continuous search). */
+    if (!rc && progress && !cancelled) {
+        L.ps.improved = true;
+        opt_report(&L.ps, &L.top, L.best_e2, L.it, L.run.evaluations, 1.0, true);
+    }
     if (!rc && params->grid_bits > 0) {
         double before = L.best_e2;
         snap_to_grid(&L.top, params->grid_bits, params->d3d12_range);
@@ -285,10 +291,6 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
         result->seconds = opt_now_seconds() - L.start;
         result->argmax_kernel = ev.argmax_kernel;
         result->argmax_angle_deg = ev.argmax_angle_deg;
-    }
-    if (!rc && progress && !cancelled) {
-        L.ps.improved = true;
-        opt_report(&L.ps, &L.top, L.best_e2, L.it, L.run.evaluations, 1.0, true);
     }
     aa_evaluation_free(&ev);
     opt_run_free(&L.run);

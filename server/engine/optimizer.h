@@ -190,7 +190,7 @@ typedef struct aa_multistart_seed {
 
 typedef struct aa_multistart_result {
     double e2;
-    size_t best_seed;
+    size_t best_seed; /* SIZE_MAX: the best came from the screening phase */
     size_t seeds_run;
     long iterations;
     long evaluations;

@@ -48,7 +48,9 @@ typedef struct shared_run {
     double snapshot_e2;  /* best E2 seen in any progress report (for the callback) */
     aa_pattern snapshot; /* its pattern */
     bool improved;
-    long done_iterations, done_evaluations, live_iterations[MAX_WORKERS];
+    /* finished seeds' counts, and each worker's counts of its current seed */
+    long done_iterations, done_evaluations;
+    long live_iterations[MAX_WORKERS], live_evaluations[MAX_WORKERS];
     size_t seeds_done;
     aa_multistart_seed *per_seed;
 } shared_run;
@@ -66,17 +68,20 @@ typedef struct worker {
 
 typedef struct inner_ctx {
     worker *w;
+    long iterations_before, evaluations_before; /* the seed's descent, while it is refined */
 } inner_ctx;
 
 /* Called by one seed's aa_optimize: forwards (rate-limited, serialised) to the user callback
  * and carries cancellation and the call's time budget to the seed. */
 static int inner_progress(void *user, const aa_optimize_progress *pr)
 {
-    worker *w = ((inner_ctx *)user)->w;
+    const inner_ctx *ic = user;
+    worker *w = ic->w;
     shared_run *sh = w->sh;
     int stop = 0;
     pthread_mutex_lock(&sh->lock);
-    sh->live_iterations[w->index] = pr->iterations;
+    sh->live_iterations[w->index] = ic->iterations_before + pr->iterations;
+    sh->live_evaluations[w->index] = ic->evaluations_before + pr->evaluations;
     if (pr->best && pr->best_e2 < sh->snapshot_e2) {
         aa_pattern copy;
         if (aa_pattern_copy(&copy, pr->best) == AA_OK) {
@@ -89,15 +94,17 @@ static int inner_progress(void *user, const aa_optimize_progress *pr)
     double t = mono_seconds();
     if (sh->progress && !sh->cancel && t - sh->last_call >= 0.01) {
         sh->last_call = t;
-        long it = sh->done_iterations;
-        for (int i = 0; i < MAX_WORKERS; i++)
+        long it = sh->done_iterations, ev = sh->done_evaluations;
+        for (int i = 0; i < MAX_WORKERS; i++) {
             it += sh->live_iterations[i];
+            ev += sh->live_evaluations[i];
+        }
         double fraction = (double)sh->seeds_done / (double)sh->params->seed_count;
         if (sh->params->max_seconds > 0)
             fraction = fmax(fraction, (t - sh->start) / sh->params->max_seconds);
         aa_optimize_progress up = {t - sh->start,
                                    it,
-                                   sh->done_evaluations + pr->evaluations,
+                                   ev,
                                    sh->snapshot_e2,
                                    fmin(fraction, 1),
                                    sh->improved,
@@ -175,7 +182,7 @@ static void *worker_main(void *arg)
         memset(&r, 0, sizeof r);
         if (!rc) {
             aa_optimize_params local = p->local;
-            inner_ctx ic = {w};
+            inner_ctx ic = {w, 0, 0};
             rc = aa_optimize(&seed, sh->metric, &local, inner_progress, &ic, &out, &r, &e);
             aa_pattern_free(&seed);
             if (rc == AA_OK && p->perturb.rounds > 0 && aa_perturbable(&out)) {
@@ -184,6 +191,8 @@ static void *worker_main(void *arg)
                 aa_rng_seed(&rng, p->rng_seed, (UINT64_C(1) << 32) + (uint64_t)i);
                 aa_pattern refined;
                 aa_optimize_result rr;
+                ic.iterations_before = r.iterations;
+                ic.evaluations_before = r.evaluations;
                 rc = aa_optimize_perturbed(&out, sh->metric, &local, &p->perturb, &rng,
                                            inner_progress, &ic, &refined, &rr, &e);
                 if (rc != AA_OK && rc != AA_ECANCELED) {
@@ -204,6 +213,7 @@ static void *worker_main(void *arg)
         sh->done_iterations += r.iterations;
         sh->done_evaluations += r.evaluations;
         sh->live_iterations[w->index] = 0;
+        sh->live_evaluations[w->index] = 0;
         sh->seeds_done++;
         pthread_mutex_unlock(&sh->lock);
         if (rc == AA_OK || rc == AA_ECANCELED) {
@@ -245,8 +255,44 @@ static int ranked_cmp(const void *a, const void *b)
     return (x->index > y->index) - (x->index < y->index);
 }
 
+/* The two phases of a screened run report as one run: seconds, counts and fraction continue
+ * from the screening phase (which gets the first quarter of the fraction), and the best
+ * reported never rises above the screening phase's best, since the result keeps it too. */
+typedef struct phase_relay {
+    aa_optimize_progress_fn progress;
+    void *user;
+    double start; /* of the whole call */
+    long iterations_before, evaluations_before;
+    double fraction_base, fraction_span;
+    double best_e2;  /* lowest E2 reported so far, over both phases */
+    aa_pattern best; /* its pattern (empty until one is reported) */
+} phase_relay;
+
+static int relay_progress(void *user, const aa_optimize_progress *p)
+{
+    phase_relay *r = user;
+    bool improved = p->best && p->best_e2 < r->best_e2;
+    if (improved) {
+        aa_pattern copy;
+        if (aa_pattern_copy(&copy, p->best) == AA_OK) {
+            aa_pattern_free(&r->best);
+            r->best = copy;
+            r->best_e2 = p->best_e2;
+        }
+    }
+    aa_optimize_progress up = {mono_seconds() - r->start,
+                               r->iterations_before + p->iterations,
+                               r->evaluations_before + p->evaluations,
+                               r->best_e2,
+                               r->fraction_base + r->fraction_span * p->fraction,
+                               improved,
+                               r->best.kernels ? &r->best : NULL};
+    return r->progress(r->user, &up);
+}
+
 /* Two phases for mirrored families: screen every configuration briefly, then multi-start on the
- * best few. */
+ * best few. The result is the better of the two phases' bests (a short budget can leave the
+ * second phase's seeds above the best screened configuration). */
 static int multistart_screened(const aa_multistart_params *p, const aa_metric_params *metric,
                                aa_optimize_progress_fn progress, void *user, aa_pattern *best,
                                aa_multistart_result *result, aa_error *err)
@@ -257,6 +303,8 @@ static int multistart_screened(const aa_multistart_params *p, const aa_metric_pa
     if (rc)
         return rc;
     double start = mono_seconds();
+    phase_relay relay = {progress, user, start, 0, 0, 0, 0.25, INFINITY, {0}};
+    aa_optimize_progress_fn relay_fn = progress ? relay_progress : NULL;
     aa_multistart_params screen = *p;
     screen.screen_top = 0;
     screen.configs = all;
@@ -266,21 +314,31 @@ static int multistart_screened(const aa_multistart_params *p, const aa_metric_pa
     screen.max_seconds = p->max_seconds > 0 ? p->max_seconds / 4 : 0;
     aa_pattern first;
     aa_multistart_result r1;
-    rc = multistart_once(&screen, metric, progress, user, &first, &r1, err);
-    if (rc) {
-        aa_pattern_free(&first);
-        aa_multistart_result_free(&r1);
+    rc = multistart_once(&screen, metric, relay_fn, &relay, &first, &r1, err);
+    if (rc == AA_ECANCELED) { /* the screening's best so far is the caller's */
+        *best = first;
+        *result = r1;
+        result->seconds = mono_seconds() - start;
+        aa_pattern_free(&relay.best);
         free(all);
         return rc;
     }
-    aa_pattern_free(&first);
+    if (rc) {
+        aa_pattern_free(&first);
+        aa_multistart_result_free(&r1);
+        aa_pattern_free(&relay.best);
+        free(all);
+        return rc;
+    }
     ranked_config *rank = malloc(count * sizeof *rank);
     aa_mirrored_config *top = malloc(count * sizeof *top);
     if (!rank || !top) {
         free(rank);
         free(top);
         free(all);
+        aa_pattern_free(&first);
         aa_multistart_result_free(&r1);
+        aa_pattern_free(&relay.best);
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
     for (size_t i = 0; i < count; i++)
@@ -295,14 +353,35 @@ static int multistart_screened(const aa_multistart_params *p, const aa_metric_pa
     focus.config_count = keep;
     if (p->max_seconds > 0)
         focus.max_seconds = fmax(0.01, p->max_seconds - (mono_seconds() - start));
-    rc = multistart_once(&focus, metric, progress, user, best, result, err);
+    relay.iterations_before = r1.iterations;
+    relay.evaluations_before = r1.evaluations;
+    relay.fraction_base = 0.25;
+    relay.fraction_span = 0.75;
+    rc = multistart_once(&focus, metric, relay_fn, &relay, best, result, err);
+    if (rc == AA_EINVAL && !best->kernels && result->seeds_run == 0 && first.kernels)
+        rc = AA_OK; /* the budget ran out before a focused seed ran: the screening's best */
+    bool focus_usable = (rc == AA_OK || rc == AA_ECANCELED) && best->kernels;
+    if ((rc == AA_OK || rc == AA_ECANCELED) && first.kernels &&
+        (!focus_usable || r1.e2 < result->e2)) {
+        /* The best screened configuration beat every focused seed: it is the result. */
+        aa_pattern_free(best);
+        *best = first;
+        memset(&first, 0, sizeof first);
+        result->e2 = r1.e2;
+        result->best_seed = SIZE_MAX;
+        result->argmax_kernel = r1.argmax_kernel;
+        result->argmax_angle_deg = r1.argmax_angle_deg;
+        result->e2_before_snap = r1.e2_before_snap;
+    }
     result->iterations += r1.iterations;
     result->evaluations += r1.evaluations;
     result->seconds = mono_seconds() - start;
     free(rank);
     free(top);
     free(all);
+    aa_pattern_free(&first);
     aa_multistart_result_free(&r1);
+    aa_pattern_free(&relay.best);
     return rc;
 }
 

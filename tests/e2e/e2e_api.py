@@ -196,6 +196,54 @@ def test_optimize_methods(d):
         check(j["state"] == "done" and j["result"]["method"] == want, (spec, want, j.get("result")))
 
 
+def check_trace(j):
+    """A job's error-against-time trace: seconds, iterations and evaluations never go back, the
+    best E2 never rises, and it ends at the result's E2 (nothing better was seen and lost)."""
+    t, res = j["trace"], j["result"]
+    check(len(t) >= 2, j)
+    for a, b in zip(t, t[1:]):
+        for key in ("seconds", "iterations", "evaluations"):
+            check(b[key] >= a[key], (key, a, b, j["spec"]))
+        check(b["best_e2"] < a["best_e2"], (a, b, j["spec"]))
+    check(abs(t[-1]["best_e2"] - res["e2"]) < 1e-12, (t[-1], res["e2"], j["spec"]))
+
+
+def test_optimizer_traces(d):
+    """Every optimizer job kind: one trace over all its phases (screening, focused seeds, random
+    patterns, Opt W, Opt W+P), ending at the result; a family sweep ranks every configuration."""
+    specs = [{"kind": "optimize", "family": "P(4,1+,2)", "seeds": 4, "max_seconds": 2,
+              "rng_seed": 7, "method": "minimax"},
+             {"kind": "optimize", "family": "P(4,1+,2)", "seeds": 4, "max_seconds": 2,
+              "rng_seed": 7},
+             {"kind": "optimize", "family": "P(1,4,2)", "seeds": 4, "max_seconds": 1,
+              "rng_seed": 7},
+             {"kind": "random-stats", "family": "P(1,4,3)", "count": 100,
+              "distribution": "jittered", "max_seconds": 2, "rng_seed": 7},
+             {"kind": "family-sweep", "cost": 1.25, "seeds_per_config": 2, "max_seconds": 3,
+              "rng_seed": 7}]
+    ids = []
+    for spec in specs:
+        r = d.post("/v1/jobs", spec)
+        check(r.status == 202, (spec, r))
+        ids.append(r.json()["id"])
+    for jid in ids:
+        j = d.wait_job(jid, timeout=120)
+        check(j["state"] == "done", j)
+        check_trace(j)
+        e = d.post("/v1/evaluate", {"pattern": j["result"]["best"]}).json()
+        check(abs(e["e2"] - j["result"]["e2"]) < 1e-9, (e, j["result"]["e2"], j["spec"]))
+    sweep = d.get("/v1/jobs/%d" % ids[-1]).json()["result"]
+    ranked = sweep["ranked"]
+    check(sweep["configurations"] == len(ranked) >= 2, sweep)
+    check([row["rank"] for row in ranked] == list(range(1, len(ranked) + 1)), ranked)
+    check(all(a["e2"] <= b["e2"] for a, b in zip(ranked, ranked[1:])), ranked)
+    check(sweep["e2"] == ranked[0]["e2"], sweep)
+    for row in ranked:
+        check(abs(row["cost"] - 1.25) < 1e-12, row)
+        e = d.post("/v1/evaluate", {"pattern": row["best"]}).json()
+        check(abs(e["e2"] - row["e2"]) < 1e-9, (e, row))
+
+
 def test_enumerate_render(d):
     r = d.post("/v1/families/enumerate", {"family": "P(4,1+,n)", "cost": 1.25})
     check(r.status in (200, 501), r)
@@ -262,6 +310,7 @@ def main():
         test_jobs(d)
         test_random_stats(d)
         test_optimize_methods(d)
+        test_optimizer_traces(d)
         test_enumerate_render(d)
         test_tcp(d)
         check(d.stop() == 0, "clean exit on SIGTERM")

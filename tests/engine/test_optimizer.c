@@ -420,41 +420,106 @@ static void cancel_stops_within_100ms(void **state)
     aa_pattern_free(&seed);
 }
 
-static int record_trace(void *user, const aa_optimize_progress *p)
+/* Every field of the progress reports of one call, in order. */
+typedef struct report_log {
+    int calls, backwards;
+    double seconds, fraction, lowest_e2, last_e2;
+    long iterations, evaluations;
+} report_log;
+
+static int log_reports(void *user, const aa_optimize_progress *p)
 {
-    cancel_probe *c = user;
-    c->calls++;
-    if (p->best_e2 > c->last_e2 + 1e-15)
-        c->nonmonotone++;
-    c->improvements += p->improved;
-    c->last_e2 = p->best_e2;
+    report_log *l = user;
+    if (l->calls > 0 && (p->seconds < l->seconds || p->iterations < l->iterations ||
+                         p->evaluations < l->evaluations || p->fraction < l->fraction - 1e-12 ||
+                         p->best_e2 > l->last_e2 + 1e-12)) /* the final E2 is re-evaluated */
+        l->backwards++;
+    l->calls++;
+    l->seconds = p->seconds;
+    l->iterations = p->iterations;
+    l->evaluations = p->evaluations;
+    l->fraction = p->fraction;
+    l->last_e2 = p->best_e2;
+    l->lowest_e2 = fmin(l->lowest_e2, p->best_e2);
     return 0;
 }
 
+/* Plain and refined (iterated local search) multi-starts on 2 workers: seconds, iterations,
+ * evaluations and fraction never go back, best E2 never rises, the last report is the result. */
 static void trace_is_monotone(void **state)
 {
     (void)state;
+    const char *families[] = {"P(1,4,2)", "P(4,4,1)"};
+    for (size_t f = 0; f < 2; f++)
+        for (size_t m = 0; m < METHOD_COUNT; m++) {
+            aa_family fam;
+            assert_int_equal(aa_family_parse(families[f], &fam, NULL), AA_OK);
+            aa_multistart_params mp;
+            aa_multistart_params_default(&mp);
+            mp.family = &fam;
+            mp.seed_count = f ? 3 : 6;
+            mp.workers = 2;
+            mp.max_seconds = 0;
+            mp.local.method = methods[m];
+            mp.local.max_iterations = m == 0 ? 3000 : 300;
+            if (f) { /* P(4,4,1): refined by a few perturbation rounds */
+                mp.local.max_iterations = 100;
+                mp.perturb.rounds = 3;
+            }
+            report_log l = {0, 0, 0, 0, INFINITY, INFINITY, 0, 0};
+            aa_pattern best;
+            aa_multistart_result r;
+            assert_int_equal(aa_multistart(&mp, &metric, log_reports, &l, &best, &r, NULL), AA_OK);
+            assert_true(l.calls >= 1);
+            assert_int_equal(l.backwards, 0);
+            assert_true(fabs(l.last_e2 - r.e2) < 1e-12);
+            assert_true(r.e2 <= l.lowest_e2 + 1e-12);
+            assert_int_equal(l.iterations, r.iterations);
+            assert_int_equal(l.evaluations, r.evaluations);
+            aa_pattern_free(&best);
+            aa_multistart_result_free(&r);
+        }
+}
+
+/* A screened run (mirrored family: every configuration briefly, then seeds on the best few)
+ * reports as one run: nothing goes backwards between its phases, and its result is the best it
+ * reported, even when the focused seeds end above the best screened configuration (here they
+ * get 2 steps each against the screening's 150). */
+static void screened_run_reports_one_monotone_trace(void **state)
+{
+    (void)state;
     aa_family fam;
-    assert_int_equal(aa_family_parse("P(1,4,2)", &fam, NULL), AA_OK);
-    for (size_t m = 0; m < METHOD_COUNT; m++) {
-        aa_multistart_params mp;
-        aa_multistart_params_default(&mp);
-        mp.family = &fam;
-        mp.seed_count = 6;
-        mp.workers = 2;
-        mp.max_seconds = 0;
-        mp.local.method = methods[m];
-        mp.local.max_iterations = m == 0 ? 3000 : 300;
-        cancel_probe c = {mono(), 0, 0, INFINITY, 0, 0};
-        aa_pattern best;
-        aa_multistart_result r;
-        assert_int_equal(aa_multistart(&mp, &metric, record_trace, &c, &best, &r, NULL), AA_OK);
-        assert_true(c.calls >= 1);
-        assert_int_equal(c.nonmonotone, 0);
-        assert_true(fabs(c.last_e2 - r.e2) < 1e-9 || c.last_e2 >= r.e2);
-        aa_pattern_free(&best);
-        aa_multistart_result_free(&r);
-    }
+    assert_int_equal(aa_family_parse("P(4,1+,2)", &fam, NULL), AA_OK);
+    for (int short_focus = 0; short_focus < 2; short_focus++)
+        for (size_t m = 0; m < METHOD_COUNT; m++) {
+            aa_multistart_params mp;
+            aa_multistart_params_default(&mp);
+            mp.family = &fam;
+            mp.seed_count = 4;
+            mp.workers = 2;
+            mp.max_seconds = 0;
+            mp.screen_iterations = 150;
+            mp.screen_top = 4;
+            mp.local.method = methods[m];
+            mp.local.max_iterations = short_focus ? 2 : 400;
+            report_log l = {0, 0, 0, 0, INFINITY, INFINITY, 0, 0};
+            aa_pattern best;
+            aa_multistart_result r;
+            assert_int_equal(aa_multistart(&mp, &metric, log_reports, &l, &best, &r, NULL), AA_OK);
+            assert_true(l.calls >= 2);
+            assert_int_equal(l.backwards, 0);
+            assert_true(fabs(l.fraction - 1) < 1e-12);
+            assert_true(r.e2 <= l.lowest_e2 + 1e-12);
+            assert_true(fabs(l.last_e2 - r.e2) < 1e-12);
+            aa_evaluation ev;
+            assert_int_equal(aa_evaluate(&best, &metric, &ev, NULL), AA_OK);
+            assert_true(fabs(ev.e2 - r.e2) < 1e-12);
+            aa_evaluation_free(&ev);
+            if (short_focus) /* 2 steps cannot beat 150: the screening's best is the result */
+                assert_true(r.best_seed == SIZE_MAX);
+            aa_pattern_free(&best);
+            aa_multistart_result_free(&r);
+        }
 }
 
 static void grid_snapping_reports_quantisation(void **state)
@@ -492,6 +557,7 @@ int main(void)
         cmocka_unit_test(perturbed_multistart_is_deterministic),
         cmocka_unit_test(cancel_stops_within_100ms),
         cmocka_unit_test(trace_is_monotone),
+        cmocka_unit_test(screened_run_reports_one_monotone_trace),
         cmocka_unit_test(grid_snapping_reports_quantisation),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

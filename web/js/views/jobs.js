@@ -181,9 +181,11 @@ function chartSize() {
 }
 
 function drawTrace(j) {
-  // Log axes need positive values; the first point may be at t = 0.
-  const xs = j.trace.map((p) => Math.max(p.seconds, 1e-3));
-  const ys = j.trace.map((p) => p.best_e2);
+  // Log axes need positive values; the first point may be at t = 0. uPlot needs ascending x
+  // (jobs of mirrored families stored before the fix of 2026-11-25 have seconds that restart).
+  const points = j.trace.filter((p) => Number.isFinite(p.seconds)).sort((a, b) => a.seconds - b.seconds);
+  const xs = points.map((p) => Math.max(p.seconds, 1e-3));
+  const ys = points.map((p) => p.best_e2);
   const data = [xs, ys];
   $('jd-trace').dataset.points = String(xs.length);
   if (chart && chartJob === j.id) {
