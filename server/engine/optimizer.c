@@ -43,9 +43,8 @@ static int descent_direction(opt_run *r, opt_state *st, const double *value, dou
     memset(r->dir_x, 0, st->point_count * sizeof *r->dir_x);
     memset(r->dir_y, 0, st->point_count * sizeof *r->dir_y);
     memset(r->dir_w, 0, st->weight_count * sizeof *r->dir_w);
-    bool want_pos = p->mode != AA_OPTIMIZE_WEIGHTS, want_w = p->mode != AA_OPTIMIZE_POSITIONS;
+    const opt_gradient_target to = {r->dir_x, r->dir_y, r->dir_w, 0, 0, NULL, NULL};
     for (size_t k = 0; k < st->work.kernel_count; k++) {
-        const aa_kernel *ker = &st->work.kernels[k];
         if (opt_poll_cancel(r))
             return AA_ECANCELED;
         for (size_t a = 0; a < r->angle_count; a++) {
@@ -53,24 +52,9 @@ static int descent_direction(opt_run *r, opt_state *st, const double *value, dou
             if (v <= 0 || r->weight[a] <= 0)
                 continue;
             double c = v >= threshold * e2 ? p->active_ratio : 1.0;
-            double e1;
-            int rc = aa_e1_gradient_at_angle(r->metric->filter, ker->samples, ker->count,
-                                             r->theta[a], &r->ws, &e1, want_pos ? r->gx : NULL,
-                                             want_pos ? r->gy : NULL, want_w ? r->gw : NULL);
+            int rc = opt_run_add_term_gradient(r, st, k, a, c * r->weight[a], &to);
             if (rc)
                 return rc;
-            if (!(e1 > 0))
-                continue;
-            double f = c * r->weight[a];
-            for (size_t i = 0; i < ker->count; i++) {
-                const opt_ref *ref = &st->refs[k][i];
-                if (want_pos && isfinite(r->gx[i]) && isfinite(r->gy[i])) {
-                    r->dir_x[ref->point] += f * ref->sx * r->gx[i];
-                    r->dir_y[ref->point] += f * ref->sy * r->gy[i];
-                }
-                if (want_w && isfinite(r->gw[i]))
-                    r->dir_w[ref->weight] += f * r->gw[i];
-            }
         }
     }
     return AA_OK;
@@ -153,8 +137,6 @@ int opt_descend_laine_aila(opt_loop *L)
     const aa_optimize_params *params = L->run.params;
     opt_run *r = &L->run;
     double step = params->step;
-    long mark_it = L->it;
-    double mark_e2 = L->best_e2;
     int band = 0, fails = 0, hpos = 0;
     double history[NONMONO];
     for (int h = 0; h < NONMONO; h++)
@@ -198,12 +180,8 @@ int opt_descend_laine_aila(opt_loop *L)
                 step = accepted_step;
             }
         }
-        if (L->best_e2 < mark_e2 * (1 - params->rel_tolerance)) {
-            mark_e2 = L->best_e2;
-            mark_it = L->it;
-        } else if (L->it - mark_it >= params->stall_iterations) {
+        if (opt_loop_stalled(L))
             break;
-        }
         if (step < 1e-14)
             break; /* no step along this direction lowers E2: a (nonsmooth) stationary point */
     }
@@ -251,7 +229,7 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
         rc = opt_run_eval_e2(&L.run, &L.cur, &L.e2);
     double initial = L.e2;
     if (!rc) {
-        L.best_e2 = L.e2;
+        L.best_e2 = L.mark_e2 = L.e2;
         memcpy(L.run.cur_value, L.run.value,
                L.run.angle_count * L.cur.work.kernel_count * sizeof *L.run.value);
         rc = params->method == AA_METHOD_MINIMAX  ? opt_descend_minimax(&L)

@@ -129,33 +129,11 @@ static size_t select_terms(mm_work *w, const double *value, size_t total, double
 /* Gradient of term (k, a) at cur, on the free variables of kernel k. */
 static int term_gradient(opt_run *r, const opt_state *st, const mm_work *w, mm_term *t)
 {
-    const aa_optimize_params *p = r->params;
-    const aa_kernel *ker = &st->work.kernels[t->k];
     const mm_span *sp = &w->span[t->k];
-    bool want_pos = p->mode != AA_OPTIMIZE_WEIGHTS, want_w = p->mode != AA_OPTIMIZE_POSITIONS;
-    double e1;
-    int rc = aa_e1_gradient_at_angle(r->metric->filter, ker->samples, ker->count, r->theta[t->a],
-                                     &r->ws, &e1, r->gx, r->gy, r->gw);
-    if (rc)
-        return rc;
     memset(t->g, 0, (2 * sp->pn + sp->wn) * sizeof *t->g);
-    if (!(e1 > 0))
-        return AA_OK;
-    double W = r->weight[t->a];
-    for (size_t i = 0; i < ker->count; i++) {
-        const opt_ref *ref = &st->refs[t->k][i];
-        size_t pi = ref->point - sp->plo;
-        const opt_point *pt = &st->points[ref->point];
-        if (want_pos && isfinite(r->gx[i]) && isfinite(r->gy[i])) {
-            if (pt->lo_x < pt->hi_x && !w->frozen_x[ref->point])
-                t->g[pi] += W * ref->sx * r->gx[i];
-            if (pt->lo_y < pt->hi_y && !w->frozen_y[ref->point])
-                t->g[sp->pn + pi] += W * ref->sy * r->gy[i];
-        }
-        if (want_w && isfinite(r->gw[i]))
-            t->g[2 * sp->pn + ref->weight - sp->wlo] += W * r->gw[i];
-    }
-    return AA_OK;
+    const opt_gradient_target to = {t->g,    t->g + sp->pn, t->g + 2 * sp->pn, sp->plo,
+                                    sp->wlo, w->frozen_x,   w->frozen_y};
+    return opt_run_add_term_gradient(r, st, t->k, t->a, r->weight[t->a], &to);
 }
 
 static double span_dot(const mm_work *w, const mm_term *a, const mm_term *b)
@@ -256,7 +234,6 @@ static double solve_step(mm_work *w, size_t m, double delta, double e2)
 int opt_descend_minimax(opt_loop *L)
 {
     opt_run *r = &L->run;
-    const aa_optimize_params *params = r->params;
     size_t total = r->angle_count * L->cur.work.kernel_count;
     const double *cur_value = r->cur_value;
     mm_work w;
@@ -266,8 +243,6 @@ int opt_descend_minimax(opt_loop *L)
         return rc;
     }
     double delta = 0;
-    long mark_it = L->it;
-    double mark_e2 = L->best_e2;
     bool done = false;
     while (!rc && !done) {
         /* A new model at cur. */
@@ -314,12 +289,8 @@ int opt_descend_minimax(opt_loop *L)
         }
         if (rc)
             break;
-        if (L->best_e2 < mark_e2 * (1 - params->rel_tolerance)) {
-            mark_e2 = L->best_e2;
-            mark_it = L->it;
-        } else if (L->it - mark_it >= params->stall_iterations) {
+        if (opt_loop_stalled(L))
             break;
-        }
     }
     mm_free(&w);
     return rc == 1 ? AA_OK : rc;

@@ -99,6 +99,34 @@ int opt_run_eval_e2(opt_run *r, opt_state *st, double *e2)
     return AA_OK;
 }
 
+int opt_run_add_term_gradient(opt_run *r, const opt_state *st, size_t k, size_t a, double factor,
+                              const opt_gradient_target *to)
+{
+    const aa_kernel *ker = &st->work.kernels[k];
+    bool want_pos = r->params->mode != AA_OPTIMIZE_WEIGHTS;
+    bool want_w = r->params->mode != AA_OPTIMIZE_POSITIONS;
+    double e1;
+    int rc = aa_e1_gradient_at_angle(r->metric->filter, ker->samples, ker->count, r->theta[a],
+                                     &r->ws, &e1, want_pos ? r->gx : NULL, want_pos ? r->gy : NULL,
+                                     want_w ? r->gw : NULL);
+    if (rc || !(e1 > 0))
+        return rc; /* E1 = 0: a minimum of this term, its gradient is not defined */
+    for (size_t i = 0; i < ker->count; i++) {
+        const opt_ref *ref = &st->refs[k][i];
+        const opt_point *pt = &st->points[ref->point];
+        if (want_pos && isfinite(r->gx[i]) && isfinite(r->gy[i])) {
+            size_t m = ref->point;
+            if (pt->lo_x < pt->hi_x && !(to->frozen_x && to->frozen_x[m]))
+                to->x[m - to->point_base] += factor * ref->sx * r->gx[i];
+            if (pt->lo_y < pt->hi_y && !(to->frozen_y && to->frozen_y[m]))
+                to->y[m - to->point_base] += factor * ref->sy * r->gy[i];
+        }
+        if (want_w && isfinite(r->gw[i]))
+            to->w[ref->weight - to->weight_base] += factor * r->gw[i];
+    }
+    return AA_OK;
+}
+
 void opt_run_take_step(const opt_run *r, opt_state *trial, const opt_state *base, double step)
 {
     for (size_t m = 0; m < base->point_count; m++) {
@@ -165,6 +193,17 @@ int opt_loop_tick(opt_loop *L)
                    false))
         return AA_ECANCELED;
     return AA_OK;
+}
+
+bool opt_loop_stalled(opt_loop *L)
+{
+    const aa_optimize_params *p = L->run.params;
+    if (L->best_e2 < L->mark_e2 * (1 - p->rel_tolerance)) {
+        L->mark_e2 = L->best_e2;
+        L->mark_it = L->it;
+        return false;
+    }
+    return L->it - L->mark_it >= p->stall_iterations;
 }
 
 static bool samples_distinct(const opt_state *st)

@@ -51,12 +51,16 @@ typedef struct opt_loop {
     double e2;      /* of cur */
     double best_e2; /* of top */
     long it;
+    long mark_it; /* opt_loop_stalled: the step and best E2 of the last real improvement */
+    double mark_e2;
     aa_error *err;
 } opt_loop;
 
 /* Call between steps: AA_OK to go on, 1 if the time budget or max_iterations is spent,
  * AA_ECANCELED if the progress callback cancels. */
 int opt_loop_tick(opt_loop *L);
+/* Whether best_e2 has not fallen by rel_tolerance for stall_iterations steps. */
+bool opt_loop_stalled(opt_loop *L);
 /* cur := trial, whose E2 is te2 and whose values are in run.value (the last evaluation); cur
  * becomes the best when it is (for the result and the trace). */
 void opt_loop_accept(opt_loop *L, double te2);
@@ -83,6 +87,19 @@ int opt_poll_cancel(const opt_run *r);
 /* trial := base - step * (r->dir_x, r->dir_y, r->dir_w), projected onto the sites and
  * renormalised, applied to trial's kernels. */
 void opt_run_take_step(const opt_run *r, opt_state *trial, const opt_state *base, double step);
+/* Where opt_run_add_term_gradient adds a term's gradient: point m's x and y at
+ * x[m - point_base] and y[m - point_base], weight slot s at w[s - weight_base]. Coordinates
+ * fixed by their site (lo == hi) get nothing, nor those flagged in frozen_x / frozen_y (NULL:
+ * none). */
+typedef struct opt_gradient_target {
+    double *x, *y, *w;
+    size_t point_base, weight_base;
+    const unsigned char *frozen_x, *frozen_y;
+} opt_gradient_target;
+/* Adds factor * grad E1 of kernel k at angle a (factor carries W(theta) and the rule's scale)
+ * to the free variables of the mode: mirror signs applied, samples shared by kernels summed. */
+int opt_run_add_term_gradient(opt_run *r, const opt_state *st, size_t k, size_t a, double factor,
+                              const opt_gradient_target *to);
 /* dst's variables := src's (same shape), applied to dst's kernels. */
 void opt_state_copy_vars(opt_state *dst, const opt_state *src);
 

@@ -82,33 +82,17 @@ static lbfgsfloatval_t evaluate(void *instance, const lbfgsfloatval_t *x, lbfgsf
     for (size_t i = 0; i < kc * na; i++)
         sum += pow(r->value[i] / e2, c->p);
     double F = e2 * pow(sum, 1.0 / c->p);
-    bool want_pos = r->params->mode != AA_OPTIMIZE_WEIGHTS;
-    bool want_w = r->params->mode != AA_OPTIMIZE_POSITIONS;
-    for (size_t k = 0; k < kc; k++) {
-        const aa_kernel *ker = &st->work.kernels[k];
+    const opt_gradient_target to = {g, g + c->np, g + 2 * c->np, 0, 0, NULL, NULL};
+    for (size_t k = 0; k < kc; k++)
         for (size_t a = 0; a < na; a++) {
             double factor = pow(r->value[k * na + a] / F, c->p - 1) * r->weight[a];
             if (factor < 1e-9)
                 continue;
-            double e1;
-            if (aa_e1_gradient_at_angle(r->metric->filter, ker->samples, ker->count, r->theta[a],
-                                        &r->ws, &e1, r->gx, r->gy, r->gw) ||
-                !(e1 > 0))
-                continue;
-            for (size_t i = 0; i < ker->count; i++) {
-                const opt_ref *ref = &st->refs[k][i];
-                const opt_point *pt = &st->points[ref->point];
-                if (want_pos && isfinite(r->gx[i]) && isfinite(r->gy[i])) {
-                    if (pt->lo_x < pt->hi_x)
-                        g[ref->point] += factor * ref->sx * r->gx[i];
-                    if (pt->lo_y < pt->hi_y)
-                        g[c->np + ref->point] += factor * ref->sy * r->gy[i];
-                }
-                if (want_w && isfinite(r->gw[i]))
-                    g[2 * c->np + ref->weight] += factor * r->gw[i];
+            if ((rc = opt_run_add_term_gradient(r, st, k, a, factor, &to))) {
+                c->stop = rc;
+                return INFINITY;
             }
         }
-    }
     return F + pen;
 }
 
