@@ -13,6 +13,7 @@
 
 #include "codec.h"
 #include "kind_optimize_spec.h"
+#include "random_patterns.h"
 
 typedef struct stats_params {
     opt_common_spec common;
@@ -110,42 +111,30 @@ static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric
     return rc;
 }
 
+/* The random patterns are the job's first 20%. */
+typedef struct random_progress {
+    job_ctx *ctx;
+    size_t count;
+} random_progress;
+
+static int random_patterns_progress(void *user, size_t i)
+{
+    const random_progress *rp = user;
+    return job_ctx_progress(rp->ctx, 0.2 * (double)i / (double)rp->count, NULL);
+}
+
 static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
     stats_params *sp = params;
     aa_metric_params metric = opt_common_metric(&sp->common);
     aa_rng rng;
     aa_rng_seed(&rng, sp->common.rng_seed, 0);
-    double mn = INFINITY, mx = -INFINITY, sum = 0;
-    aa_pattern best;
-    memset(&best, 0, sizeof best);
     opt_job_bridge b = {ctx, 0, 0.2, 0, 0, 0, INFINITY, -1};
-    int rc = AA_OK;
-    size_t done = 0;
-    for (size_t i = 0; i < sp->count && !rc; i++) {
-        aa_pattern p;
-        rc = aa_family_seed(&sp->family, sp->kind, &sp->common.filter, &rng, &p, err);
-        aa_evaluation ev;
-        if (!rc)
-            rc = aa_evaluate(&p, &metric, &ev, err);
-        if (rc) {
-            aa_pattern_free(&p);
-            break;
-        }
-        sum += ev.e2;
-        mx = fmax(mx, ev.e2);
-        if (ev.e2 < mn) {
-            mn = ev.e2;
-            aa_pattern_free(&best);
-            best = p;
-        } else {
-            aa_pattern_free(&p);
-        }
-        aa_evaluation_free(&ev);
-        done++;
-        if (i % 64 == 0 && job_ctx_progress(ctx, 0.2 * (double)i / (double)sp->count, NULL))
-            rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
-    }
+    aa_pattern best;
+    aa_random_stats rs;
+    random_progress rp = {ctx, sp->count};
+    int rc = aa_random_patterns(&sp->family, sp->kind, &metric, &rng, sp->count,
+                                random_patterns_progress, &rp, &best, &rs, err);
     aa_pattern optw, optwp;
     memset(&optw, 0, sizeof optw);
     memset(&optwp, 0, sizeof optwp);
@@ -168,8 +157,8 @@ static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
         *result = json_pack(
             "{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:{s:o,s:o,s:s},s:{s:o,s:o,s:s}}", "family",
             sp->family.label, "distribution", aa_seed_kind_name(sp->kind), "count",
-            (json_int_t)done, "random", "min", proto_real(mn), "avg", proto_real(sum / done), "max",
-            proto_real(mx), "best_random", proto_encode_pattern(&best), "opt_w", "e2",
+            (json_int_t)rs.count, "random", "min", proto_real(rs.min), "avg", proto_real(rs.avg),
+            "max", proto_real(rs.max), "best_random", proto_encode_pattern(&best), "opt_w", "e2",
             proto_real(rw.e2), "pattern", proto_encode_pattern(&optw), "method",
             aa_optimize_method_name(mw), "opt_wp", "e2", proto_real(rwp.e2), "pattern",
             proto_encode_pattern(&optwp), "method", aa_optimize_method_name(mwp));
