@@ -444,6 +444,19 @@ static int log_reports(void *user, const aa_optimize_progress *p)
     return 0;
 }
 
+/* Runs mp with log_reports into *l and checks what every multi-start's reports must show:
+ * nothing goes backwards, the result is the best reported, and the last report is the result. */
+static void run_logged(const aa_multistart_params *mp, report_log *l, aa_pattern *best,
+                       aa_multistart_result *r)
+{
+    *l = (report_log){0, 0, 0, 0, INFINITY, INFINITY, 0, 0};
+    assert_int_equal(aa_multistart(mp, &metric, log_reports, l, best, r, NULL), AA_OK);
+    assert_true(l->calls >= 1);
+    assert_int_equal(l->backwards, 0);
+    assert_true(fabs(l->last_e2 - r->e2) < 1e-12);
+    assert_true(r->e2 <= l->lowest_e2 + 1e-12);
+}
+
 /* Plain and refined (iterated local search) multi-starts on 2 workers: seconds, iterations,
  * evaluations and fraction never go back, best E2 never rises, the last report is the result. */
 static void trace_is_monotone(void **state)
@@ -466,14 +479,10 @@ static void trace_is_monotone(void **state)
                 mp.local.max_iterations = 100;
                 mp.perturb.rounds = 3;
             }
-            report_log l = {0, 0, 0, 0, INFINITY, INFINITY, 0, 0};
+            report_log l;
             aa_pattern best;
             aa_multistart_result r;
-            assert_int_equal(aa_multistart(&mp, &metric, log_reports, &l, &best, &r, NULL), AA_OK);
-            assert_true(l.calls >= 1);
-            assert_int_equal(l.backwards, 0);
-            assert_true(fabs(l.last_e2 - r.e2) < 1e-12);
-            assert_true(r.e2 <= l.lowest_e2 + 1e-12);
+            run_logged(&mp, &l, &best, &r);
             assert_int_equal(l.iterations, r.iterations);
             assert_int_equal(l.evaluations, r.evaluations);
             aa_pattern_free(&best);
@@ -502,15 +511,12 @@ static void screened_run_reports_one_monotone_trace(void **state)
             mp.screen_top = 4;
             mp.local.method = methods[m];
             mp.local.max_iterations = short_focus ? 2 : 400;
-            report_log l = {0, 0, 0, 0, INFINITY, INFINITY, 0, 0};
+            report_log l;
             aa_pattern best;
             aa_multistart_result r;
-            assert_int_equal(aa_multistart(&mp, &metric, log_reports, &l, &best, &r, NULL), AA_OK);
+            run_logged(&mp, &l, &best, &r);
             assert_true(l.calls >= 2);
-            assert_int_equal(l.backwards, 0);
             assert_true(fabs(l.fraction - 1) < 1e-12);
-            assert_true(r.e2 <= l.lowest_e2 + 1e-12);
-            assert_true(fabs(l.last_e2 - r.e2) < 1e-12);
             aa_evaluation ev;
             assert_int_equal(aa_evaluate(&best, &metric, &ev, NULL), AA_OK);
             assert_true(fabs(ev.e2 - r.e2) < 1e-12);
