@@ -60,6 +60,25 @@ void config_defaults(aalab_config *cfg)
     cfg->tile_bytes = 256u << 20;
     cfg->render_max_pixels = 512 * 512;
     cfg->render_seconds = 20.0;
+    cfg->user_workers = 0; /* auto: config_finish */
+    cfg->job_slice = 60.0;
+    cfg->max_job_seconds = 86400.0;
+    cfg->test_kinds = false;
+    cfg->compute_threads = cfg->workers * 2 < 4 ? 4 : cfg->workers * 2 > 32 ? 32 : cfg->workers * 2;
+    cfg->user_evaluates = 2;
+    cfg->user_renders = 1;
+    cfg->user_connections = 32;
+    cfg->token_connections = 32;
+    cfg->user_store_bytes = 256u << 20;
+    cfg->keep_days = 90.0;
+    cfg->max_spec_bytes = 2u << 20;
+}
+
+/* Defaults that follow from other flags. */
+static void config_finish(aalab_config *cfg)
+{
+    if (cfg->user_workers <= 0)
+        cfg->user_workers = cfg->workers / 2 > 1 ? cfg->workers / 2 : 1;
 }
 
 void config_usage(FILE *out)
@@ -85,6 +104,23 @@ void config_usage(FILE *out)
             "  --render-max-pixels N  largest POST /v1/render tile (default 262144; larger\n"
             "                       renders go to a compare job)\n"
             "  --render-seconds S   reference time budget of POST /v1/render (default 20)\n"
+            "sharing between users:\n"
+            "  --user-workers N     workers one user holds while others wait (default: half\n"
+            "                       the workers, at least 1)\n"
+            "  --job-slice S        a running job yields its worker to a waiting user after S\n"
+            "                       seconds (default 60)\n"
+            "  --max-job-seconds S  ceiling on a job's max_seconds and running time\n"
+            "                       (default 86400)\n"
+            "  --compute-threads N  threads running evaluate and render requests (default:\n"
+            "                       2 x cores, 4..32)\n"
+            "  --user-evaluates N   running evaluates per user, 429 beyond (default 2)\n"
+            "  --user-renders N     running renders per user, 429 beyond (default 1)\n"
+            "  --user-connections N open connections per peer uid on each listener (default 32)\n"
+            "  --token-connections N open connections per bearer token on TCP (default 32)\n"
+            "  --user-store-bytes B stored job data per user (default 268435456)\n"
+            "  --keep-days D        finished, unpinned jobs are deleted after D days (default 90)\n"
+            "  --max-spec-bytes B   largest job spec, 413 beyond (default 2097152)\n"
+            "  --enable-test-kinds  offer the 'sleep' job kind (for tests; off by default)\n"
             "  --help, --version\n");
 }
 
@@ -135,6 +171,10 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
             fprintf(out, "aalabd %s\n", AALAB_VERSION);
             return 1;
         }
+        if (!strcmp(a, "--enable-test-kinds")) {
+            cfg->test_kinds = true;
+            continue;
+        }
         const char *v = NULL;
         const char *eq = strchr(a, '=');
         char name[40];
@@ -146,15 +186,35 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
         } else if (i + 1 < argc) {
             v = argv[i + 1];
         }
-        static const char *const known[] = {"--socket",           "--tcp",
-                                            "--state-dir",        "--web-dir",
-                                            "--socket-group",     "--workers",
-                                            "--http-threads",     "--queue-size",
-                                            "--user-quota",       "--max-body",
-                                            "--connection-limit", "--connection-timeout",
-                                            "--request-timeout",  "--eval-cache",
-                                            "--tile-bytes",       "--render-max-pixels",
-                                            "--render-seconds",   NULL};
+        static const char *const known[] = {"--socket",
+                                            "--tcp",
+                                            "--state-dir",
+                                            "--web-dir",
+                                            "--socket-group",
+                                            "--workers",
+                                            "--http-threads",
+                                            "--queue-size",
+                                            "--user-quota",
+                                            "--max-body",
+                                            "--connection-limit",
+                                            "--connection-timeout",
+                                            "--request-timeout",
+                                            "--eval-cache",
+                                            "--tile-bytes",
+                                            "--render-max-pixels",
+                                            "--render-seconds",
+                                            "--user-workers",
+                                            "--job-slice",
+                                            "--max-job-seconds",
+                                            "--compute-threads",
+                                            "--user-evaluates",
+                                            "--user-renders",
+                                            "--user-connections",
+                                            "--token-connections",
+                                            "--user-store-bytes",
+                                            "--keep-days",
+                                            "--max-spec-bytes",
+                                            NULL};
         bool is_known = false;
         for (size_t k = 0; known[k] && !is_known; k++)
             is_known = !strcmp(a, known[k]);
@@ -206,6 +266,28 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
             cfg->render_max_pixels = n;
         else if (!strcmp(a, "--render-seconds"))
             bad = parse_seconds(v, 0.001, 86400.0, &cfg->render_seconds);
+        else if (!strcmp(a, "--user-workers") && !(bad = parse_long(v, 1, 256, &n)))
+            cfg->user_workers = (int)n;
+        else if (!strcmp(a, "--job-slice"))
+            bad = parse_seconds(v, 0.01, 86400.0, &cfg->job_slice);
+        else if (!strcmp(a, "--max-job-seconds"))
+            bad = parse_seconds(v, 1.0, 31.0 * 86400.0, &cfg->max_job_seconds);
+        else if (!strcmp(a, "--compute-threads") && !(bad = parse_long(v, 1, 256, &n)))
+            cfg->compute_threads = (int)n;
+        else if (!strcmp(a, "--user-evaluates") && !(bad = parse_long(v, 1, 1024, &n)))
+            cfg->user_evaluates = (int)n;
+        else if (!strcmp(a, "--user-renders") && !(bad = parse_long(v, 1, 1024, &n)))
+            cfg->user_renders = (int)n;
+        else if (!strcmp(a, "--user-connections") && !(bad = parse_long(v, 1, 100000, &n)))
+            cfg->user_connections = (int)n;
+        else if (!strcmp(a, "--token-connections") && !(bad = parse_long(v, 1, 100000, &n)))
+            cfg->token_connections = (int)n;
+        else if (!strcmp(a, "--user-store-bytes") && !(bad = parse_long(v, 4096, 1L << 50, &n)))
+            cfg->user_store_bytes = (size_t)n;
+        else if (!strcmp(a, "--keep-days"))
+            bad = parse_seconds(v, 0.0001, 36500.0, &cfg->keep_days);
+        else if (!strcmp(a, "--max-spec-bytes") && !(bad = parse_long(v, 1024, 1L << 30, &n)))
+            cfg->max_spec_bytes = (size_t)n;
         else if (!bad) {
             fprintf(err, "aalabd: unknown option %s (see --help)\n", a);
             return -1;
@@ -217,5 +299,6 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
         if (consumed)
             i++;
     }
+    config_finish(cfg);
     return 0;
 }

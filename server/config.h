@@ -27,13 +27,29 @@ typedef struct aalab_config {
     size_t tile_bytes;        /* tile store budget */
     long render_max_pixels;   /* largest tile POST /v1/render draws (larger: a compare job) */
     double render_seconds;    /* wall-time budget of one POST /v1/render reference */
+
+    /* Sharing one daemon between users (README, "Access and fair share"). */
+    int user_workers;        /* workers one user may hold while others wait; 0 = auto
+                              * (half the workers, at least 1; resolved by config_finish) */
+    double job_slice;        /* seconds a job runs before it yields to a waiting user */
+    double max_job_seconds;  /* ceiling on a job's max_seconds and on its running time */
+    bool test_kinds;         /* the "sleep" test kind is available (tests only) */
+    int compute_threads;     /* threads of the evaluate/render pool */
+    int user_evaluates;      /* running evaluates per user (429 beyond) */
+    int user_renders;        /* running renders per user (429 beyond) */
+    int user_connections;    /* open connections per peer uid, each listener */
+    int token_connections;   /* open connections per bearer token on TCP */
+    size_t user_store_bytes; /* stored job bytes per user */
+    double keep_days;        /* finished, unpinned jobs older than this are deleted */
+    size_t max_spec_bytes;   /* a job spec above this is refused with 413 */
 } aalab_config;
 
 /* Embedded defaults: socket under $RUNTIME_DIRECTORY / $XDG_RUNTIME_DIR (or /run/aalab as root),
  * state under $STATE_DIRECTORY / $XDG_STATE_HOME / ~/.local/state (or /var/lib/aalab as root),
  * workers = online cores. */
 void config_defaults(aalab_config *cfg);
-/* Parses flags; returns 0, 1 when --help/--version was printed, -1 on error (message on err). */
+/* Parses flags; returns 0, 1 when --help/--version was printed, -1 on error (message on err).
+ * Values that depend on others (user_workers = auto) are resolved before it returns 0. */
 int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE *err);
 void config_usage(FILE *out);
 

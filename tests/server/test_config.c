@@ -31,6 +31,44 @@ static void test_defaults(void **state)
     assert_true(c.render_seconds == 20.0);
     char *argv[] = {"aalabd"};
     assert_int_equal(parse(&c, 1, argv), 0);
+    /* Sharing defaults: half the workers (at least 1), 60 s slices, 256 MiB, 90 days. */
+    assert_int_equal(c.user_workers, c.workers / 2 > 1 ? c.workers / 2 : 1);
+    assert_true(c.job_slice == 60.0 && c.keep_days == 90.0);
+    assert_true(c.user_store_bytes == 256u << 20 && c.max_spec_bytes == 2u << 20);
+    assert_int_equal(c.user_evaluates, 2);
+    assert_int_equal(c.user_renders, 1);
+    assert_int_equal(c.user_connections, 32);
+    assert_int_equal(c.token_connections, 32);
+    assert_false(c.test_kinds);
+}
+
+static void test_sharing_flags(void **state)
+{
+    (void)state;
+    aalab_config c;
+    config_defaults(&c);
+    char *argv[] = {"aalabd",
+                    "--workers",
+                    "8",
+                    "--job-slice=2.5",
+                    "--enable-test-kinds",
+                    "--max-job-seconds",
+                    "120",
+                    "--user-store-bytes",
+                    "65536",
+                    "--keep-days=0.5",
+                    "--user-renders",
+                    "3"};
+    assert_int_equal(parse(&c, 12, argv), 0);
+    assert_int_equal(c.user_workers, 4); /* auto: half of 8 */
+    assert_true(c.job_slice == 2.5 && c.max_job_seconds == 120.0 && c.keep_days == 0.5);
+    assert_true(c.test_kinds);
+    assert_true(c.user_store_bytes == 65536);
+    assert_int_equal(c.user_renders, 3);
+    char *bad[] = {"aalabd", "--job-slice", "0"};
+    assert_int_equal(parse(&c, 3, bad), -1);
+    char *bad2[] = {"aalabd", "--user-store-bytes", "12"};
+    assert_int_equal(parse(&c, 3, bad2), -1);
 }
 
 static void test_flags(void **state)
@@ -103,6 +141,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults),
         cmocka_unit_test(test_flags),
+        cmocka_unit_test(test_sharing_flags),
         cmocka_unit_test(test_bad_flags),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
