@@ -105,7 +105,7 @@ class Daemon:
 
     def args(self):
         a = [self.binary, "--socket", self.socket_path, "--state-dir", self.state_dir,
-             "--workers", str(self.workers)]
+             "--workers", str(self.workers), "--enable-test-kinds"]
         if self.port:
             a += ["--tcp", "127.0.0.1:%d" % self.port]
         if self.web_dir:

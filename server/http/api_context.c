@@ -117,7 +117,8 @@ api_context *api_context_create(const aalab_config *cfg, bool *token_created, aa
     job_manager_config jc = {.workers = cfg->workers,
                              .queue_size = cfg->queue_size,
                              .user_quota = cfg->user_quota,
-                             .services = ctx->tiles};
+                             .services = ctx->tiles,
+                             .test_kinds = cfg->test_kinds};
     ctx->jobs = job_manager_create(cfg->state_dir, &jc, err);
     if (!ctx->jobs)
         goto fail;

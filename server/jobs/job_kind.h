@@ -49,6 +49,9 @@ typedef struct job_kind {
      * AA_ECANCELED when cancelled, or another negative code with err filled. */
     int (*run)(void *params, job_ctx *ctx, json_t **result, aa_error *err);
     void (*free_params)(void *params);
+    /* Offered only when the daemon runs with --enable-test-kinds (the harmless "sleep" kind
+     * that the tests drive; a release daemon does not run it). */
+    bool test_only;
 } job_kind;
 
 const job_kind *job_kind_find(const char *name);

@@ -236,7 +236,7 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
                         long long owner, job_state state, double created)
 {
     job_manager *jm = user;
-    const job_kind *kind = kind_name ? job_kind_find(kind_name) : NULL;
+    const job_kind *kind = kind_name ? job_manager_kind(jm, kind_name) : NULL;
     char reason[400];
     if (!kind) {
         snprintf(reason, sizeof reason, "job kind '%.40s' is not available after restart",
@@ -363,6 +363,26 @@ void job_manager_destroy(job_manager *jm)
 
 /* --- API ---------------------------------------------------------------------------------- */
 
+const job_kind *job_manager_kind(const job_manager *jm, const char *name)
+{
+    const job_kind *k = job_kind_find(name);
+    return k && (!k->test_only || jm->cfg.test_kinds) ? k : NULL;
+}
+
+void job_manager_kind_names(const job_manager *jm, char *buf, size_t cap)
+{
+    size_t n = 0;
+    buf[0] = 0;
+    for (const job_kind *const *k = job_kinds_all(); *k && n < cap; k++) {
+        if ((*k)->test_only && !jm->cfg.test_kinds)
+            continue;
+        int w = snprintf(buf + n, cap - n, "%s%s", n ? ", " : "", (*k)->name);
+        if (w < 0)
+            break;
+        n += (size_t)w;
+    }
+}
+
 int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, long long *id,
                        aa_error *err)
 {
@@ -371,9 +391,13 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
         return aa_error_set(err, AA_EINVAL, "kind", "a job needs a kind");
     if (!json_is_string(kind_j))
         return aa_error_set(err, AA_EINVAL, "kind", "kind must be a string");
-    const job_kind *kind = job_kind_find(json_string_value(kind_j));
-    if (!kind || strlen(json_string_value(kind_j)) != json_string_length(kind_j))
-        return aa_error_set(err, AA_EINVAL, "kind", "unknown job kind");
+    const job_kind *kind = job_manager_kind(jm, json_string_value(kind_j));
+    if (!kind || strlen(json_string_value(kind_j)) != json_string_length(kind_j)) {
+        char names[256];
+        job_manager_kind_names(jm, names, sizeof names);
+        return aa_error_set(err, AA_EINVAL, "kind", "unknown job kind; this daemon runs: %s",
+                            names);
+    }
     void *params = NULL;
     int rc = kind->parse(spec, &params, err);
     if (rc)

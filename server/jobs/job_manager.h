@@ -25,9 +25,10 @@ typedef struct job_manager job_manager;
 
 typedef struct job_manager_config {
     int workers;
-    int queue_size; /* queued jobs beyond which submit answers JM_EQUEUE_FULL */
-    int user_quota; /* queued + running per owner */
-    void *services; /* handed to kinds as job_ctx_services() */
+    int queue_size;  /* queued jobs beyond which submit answers JM_EQUEUE_FULL */
+    int user_quota;  /* queued + running per owner */
+    void *services;  /* handed to kinds as job_ctx_services() */
+    bool test_kinds; /* offer kinds marked test_only (--enable-test-kinds) */
 } job_manager_config;
 
 enum {
@@ -64,6 +65,11 @@ int job_manager_cancel(job_manager *jm, long long id, long long caller, const ch
 /* The best pattern JSON of a job (new reference), or NULL (*why: "no such job" /
  * "no pattern yet"). */
 json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why);
+
+/* The kind of that name if this daemon offers it (test-only kinds need test_kinds), else NULL. */
+const job_kind *job_manager_kind(const job_manager *jm, const char *name);
+/* Writes the names of the kinds this daemon offers, comma-separated, into buf. */
+void job_manager_kind_names(const job_manager *jm, char *buf, size_t cap);
 
 typedef struct job_manager_stats {
     int workers, busy;

@@ -151,4 +151,7 @@ static int animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *
     return rc;
 }
 
-const job_kind job_kind_animation = {"animation", animation_parse, animation_run, animation_free};
+const job_kind job_kind_animation = {.name = "animation",
+                                     .parse = animation_parse,
+                                     .run = animation_run,
+                                     .free_params = animation_free};

@@ -204,4 +204,5 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
     return rc;
 }
 
-const job_kind job_kind_compare = {"compare", compare_parse, compare_run, compare_free};
+const job_kind job_kind_compare = {
+    .name = "compare", .parse = compare_parse, .run = compare_run, .free_params = compare_free};

@@ -193,4 +193,5 @@ static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     return rc;
 }
 
-const job_kind job_kind_family_sweep = {"family-sweep", sweep_parse, sweep_run, sweep_free};
+const job_kind job_kind_family_sweep = {
+    .name = "family-sweep", .parse = sweep_parse, .run = sweep_run, .free_params = sweep_free};

@@ -341,4 +341,5 @@ static int optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *e
     return AA_OK;
 }
 
-const job_kind job_kind_optimize = {"optimize", optimize_parse, optimize_run, optimize_free};
+const job_kind job_kind_optimize = {
+    .name = "optimize", .parse = optimize_parse, .run = optimize_run, .free_params = optimize_free};

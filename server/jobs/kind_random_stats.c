@@ -176,4 +176,5 @@ static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     return rc;
 }
 
-const job_kind job_kind_random_stats = {"random-stats", stats_parse, stats_run, stats_free};
+const job_kind job_kind_random_stats = {
+    .name = "random-stats", .parse = stats_parse, .run = stats_run, .free_params = stats_free};

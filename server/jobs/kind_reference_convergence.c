@@ -181,5 +181,7 @@ static void convergence_free(void *params)
     free(params);
 }
 
-const job_kind job_kind_reference_convergence = {"reference-convergence", convergence_parse,
-                                                 convergence_run, convergence_free};
+const job_kind job_kind_reference_convergence = {.name = "reference-convergence",
+                                                 .parse = convergence_parse,
+                                                 .run = convergence_run,
+                                                 .free_params = convergence_free};

@@ -111,4 +111,8 @@ static void sleep_free(void *params)
     free(p);
 }
 
-const job_kind job_kind_sleep = {"sleep", sleep_parse, sleep_run, sleep_free};
+const job_kind job_kind_sleep = {.name = "sleep",
+                                 .parse = sleep_parse,
+                                 .run = sleep_run,
+                                 .free_params = sleep_free,
+                                 .test_only = true};

@@ -55,7 +55,7 @@ near() {
 }
 
 start_daemon() {
-  "$aalabd" --socket "$sock" --state-dir "$state" --workers 2 --user-quota 4 >>"$tmp/daemon.log" 2>&1 &
+  "$aalabd" --socket "$sock" --state-dir "$state" --workers 2 --user-quota 4 --enable-test-kinds >>"$tmp/daemon.log" 2>&1 &
   daemon_pid=$!
   for _ in $(seq 1 100); do
     A health >/dev/null 2>&1 && return 0

@@ -50,7 +50,8 @@ class Daemon:
         self.token = None
 
     def start(self):
-        args = [self.binary, "--socket", self.sock, "--state-dir", self.state]
+        args = [self.binary, "--socket", self.sock, "--state-dir", self.state,
+                "--enable-test-kinds"]
         if self.port:
             args += ["--tcp", "127.0.0.1:%d" % self.port]
         if self.web_dir:

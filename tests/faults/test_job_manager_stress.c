@@ -96,7 +96,7 @@ static void test_concurrent_submit_cancel_get(void **state)
     (void)state;
     char dir[] = "/tmp/aalab-jmstress-XXXXXX";
     assert_non_null(mkdtemp(dir));
-    job_manager_config cfg = {.workers = 3, .queue_size = 32, .user_quota = 24, .services = NULL};
+    job_manager_config cfg = {.workers = 3, .queue_size = 32, .user_quota = 24, .services = NULL, .test_kinds = true};
     aa_error err;
     memset(&err, 0, sizeof err);
     job_manager *jm = job_manager_create(dir, &cfg, &err);
@@ -155,7 +155,7 @@ static void test_shutdown_under_load(void **state)
     (void)state;
     char dir[] = "/tmp/aalab-jmstress-XXXXXX";
     assert_non_null(mkdtemp(dir));
-    job_manager_config cfg = {.workers = 2, .queue_size = 64, .user_quota = 64, .services = NULL};
+    job_manager_config cfg = {.workers = 2, .queue_size = 64, .user_quota = 64, .services = NULL, .test_kinds = true};
     aa_error err;
     memset(&err, 0, sizeof err);
     job_manager *jm = job_manager_create(dir, &cfg, &err);

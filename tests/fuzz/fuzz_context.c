@@ -58,6 +58,7 @@ api_context *fuzz_context_open(void)
     cfg.queue_size = 8;
     cfg.user_quota = 8;
     cfg.tile_bytes = 16u << 20;
+    cfg.test_kinds = true;
     /* POST /v1/render runs synchronously in api_handle(): at the daemon's limits one render
      * takes seconds under ASan and starves the fuzzer (7 exec/s). Tiny tiles and a short
      * reference budget keep every render path (decode, render, budget exceeded, PNG, store)

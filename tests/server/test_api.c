@@ -32,6 +32,7 @@ static int setup(void **state)
     f->cfg.queue_size = 2;
     f->cfg.user_quota = 2;
     f->cfg.max_body = 4096;
+    f->cfg.test_kinds = true;
     aa_error err = {0};
     bool created = false;
     f->ctx = api_context_create(&f->cfg, &created, &err);

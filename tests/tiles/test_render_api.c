@@ -31,6 +31,7 @@ static int setup(void **state)
     config_defaults(&cfg);
     snprintf(cfg.state_dir, sizeof cfg.state_dir, "%s", state_dir);
     cfg.workers = 1;
+    cfg.test_kinds = true;
     bool created = false;
     aa_error err = {0};
     ctx = api_context_create(&cfg, &created, &err);

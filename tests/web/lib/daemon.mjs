@@ -32,7 +32,7 @@ export async function startDaemon({ binary, webDir, logFile, extraArgs = [] }) {
   const socket = path.join(dir, 'aalabd.sock');
   fs.mkdirSync(stateDir);
   const port = await freePort();
-  const args = ['--socket', socket, '--state-dir', stateDir, '--tcp', `127.0.0.1:${port}`, '--web-dir', webDir, '--workers', '2', ...extraArgs];
+  const args = ['--socket', socket, '--state-dir', stateDir, '--tcp', `127.0.0.1:${port}`, '--web-dir', webDir, '--workers', '2', '--enable-test-kinds', ...extraArgs];
   const log = fs.openSync(logFile, 'w');
   const child = spawn(binary, args, { stdio: ['ignore', log, log], env: { ...process.env, XDG_RUNTIME_DIR: dir } });
   let exited = null;
