@@ -21,6 +21,7 @@ void aa_optimize_params_default(aa_optimize_params *p)
     p->rel_tolerance = 1e-6;
     p->grid_bits = 0;
     p->d3d12_range = false;
+    p->clock = (aa_clock){NULL, NULL};
 }
 
 void aa_optimize_result_chain(aa_optimize_result *first, const aa_optimize_result *then)
@@ -205,7 +206,7 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
         return rc;
     opt_loop L;
     memset(&L, 0, sizeof L);
-    L.start = opt_now_seconds();
+    L.start = aa_clock_seconds(&params->clock);
     L.err = err;
     rc = opt_state_init(&L.cur, seed, err);
     if (rc)
@@ -223,7 +224,7 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
     opt_state_apply(&L.cur);
     L.best_e2 = INFINITY; /* until the seed has been evaluated */
     bool cancelled = false;
-    L.ps = (opt_progress_state){progress, user, L.start, L.start, true};
+    L.ps = (opt_progress_state){progress, user, L.start, L.start, true, &params->clock};
     L.run.loop = &L;
     if (!rc)
         rc = opt_run_eval_e2(&L.run, &L.cur, &L.e2);
@@ -266,7 +267,7 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
             result->e2_before_snap = ev.e2;
         result->iterations = L.it;
         result->evaluations = L.run.evaluations;
-        result->seconds = opt_now_seconds() - L.start;
+        result->seconds = aa_clock_seconds(&params->clock) - L.start;
         result->argmax_kernel = ev.argmax_kernel;
         result->argmax_angle_deg = ev.argmax_angle_deg;
     }

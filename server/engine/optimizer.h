@@ -62,6 +62,16 @@ int aa_optimize_method_parse(const char *name, aa_optimize_method *out); /* AA_E
  * published optima of the one-pixel families. */
 aa_optimize_method aa_auto_method(bool tiled_without_border, aa_optimize_mode mode);
 
+/* The time source of budgets and reported seconds: seconds since any fixed point, never going
+ * backwards. fn NULL: CLOCK_MONOTONIC. A caller that pauses a run (the daemon gives a waiting
+ * user's job the core for a while) passes a clock that stands still during the pause, so the
+ * pause costs the run none of its budget and a budget-free run gives the same result. */
+typedef struct aa_clock {
+    double (*fn)(void *user);
+    void *user;
+} aa_clock;
+double aa_clock_seconds(const aa_clock *c);
+
 typedef struct aa_optimize_params {
     aa_optimize_mode mode;
     aa_optimize_method method; /* default AA_METHOD_LAINE_AILA */
@@ -76,6 +86,7 @@ typedef struct aa_optimize_params {
      * quantisation cost reported); d3d12_range also clamps offsets to [-8, 7]/16. */
     int grid_bits; /* 0: off; default 0 (4 = 1/16 pixel) */
     bool d3d12_range;
+    aa_clock clock; /* default: CLOCK_MONOTONIC; multi-start uses local.clock for the call */
 } aa_optimize_params;
 
 void aa_optimize_params_default(aa_optimize_params *p);

@@ -26,11 +26,10 @@ void aa_multistart_result_free(aa_multistart_result *r)
     r->per_seed = NULL;
 }
 
-static double mono_seconds(void)
+/* The call's clock (local.clock: the caller may stop it while the run is paused). */
+static double now_of(const aa_multistart_params *p)
 {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+    return aa_clock_seconds(&p->local.clock);
 }
 
 #define MAX_WORKERS 64
@@ -91,7 +90,7 @@ static int inner_progress(void *user, const aa_optimize_progress *pr)
             sh->improved = true;
         }
     }
-    double t = mono_seconds();
+    double t = now_of(sh->params);
     if (sh->progress && !sh->cancel && t - sh->last_call >= 0.01) {
         sh->last_call = t;
         long it = sh->done_iterations, ev = sh->done_evaluations;
@@ -169,8 +168,7 @@ static void *worker_main(void *arg)
     w->best_e2 = INFINITY;
     for (size_t i = (size_t)w->index; i < p->seed_count; i += (size_t)p->workers) {
         pthread_mutex_lock(&sh->lock);
-        bool stop =
-            sh->cancel || (p->max_seconds > 0 && mono_seconds() - sh->start >= p->max_seconds);
+        bool stop = sh->cancel || (p->max_seconds > 0 && now_of(p) - sh->start >= p->max_seconds);
         pthread_mutex_unlock(&sh->lock);
         if (stop)
             break;
@@ -261,7 +259,8 @@ static int ranked_cmp(const void *a, const void *b)
 typedef struct phase_relay {
     aa_optimize_progress_fn progress;
     void *user;
-    double start; /* of the whole call */
+    const aa_multistart_params *params; /* its clock */
+    double start;                       /* of the whole call */
     long iterations_before, evaluations_before;
     double fraction_base, fraction_span;
     double best_e2;  /* lowest E2 reported so far, over both phases */
@@ -280,7 +279,7 @@ static int relay_progress(void *user, const aa_optimize_progress *p)
             r->best_e2 = p->best_e2;
         }
     }
-    aa_optimize_progress up = {mono_seconds() - r->start,
+    aa_optimize_progress up = {now_of(r->params) - r->start,
                                r->iterations_before + p->iterations,
                                r->evaluations_before + p->evaluations,
                                r->best_e2,
@@ -302,8 +301,8 @@ static int multistart_screened(const aa_multistart_params *p, const aa_metric_pa
     int rc = aa_enumerate_mirrored(p->family->cost, &all, &count, err);
     if (rc)
         return rc;
-    double start = mono_seconds();
-    phase_relay relay = {progress, user, start, 0, 0, 0, 0.25, INFINITY, {0}};
+    double start = now_of(p);
+    phase_relay relay = {progress, user, p, start, 0, 0, 0, 0.25, INFINITY, {0}};
     aa_optimize_progress_fn relay_fn = progress ? relay_progress : NULL;
     aa_multistart_params screen = *p;
     screen.screen_top = 0;
@@ -318,7 +317,7 @@ static int multistart_screened(const aa_multistart_params *p, const aa_metric_pa
     if (rc == AA_ECANCELED) { /* the screening's best so far is the caller's */
         *best = first;
         *result = r1;
-        result->seconds = mono_seconds() - start;
+        result->seconds = now_of(p) - start;
         aa_pattern_free(&relay.best);
         free(all);
         return rc;
@@ -352,7 +351,7 @@ static int multistart_screened(const aa_multistart_params *p, const aa_metric_pa
     focus.configs = top;
     focus.config_count = keep;
     if (p->max_seconds > 0)
-        focus.max_seconds = fmax(0.01, p->max_seconds - (mono_seconds() - start));
+        focus.max_seconds = fmax(0.01, p->max_seconds - (now_of(p) - start));
     relay.iterations_before = r1.iterations;
     relay.evaluations_before = r1.evaluations;
     relay.fraction_base = 0.25;
@@ -375,7 +374,7 @@ static int multistart_screened(const aa_multistart_params *p, const aa_metric_pa
     }
     result->iterations += r1.iterations;
     result->evaluations += r1.evaluations;
-    result->seconds = mono_seconds() - start;
+    result->seconds = now_of(p) - start;
     free(rank);
     free(top);
     free(all);
@@ -418,7 +417,7 @@ static int multistart_once(const aa_multistart_params *p, const aa_metric_params
     sh.metric = metric;
     sh.progress = progress;
     sh.user = user;
-    sh.start = mono_seconds();
+    sh.start = now_of(p);
     sh.last_call = sh.start - 1;
     sh.snapshot_e2 = INFINITY;
     sh.per_seed = calloc(p->seed_count, sizeof *sh.per_seed);
@@ -469,7 +468,7 @@ static int multistart_once(const aa_multistart_params *p, const aa_metric_params
             result->seeds_run++;
     result->iterations = sh.done_iterations;
     result->evaluations = sh.done_evaluations;
-    result->seconds = mono_seconds() - sh.start;
+    result->seconds = now_of(p) - sh.start;
     if (winner >= 0) {
         *best = ws[winner].best;
         ws[winner].best.kernels = NULL;

@@ -7,8 +7,10 @@
 #include <string.h>
 #include <time.h>
 
-double opt_now_seconds(void)
+double aa_clock_seconds(const aa_clock *c)
 {
+    if (c && c->fn)
+        return c->fn(c->user);
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
@@ -154,7 +156,7 @@ int opt_report(opt_progress_state *ps, const opt_state *best, double best_e2, lo
 {
     if (!ps->fn)
         return 0;
-    double t = opt_now_seconds();
+    double t = aa_clock_seconds(ps->clock);
     if (!force && t - ps->last_call < 0.01)
         return 0;
     ps->last_call = t;
@@ -183,7 +185,7 @@ int opt_loop_tick(opt_loop *L)
     const aa_optimize_params *p = L->run.params;
     if (L->it >= p->max_iterations)
         return 1;
-    double t = opt_now_seconds();
+    double t = aa_clock_seconds(&p->clock);
     if (p->max_seconds > 0 && t - L->start >= p->max_seconds)
         return 1;
     double fraction = (double)L->it / (double)p->max_iterations;

@@ -11,14 +11,13 @@
 #include "optimizer.h"
 #include "optimizer_state.h"
 
-double opt_now_seconds(void);
-
 /* Progress reporting of one run: at most every 10 ms unless forced. */
 typedef struct opt_progress_state {
     aa_optimize_progress_fn fn;
     void *user;
     double start, last_call;
     bool improved;
+    const aa_clock *clock;
 } opt_progress_state;
 
 struct opt_loop;
@@ -47,7 +46,7 @@ typedef struct opt_loop {
     opt_run run;
     opt_state cur, trial, top;
     opt_progress_state ps;
-    double start;   /* opt_now_seconds() when the run began */
+    double start;   /* aa_clock_seconds(&params->clock) when the run began */
     double e2;      /* of cur */
     double best_e2; /* of top */
     long it;

@@ -118,7 +118,10 @@ api_context *api_context_create(const aalab_config *cfg, bool *token_created, aa
                              .queue_size = cfg->queue_size,
                              .user_quota = cfg->user_quota,
                              .services = ctx->tiles,
-                             .test_kinds = cfg->test_kinds};
+                             .test_kinds = cfg->test_kinds,
+                             .user_workers = cfg->user_workers,
+                             .slice_seconds = cfg->job_slice,
+                             .max_job_seconds = cfg->max_job_seconds};
     ctx->jobs = job_manager_create(cfg->state_dir, &jc, err);
     if (!ctx->jobs)
         goto fail;

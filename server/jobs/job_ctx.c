@@ -46,12 +46,9 @@ void job_live_flush_pending(job_live *l)
     }
 }
 
-static void maybe_flush_to_store(job_ctx *ctx)
+void job_ctx_flush_locked(job_ctx *ctx)
 {
-    double now = jm_now();
-    if (now - ctx->live->last_flush < STORE_FLUSH_INTERVAL)
-        return;
-    ctx->live->last_flush = now;
+    ctx->live->last_flush = jm_now();
     double progress = ctx->live->progress;
     json_t *best = json_incref(ctx->live->best);
     json_t *trace = json_deep_copy(ctx->live->trace);
@@ -60,6 +57,12 @@ static void maybe_flush_to_store(job_ctx *ctx)
     json_decref(best);
     json_decref(trace);
     pthread_mutex_lock(ctx->lock);
+}
+
+static void maybe_flush_to_store(job_ctx *ctx)
+{
+    if (jm_now() - ctx->live->last_flush >= STORE_FLUSH_INTERVAL)
+        job_ctx_flush_locked(ctx);
 }
 
 bool job_ctx_progress(job_ctx *ctx, double fraction, json_t *best_so_far)
@@ -73,7 +76,8 @@ bool job_ctx_progress(job_ctx *ctx, double fraction, json_t *best_so_far)
         ctx->live->best = copy;
     }
     maybe_flush_to_store(ctx);
-    bool stop = *ctx->cancel || *ctx->stopping;
+    jm_yield_point_locked(ctx); /* may wait here while another user's job has the worker */
+    bool stop = jm_job_stop_locked(ctx);
     pthread_mutex_unlock(ctx->lock);
     return stop;
 }
@@ -105,9 +109,14 @@ void job_ctx_trace(job_ctx *ctx, const job_trace_point *point)
 bool job_ctx_cancelled(const job_ctx *ctx)
 {
     pthread_mutex_lock(ctx->lock);
-    bool stop = *ctx->cancel || *ctx->stopping;
+    bool stop = jm_job_stop_locked(ctx);
     pthread_mutex_unlock(ctx->lock);
     return stop;
+}
+
+aa_clock job_ctx_clock(job_ctx *ctx)
+{
+    return (aa_clock){jm_job_clock, ctx};
 }
 
 int job_ctx_workers(const job_ctx *ctx)

@@ -28,20 +28,36 @@ void job_live_clear(job_live *l);
 /* Appends the held-back improvement, if any (at the end of a run). */
 void job_live_flush_pending(job_live *l);
 
+struct job_manager;
+struct job;
+
 struct job_ctx {
-    void *jm;
-    pthread_mutex_t *lock;
+    struct job_manager *jm;
+    struct job *job;
+    pthread_mutex_t *lock; /* the manager's */
     job_live *live;
     job_store *store;
     long long id;
-    bool *cancel;
-    bool *stopping;
     void *services;
     int workers;
     int *busy;
-    double started;
+    double started;      /* wall clock (Unix seconds) */
+    double started_mono; /* monotonic */
 };
 
-double jm_now(void);
+double jm_now(void);       /* Unix seconds */
+double jm_monotonic(void); /* CLOCK_MONOTONIC seconds */
+
+/* Called by job_ctx_progress with the lock held: enforces --max-job-seconds and, when the job's
+ * slice is over and another user waits with fewer workers, checkpoints the live state, gives the
+ * worker back and waits (lock released) until the scheduler hands one back or the job must
+ * stop. */
+void jm_yield_point_locked(job_ctx *ctx);
+/* Lock held: cancelled, over --max-job-seconds, or the daemon is stopping. */
+bool jm_job_stop_locked(const job_ctx *ctx);
+/* The job's clock (job_ctx_clock): monotonic seconds less the time spent paused. */
+double jm_job_clock(void *ctx);
+/* Writes progress, best and trace to the store now (lock held; released during the write). */
+void job_ctx_flush_locked(job_ctx *ctx);
 
 #endif

@@ -12,6 +12,7 @@
 #include <jansson.h>
 
 #include "aa_error.h"
+#include "optimizer.h" /* aa_clock */
 
 typedef struct job_ctx job_ctx;
 
@@ -23,11 +24,17 @@ typedef struct job_trace_point {
 } job_trace_point;
 
 /* Progress 0..1 and, optionally, the best result so far (borrowed; NULL keeps the previous).
- * Returns true if the job has been cancelled or the daemon is shutting down: stop then. */
+ * Returns true if the job has been cancelled, has run past --max-job-seconds, or the daemon is
+ * shutting down: stop then. This is also where a job yields its worker to a waiting user when
+ * its slice is over (fair share): the call then returns only when the job has a worker again,
+ * so a kind that reports progress regularly needs nothing else to share the machine. */
 bool job_ctx_progress(job_ctx *ctx, double fraction, json_t *best_so_far);
 /* Appends a trace point; the context keeps every improvement but at most 10 points a second. */
 void job_ctx_trace(job_ctx *ctx, const job_trace_point *point);
 bool job_ctx_cancelled(const job_ctx *ctx);
+/* The job's own clock for time budgets (engine aa_clock): it stands still while the job is
+ * paused for another user, so a pause costs the job none of its budget. */
+aa_clock job_ctx_clock(job_ctx *ctx);
 int job_ctx_workers(const job_ctx *ctx); /* threads a job may use for its own parallel work */
 /* Maps an engine progress callback's fraction 0..1 onto [base, base + span] of the job's
  * progress; pass job_progress_span_report as the callback and the span as its user pointer.

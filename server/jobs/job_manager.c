@@ -3,25 +3,37 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
+#include "fair_share.h"
 #include "job_ctx_impl.h"
+#include "job_envelope.h"
 
-#define COUNTS_MAX_AGE 0.25 /* seconds */
-#define JOB_MAX_CRASHES 3   /* abnormal daemon exits while running one job before giving up */
+#define COUNTS_MAX_AGE 0.25    /* seconds */
+#define JOB_MAX_CRASHES 3      /* abnormal daemon exits while running one job before giving up */
+#define YIELD_CHECK_EVERY 0.25 /* seconds between fair-share checks once a slice is over */
 
 typedef struct job {
+    struct job_manager *jm;
     long long id;
     const job_kind *kind;
     void *params;
     json_t *spec;
     long long owner;
+    int priority;
     job_state state;
     double created, started;
     bool cancel_requested;
+    bool over_time;    /* stopped by --max-job-seconds */
+    bool holds_worker; /* running on one of the workers (a paused job does not) */
+    bool paused;       /* gave its worker back; waits on resume */
+    double slice_start, served, paused_since, next_yield_check; /* monotonic seconds */
+    atomic_llong paused_ns; /* total pause so far: the job's clock stands still meanwhile */
+    pthread_cond_t resume;
     char reason[160];
     job_live live;    /* progress, best, trace: guarded by jm->lock */
     struct job *next; /* active list */
@@ -31,18 +43,20 @@ struct job_manager {
     job_manager_config cfg;
     job_store *store;
     pthread_mutex_t lock;
-    pthread_cond_t wake;
-    job **queue; /* FIFO of queued jobs */
+    pthread_cond_t idle; /* signalled when the last job thread ends */
+    job **queue;         /* queued jobs (never ran), in submission order */
     size_t q_len, q_cap;
-    job *active; /* every queued or running job */
-    int running, busy;
+    job *active;      /* every queued, running or paused job */
+    int running;      /* jobs in state running, paused ones included */
+    int busy;         /* workers held (running and not paused) */
+    int threads;      /* job threads alive */
     size_t admitting; /* submissions between admission and their store insert */
+    fs_job *snapshot; /* fair-share scratch, guarded by lock */
+    size_t snapshot_cap;
     pthread_mutex_t counts_lock;
     long long counts[JOB_STATE_COUNT]; /* jobs by state, cached for COUNTS_MAX_AGE */
     double counts_at;
     bool stopping;
-    pthread_t *threads;
-    int thread_count;
 };
 
 double jm_now(void)
@@ -50,6 +64,27 @@ double jm_now(void)
     struct timespec ts;
     clock_gettime(CLOCK_REALTIME, &ts);
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+double jm_monotonic(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static job *job_new(void)
+{
+    job *j = calloc(1, sizeof *j);
+    if (!j)
+        return NULL;
+    if (job_live_init(&j->live) != AA_OK || pthread_cond_init(&j->resume, NULL)) {
+        job_live_clear(&j->live);
+        free(j);
+        return NULL;
+    }
+    atomic_init(&j->paused_ns, 0);
+    return j;
 }
 
 static void job_free(job *j)
@@ -60,6 +95,7 @@ static void job_free(job *j)
         j->kind->free_params(j->params);
     json_decref(j->spec);
     job_live_clear(&j->live);
+    pthread_cond_destroy(&j->resume);
     free(j);
 }
 
@@ -75,15 +111,6 @@ static int queue_push(job_manager *jm, job *j)
     }
     jm->queue[jm->q_len++] = j;
     return AA_OK;
-}
-
-static job *queue_pop(job_manager *jm)
-{
-    if (!jm->q_len)
-        return NULL;
-    job *j = jm->queue[0];
-    memmove(jm->queue, jm->queue + 1, --jm->q_len * sizeof *jm->queue);
-    return j;
 }
 
 static void queue_remove(job_manager *jm, job *j)
@@ -123,12 +150,151 @@ static int owner_load(job_manager *jm, long long owner)
     return n;
 }
 
-/* --- workers ------------------------------------------------------------------------------ */
+/* --- scheduling ----------------------------------------------------------------------------- */
+
+/* The fair-share view of the active jobs (fair_share.h); NULL when out of memory. */
+static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
+{
+    size_t count = 0;
+    for (job *j = jm->active; j; j = j->next)
+        count += j->id > 0; /* admitted jobs not yet in the store are not schedulable */
+    if (count > jm->snapshot_cap) {
+        size_t cap = count * 2;
+        fs_job *s = realloc(jm->snapshot, cap * (sizeof *s + sizeof(job *)));
+        if (!s)
+            return NULL;
+        jm->snapshot = s;
+        jm->snapshot_cap = cap;
+    }
+    job **jobs = (job **)(void *)(jm->snapshot + jm->snapshot_cap);
+    size_t i = 0;
+    for (job *j = jm->active; j; j = j->next) {
+        if (j->id <= 0)
+            continue;
+        jobs[i] = j;
+        jm->snapshot[i] = (fs_job){.owner = j->owner,
+                                   .priority = j->priority,
+                                   .running = j->holds_worker,
+                                   .paused = j->paused,
+                                   .served = j->served,
+                                   .id = j->id};
+        i++;
+    }
+    *n = i;
+    *order = jobs;
+    return jm->snapshot;
+}
+
+static void *job_thread(void *arg);
+
+/* Hands free workers to waiting jobs, by fair share: a paused job is woken, a queued one gets
+ * a thread of its own. Called with the lock held after anything that frees a worker or adds a
+ * waiting job. */
+static void schedule_locked(job_manager *jm)
+{
+    while (!jm->stopping && jm->busy < jm->cfg.workers) {
+        size_t n;
+        job **jobs;
+        fs_job *snap = snapshot_locked(jm, &n, &jobs);
+        long k = snap ? fs_pick(snap, n, jm->cfg.user_workers) : -1;
+        if (k < 0)
+            return;
+        job *j = jobs[k];
+        double now = jm_monotonic();
+        j->holds_worker = true;
+        j->slice_start = j->served = now;
+        j->next_yield_check = now + jm->cfg.slice_seconds;
+        jm->busy++;
+        if (j->paused) {
+            j->paused = false;
+            atomic_fetch_add(&j->paused_ns, (long long)((now - j->paused_since) * 1e9));
+            pthread_cond_signal(&j->resume);
+            continue;
+        }
+        queue_remove(jm, j);
+        j->state = JOB_RUNNING;
+        j->started = jm_now();
+        jm->running++;
+        pthread_attr_t attr;
+        pthread_t t;
+        int rc = pthread_attr_init(&attr);
+        if (!rc) {
+            pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+            rc = pthread_create(&t, &attr, job_thread, j);
+            pthread_attr_destroy(&attr);
+        }
+        if (rc) {
+            /* No thread now: back to the queue; the next finish or submit tries again. */
+            j->holds_worker = false;
+            j->state = JOB_QUEUED;
+            jm->busy--;
+            jm->running--;
+            queue_push(jm, j);
+            fprintf(stderr, "aalabd: cannot start a thread for job %lld; it stays queued\n", j->id);
+            return;
+        }
+        jm->threads++;
+    }
+}
+
+void jm_yield_point_locked(job_ctx *ctx)
+{
+    job_manager *jm = ctx->jm;
+    job *j = ctx->job;
+    double now = jm_monotonic();
+    double ran = now - ctx->started_mono - (double)atomic_load(&j->paused_ns) * 1e-9;
+    if (!j->over_time && ran > jm->cfg.max_job_seconds) {
+        j->over_time = true; /* the caller sees the stop flag through cancel_requested */
+        return;
+    }
+    if (now < j->next_yield_check || jm->stopping || j->cancel_requested || !j->holds_worker)
+        return;
+    j->next_yield_check = now + YIELD_CHECK_EVERY;
+    size_t n, r = 0;
+    job **jobs;
+    fs_job *snap = snapshot_locked(jm, &n, &jobs);
+    if (!snap)
+        return;
+    while (r < n && jobs[r] != j)
+        r++;
+    if (r == n || !fs_should_yield(snap, n, r))
+        return;
+    /* Checkpoint: what the job has found so far is in the store before it waits. */
+    job_ctx_flush_locked(ctx);
+    j->holds_worker = false;
+    j->paused = true;
+    j->paused_since = j->served = jm_monotonic();
+    jm->busy--;
+    schedule_locked(jm);
+    fprintf(stderr, "aalabd: job %lld (uid %lld) yields its worker after a %.1f s slice\n", j->id,
+            j->owner, now - j->slice_start);
+    while (j->paused && !jm->stopping && !j->cancel_requested)
+        pthread_cond_wait(&j->resume, &jm->lock);
+    if (j->paused) { /* woken to stop: end without a worker (finish_job knows) */
+        j->paused = false;
+        atomic_fetch_add(&j->paused_ns, (long long)((jm_monotonic() - j->paused_since) * 1e9));
+    }
+}
+
+bool jm_job_stop_locked(const job_ctx *ctx)
+{
+    const job *j = ctx->job;
+    return j->cancel_requested || j->over_time || ((job_manager *)ctx->jm)->stopping;
+}
+
+double jm_job_clock(void *ctx_)
+{
+    const job_ctx *ctx = ctx_;
+    const job *j = ctx->job;
+    return jm_monotonic() - (double)atomic_load(&j->paused_ns) * 1e-9;
+}
 
 static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa_error *err)
 {
     pthread_mutex_lock(&jm->lock);
-    bool shutdown_stop = rc == AA_ECANCELED && jm->stopping && !j->cancel_requested;
+    bool shutdown_stop =
+        rc == AA_ECANCELED && jm->stopping && !j->cancel_requested && !j->over_time;
+    bool over_time = j->over_time && rc != AA_OK;
     json_t *best = json_incref(j->live.best);
     job_live_flush_pending(&j->live);
     json_t *trace = json_deep_copy(j->live.trace);
@@ -138,11 +304,21 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
     job_state st;
     json_t *error = NULL;
     const char *reason = NULL;
+    char why[160];
     if (shutdown_stop) {
         /* Not resumable mid-run: the next start runs it again from the beginning. */
         st = JOB_QUEUED;
         reason = "daemon stopped while the job was running; re-queued";
         progress = 0;
+    } else if (over_time) {
+        st = JOB_FAILED;
+        snprintf(why, sizeof why,
+                 "the job ran longer than this daemon's --max-job-seconds (%.0f s); its best so "
+                 "far is kept",
+                 jm->cfg.max_job_seconds);
+        reason = why;
+        error = json_pack("{s:s,s:s,s:s}", "code", "time_limit", "message", why, "field",
+                          "max_seconds");
     } else if (rc == AA_OK) {
         st = JOB_DONE;
         progress = 1;
@@ -173,8 +349,8 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
     /* One line per finished run for the journal. */
     fprintf(stderr, "aalabd: job %lld (%s, uid %lld) %s after %.2f s%s%s\n", j->id, j->kind->name,
             j->owner, shutdown_stop ? "checkpointed as queued" : job_state_name(st),
-            now - j->started, st == JOB_FAILED && err ? ": " : "",
-            st == JOB_FAILED && err ? err->message : "");
+            now - j->started, st == JOB_FAILED && err && !over_time ? ": " : "",
+            st == JOB_FAILED && err && !over_time ? err->message : "");
     json_decref(best);
     json_decref(trace);
     json_decref(error);
@@ -183,49 +359,43 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
     pthread_mutex_lock(&jm->lock);
     active_remove(jm, j);
     jm->running--;
+    if (j->holds_worker)
+        jm->busy--;
+    j->holds_worker = false;
+    schedule_locked(jm);
     pthread_mutex_unlock(&jm->lock);
     job_free(j);
 }
 
-static void *worker_main(void *arg)
+/* One thread per started job: paused jobs keep their thread (and memory) while they wait, so
+ * the number of threads is the number of started jobs, bounded by the queue and user quota. */
+static void *job_thread(void *arg)
 {
-    job_manager *jm = arg;
-    pthread_mutex_lock(&jm->lock);
-    for (;;) {
-        while (!jm->stopping && jm->q_len == 0)
-            pthread_cond_wait(&jm->wake, &jm->lock);
-        if (jm->stopping)
-            break;
-        job *j = queue_pop(jm);
-        j->state = JOB_RUNNING;
-        j->started = jm_now();
-        jm->running++;
-        jm->busy++;
-        pthread_mutex_unlock(&jm->lock);
-
-        job_store_set_state(jm->store, j->id, JOB_RUNNING, j->started, NULL);
-        struct job_ctx ctx = {.jm = jm,
-                              .lock = &jm->lock,
-                              .live = &j->live,
-                              .store = jm->store,
-                              .id = j->id,
-                              .cancel = &j->cancel_requested,
-                              .stopping = &jm->stopping,
-                              .services = jm->cfg.services,
-                              .workers = jm->cfg.workers,
-                              .busy = &jm->busy,
-                              .started = j->started};
-        json_t *result = NULL;
-        aa_error err = {0};
-        int rc = j->kind->run(j->params, &ctx, &result, &err);
-        if (rc != AA_OK) {
-            json_decref(result);
-            result = NULL;
-        }
-        finish_job(jm, j, rc, result, &err);
-        pthread_mutex_lock(&jm->lock);
-        jm->busy--;
+    job *j = arg;
+    job_manager *jm = j->jm;
+    job_store_set_state(jm->store, j->id, JOB_RUNNING, j->started, NULL);
+    struct job_ctx ctx = {.jm = jm,
+                          .job = j,
+                          .lock = &jm->lock,
+                          .live = &j->live,
+                          .store = jm->store,
+                          .id = j->id,
+                          .services = jm->cfg.services,
+                          .workers = jm->cfg.workers,
+                          .busy = &jm->busy,
+                          .started = j->started,
+                          .started_mono = jm_monotonic()};
+    json_t *result = NULL;
+    aa_error err = {0};
+    int rc = j->kind->run(j->params, &ctx, &result, &err);
+    if (rc != AA_OK) {
+        json_decref(result);
+        result = NULL;
     }
+    finish_job(jm, j, rc, result, &err);
+    pthread_mutex_lock(&jm->lock);
+    if (--jm->threads == 0)
+        pthread_cond_broadcast(&jm->idle);
     pthread_mutex_unlock(&jm->lock);
     return NULL;
 }
@@ -260,26 +430,33 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
     }
     void *params = NULL;
     aa_error err = {0};
-    if (kind->parse(spec, &params, &err) != AA_OK) {
+    job_envelope env;
+    json_t *kind_spec = NULL;
+    int prc = job_envelope_take(spec, &env, &kind_spec, &err);
+    if (!prc)
+        prc = kind->parse(kind_spec, &params, &err);
+    json_decref(kind_spec);
+    if (prc != AA_OK) {
         snprintf(reason, sizeof reason, "spec no longer valid after restart: %s (%s)", err.message,
                  err.field);
         job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL, reason,
                          jm_now());
         return;
     }
-    job *j = calloc(1, sizeof *j);
-    if (!j || job_live_init(&j->live) != AA_OK) {
-        free(j);
+    job *j = job_new();
+    if (!j) {
         kind->free_params(params);
         job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL,
                          "out of memory at restart", jm_now());
         return;
     }
+    j->jm = jm;
     j->id = id;
     j->kind = kind;
     j->params = params;
     j->spec = json_incref(spec);
     j->owner = owner;
+    j->priority = env.priority;
     j->state = JOB_QUEUED;
     j->created = created;
     if (state == JOB_RUNNING)
@@ -306,27 +483,22 @@ job_manager *job_manager_create(const char *state_dir, const job_manager_config 
     pthread_mutex_init(&jm->lock, NULL);
     pthread_mutex_init(&jm->counts_lock, NULL);
     jm->counts_at = -1e300;
-    pthread_cond_init(&jm->wake, NULL);
+    pthread_cond_init(&jm->idle, NULL);
     jm->store = job_store_open(state_dir, err);
     if (!jm->store) {
         job_manager_destroy(jm);
         return NULL;
     }
+    if (jm->cfg.user_workers < 1)
+        jm->cfg.user_workers = jm->cfg.workers / 2 > 1 ? jm->cfg.workers / 2 : 1;
+    if (!(jm->cfg.slice_seconds > 0))
+        jm->cfg.slice_seconds = 60;
+    if (!(jm->cfg.max_job_seconds > 0))
+        jm->cfg.max_job_seconds = 86400;
     job_store_unfinished(jm->store, recover_one, jm);
-    jm->threads = calloc((size_t)jm->cfg.workers, sizeof *jm->threads);
-    if (!jm->threads) {
-        aa_error_set(err, AA_ENOMEM, "", "out of memory");
-        job_manager_destroy(jm);
-        return NULL;
-    }
-    for (int i = 0; i < jm->cfg.workers; i++) {
-        if (pthread_create(&jm->threads[i], NULL, worker_main, jm) != 0) {
-            aa_error_set(err, AA_ENOMEM, "workers", "cannot start worker thread %d", i);
-            job_manager_destroy(jm);
-            return NULL;
-        }
-        jm->thread_count++;
-    }
+    pthread_mutex_lock(&jm->lock);
+    schedule_locked(jm);
+    pthread_mutex_unlock(&jm->lock);
     return jm;
 }
 
@@ -334,11 +506,12 @@ void job_manager_shutdown(job_manager *jm)
 {
     pthread_mutex_lock(&jm->lock);
     jm->stopping = true;
-    pthread_cond_broadcast(&jm->wake);
+    for (job *j = jm->active; j; j = j->next)
+        if (j->paused)
+            pthread_cond_signal(&j->resume);
+    while (jm->threads > 0)
+        pthread_cond_wait(&jm->idle, &jm->lock);
     pthread_mutex_unlock(&jm->lock);
-    for (int i = 0; i < jm->thread_count; i++)
-        pthread_join(jm->threads[i], NULL);
-    jm->thread_count = 0;
 }
 
 void job_manager_destroy(job_manager *jm)
@@ -353,9 +526,9 @@ void job_manager_destroy(job_manager *jm)
         job_free(j);
     }
     free(jm->queue);
-    free(jm->threads);
+    free(jm->snapshot);
     job_store_close(jm->store);
-    pthread_cond_destroy(&jm->wake);
+    pthread_cond_destroy(&jm->idle);
     pthread_mutex_destroy(&jm->counts_lock);
     pthread_mutex_destroy(&jm->lock);
     free(jm);
@@ -398,20 +571,32 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
         return aa_error_set(err, AA_EINVAL, "kind", "unknown job kind; this daemon runs: %s",
                             names);
     }
+    json_t *max_seconds = json_object_get(spec, "max_seconds");
+    if (json_is_number(max_seconds) && json_number_value(max_seconds) > jm->cfg.max_job_seconds)
+        return aa_error_set(err, AA_ERANGE, "max_seconds",
+                            "must be at most %.0f (this daemon's --max-job-seconds)",
+                            jm->cfg.max_job_seconds);
+    job_envelope env;
+    json_t *kind_spec = NULL;
+    int rc = job_envelope_take(spec, &env, &kind_spec, err);
+    if (rc)
+        return rc;
     void *params = NULL;
-    int rc = kind->parse(spec, &params, err);
+    rc = kind->parse(kind_spec, &params, err);
+    json_decref(kind_spec);
     if (rc)
         return rc < 0 ? rc : AA_EINVAL;
-    job *j = calloc(1, sizeof *j);
-    if (!j || job_live_init(&j->live) != AA_OK) {
-        free(j);
+    job *j = job_new();
+    if (!j) {
         kind->free_params(params);
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
+    j->jm = jm;
     j->kind = kind;
     j->params = params;
     j->spec = json_deep_copy(spec);
     j->owner = owner;
+    j->priority = env.priority;
     j->state = JOB_QUEUED;
     j->created = jm_now();
 
@@ -450,7 +635,7 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     } else {
         j->id = new_id;
         *id = new_id;
-        pthread_cond_signal(&jm->wake);
+        schedule_locked(jm);
     }
     pthread_mutex_unlock(&jm->lock);
     if (rc == AA_ENOMEM)
@@ -479,6 +664,8 @@ static void overlay_live(json_t *o, const job *j)
         json_object_set_new(o, "trace", json_deep_copy(j->live.trace));
     if (j->cancel_requested)
         json_object_set_new(o, "cancel_requested", json_true());
+    if (j->paused) /* gave its worker to another user's job; resumes where it stopped */
+        json_object_set_new(o, "paused", json_true());
     if (j->state == JOB_RUNNING)
         json_object_set_new(o, "started", json_real(j->started));
 }
@@ -538,6 +725,8 @@ int job_manager_cancel(job_manager *jm, long long id, long long caller, const ch
         return JM_OK;
     }
     j->cancel_requested = true;
+    if (j->paused)
+        pthread_cond_signal(&j->resume);
     pthread_mutex_unlock(&jm->lock);
     *state_out = "running";
     return JM_OK;
@@ -597,6 +786,8 @@ void job_manager_stats_get(job_manager *jm, job_manager_stats *out)
     out->busy = jm->busy;
     out->queued = (int)jm->q_len;
     out->running = jm->running;
+    for (job *j = jm->active; j; j = j->next)
+        out->paused += j->paused;
     out->queue_size = jm->cfg.queue_size;
     pthread_mutex_unlock(&jm->lock);
 }

@@ -1,11 +1,25 @@
-/* The job manager: a fixed pool of worker threads fed from one bounded FIFO, in the manner of
- * Redis' bio.c (background I/O): HTTP threads never run a job, they only validate the spec
- * (job_kind.parse), append the job to the queue under a mutex and signal a condition variable;
- * each worker sleeps on that condition, pops the oldest job, runs it with the mutex released,
- * and writes the outcome to the SQLite store. A full queue is refused at submission (429 with
- * Retry-After) rather than blocking a request thread. Cancellation is cooperative: a flag the
- * job polls through job_ctx_progress()/job_ctx_cancelled(). At shutdown the same flag stops
- * running jobs, which are written back as queued so the next start re-runs them.
+/* The job manager: `workers` worker slots shared by the users of one daemon, fed from a bounded
+ * queue, in the manner of Redis' bio.c but with fair share. HTTP threads never run a job: they
+ * validate the spec (the envelope in job_envelope.h, then the kind's parse), store the job,
+ * append it to the queue under the mutex and call the scheduler. The scheduler hands each free
+ * worker slot to the waiting job that fair_share.h picks (the user holding the fewest workers,
+ * round robin between equals, --user-workers as a cap while others wait, priority inside a
+ * user's own jobs); a queued job gets a thread of its own, which runs the kind with the mutex
+ * released and writes the outcome to the SQLite store.
+ *
+ * Slices: at each progress report (job_ctx_progress) a job that has held its worker for
+ * --job-slice seconds checks whether another user waits with fewer workers; if so it writes its
+ * live state to the store (checkpoint), gives the slot back and waits on its own condition until
+ * the scheduler hands it a slot again, then continues exactly where it stopped: the computation
+ * is untouched and the job's clock (job_ctx_clock, the engine's time budget) stands still while
+ * it waits, so results do not depend on pauses. A paused job keeps its thread and memory; a
+ * daemon restart re-runs it from the start like any job that was running.
+ *
+ * A full queue is refused at submission (429 with Retry-After) rather than blocking a request
+ * thread. Cancellation is cooperative: a flag the job polls through job_ctx_progress()/
+ * job_ctx_cancelled(); a paused job is woken to stop. --max-job-seconds stops a job whose own
+ * clock passes it (failed, code time_limit, best kept). At shutdown running jobs stop and are
+ * written back as queued so the next start re-runs them.
  *
  * Live state (progress, best-so-far, trace) of queued and running jobs is kept in memory and
  * written to the store at most once a second; finished jobs are read from the store. */
@@ -29,6 +43,10 @@ typedef struct job_manager_config {
     int user_quota;  /* queued + running per owner */
     void *services;  /* handed to kinds as job_ctx_services() */
     bool test_kinds; /* offer kinds marked test_only (--enable-test-kinds) */
+    /* Fair share (fair_share.h); 0 picks the default. */
+    int user_workers;       /* workers one user holds while others wait (half, at least 1) */
+    double slice_seconds;   /* a job yields to a waiting user after this (60) */
+    double max_job_seconds; /* ceiling on max_seconds and on running time (86400) */
 } job_manager_config;
 
 enum {
@@ -73,7 +91,7 @@ void job_manager_kind_names(const job_manager *jm, char *buf, size_t cap);
 
 typedef struct job_manager_stats {
     int workers, busy;
-    int queued, running;
+    int queued, running, paused;
     int queue_size;
     long long by_state[JOB_STATE_COUNT];
 } job_manager_stats;

@@ -131,6 +131,7 @@ static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
         mp.local.grid_bits = sp->common.grid_bits;
         mp.local.d3d12_range = sp->common.d3d12;
         mp.local.max_iterations = 20000;
+        mp.local.clock = job_ctx_clock(ctx);
         mp.local.stall_iterations = 300;
         mp.seeds = seeds;
         mp.seed_count = sp->per_config;

@@ -285,6 +285,7 @@ static int optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *e
     mp.local.grid_bits = op->common.grid_bits;
     mp.local.d3d12_range = op->common.d3d12;
     mp.local.max_iterations = 20000;
+    mp.local.clock = job_ctx_clock(ctx);
     mp.local.stall_iterations = 500;
     mp.seed_count = op->seeds;
     mp.rng_seed = op->common.rng_seed;

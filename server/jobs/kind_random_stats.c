@@ -81,6 +81,7 @@ static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric
     op.max_seconds = seconds;
     op.max_iterations = 1000000;
     op.stall_iterations = 2000;
+    op.clock = job_ctx_clock(b->ctx);
     int rc = aa_optimize(seed, metric, &op, opt_job_progress, b, out, r, err);
     b->iterations_before += r->iterations;
     b->evaluations_before += r->evaluations;

@@ -64,20 +64,15 @@ static int sleep_parse(const json_t *spec, void **params, aa_error *err)
     return AA_OK;
 }
 
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 static int sleep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
     const sleep_params *p = params;
-    double t0 = now_seconds();
+    /* The job's clock: time paused for another user's job does not count as sleeping. */
+    aa_clock clock = job_ctx_clock(ctx);
+    double t0 = aa_clock_seconds(&clock);
     long steps = 0;
     for (;;) {
-        double t = now_seconds() - t0;
+        double t = aa_clock_seconds(&clock) - t0;
         double frac = p->seconds > 0 ? fmin(1.0, t / p->seconds) : 1.0;
         json_t *best = json_pack("{s:f}", "elapsed", t);
         if (p->pattern)
@@ -96,8 +91,8 @@ static int sleep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     }
     if (p->fail)
         return aa_error_set(err, AA_EINVAL, "fail", "failed on request");
-    *result =
-        json_pack("{s:f,s:I}", "slept_seconds", now_seconds() - t0, "steps", (json_int_t)steps);
+    *result = json_pack("{s:f,s:I}", "slept_seconds", aa_clock_seconds(&clock) - t0, "steps",
+                        (json_int_t)steps);
     if (p->pattern)
         json_object_set(*result, "pattern", p->pattern);
     return AA_OK;

@@ -175,7 +175,7 @@ class LabUsers:
         os.chown(state, self.daemon.uid, self.daemon.gid)
         os.chmod(state, 0o700)
         args = ["--socket-group", self.group] + list(extra_args)
-        d = _UserDaemon(binary, self.daemon, workers=workers, tcp=tcp, state_dir=state,
+        d = _UserDaemon(os.path.abspath(binary), self.daemon, workers=workers, tcp=tcp, state_dir=state,
                         extra_args=args, root=base, test_kinds=test_kinds)
         d.socket_path = os.path.join(run_dir, "aalabd.sock")
         d.start(timeout=timeout)

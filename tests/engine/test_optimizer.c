@@ -103,6 +103,47 @@ static void optimize_never_raises_e2(void **state)
     }
 }
 
+/* A clock that advances one "second" per reading: the budget and the reported seconds follow
+ * the caller's clock, not the wall clock (a paused run's clock stands still). */
+static double counting_clock(void *user)
+{
+    double *t = user;
+    return *t += 1.0;
+}
+
+static void budget_follows_the_given_clock(void **state)
+{
+    (void)state;
+    aa_mirrored_config c = {{1, 0, 0, 0}, {0, 2, 1, 0}, 1};
+    aa_rng rng;
+    aa_rng_seed(&rng, 9, 0);
+    aa_pattern seed, best;
+    assert_int_equal(aa_mirrored_config_seed(&c, AA_SEED_UNIFORM, &filter, &rng, &seed, NULL),
+                     AA_OK);
+    aa_optimize_params op;
+    aa_optimize_params_default(&op);
+    op.max_iterations = 1000000;
+    op.stall_iterations = 1000000;
+    op.max_seconds = 40;
+    double t = 0;
+    op.clock = (aa_clock){counting_clock, &t};
+    aa_optimize_result r;
+    assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &best, &r, NULL), AA_OK);
+    /* One reading per step: the run ends after about 40 steps, and says 40-odd seconds. */
+    assert_true(r.iterations >= 30 && r.iterations <= 45);
+    assert_true(r.seconds >= 40 && r.seconds <= 50);
+    aa_pattern_free(&best);
+    /* With the budget far away, max_iterations ends the run. */
+    op.max_iterations = 60;
+    t = 0;
+    op.clock = (aa_clock){counting_clock, &t};
+    op.max_seconds = 1e9;
+    assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &best, &r, NULL), AA_OK);
+    assert_int_equal(r.iterations, 60);
+    aa_pattern_free(&best);
+    aa_pattern_free(&seed);
+}
+
 static void mirrored_sites_are_preserved_by(aa_optimize_method method)
 {
     aa_mirrored_config c = {{1, 0, 0, 0}, {0, 2, 1, 0}, 1};
@@ -555,6 +596,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(small_step_against_gradient_lowers_e1),
         cmocka_unit_test(optimize_never_raises_e2),
+        cmocka_unit_test(budget_follows_the_given_clock),
         cmocka_unit_test(mirrored_sites_are_preserved),
         cmocka_unit_test(tile_sites_and_pixels_are_preserved),
         cmocka_unit_test(multistart_is_deterministic),
