@@ -25,6 +25,13 @@ void handle_health(api_context *ctx, const api_request *req, api_response *resp)
         "entries", (json_int_t)cs.entries, "capacity", (json_int_t)cs.capacity, "bytes",
         (json_int_t)cs.bytes, "hits", (json_int_t)cs.hits, "misses", (json_int_t)cs.misses,
         "render", api_context_tiles(ctx) != NULL, "tcp", req->via_tcp);
+    /* Sharing: workers held by paused jobs are free for other users' jobs. */
+    const aalab_config *cfg = api_context_config(ctx);
+    json_object_set_new(json_object_get(o, "workers"), "paused", json_integer(st.paused));
+    json_object_set_new(o, "sharing",
+                        json_pack("{s:I,s:f,s:f}", "user_workers", (json_int_t)cfg->user_workers,
+                                  "job_slice_seconds", cfg->job_slice, "max_job_seconds",
+                                  cfg->max_job_seconds));
     api_reply_json(resp, 200, o);
     resp->cache_control = "no-store";
 }

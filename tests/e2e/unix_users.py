@@ -183,14 +183,23 @@ class LabUsers:
         return d
 
     def __exit__(self, *exc):
+        problems = []
         for d in self.daemons:
             try:
-                d.stop()
+                rc = d.stop()
+                if rc not in (0, None):
+                    problems.append("aalabd exited %s at SIGTERM" % rc)
             except Exception as e:  # keep removing the users
-                print("# daemon stop: %s" % e)
+                problems.append("daemon stop: %s" % e)
+            reports = d.sanitizer_reports()
+            if reports:
+                problems.append("sanitizer report in the daemon log (%s):\n%s" %
+                                (", ".join(reports), d.log_text()[-6000:]))
         self._remove(list(self.names.values()))
         if self.root and not os.environ.get("AALAB_KEEP_TEST_DIRS"):
             shutil.rmtree(self.root, True)
+        if problems and exc[0] is None:
+            raise RuntimeError("; ".join(problems))
         return False
 
     def _remove(self, names):
