@@ -17,6 +17,7 @@
 
 #include "api_context.h"
 #include "config.h"
+#include "fallback_dir.h"
 #include "mhd_adapter.h"
 
 #define MAX_LISTENERS 8
@@ -42,6 +43,11 @@ int main(int argc, char **argv)
     char msg[512];
     int activated = sd_listen_fds(1);
     int unix_fd = -1;
+    if ((activated <= 0 && fallback_dir_check(cfg.socket_path, msg, sizeof msg)) ||
+        fallback_dir_check(cfg.state_dir, msg, sizeof msg)) {
+        fprintf(stderr, "aalabd: %s\n", msg);
+        return 1;
+    }
     if (activated <= 0) {
         unix_fd = http_unix_socket_open(cfg.socket_path, cfg.socket_group, msg, sizeof msg);
         if (unix_fd < 0) {
@@ -50,8 +56,7 @@ int main(int argc, char **argv)
         }
     }
     aa_error err = {0};
-    bool token_created = false;
-    api_context *ctx = api_context_create(&cfg, &token_created, &err);
+    api_context *ctx = api_context_create(&cfg, &err);
     if (!ctx) {
         fprintf(stderr, "aalabd: %s\n", err.message);
         if (unix_fd >= 0) {
@@ -121,9 +126,8 @@ int main(int argc, char **argv)
         printf("dashboard: start with --tcp 127.0.0.1:8765 to serve it on "
                "http://127.0.0.1:8765/\n");
     printf("state: %s (%d workers)\n", cfg.state_dir, cfg.workers);
-    if (token_created)
-        printf("API token for TCP requests (shown once; stored in %s/token):\n%s\n", cfg.state_dir,
-               api_context_token(ctx));
+    if (have_tcp)
+        printf("TCP requests need a bearer token: issue one on the socket with 'aalab token'\n");
     fflush(stdout);
     sd_notify(0, "READY=1\nSTATUS=serving");
 

@@ -232,6 +232,16 @@ static void *worker_main(void *arg)
 
 /* --- restart recovery --------------------------------------------------------------------- */
 
+/* The spec a kind parses: the envelope key "visibility" is the API's (access), not the kind's;
+ * it stays in the stored spec, where the API reads it back. New reference. */
+static json_t *spec_for_kind(const json_t *spec)
+{
+    json_t *copy = json_copy((json_t *)spec);
+    if (copy)
+        json_object_del(copy, "visibility");
+    return copy;
+}
+
 static void recover_one(void *user, long long id, const char *kind_name, json_t *spec,
                         long long owner, job_state state, double created)
 {
@@ -260,7 +270,10 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
     }
     void *params = NULL;
     aa_error err = {0};
-    if (kind->parse(spec, &params, &err) != AA_OK) {
+    json_t *kind_spec = spec_for_kind(spec);
+    int prc = kind_spec ? kind->parse(kind_spec, &params, &err) : AA_ENOMEM;
+    json_decref(kind_spec);
+    if (prc != AA_OK) {
         snprintf(reason, sizeof reason, "spec no longer valid after restart: %s (%s)", err.message,
                  err.field);
         job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL, reason,
@@ -399,7 +412,10 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
                             names);
     }
     void *params = NULL;
-    int rc = kind->parse(spec, &params, err);
+    json_t *kind_spec = spec_for_kind(spec);
+    int rc = kind_spec ? kind->parse(kind_spec, &params, err)
+                       : aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    json_decref(kind_spec);
     if (rc)
         return rc < 0 ? rc : AA_EINVAL;
     job *j = calloc(1, sizeof *j);

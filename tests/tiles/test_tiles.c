@@ -214,7 +214,7 @@ static void test_render_result_json_and_tiles(void **state)
     aa_render_result r;
     assert_int_equal(aa_render_tile(&rp, &p, &r, NULL), AA_OK);
     tile_crop crop = {true, {8, 8, 24, 20}, 4};
-    json_t *out = tile_render_result_json(ts, &rp, &p, &r, &crop, NULL);
+    json_t *out = tile_render_result_json(ts, NULL, &rp, &p, &r, &crop, NULL);
     assert_non_null(out);
     assert_float_equal(json_real_value(json_object_get(json_object_get(out, "stats"), "rmse")),
                        r.diff.rmse, 1e-12);
