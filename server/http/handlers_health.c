@@ -1,4 +1,7 @@
 /* GET /v1/health: version, uptime, workers, queue, jobs by state, caches. */
+#include <stdio.h>
+#include <string.h>
+
 #include "handlers.h"
 
 #include "eval_cache.h"
@@ -25,6 +28,15 @@ void handle_health(api_context *ctx, const api_request *req, api_response *resp)
         "entries", (json_int_t)cs.entries, "capacity", (json_int_t)cs.capacity, "bytes",
         (json_int_t)cs.bytes, "hits", (json_int_t)cs.hits, "misses", (json_int_t)cs.misses,
         "render", api_context_tiles(ctx) != NULL, "tcp", req->via_tcp);
+    /* Where the dashboard is, so `aalab token` can print its URL (--tcp; a socket-activated
+     * listener is not known here). */
+    const aalab_config *cfg = api_context_config(ctx);
+    if (o && cfg->tcp_port > 0) {
+        char url[128];
+        snprintf(url, sizeof url, "http://%s:%d/",
+                 strchr(cfg->tcp_host, ':') ? "[::1]" : cfg->tcp_host, cfg->tcp_port);
+        json_object_set_new(o, "dashboard", json_string(url));
+    }
     api_reply_json(resp, 200, o);
     resp->cache_control = "no-store";
 }
