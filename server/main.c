@@ -55,6 +55,21 @@ int main(int argc, char **argv)
             return 1;
         }
     }
+    /* Name an activated TCP listener before the context copies cfg: the dashboard line and
+     * GET /v1/health's "dashboard" (aalab token prints it) show it. */
+    for (int i = 0; i < activated && !cfg.tcp_port; i++) {
+        int fd = SD_LISTEN_FDS_START + i;
+        struct sockaddr_storage ss;
+        socklen_t len = sizeof ss;
+        char host[INET6_ADDRSTRLEN] = "";
+        if (sd_is_socket_unix(fd, SOCK_STREAM, 1, NULL, 0) <= 0 &&
+            !getsockname(fd, (struct sockaddr *)&ss, &len) && ss.ss_family == AF_INET) {
+            struct sockaddr_in *in = (struct sockaddr_in *)&ss;
+            inet_ntop(AF_INET, &in->sin_addr, host, sizeof host);
+            snprintf(cfg.tcp_host, sizeof cfg.tcp_host, "%s", host);
+            cfg.tcp_port = ntohs(in->sin_port);
+        }
+    }
     aa_error err = {0};
     api_context *ctx = api_context_create(&cfg, &err);
     if (!ctx) {
@@ -77,18 +92,6 @@ int main(int argc, char **argv)
             if (!listeners[nl]) {
                 fprintf(stderr, "aalabd: %s\n", msg);
                 goto fail;
-            }
-            if (!is_unix && !cfg.tcp_port) {
-                /* Name the activated TCP listener in the dashboard line. */
-                struct sockaddr_storage ss;
-                socklen_t len = sizeof ss;
-                char host[INET6_ADDRSTRLEN] = "";
-                if (!getsockname(fd, (struct sockaddr *)&ss, &len) && ss.ss_family == AF_INET) {
-                    struct sockaddr_in *in = (struct sockaddr_in *)&ss;
-                    inet_ntop(AF_INET, &in->sin_addr, host, sizeof host);
-                    snprintf(cfg.tcp_host, sizeof cfg.tcp_host, "%s", host);
-                    cfg.tcp_port = ntohs(in->sin_port);
-                }
             }
             have_tcp |= !is_unix;
             nl++;
