@@ -585,6 +585,30 @@ static void test_cancel_rights(void **state)
     free(tok_bob);
 }
 
+/* A queued private job across a restart: the kind re-parses its spec (visibility is no kind
+ * field) and the job stays private. */
+static void test_private_job_restart(void **state)
+{
+    fixture *f = *state;
+    int st;
+    long long run = submit(f, "{\"kind\":\"sleep\",\"seconds\":30}", 1000);
+    json_decref(wait_state(f, run, "running"));
+    long long priv =
+        submit(f, "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"private\"}", 1000);
+    api_context_destroy(f->ctx);
+    aa_error err = {0};
+    f->ctx = api_context_create(&f->cfg, &err);
+    assert_non_null(f->ctx);
+    char path[64];
+    snprintf(path, sizeof path, "/v1/jobs/%lld", run); /* re-queued first: out of the way */
+    assert_int_equal(status_of(call(f, "DELETE", path, NULL, 1000, &st), &st), 202);
+    json_t *j = wait_state(f, priv, "done"); /* not "interrupted": the spec still parses */
+    assert_string_equal(json_string_value(json_object_get(j, "visibility")), "private");
+    json_decref(j);
+    snprintf(path, sizeof path, "/v1/jobs/%lld", priv);
+    assert_int_equal(status_of(call(f, "GET", path, NULL, 1001, &st), &st), 404);
+}
+
 #ifdef AALAB_HAVE_RENDER
 static void test_private_tiles(void **state)
 {
@@ -673,6 +697,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_tokens, setup, teardown),
         cmocka_unit_test_setup_teardown(test_private_jobs, setup, teardown),
         cmocka_unit_test_setup_teardown(test_cancel_rights, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_private_job_restart, setup, teardown),
 #ifdef AALAB_HAVE_RENDER
         cmocka_unit_test_setup_teardown(test_private_tiles, setup, teardown),
 #endif
