@@ -11,6 +11,8 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <systemd/sd-daemon.h>
@@ -21,6 +23,27 @@
 #include "mhd_adapter.h"
 
 #define MAX_LISTENERS 8
+
+/* The group of the Unix socket's file (ours, or the first activated one with a path): who may
+ * connect, so whose tokens count. -1 if not found. */
+static int socket_file_gid(int activated, const char *own_path, gid_t *gid)
+{
+    struct stat st;
+    if (activated <= 0)
+        return stat(own_path, &st) == 0 && S_ISSOCK(st.st_mode) ? (*gid = st.st_gid, 0) : -1;
+    for (int i = 0; i < activated; i++) {
+        struct sockaddr_un un;
+        socklen_t len = sizeof un;
+        memset(&un, 0, sizeof un);
+        if (getsockname(SD_LISTEN_FDS_START + i, (struct sockaddr *)&un, &len) == 0 &&
+            un.sun_family == AF_UNIX && un.sun_path[0] && stat(un.sun_path, &st) == 0 &&
+            S_ISSOCK(st.st_mode)) {
+            *gid = st.st_gid;
+            return 0;
+        }
+    }
+    return -1;
+}
 
 int main(int argc, char **argv)
 {
@@ -74,6 +97,19 @@ int main(int argc, char **argv)
     api_context *ctx = api_context_create(&cfg, &err);
     if (!ctx) {
         fprintf(stderr, "aalabd: %s\n", err.message);
+        if (unix_fd >= 0) {
+            close(unix_fd);
+            unlink(cfg.socket_path);
+        }
+        return 1;
+    }
+
+    /* A token counts only while its owner may still connect to the socket. */
+    gid_t socket_gid;
+    if (socket_file_gid(activated, cfg.socket_path, &socket_gid) == 0 &&
+        api_context_tie_tokens_to_group(ctx, socket_gid)) {
+        fprintf(stderr, "aalabd: out of memory\n");
+        api_context_destroy(ctx);
         if (unix_fd >= 0) {
             close(unix_fd);
             unlink(cfg.socket_path);

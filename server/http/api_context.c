@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "eval_cache.h"
+#include "group_membership.h"
 #include "job_access.h"
 #include "job_manager.h"
 #include "token_store.h"
@@ -26,6 +27,7 @@ struct api_context {
     eval_cache *cache;
     struct tile_store *tiles;
     token_store *tokens;
+    group_membership *group; /* NULL: tokens are not tied to a group */
     struct timespec started;
     int lock_fd; /* flock on <state-dir>/lock: one daemon per state directory */
 };
@@ -111,6 +113,7 @@ void api_context_destroy(api_context *ctx)
 #endif
     eval_cache_destroy(ctx->cache);
     token_store_close(ctx->tokens);
+    group_membership_destroy(ctx->group);
     if (ctx->lock_fd >= 0)
         close(ctx->lock_fd);
     free(ctx);
@@ -139,6 +142,18 @@ struct eval_cache *api_context_eval_cache(api_context *ctx)
 struct token_store *api_context_tokens(api_context *ctx)
 {
     return ctx->tokens;
+}
+
+int api_context_tie_tokens_to_group(api_context *ctx, gid_t gid)
+{
+    group_membership_destroy(ctx->group);
+    ctx->group = group_membership_create(gid);
+    return ctx->group ? AA_OK : AA_ENOMEM;
+}
+
+bool api_context_token_owner_ok(api_context *ctx, long long uid)
+{
+    return !ctx->group || group_membership_check(ctx->group, uid);
 }
 
 double api_context_uptime(const api_context *ctx)

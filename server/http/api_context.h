@@ -4,6 +4,7 @@
 #define AALAB_API_CONTEXT_H
 
 #include <stdbool.h>
+#include <sys/types.h>
 
 #include <jansson.h>
 
@@ -29,6 +30,10 @@ struct tile_store *api_context_tiles(api_context *ctx);
 struct job_manager *api_context_jobs(api_context *ctx);
 struct eval_cache *api_context_eval_cache(api_context *ctx);
 struct token_store *api_context_tokens(api_context *ctx);
+/* From now on a token is accepted only while its owner is in group gid (the socket's group;
+ * root always). Call before the listeners start. AA_ENOMEM. */
+int api_context_tie_tokens_to_group(api_context *ctx, gid_t gid);
+bool api_context_token_owner_ok(api_context *ctx, long long uid);
 double api_context_uptime(const api_context *ctx);
 
 /* Replaces every pattern reference {"job": ID} under the keys "pattern" and the elements of

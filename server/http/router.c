@@ -47,7 +47,8 @@ static bool is_static_request(const api_request *req, const char *path)
 }
 
 /* The caller: SO_PEERCRED on the Unix socket (uid 0 = admin), the token's uid over TCP (never
- * admin). False for a TCP request without a valid token. */
+ * admin). False for a TCP request without a valid token, or whose owner has left the socket
+ * group. */
 static bool resolve_caller(api_context *ctx, const api_request *req, api_caller *c)
 {
     memset(c, 0, sizeof *c);
@@ -63,7 +64,8 @@ static bool resolve_caller(api_context *ctx, const api_request *req, api_caller 
     const char *auth = req->authorization;
     if (!auth || strncasecmp(auth, "Bearer ", 7))
         return false;
-    return token_store_check(api_context_tokens(ctx), auth + 7, &c->uid, &c->token_id) == AA_OK;
+    return token_store_check(api_context_tokens(ctx), auth + 7, &c->uid, &c->token_id) == AA_OK &&
+           api_context_token_owner_ok(ctx, c->uid);
 }
 
 static bool is_json_type(const char *ct)
@@ -155,8 +157,8 @@ void api_handle(api_context *ctx, const api_request *in, api_response *resp)
     }
     if (!resolve_caller(ctx, in, &caller_req.caller) && !is_static_request(in, path)) {
         api_reply_error(resp, 401, "unauthorized", "",
-                        "this request needs 'Authorization: Bearer <token>' (issue one on the "
-                        "Unix socket: aalab token)");
+                        "this request needs 'Authorization: Bearer <token>' with a valid token of "
+                        "a socket group member (issue one on the Unix socket: aalab token)");
         return;
     }
     if (req->body_len > cfg->max_body) {

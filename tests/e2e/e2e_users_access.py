@@ -9,6 +9,7 @@ alice and bob in the socket group, eve outside it. Shows each access item of iss
 - a private job is 404 to bob on both listeners (job, list, export, {"job": ID} references),
   readable by alice and by root on the socket; so is a private render's tile;
 - bob cannot cancel alice's job on either listener;
+- a token stops working when its owner leaves the socket group;
 - a per-user daemon refuses a fallback directory /tmp/aalab-UID that is not its own or not 0700.
 
 Usage: e2e_users_access.py AALABD   (needs root and useradd; exit 77 = skipped)"""
@@ -162,6 +163,15 @@ def jobs_and_tiles(users, d):
     check(status(alice.request(d, "DELETE", "/v1/tokens/%d" % tid)) == 200, "alice revokes it")
     check(status(alice.request(d, "GET", "/v1/health", via="tcp", token=ta)) == 401,
           "the revoked token is refused at once")
+
+    # A token counts only while its owner is in the socket group.
+    check(status(bob.request(d, "GET", "/v1/health", via="tcp", token=tb)) == 200,
+          "bob's token works while he is in the group")
+    subprocess.run(["gpasswd", "-d", bob.name, users.group], check=True, capture_output=True)
+    time.sleep(2.5)  # the daemon caches membership for 2 s
+    check(status(bob.request(d, "GET", "/v1/jobs", via="tcp", token=tb)) == 401,
+          "bob removed from the socket group: his token is refused (401)")
+    subprocess.run(["gpasswd", "-a", bob.name, users.group], check=True, capture_output=True)
 
 
 def fallback_dir(users, binary):

@@ -324,6 +324,13 @@ static void test_tcp_access(void **state)
     free(tok);
 }
 
+/* The status of a call whose body is not needed (st is read after the call filled it). */
+static int status_of(json_t *j, const int *st)
+{
+    json_decref(j);
+    return *st;
+}
+
 static bool list_has_id(json_t *list, const char *key, long long id)
 {
     size_t i;
@@ -394,6 +401,16 @@ static void test_tokens(void **state)
     assert_int_equal(st, 200);
     json_decref(j);
     free(tok);
+
+    /* Tied to the socket group: a token counts only while its owner is a member (root always);
+     * uid 4000000 has no account, so it is in no group. */
+    char *ghost = issue_token(f, 4000000, NULL), *root_tok = issue_token(f, 0, NULL);
+    assert_int_equal(status_of(call_tcp(f, "GET", "/v1/health", NULL, ghost, &st), &st), 200);
+    assert_int_equal(api_context_tie_tokens_to_group(f->ctx, getgid()), AA_OK);
+    assert_int_equal(status_of(call_tcp(f, "GET", "/v1/health", NULL, ghost, &st), &st), 401);
+    assert_int_equal(status_of(call_tcp(f, "GET", "/v1/health", NULL, root_tok, &st), &st), 200);
+    free(ghost);
+    free(root_tok);
 }
 
 static json_t *wait_state(fixture *f, long long id, const char *want)
@@ -478,13 +495,6 @@ static long long submit(fixture *f, const char *spec, uid_t uid)
     long long id = json_integer_value(json_object_get(j, "id"));
     json_decref(j);
     return id;
-}
-
-/* The status of a call whose body is not needed (st is read after the call filled it). */
-static int status_of(json_t *j, const int *st)
-{
-    json_decref(j);
-    return *st;
 }
 
 static void test_private_jobs(void **state)
