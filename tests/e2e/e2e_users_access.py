@@ -236,7 +236,8 @@ def main():
         d = users.start_daemon(binary, extra_args=["--web-dir", web])
         eve_outside(users, d)
         jobs_and_tiles(users, d)
-        reports = d.sanitizer_reports()
+        check(d.stop() == 0, "the daemon stops cleanly on SIGTERM")
+        reports = d.sanitizer_reports()  # after exit: LeakSanitizer reports then
         check(not reports, "no sanitizer reports in the daemon log %s" % reports)
         fallback_dir(users, binary)
     print("%d checks, %d failed" % (checks, len(failures)))
