@@ -21,15 +21,60 @@
 #define HASH_BYTES 32
 #define PREFIX "aalab_"
 
+/* Every TCP request checks a token, so the checks are answered from memory: the live tokens'
+ * (id, uid, hash), loaded at open and kept in step by issue and revoke (one daemon per state
+ * directory, so nobody else writes the file). SQLite is the durable copy. A check costs the
+ * SHA-256 and a scan of a few entries (15 us with a prepared query per call). */
+typedef struct token_entry {
+    long long id, uid;
+    unsigned char hash[HASH_BYTES];
+} token_entry;
+
 struct token_store {
     pthread_mutex_t lock;
     sqlite3 *db;
+    EVP_MD *sha256;
+    token_entry *live;
+    size_t n_live, cap_live;
 };
 
-static int hash_secret(const char *secret, size_t len, unsigned char out[HASH_BYTES])
+/* Under the lock. */
+static int remember(token_store *ts, long long id, long long uid, const unsigned char *hash)
+{
+    if (ts->n_live == ts->cap_live) {
+        size_t cap = ts->cap_live ? 2 * ts->cap_live : 16;
+        token_entry *grown = realloc(ts->live, cap * sizeof *grown);
+        if (!grown)
+            return AA_ENOMEM;
+        ts->live = grown;
+        ts->cap_live = cap;
+    }
+    token_entry *e = &ts->live[ts->n_live++];
+    e->id = id;
+    e->uid = uid;
+    memcpy(e->hash, hash, HASH_BYTES);
+    return AA_OK;
+}
+
+static int load_live(token_store *ts)
+{
+    sqlite3_stmt *q;
+    if (sqlite3_prepare_v2(ts->db, "SELECT id, uid, hash FROM tokens", -1, &q, NULL) != SQLITE_OK)
+        return TOKEN_ESTORE;
+    int rc = AA_OK;
+    while (rc == AA_OK && sqlite3_step(q) == SQLITE_ROW)
+        if (sqlite3_column_bytes(q, 2) == HASH_BYTES)
+            rc = remember(ts, sqlite3_column_int64(q, 0), sqlite3_column_int64(q, 1),
+                          sqlite3_column_blob(q, 2));
+    sqlite3_finalize(q);
+    return rc;
+}
+
+static int hash_secret(const token_store *ts, const char *secret, size_t len,
+                       unsigned char out[HASH_BYTES])
 {
     unsigned int n = 0;
-    return EVP_Digest(secret, len, out, &n, EVP_sha256(), NULL) == 1 && n == HASH_BYTES ? 0 : -1;
+    return EVP_Digest(secret, len, out, &n, ts->sha256, NULL) == 1 && n == HASH_BYTES ? 0 : -1;
 }
 
 token_store *token_store_open(const char *state_dir, aa_error *err)
@@ -52,6 +97,12 @@ token_store *token_store_open(const char *state_dir, aa_error *err)
         return NULL;
     }
     pthread_mutex_init(&ts->lock, NULL);
+    ts->sha256 = EVP_MD_fetch(NULL, "SHA256", NULL);
+    if (!ts->sha256) {
+        aa_error_set(err, AA_EINVAL, "", "SHA-256 is not available from libcrypto");
+        token_store_close(ts);
+        return NULL;
+    }
     if (sqlite3_open_v2(path, &ts->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_FULLMUTEX, NULL) !=
             SQLITE_OK ||
         sqlite3_busy_timeout(ts->db, 5000) != SQLITE_OK ||
@@ -63,7 +114,8 @@ token_store *token_store_open(const char *state_dir, aa_error *err)
                      " label TEXT NOT NULL DEFAULT '',"
                      " created INTEGER NOT NULL,"
                      " hash BLOB NOT NULL);",
-                     NULL, NULL, NULL) != SQLITE_OK) {
+                     NULL, NULL, NULL) != SQLITE_OK ||
+        load_live(ts) != AA_OK) {
         aa_error_set(err, AA_EINVAL, "state_dir", "token store %s: %s", path,
                      ts->db ? sqlite3_errmsg(ts->db) : "cannot open");
         token_store_close(ts);
@@ -77,6 +129,8 @@ void token_store_close(token_store *ts)
     if (!ts)
         return;
     sqlite3_close(ts->db);
+    free(ts->live);
+    EVP_MD_free(ts->sha256);
     pthread_mutex_destroy(&ts->lock);
     free(ts);
 }
@@ -98,7 +152,7 @@ int token_store_issue(token_store *ts, long long uid, const char *label, json_t 
         return aa_error_set(err, TOKEN_ESTORE, "", "getrandom failed: %s", strerror(errno));
     for (size_t i = 0; i < sizeof raw; i++)
         snprintf(secret + 2 * i, 3, "%02x", raw[i]);
-    if (hash_secret(secret, strlen(secret), hash))
+    if (hash_secret(ts, secret, strlen(secret), hash))
         return aa_error_set(err, TOKEN_ESTORE, "", "SHA-256 failed");
     long long created = (long long)time(NULL), id = 0;
     int rc = TOKEN_ESTORE;
@@ -116,7 +170,16 @@ int token_store_issue(token_store *ts, long long uid, const char *label, json_t 
         }
         sqlite3_finalize(q);
     }
-    if (rc)
+    if (rc == AA_OK && remember(ts, id, uid, hash) != AA_OK) {
+        /* Not usable without its entry: take the row back. */
+        char del[64];
+        snprintf(del, sizeof del, "DELETE FROM tokens WHERE id=%lld", id);
+        sqlite3_exec(ts->db, del, NULL, NULL, NULL);
+        rc = AA_ENOMEM;
+    }
+    if (rc == AA_ENOMEM)
+        aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    else if (rc)
         aa_error_set(err, TOKEN_ESTORE, "", "token store: %s", sqlite3_errmsg(ts->db));
     pthread_mutex_unlock(&ts->lock);
     if (rc)
@@ -155,21 +218,20 @@ int token_store_check(token_store *ts, const char *token, long long *uid, long l
     const char *secret = NULL;
     long long tid = parse_token(token, &secret);
     unsigned char hash[HASH_BYTES];
-    if (tid < 0 || hash_secret(secret, strlen(secret), hash))
+    if (tid < 0 || hash_secret(ts, secret, strlen(secret), hash))
         return TOKEN_ENOENT;
     int rc = TOKEN_ENOENT;
     pthread_mutex_lock(&ts->lock);
-    sqlite3_stmt *q;
-    if (sqlite3_prepare_v2(ts->db, "SELECT uid, hash FROM tokens WHERE id=?", -1, &q, NULL) ==
-        SQLITE_OK) {
-        sqlite3_bind_int64(q, 1, tid);
-        if (sqlite3_step(q) == SQLITE_ROW && sqlite3_column_bytes(q, 1) == HASH_BYTES &&
-            CRYPTO_memcmp(sqlite3_column_blob(q, 1), hash, HASH_BYTES) == 0) {
-            *uid = sqlite3_column_int64(q, 0);
-            *id = tid;
-            rc = AA_OK;
+    for (size_t i = 0; i < ts->n_live; i++) {
+        const token_entry *e = &ts->live[i];
+        if (e->id == tid) {
+            if (CRYPTO_memcmp(e->hash, hash, HASH_BYTES) == 0) {
+                *uid = e->uid;
+                *id = tid;
+                rc = AA_OK;
+            }
+            break;
         }
-        sqlite3_finalize(q);
     }
     pthread_mutex_unlock(&ts->lock);
     return rc;
@@ -215,6 +277,12 @@ int token_store_revoke(token_store *ts, long long id, long long caller, bool adm
             if (sqlite3_step(q) == SQLITE_DONE)
                 rc = AA_OK;
             sqlite3_finalize(q);
+        }
+    }
+    for (size_t i = 0; rc == AA_OK && i < ts->n_live; i++) {
+        if (ts->live[i].id == id) { /* refused from now on */
+            ts->live[i] = ts->live[--ts->n_live];
+            break;
         }
     }
     pthread_mutex_unlock(&ts->lock);
