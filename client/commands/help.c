@@ -22,7 +22,7 @@ static const char OVERVIEW[] =
     "  filters               reference filters the metric accepts\n"
     "  acuity                acuity tables (angle weights)\n"
     "  enumerate ...         configurations of a family and cost\n"
-    "  token [list|revoke ID] a bearer token for the dashboard (TCP); list or revoke yours\n"
+    "  token ...             a token for the dashboard (TCP); token list, token revoke ID\n"
     "  help [COMMAND]        this text, or a command's options\n"
     "\n"
     "global options:\n"

@@ -74,6 +74,11 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
                      cfg->state_dir);
         goto fail;
     }
+    /* Earlier versions kept one daemon-wide token in <state-dir>/token; it admits nothing now,
+     * so its secret is not left lying around. */
+    char old_token[AALAB_PATH_MAX + 8];
+    snprintf(old_token, sizeof old_token, "%s/token", cfg->state_dir);
+    unlink(old_token);
     ctx->tokens = token_store_open(cfg->state_dir, err);
     if (!ctx->tokens)
         goto fail;
