@@ -37,7 +37,8 @@ typedef enum opt_id {
     OPT_OUTPUT,
     OPT_IMAGE,
     OPT_FORMAT,
-    OPT_COST
+    OPT_COST,
+    OPT_LABEL
 } opt_id;
 
 typedef struct opt_spec {
@@ -73,6 +74,7 @@ static const opt_spec OPTIONS[] = {
     {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT), OPT_OUTPUT},
     {"image", 0, true, BIT(CMD_RENDER), OPT_IMAGE},
     {"format", 'f', true, BIT(CMD_EXPORT), OPT_FORMAT},
+    {"label", 0, true, BIT(CMD_TOKEN), OPT_LABEL},
 };
 
 static const struct {
@@ -84,6 +86,7 @@ static const struct {
     {"jobs", CMD_JOBS},       {"job", CMD_JOB},           {"cancel", CMD_CANCEL},
     {"render", CMD_RENDER},   {"export", CMD_EXPORT},     {"health", CMD_HEALTH},
     {"filters", CMD_FILTERS}, {"acuity", CMD_ACUITY},     {"enumerate", CMD_ENUMERATE},
+    {"token", CMD_TOKEN},
 };
 
 const char *cli_command_name(cli_command c)
@@ -277,6 +280,9 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
             return fail(err, cap, "--cost wants samples per pixel (> 0), got '%s'", v);
         a->has_cost = true;
         break;
+    case OPT_LABEL:
+        a->label = v;
+        break;
     case OPT_FORMAT:
         if (!one_of(v, FORMATS))
             return fail(err, cap, "--format wants json, utk, vulkan or d3d12, got '%s'", v);
@@ -330,6 +336,17 @@ static int check_command(cli_args *a, char *err, size_t cap)
         if (!a->family)
             return fail(err, cap, "'enumerate' needs --family, e.g. 'P(4,1+,n)' --cost 1.25");
         break;
+    case CMD_TOKEN:
+        if (a->target && strcmp(a->target, "list") && strcmp(a->target, "revoke"))
+            return fail(err, cap, "'token' takes list or revoke ID, got '%s'", a->target);
+        if (a->target && !strcmp(a->target, "revoke") &&
+            !job_id_valid(a->target2 ? a->target2 : ""))
+            return fail(err, cap, "'token revoke' needs a token ID (see 'aalab token list')");
+        if (a->target2 && strcmp(a->target, "revoke"))
+            return fail(err, cap, "unexpected argument '%s'", a->target2);
+        if (a->label && a->target)
+            return fail(err, cap, "--label is for issuing a token ('aalab token --label TEXT')");
+        break;
     case CMD_RENDER:
         if (!a->pattern)
             return fail(err, cap, "'render' needs --pattern NAME|FILE");
@@ -341,7 +358,8 @@ static int check_command(cli_args *a, char *err, size_t cap)
     }
     bool takes_argument = a->command == CMD_EVAL || a->command == CMD_SUBMIT ||
                           a->command == CMD_JOB || a->command == CMD_CANCEL ||
-                          a->command == CMD_EXPORT || a->command == CMD_PRESETS;
+                          a->command == CMD_EXPORT || a->command == CMD_PRESETS ||
+                          a->command == CMD_TOKEN;
     if (a->target && !takes_argument)
         return fail(err, cap, "'%s' takes no argument, got '%s'", name, a->target);
     return 0;
@@ -394,6 +412,8 @@ int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errc
                     return fail(err, errcap, "unknown command '%s' (try 'aalab help')", arg);
             } else if (!out->target) {
                 out->target = arg;
+            } else if (out->command == CMD_TOKEN && !out->target2) {
+                out->target2 = arg;
             } else {
                 return fail(err, errcap, "unexpected argument '%s'", arg);
             }

@@ -22,7 +22,8 @@ typedef enum cli_command {
     CMD_HEALTH,
     CMD_FILTERS,
     CMD_ACUITY,
-    CMD_ENUMERATE
+    CMD_ENUMERATE,
+    CMD_TOKEN
 } cli_command;
 
 typedef struct cli_args {
@@ -33,6 +34,9 @@ typedef struct cli_args {
     double timeout_s; /* per request, default 30 */
     /* positional: eval NAME|FILE, submit FILE|-, job/cancel/export ID, help COMMAND */
     const char *target;
+    /* token: the second positional of "token revoke ID" */
+    const char *target2;
+    const char *label; /* token --label */
     /* eval */
     const char *filter; /* NAME[:B=..,C=..] or a JSON object */
     const char *acuity; /* NAME, FILE.json or a JSON object */

@@ -39,6 +39,8 @@ static command_fn command_for(cli_command c)
         return cmd_acuity;
     case CMD_ENUMERATE:
         return cmd_enumerate;
+    case CMD_TOKEN:
+        return cmd_token;
     default:
         return NULL;
     }

@@ -7,7 +7,7 @@ set -eu
 cd "$(dirname "$0")/.."
 
 PACKAGES="build-essential cmake pkg-config git ca-certificates
-  libmicrohttpd-dev libjansson-dev libsqlite3-dev libpng-dev libcurl4-openssl-dev libsystemd-dev
+  libmicrohttpd-dev libjansson-dev libsqlite3-dev libpng-dev libcurl4-openssl-dev libsystemd-dev libssl-dev
   liblbfgs-dev libcmocka-dev clang libclang-rt-14-dev clang-format
   curl jq python3 sqlite3 wrk chromium systemd"
 

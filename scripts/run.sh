@@ -1,6 +1,8 @@
 #!/bin/sh
 # Installs what is missing, builds a Release aalabd and aalab, and runs the daemon in the
-# foreground with its embedded defaults plus a loopback TCP listener for the dashboard.
+# foreground with its embedded defaults plus a loopback TCP listener for the dashboard; once it
+# is up, issues a bearer token to the calling user over the socket and prints the dashboard URL
+# carrying it (every API request over TCP needs a token).
 #   scripts/run.sh                 # Ctrl-C (SIGINT/SIGTERM) stops it gracefully
 #   AALAB_TCP=127.0.0.1:9000 scripts/run.sh -- --workers 4   # extra aalabd flags after --
 set -eu
@@ -29,8 +31,27 @@ else
 fi
 [ "$#" -gt 0 ] && [ "$1" = "--" ] && shift
 
+client="$build/client/aalab"
 echo "aalab: socket     $socket"
-echo "aalab: dashboard  http://$tcp/"
-echo "aalab: client     $build/client/aalab health"
+echo "aalab: client     $client health"
 echo "aalab: curl       curl --unix-socket $socket http://localhost/v1/health"
-exec "$build/server/aalabd" --socket "$socket" --tcp "$tcp" --web-dir "$repo/web" "$@"
+"$build/server/aalabd" --socket "$socket" --tcp "$tcp" --web-dir "$repo/web" "$@" &
+daemon=$!
+# A non-interactive shell's background job ignores SIGINT: pass Ctrl-C on as SIGTERM (the
+# daemon's graceful stop) and keep waiting until it has exited.
+trap 'kill -TERM "$daemon" 2>/dev/null' INT TERM
+tries=0
+until "$client" --socket "$socket" --timeout 2 health >/dev/null 2>&1; do
+  kill -0 "$daemon" 2>/dev/null || { wait "$daemon" || exit $?; exit 1; }
+  tries=$((tries + 1))
+  [ "$tries" -lt 300 ] || { echo "aalab: the daemon did not answer on $socket" >&2; kill -TERM "$daemon"; wait "$daemon"; exit 1; }
+  sleep 0.1
+done
+# The URL's fragment hands the token to the page (it is stored in the browser, then removed
+# from the address bar); revoke it with: aalab token list / aalab token revoke ID.
+"$client" --socket "$socket" token --label "dashboard (scripts/run.sh)" | sed 's/^/aalab: /'
+status=0
+while kill -0 "$daemon" 2>/dev/null; do
+  wait "$daemon" && status=0 || status=$?
+done
+exit "$status"

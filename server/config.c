@@ -86,8 +86,9 @@ void config_usage(FILE *out)
     fprintf(out,
             "usage: aalabd [options]\n"
             "  --socket PATH        Unix socket (default $XDG_RUNTIME_DIR/aalab/aalabd.sock)\n"
-            "  --tcp HOST:PORT      also listen on TCP (loopback only; e.g. 127.0.0.1:8765)\n"
-            "  --state-dir DIR      jobs database, token, tiles (default ~/.local/state/aalab)\n"
+            "  --tcp HOST:PORT      also listen on TCP (loopback only; e.g. 127.0.0.1:8765;\n"
+            "                       every API request there needs a token: aalab token)\n"
+            "  --state-dir DIR      jobs database, tokens, tiles (default ~/.local/state/aalab)\n"
             "  --workers N          job worker threads (default: cores)\n"
             "  --http-threads N     HTTP threads per listener (default: cores, 2..8)\n"
             "  --web-dir DIR        dashboard files served on the TCP listener\n"

@@ -11,15 +11,39 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include <systemd/sd-daemon.h>
 
 #include "api_context.h"
 #include "config.h"
+#include "fallback_dir.h"
 #include "mhd_adapter.h"
 
 #define MAX_LISTENERS 8
+
+/* The group of the Unix socket's file (ours, or the first activated one with a path): who may
+ * connect, so whose tokens count. -1 if not found. */
+static int socket_file_gid(int activated, const char *own_path, gid_t *gid)
+{
+    struct stat st;
+    if (activated <= 0)
+        return stat(own_path, &st) == 0 && S_ISSOCK(st.st_mode) ? (*gid = st.st_gid, 0) : -1;
+    for (int i = 0; i < activated; i++) {
+        struct sockaddr_un un;
+        socklen_t len = sizeof un;
+        memset(&un, 0, sizeof un);
+        if (getsockname(SD_LISTEN_FDS_START + i, (struct sockaddr *)&un, &len) == 0 &&
+            un.sun_family == AF_UNIX && un.sun_path[0] && stat(un.sun_path, &st) == 0 &&
+            S_ISSOCK(st.st_mode)) {
+            *gid = st.st_gid;
+            return 0;
+        }
+    }
+    return -1;
+}
 
 int main(int argc, char **argv)
 {
@@ -42,6 +66,11 @@ int main(int argc, char **argv)
     char msg[512];
     int activated = sd_listen_fds(1);
     int unix_fd = -1;
+    if ((activated <= 0 && fallback_dir_check(cfg.socket_path, msg, sizeof msg)) ||
+        fallback_dir_check(cfg.state_dir, msg, sizeof msg)) {
+        fprintf(stderr, "aalabd: %s\n", msg);
+        return 1;
+    }
     if (activated <= 0) {
         unix_fd = http_unix_socket_open(cfg.socket_path, cfg.socket_group, msg, sizeof msg);
         if (unix_fd < 0) {
@@ -49,11 +78,38 @@ int main(int argc, char **argv)
             return 1;
         }
     }
+    /* Name an activated TCP listener before the context copies cfg: the dashboard line and
+     * GET /v1/health's "dashboard" (aalab token prints it) show it. */
+    for (int i = 0; i < activated && !cfg.tcp_port; i++) {
+        int fd = SD_LISTEN_FDS_START + i;
+        struct sockaddr_storage ss;
+        socklen_t len = sizeof ss;
+        char host[INET6_ADDRSTRLEN] = "";
+        if (sd_is_socket_unix(fd, SOCK_STREAM, 1, NULL, 0) <= 0 &&
+            !getsockname(fd, (struct sockaddr *)&ss, &len) && ss.ss_family == AF_INET) {
+            struct sockaddr_in *in = (struct sockaddr_in *)&ss;
+            inet_ntop(AF_INET, &in->sin_addr, host, sizeof host);
+            snprintf(cfg.tcp_host, sizeof cfg.tcp_host, "%s", host);
+            cfg.tcp_port = ntohs(in->sin_port);
+        }
+    }
     aa_error err = {0};
-    bool token_created = false;
-    api_context *ctx = api_context_create(&cfg, &token_created, &err);
+    api_context *ctx = api_context_create(&cfg, &err);
     if (!ctx) {
         fprintf(stderr, "aalabd: %s\n", err.message);
+        if (unix_fd >= 0) {
+            close(unix_fd);
+            unlink(cfg.socket_path);
+        }
+        return 1;
+    }
+
+    /* A token counts only while its owner may still connect to the socket. */
+    gid_t socket_gid;
+    if (socket_file_gid(activated, cfg.socket_path, &socket_gid) == 0 &&
+        api_context_tie_tokens_to_group(ctx, socket_gid)) {
+        fprintf(stderr, "aalabd: out of memory\n");
+        api_context_destroy(ctx);
         if (unix_fd >= 0) {
             close(unix_fd);
             unlink(cfg.socket_path);
@@ -72,18 +128,6 @@ int main(int argc, char **argv)
             if (!listeners[nl]) {
                 fprintf(stderr, "aalabd: %s\n", msg);
                 goto fail;
-            }
-            if (!is_unix && !cfg.tcp_port) {
-                /* Name the activated TCP listener in the dashboard line. */
-                struct sockaddr_storage ss;
-                socklen_t len = sizeof ss;
-                char host[INET6_ADDRSTRLEN] = "";
-                if (!getsockname(fd, (struct sockaddr *)&ss, &len) && ss.ss_family == AF_INET) {
-                    struct sockaddr_in *in = (struct sockaddr_in *)&ss;
-                    inet_ntop(AF_INET, &in->sin_addr, host, sizeof host);
-                    snprintf(cfg.tcp_host, sizeof cfg.tcp_host, "%s", host);
-                    cfg.tcp_port = ntohs(in->sin_port);
-                }
             }
             have_tcp |= !is_unix;
             nl++;
@@ -121,9 +165,8 @@ int main(int argc, char **argv)
         printf("dashboard: start with --tcp 127.0.0.1:8765 to serve it on "
                "http://127.0.0.1:8765/\n");
     printf("state: %s (%d workers)\n", cfg.state_dir, cfg.workers);
-    if (token_created)
-        printf("API token for TCP requests (shown once; stored in %s/token):\n%s\n", cfg.state_dir,
-               api_context_token(ctx));
+    if (have_tcp)
+        printf("TCP requests need a bearer token: issue one on the socket with 'aalab token'\n");
     fflush(stdout);
     sd_notify(0, "READY=1\nSTATUS=serving");
 

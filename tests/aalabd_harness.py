@@ -127,23 +127,18 @@ class Daemon:
                 try:
                     r = self.request("GET", "/v1/health", timeout=2)
                     if r.status == 200:
-                        self.token = self.find_token()
+                        self.token = self.issue_token()
                         return self
                 except OSError:
                     pass
             time.sleep(0.05)
         raise RuntimeError("aalabd did not become healthy in %.0f s:\n%s" % (timeout, self.log_text()))
 
-    def find_token(self):
-        """The bearer token the daemon generated into the state directory, if any."""
-        for name in sorted(os.listdir(self.state_dir)):
-            if "token" in name.lower():
-                try:
-                    with open(os.path.join(self.state_dir, name)) as f:
-                        return f.read().strip()
-                except OSError:
-                    pass
-        return None
+    def issue_token(self, label="harness"):
+        """A bearer token for TCP requests, issued to this process over the Unix socket
+        (POST /v1/tokens); None if the daemon does not issue tokens."""
+        r = self.request("POST", "/v1/tokens", {"label": label}, timeout=5)
+        return r.json()["token"] if r.status == 201 else None
 
     def alive(self):
         return self.proc is not None and self.proc.poll() is None

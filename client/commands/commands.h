@@ -24,6 +24,7 @@ int cmd_health(cli_session *s);
 int cmd_filters(cli_session *s);
 int cmd_acuity(cli_session *s);
 int cmd_enumerate(cli_session *s);
+int cmd_token(cli_session *s);
 void cmd_help(FILE *out, const char *command); /* command NULL: overview */
 
 /* Request bodies. Return 0 with *req (new reference), or -1 with err (a usage error). */
@@ -59,6 +60,9 @@ void health_print(FILE *out, const json_t *resp);
 void filters_print(FILE *out, const json_t *resp);
 void acuity_print(FILE *out, const json_t *resp);
 void enumerate_print(FILE *out, const json_t *resp);
+/* The new token, and the dashboard URL carrying it when dashboard is not NULL. */
+void token_issued_print(FILE *out, const json_t *resp, const char *dashboard);
+void tokens_print(FILE *out, const json_t *resp);
 /* "[#######.....]  58%  best E2 0.3712" into buf, width columns of bar. */
 void progress_line(char *buf, size_t cap, double fraction, const json_t *job, int width);
 

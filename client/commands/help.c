@@ -22,6 +22,7 @@ static const char OVERVIEW[] =
     "  filters               reference filters the metric accepts\n"
     "  acuity                acuity tables (angle weights)\n"
     "  enumerate ...         configurations of a family and cost\n"
+    "  token ...             a token for the dashboard (TCP); token list, token revoke ID\n"
     "  help [COMMAND]        this text, or a command's options\n"
     "\n"
     "global options:\n"
@@ -73,6 +74,12 @@ static const struct {
     {"acuity", "usage: aalab acuity\n"},
     {"enumerate", "usage: aalab enumerate --family 'P(4,1+,n)' --cost 1.25\n"
                   "       aalab enumerate --family 'P(4,1+,1.25)'\n"},
+    {"token", "usage: aalab token [--label TEXT]\n"
+              "       aalab token list\n"
+              "       aalab token revoke ID\n"
+              "Issues a bearer token for the daemon's TCP listener (the dashboard), acting as\n"
+              "you; it is shown once, with the dashboard URL when the daemon has a listener.\n"
+              "'list' shows your tokens (root: all), 'revoke' ends one at once.\n"},
     {"help", "usage: aalab help [COMMAND]\n"},
     {"version", "usage: aalab version\n"},
 };

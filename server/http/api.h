@@ -13,6 +13,16 @@
 
 typedef struct api_context api_context; /* daemon state: config, job pool, store, caches */
 
+/* Who is asking, resolved once per request by api_handle() (the router). On the Unix socket the
+ * SO_PEERCRED uid, admin when it is 0; on TCP the uid the bearer token was issued to, never
+ * admin (a token of root's reads and cancels only root's own private jobs). */
+typedef struct api_caller {
+    long long uid;      /* -1 unknown */
+    bool admin;         /* root on the Unix socket: sees and cancels every job */
+    bool via_tcp;       /* admitted by a bearer token */
+    long long token_id; /* that token, 0 on the Unix socket */
+} api_caller;
+
 typedef struct api_request {
     const char *method;        /* "GET", "POST", ... */
     const char *path;          /* URL path without query, e.g. "/v1/jobs/12" */
@@ -25,6 +35,7 @@ typedef struct api_request {
     bool via_tcp;    /* arrived on the TCP listener (static files, token and Host checks) */
     bool peer_known; /* peer_uid is valid (SO_PEERCRED on the Unix socket) */
     uid_t peer_uid;
+    api_caller caller; /* set by api_handle() before a handler runs; callers leave it zero */
 } api_request;
 
 typedef struct api_response {

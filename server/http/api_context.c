@@ -8,13 +8,15 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/file.h>
-#include <sys/random.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "eval_cache.h"
+#include "group_membership.h"
+#include "job_access.h"
 #include "job_manager.h"
+#include "token_store.h"
 #ifdef AALAB_HAVE_TILES
 #include "tile_store.h"
 #endif
@@ -24,7 +26,8 @@ struct api_context {
     job_manager *jobs;
     eval_cache *cache;
     struct tile_store *tiles;
-    char token[65];
+    token_store *tokens;
+    group_membership *group; /* NULL: tokens are not tied to a group */
     struct timespec started;
     int lock_fd; /* flock on <state-dir>/lock: one daemon per state directory */
 };
@@ -48,41 +51,7 @@ static int make_dirs(const char *path, mode_t mode)
     return 0;
 }
 
-/* Reads <dir>/token or creates it (32 random bytes as hex, mode 0600, O_EXCL). */
-static int load_or_create_token(const char *dir, char token[65], bool *created, aa_error *err)
-{
-    char path[PATH_MAX + 16];
-    snprintf(path, sizeof path, "%s/token", dir);
-    *created = false;
-    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
-    if (fd >= 0) {
-        ssize_t n = read(fd, token, 64);
-        close(fd);
-        if (n < 32)
-            return aa_error_set(err, AA_EINVAL, "state_dir", "%s is shorter than 32 characters",
-                                path);
-        token[n] = 0;
-        token[strcspn(token, "\r\n \t")] = 0;
-        return AA_OK;
-    }
-    unsigned char raw[32];
-    if (getrandom(raw, sizeof raw, 0) != (ssize_t)sizeof raw)
-        return aa_error_set(err, AA_EINVAL, "", "getrandom failed: %s", strerror(errno));
-    for (size_t i = 0; i < sizeof raw; i++)
-        snprintf(token + 2 * i, 3, "%02x", raw[i]);
-    fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0600);
-    if (fd < 0)
-        return aa_error_set(err, AA_EINVAL, "state_dir", "cannot create %s: %s", path,
-                            strerror(errno));
-    bool ok = write(fd, token, 64) == 64 && write(fd, "\n", 1) == 1 && fsync(fd) == 0;
-    close(fd);
-    if (!ok)
-        return aa_error_set(err, AA_EINVAL, "state_dir", "cannot write %s", path);
-    *created = true;
-    return AA_OK;
-}
-
-api_context *api_context_create(const aalab_config *cfg, bool *token_created, aa_error *err)
+api_context *api_context_create(const aalab_config *cfg, aa_error *err)
 {
     api_context *ctx = calloc(1, sizeof *ctx);
     if (!ctx) {
@@ -92,7 +61,6 @@ api_context *api_context_create(const aalab_config *cfg, bool *token_created, aa
     ctx->cfg = *cfg;
     ctx->lock_fd = -1;
     clock_gettime(CLOCK_MONOTONIC, &ctx->started);
-    bool created = false;
     if (make_dirs(cfg->state_dir, 0700)) {
         aa_error_set(err, AA_EINVAL, "state_dir", "cannot create %s: %s", cfg->state_dir,
                      strerror(errno));
@@ -106,7 +74,13 @@ api_context *api_context_create(const aalab_config *cfg, bool *token_created, aa
                      cfg->state_dir);
         goto fail;
     }
-    if (load_or_create_token(cfg->state_dir, ctx->token, &created, err))
+    /* Earlier versions kept one daemon-wide token in <state-dir>/token; it admits nothing now,
+     * so its secret is not left lying around. */
+    char old_token[AALAB_PATH_MAX + 8];
+    snprintf(old_token, sizeof old_token, "%s/token", cfg->state_dir);
+    unlink(old_token);
+    ctx->tokens = token_store_open(cfg->state_dir, err);
+    if (!ctx->tokens)
         goto fail;
     ctx->cache = eval_cache_create(cfg->eval_cache);
 #ifdef AALAB_HAVE_TILES
@@ -125,8 +99,6 @@ api_context *api_context_create(const aalab_config *cfg, bool *token_created, aa
     ctx->jobs = job_manager_create(cfg->state_dir, &jc, err);
     if (!ctx->jobs)
         goto fail;
-    if (token_created)
-        *token_created = created;
     return ctx;
 fail:
     api_context_destroy(ctx);
@@ -148,6 +120,8 @@ void api_context_destroy(api_context *ctx)
     tile_store_destroy(ctx->tiles);
 #endif
     eval_cache_destroy(ctx->cache);
+    token_store_close(ctx->tokens);
+    group_membership_destroy(ctx->group);
     if (ctx->lock_fd >= 0)
         close(ctx->lock_fd);
     free(ctx);
@@ -173,9 +147,21 @@ struct eval_cache *api_context_eval_cache(api_context *ctx)
     return ctx->cache;
 }
 
-const char *api_context_token(const api_context *ctx)
+struct token_store *api_context_tokens(api_context *ctx)
 {
-    return ctx->token;
+    return ctx->tokens;
+}
+
+int api_context_tie_tokens_to_group(api_context *ctx, gid_t gid)
+{
+    group_membership_destroy(ctx->group);
+    ctx->group = group_membership_create(gid);
+    return ctx->group ? AA_OK : AA_ENOMEM;
+}
+
+bool api_context_token_owner_ok(api_context *ctx, long long uid)
+{
+    return !ctx->group || group_membership_check(ctx->group, uid);
 }
 
 double api_context_uptime(const api_context *ctx)
@@ -187,8 +173,9 @@ double api_context_uptime(const api_context *ctx)
 
 /* --- pattern references --------------------------------------------------------------------- */
 
-static int resolve_one(api_context *ctx, json_t *parent_obj, const char *key, json_t *arr,
-                       size_t index, json_t *v, const char *field, aa_error *err)
+static int resolve_one(api_context *ctx, const api_caller *caller, json_t *parent_obj,
+                       const char *key, json_t *arr, size_t index, json_t *v, const char *field,
+                       aa_error *err)
 {
     if (!json_is_object(v) || !json_object_get(v, "job"))
         return AA_OK;
@@ -210,8 +197,12 @@ static int resolve_one(api_context *ctx, json_t *parent_obj, const char *key, js
     }
     if (id <= 0)
         return aa_error_set(err, AA_EINVAL, jfield, "not a job id");
-    const char *why = "";
-    json_t *p = job_manager_best_pattern(ctx->jobs, id, &why);
+    /* A private job of someone else reads as no job at all: its existence is not revealed. */
+    json_t *job = job_manager_get(ctx->jobs, id);
+    bool readable = job && job_readable(caller, job);
+    json_decref(job);
+    const char *why = "no such job";
+    json_t *p = readable ? job_manager_best_pattern(ctx->jobs, id, &why) : NULL;
     if (!p)
         return aa_error_set(err, AA_EINVAL, jfield, "job %lld: %s", id, why);
     if (parent_obj)
@@ -221,7 +212,8 @@ static int resolve_one(api_context *ctx, json_t *parent_obj, const char *key, js
     return AA_OK;
 }
 
-static int resolve_walk(api_context *ctx, json_t *node, const char *path, int depth, aa_error *err)
+static int resolve_walk(api_context *ctx, const api_caller *caller, json_t *node, const char *path,
+                        int depth, aa_error *err)
 {
     if (depth > 32)
         return AA_OK;
@@ -235,24 +227,24 @@ static int resolve_walk(api_context *ctx, json_t *node, const char *path, int de
             snprintf(sub, sizeof sub, "%s%s%s", path, *path ? "." : "", key);
             int rc = AA_OK;
             if (!strcmp(key, "pattern")) {
-                rc = resolve_one(ctx, node, key, NULL, 0, v, sub, err);
+                rc = resolve_one(ctx, caller, node, key, NULL, 0, v, sub, err);
             } else if (!strcmp(key, "patterns") && json_is_array(v)) {
                 for (size_t i = 0; i < json_array_size(v) && !rc; i++) {
                     char el[280];
                     snprintf(el, sizeof el, "%s[%zu]", sub, i);
-                    rc = resolve_one(ctx, NULL, NULL, v, i, json_array_get(v, i), el, err);
+                    rc = resolve_one(ctx, caller, NULL, NULL, v, i, json_array_get(v, i), el, err);
                 }
             }
             if (rc)
                 return rc;
             json_t *now = json_object_get(node, key);
-            if ((rc = resolve_walk(ctx, now, sub, depth + 1, err)))
+            if ((rc = resolve_walk(ctx, caller, now, sub, depth + 1, err)))
                 return rc;
         }
     } else if (json_is_array(node)) {
         for (size_t i = 0; i < json_array_size(node); i++) {
             snprintf(sub, sizeof sub, "%s[%zu]", path, i);
-            int rc = resolve_walk(ctx, json_array_get(node, i), sub, depth + 1, err);
+            int rc = resolve_walk(ctx, caller, json_array_get(node, i), sub, depth + 1, err);
             if (rc)
                 return rc;
         }
@@ -260,7 +252,8 @@ static int resolve_walk(api_context *ctx, json_t *node, const char *path, int de
     return AA_OK;
 }
 
-int api_resolve_pattern_refs(api_context *ctx, json_t *body, aa_error *err)
+int api_resolve_pattern_refs(api_context *ctx, const api_caller *caller, json_t *body,
+                             aa_error *err)
 {
-    return resolve_walk(ctx, body, "", 0, err);
+    return resolve_walk(ctx, caller, body, "", 0, err);
 }

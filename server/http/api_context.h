@@ -1,9 +1,10 @@
-/* The daemon state behind api_handle(): configuration, job manager, caches, tile store, token.
+/* The daemon state behind api_handle(): configuration, job manager, caches, tile store, tokens.
  * Created once at start-up (and by unit tests with a temporary state directory). */
 #ifndef AALAB_API_CONTEXT_H
 #define AALAB_API_CONTEXT_H
 
 #include <stdbool.h>
+#include <sys/types.h>
 
 #include <jansson.h>
 
@@ -14,11 +15,11 @@
 struct tile_store;
 struct job_manager;
 struct eval_cache;
+struct token_store;
 
 /* Opens the state directory (created 0700 if missing), the job store (re-queueing unfinished
- * jobs), the tile store and the bearer token (<state-dir>/token, 0600, generated at first
- * start; *token_created tells the caller to print it once). NULL on error (err filled). */
-api_context *api_context_create(const aalab_config *cfg, bool *token_created, aa_error *err);
+ * jobs), the tile store and the token store (tokens.db). NULL on error (err filled). */
+api_context *api_context_create(const aalab_config *cfg, aa_error *err);
 /* Stops the workers (running jobs are written back as queued) and frees everything. */
 void api_context_destroy(api_context *ctx);
 /* Stop accepting jobs and checkpoint running ones; api_context_destroy() still needed. */
@@ -28,13 +29,18 @@ const aalab_config *api_context_config(const api_context *ctx);
 struct tile_store *api_context_tiles(api_context *ctx);
 struct job_manager *api_context_jobs(api_context *ctx);
 struct eval_cache *api_context_eval_cache(api_context *ctx);
-const char *api_context_token(const api_context *ctx);
+struct token_store *api_context_tokens(api_context *ctx);
+/* From now on a token is accepted only while its owner is in group gid (the socket's group;
+ * root always). Call before the listeners start. AA_ENOMEM. */
+int api_context_tie_tokens_to_group(api_context *ctx, gid_t gid);
+bool api_context_token_owner_ok(api_context *ctx, long long uid);
 double api_context_uptime(const api_context *ctx);
 
 /* Replaces every pattern reference {"job": ID} under the keys "pattern" and the elements of
  * "patterns" (at any depth of body) by that job's best pattern JSON. Errors: AA_EINVAL with the
- * field naming the reference ("pattern.job", "patterns[1].job") for a bad or unknown id, or a
- * job without a pattern. */
-int api_resolve_pattern_refs(api_context *ctx, json_t *body, aa_error *err);
+ * field naming the reference ("pattern.job", "patterns[1].job") for a bad or unknown id, a job
+ * the caller may not read (reported as unknown), or a job without a pattern. */
+int api_resolve_pattern_refs(api_context *ctx, const api_caller *caller, json_t *body,
+                             aa_error *err);
 
 #endif

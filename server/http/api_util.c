@@ -115,15 +115,6 @@ void api_reply_aa_error(api_response *resp, const aa_error *err)
     }
 }
 
-long long api_caller_uid(const api_request *req)
-{
-    if (req->peer_known)
-        return (long long)req->peer_uid;
-    if (req->via_tcp) /* the router admitted it: it carried the owner's token */
-        return (long long)geteuid();
-    return -1;
-}
-
 long long api_parse_job_id(const char *s)
 {
     if (!s || !*s || *s == '0' || strlen(s) > 18)

@@ -16,9 +16,6 @@ int api_reject_unknown(const json_t *obj, const char *const *allowed, const char
                        api_response *resp);
 /* AA_EINVAL/AA_ERANGE -> 400, AA_ENOMEM -> 503, with err's field and message. */
 void api_reply_aa_error(api_response *resp, const aa_error *err);
-/* The caller's uid: SO_PEERCRED on the Unix socket, the daemon's own uid for a TCP request
- * that carried the token, -1 if unknown. */
-long long api_caller_uid(const api_request *req);
 /* Job id from a path segment: positive decimal without sign or leading zeros, else -1. */
 long long api_parse_job_id(const char *s);
 /* Value of key in a raw query string (percent-decoding not needed for our keys); NULL if
@@ -39,6 +36,10 @@ void handle_job_delete(api_context *ctx, const api_request *req, api_response *r
                        const char *id);
 void handle_enumerate(api_context *ctx, const api_request *req, api_response *resp);
 void handle_export(api_context *ctx, const api_request *req, api_response *resp, const char *id);
+void handle_tokens_post(api_context *ctx, const api_request *req, api_response *resp);
+void handle_tokens_list(api_context *ctx, const api_request *req, api_response *resp);
+void handle_token_delete(api_context *ctx, const api_request *req, api_response *resp,
+                         const char *id);
 void handle_static(api_context *ctx, const api_request *req, api_response *resp);
 /* POST /v1/render and GET /v1/tiles/{id}.png: resolve pattern refs, then the renderer's
  * handlers (501 when they are not built in). */

@@ -95,7 +95,7 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
     /* A job's best pattern changes while it runs: such answers are not cached. */
     bool has_ref = pj && json_is_object(pj) && json_object_get(pj, "job");
     if (has_ref)
-        rc = api_resolve_pattern_refs(ctx, body, &err);
+        rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
     pj = json_object_get(body, "pattern");
     if (!rc && !pj)
         rc = aa_error_set(&err, AA_EINVAL, "pattern", "pattern is required");

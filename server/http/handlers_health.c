@@ -1,4 +1,7 @@
 /* GET /v1/health: version, uptime, workers, queue, jobs by state, caches. */
+#include <stdio.h>
+#include <string.h>
+
 #include "handlers.h"
 
 #include "eval_cache.h"
@@ -32,6 +35,14 @@ void handle_health(api_context *ctx, const api_request *req, api_response *resp)
                         json_pack("{s:I,s:f,s:f}", "user_workers", (json_int_t)cfg->user_workers,
                                   "job_slice_seconds", cfg->job_slice, "max_job_seconds",
                                   cfg->max_job_seconds));
+    /* Where the dashboard is, so `aalab token` can print its URL (--tcp; a socket-activated
+     * listener is not known here). */
+    if (o && cfg->tcp_port > 0) {
+        char url[128];
+        snprintf(url, sizeof url, "http://%s:%d/",
+                 strchr(cfg->tcp_host, ':') ? "[::1]" : cfg->tcp_host, cfg->tcp_port);
+        json_object_set_new(o, "dashboard", json_string(url));
+    }
     api_reply_json(resp, 200, o);
     resp->cache_control = "no-store";
 }

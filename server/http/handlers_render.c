@@ -6,12 +6,13 @@
 
 #include "api_context.h"
 #include "codec.h"
+#include "job_access.h"
 #include "render.h"
 #include "tile_render.h"
 #include "tile_store.h"
 
-static const char *const render_keys[] = {"scene", "size",   "pattern", "reference",
-                                          "crop",  "acuity", NULL};
+static const char *const render_keys[] = {"scene", "size",   "pattern",    "reference",
+                                          "crop",  "acuity", "visibility", NULL};
 
 static bool known_key(const char *key)
 {
@@ -74,6 +75,20 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
             goto done;
         }
     }
+    json_t *vis = json_object_get(root, JOB_VISIBILITY_KEY);
+    if (!job_visibility_valid(vis)) {
+        api_reply_error(resp, 400, "invalid_field", JOB_VISIBILITY_KEY,
+                        "visibility must be \"team\" or \"private\"");
+        goto done;
+    }
+    /* The tiles belong to the requester; private ones are served to them and root only. */
+    tile_access access = {.owner = req->caller.uid,
+                          .private_tile = vis && !strcmp(json_string_value(vis), "private")};
+    if (access.private_tile && access.owner < 0) {
+        api_reply_error(resp, 400, "invalid_field", JOB_VISIBILITY_KEY,
+                        "a private render needs a known caller");
+        goto done;
+    }
     if (tile_decode_scene_request(root, &rp.scene, &err)) {
         reply_engine_error(resp, &err);
         goto done;
@@ -130,7 +145,7 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
     rendered = true;
     rp.reference.progress = NULL;
     rp.reference.user = NULL;
-    json_t *out = tile_render_result_json(ts, &rp, &pattern, &result, &crop, &err);
+    json_t *out = tile_render_result_json(ts, &access, &rp, &pattern, &result, &crop, &err);
     if (!out) {
         api_reply_error(resp, 503, "internal", "", "%s", err.message);
         goto done;
@@ -148,7 +163,6 @@ done:
 
 void handle_tile(api_context *ctx, const api_request *req, api_response *resp, const char *id)
 {
-    (void)req;
     tile_store *ts = api_context_tiles(ctx);
     if (!ts) {
         api_reply_error(resp, 500, "internal", "", "the tile store is not configured");
@@ -167,7 +181,7 @@ void handle_tile(api_context *ctx, const api_request *req, api_response *resp, c
     bare[TILE_ID_LEN] = 0;
     void *data;
     size_t len;
-    int rc = tile_store_get(ts, bare, &data, &len);
+    int rc = tile_store_get_as(ts, bare, req->caller.uid, req->caller.admin, &data, &len);
     if (rc == AA_EINVAL) {
         api_reply_error(resp, 400, "invalid_field", "id",
                         "a tile id is %d lowercase hex characters", TILE_ID_LEN);
@@ -188,6 +202,7 @@ void handle_tile(api_context *ctx, const api_request *req, api_response *resp, c
     resp->content_type = "image/png";
     resp->body = data;
     resp->body_len = len;
-    /* Content-addressed: the bytes behind an id never change. */
-    resp->cache_control = "public, max-age=31536000, immutable";
+    /* Content-addressed: the bytes behind an id never change. Private to the browser: the
+     * tile's access may be per user. */
+    resp->cache_control = "private, max-age=31536000, immutable";
 }

@@ -1,5 +1,5 @@
-/* api_handle: access checks (TCP Host and token), body limit, content type, then dispatch on
- * (method, path). A pure function of the request and the daemon state. */
+/* api_handle: access checks (TCP Host and token, who the caller is), body limit, content type,
+ * then dispatch on (method, path). A pure function of the request and the daemon state. */
 #define _GNU_SOURCE
 #include <stdio.h>
 #include <stdlib.h>
@@ -7,6 +7,7 @@
 #include <strings.h>
 
 #include "handlers.h"
+#include "token_store.h"
 
 /* Host header names a loopback host: localhost, 127.x.y.z, [::1], with an optional port. */
 static bool host_is_loopback(const char *host)
@@ -38,17 +39,33 @@ static bool host_is_loopback(const char *host)
            c < 256 && d < 256;
 }
 
-/* Constant-time comparison of "Bearer <token>". */
-static bool token_ok(const char *authorization, const char *token)
+/* Every TCP request but a dashboard file needs a token: the API (/v1...) never goes without. */
+static bool is_static_request(const api_request *req, const char *path)
 {
-    if (!authorization || strncasecmp(authorization, "Bearer ", 7))
+    bool safe = !strcmp(req->method, "GET") || !strcmp(req->method, "HEAD");
+    return safe && strncmp(path, "/v1/", 4) && strcmp(path, "/v1");
+}
+
+/* The caller: SO_PEERCRED on the Unix socket (uid 0 = admin), the token's uid over TCP (never
+ * admin). False for a TCP request without a valid token, or whose owner has left the socket
+ * group. */
+static bool resolve_caller(api_context *ctx, const api_request *req, api_caller *c)
+{
+    memset(c, 0, sizeof *c);
+    c->uid = -1;
+    if (!req->via_tcp) {
+        if (req->peer_known) {
+            c->uid = (long long)req->peer_uid;
+            c->admin = req->peer_uid == 0;
+        }
+        return true;
+    }
+    c->via_tcp = true;
+    const char *auth = req->authorization;
+    if (!auth || strncasecmp(auth, "Bearer ", 7))
         return false;
-    const char *given = authorization + 7;
-    size_t n = strlen(token), m = strlen(given);
-    unsigned char diff = (unsigned char)(n != m);
-    for (size_t i = 0; i < n; i++)
-        diff |= (unsigned char)(token[i] ^ (i < m ? given[i] : 0));
-    return diff == 0;
+    return token_store_check(api_context_tokens(ctx), auth + 7, &c->uid, &c->token_id) == AA_OK &&
+           api_context_token_owner_ok(ctx, c->uid);
 }
 
 static bool is_json_type(const char *ct)
@@ -93,6 +110,9 @@ static const route routes[] = {
     {"GET", "/v1/patterns/", ARG_JOB_EXPORT, NULL, handle_export},
     {"POST", "/v1/render", ARG_NONE, route_render, NULL},
     {"GET", "/v1/tiles/", ARG_TILE, NULL, route_tile},
+    {"POST", "/v1/tokens", ARG_NONE, handle_tokens_post, NULL},
+    {"GET", "/v1/tokens", ARG_NONE, handle_tokens_list, NULL},
+    {"DELETE", "/v1/tokens/", ARG_TAIL, NULL, handle_token_delete},
 };
 
 /* Does path match the route's shape? Fills arg (a segment without '/'). */
@@ -120,31 +140,32 @@ static bool route_matches(const route *r, const char *path, char *arg, size_t ca
     return true;
 }
 
-void api_handle(api_context *ctx, const api_request *req, api_response *resp)
+void api_handle(api_context *ctx, const api_request *in, api_response *resp)
 {
     memset(resp, 0, sizeof *resp);
     const aalab_config *cfg = api_context_config(ctx);
-    bool safe_method = !strcmp(req->method, "GET") || !strcmp(req->method, "HEAD");
-    if (req->via_tcp) {
+    const char *path = in->path ? in->path : "";
+    api_request caller_req = *in;
+    const api_request *req = &caller_req;
+    if (in->via_tcp) {
         /* DNS rebinding: a browser page on another origin resolving to 127.0.0.1 still sends
          * its own Host. */
         if (!host_is_loopback(req->host)) {
             api_reply_error(resp, 403, "forbidden", "", "Host must be a loopback name");
             return;
         }
-        if (!safe_method && !token_ok(req->authorization, api_context_token(ctx))) {
-            api_reply_error(resp, 401, "unauthorized", "",
-                            "this request needs 'Authorization: Bearer <token>' (the token is "
-                            "in the state directory's token file)");
-            return;
-        }
+    }
+    if (!resolve_caller(ctx, in, &caller_req.caller) && !is_static_request(in, path)) {
+        api_reply_error(resp, 401, "unauthorized", "",
+                        "this request needs 'Authorization: Bearer <token>' with a valid token of "
+                        "a socket group member (issue one on the Unix socket: aalab token)");
+        return;
     }
     if (req->body_len > cfg->max_body) {
         api_reply_error(resp, 413, "payload_too_large", "", "the body exceeds %zu bytes",
                         cfg->max_body);
         return;
     }
-    const char *path = req->path ? req->path : "";
     bool path_known = false;
     char arg[256];
     for (size_t i = 0; i < sizeof routes / sizeof routes[0]; i++) {
@@ -170,7 +191,7 @@ void api_handle(api_context *ctx, const api_request *req, api_response *resp)
                         req->method);
         return;
     }
-    if (strncmp(path, "/v1/", 4) && strcmp(path, "/v1") && req->via_tcp && safe_method) {
+    if (req->via_tcp && is_static_request(req, path)) {
         handle_static(ctx, req, resp);
         return;
     }

@@ -23,7 +23,7 @@ void route_render(api_context *ctx, const api_request *req, api_response *resp)
     }
     aa_error err = {0};
     char *before = json_dumps(body, JSON_COMPACT | JSON_SORT_KEYS);
-    int rc = api_resolve_pattern_refs(ctx, body, &err);
+    int rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
     char *after = rc ? NULL : json_dumps(body, JSON_COMPACT | JSON_SORT_KEYS);
     json_decref(body);
     if (rc) {

@@ -339,12 +339,18 @@ json_t *tile_encode_diff(const aa_diff_stats *d)
 
 json_t *tile_put_gray8(tile_store *ts, const uint8_t *px, int width, int height, aa_error *err)
 {
+    return tile_put_gray8_as(ts, NULL, px, width, height, err);
+}
+
+json_t *tile_put_gray8_as(tile_store *ts, const tile_access *access, const uint8_t *px, int width,
+                          int height, aa_error *err)
+{
     void *png;
     size_t len;
     char id[TILE_ID_LEN + 1];
     if (tile_png_encode_gray(px, width, height, &png, &len, err))
         return NULL;
-    int rc = tile_store_put(ts, png, len, id, err);
+    int rc = tile_store_put_as(ts, png, len, access, id, err);
     free(png);
     if (rc)
         return NULL;
@@ -380,8 +386,8 @@ json_t *tile_put_difference(tile_store *ts, const aa_image *a, const aa_image *r
     return o;
 }
 
-static json_t *put_crop(tile_store *ts, const uint8_t *full, int width, const tile_crop *c,
-                        aa_error *err)
+static json_t *put_crop(tile_store *ts, const tile_access *access, const uint8_t *full, int width,
+                        const tile_crop *c, aa_error *err)
 {
     int w = (c->rect.x1 - c->rect.x0) * c->scale, h = (c->rect.y1 - c->rect.y0) * c->scale;
     uint8_t *px = malloc((size_t)w * (size_t)h);
@@ -390,13 +396,20 @@ static json_t *put_crop(tile_store *ts, const uint8_t *full, int width, const ti
         return NULL;
     }
     aa_gray8_crop_magnify(full, width, c->rect, c->scale, px);
-    json_t *o = tile_put_gray8(ts, px, w, h, err);
+    json_t *o = tile_put_gray8_as(ts, access, px, w, h, err);
     free(px);
     return o;
 }
 
 json_t *tile_put_render_images(tile_store *ts, const aa_image *pattern, const aa_image *reference,
                                const tile_crop *crop, aa_error *err)
+{
+    return tile_put_render_images_as(ts, NULL, pattern, reference, crop, err);
+}
+
+json_t *tile_put_render_images_as(tile_store *ts, const tile_access *access,
+                                  const aa_image *pattern, const aa_image *reference,
+                                  const tile_crop *crop, aa_error *err)
 {
     size_t n = (size_t)pattern->width * (size_t)pattern->height;
     uint8_t *g[3] = {malloc(n), malloc(n), malloc(n)};
@@ -412,12 +425,12 @@ json_t *tile_put_render_images(tile_store *ts, const aa_image *pattern, const aa
     if (crop && crop->enabled)
         crops = json_object();
     for (int k = 0; k < 3; k++) {
-        json_t *t = tile_put_gray8(ts, g[k], pattern->width, pattern->height, err);
+        json_t *t = tile_put_gray8_as(ts, access, g[k], pattern->width, pattern->height, err);
         if (!t)
             goto fail;
         json_object_set_new(out, names[k], t);
         if (crops) {
-            json_t *c = put_crop(ts, g[k], pattern->width, crop, err);
+            json_t *c = put_crop(ts, access, g[k], pattern->width, crop, err);
             if (!c)
                 goto fail;
             json_object_set_new(crops, names[k], c);
@@ -444,10 +457,11 @@ fail:
     return NULL;
 }
 
-json_t *tile_render_result_json(tile_store *ts, const aa_render_params *rp, const aa_pattern *p,
+json_t *tile_render_result_json(tile_store *ts, const tile_access *access,
+                                const aa_render_params *rp, const aa_pattern *p,
                                 const aa_render_result *r, const tile_crop *crop, aa_error *err)
 {
-    json_t *tiles = tile_put_render_images(ts, &r->pattern, &r->reference, crop, err);
+    json_t *tiles = tile_put_render_images_as(ts, access, &r->pattern, &r->reference, crop, err);
     if (!tiles)
         return NULL;
     const aa_filter *f = rp->reference.filter;

@@ -15,7 +15,10 @@
 typedef struct tile_entry {
     char id[TILE_ID_LEN + 1];
     size_t len;
-    void *data;                     /* NULL: on disk only (found at start-up, not read yet) */
+    void *data;         /* NULL: on disk only (found at start-up, not read yet) */
+    bool team;          /* anyone may read it */
+    long long *readers; /* else these uids */
+    size_t n_readers;
     struct tile_entry *prev, *next; /* LRU list: head = most recent */
 } tile_entry;
 
@@ -89,6 +92,92 @@ static void file_path(const tile_store *ts, const char *id, char *out, size_t ca
     snprintf(out, cap, "%s/%s.png", ts->dir, id);
 }
 
+static void readers_path(const tile_store *ts, const char *id, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s/%s.readers", ts->dir, id);
+}
+
+static void entry_free(tile_entry *e)
+{
+    free(e->data);
+    free(e->readers);
+    free(e);
+}
+
+/* {id}.readers: the private readers, one uid per line, replaced atomically; absent = team. */
+static void write_readers(const tile_store *ts, const tile_entry *e)
+{
+    char path[4200], tmp[4300];
+    readers_path(ts, e->id, path, sizeof path);
+    if (e->team) {
+        unlink(path);
+        return;
+    }
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return;
+    bool ok = true;
+    for (size_t i = 0; i < e->n_readers && ok; i++)
+        ok = fprintf(f, "%lld\n", e->readers[i]) > 0;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok || rename(tmp, path) != 0)
+        unlink(tmp);
+}
+
+/* Reads {id}.readers into e; without the file the tile is team (tiles made before access). */
+static void read_readers(const tile_store *ts, tile_entry *e)
+{
+    char path[4200];
+    readers_path(ts, e->id, path, sizeof path);
+    FILE *f = fopen(path, "r");
+    e->team = f == NULL;
+    if (!f)
+        return;
+    long long uid;
+    while (fscanf(f, "%lld", &uid) == 1) {
+        long long *grown = realloc(e->readers, (e->n_readers + 1) * sizeof *grown);
+        if (!grown)
+            break;
+        e->readers = grown;
+        e->readers[e->n_readers++] = uid;
+    }
+    fclose(f);
+}
+
+/* Adds access to e; true if it changed. */
+static bool grant(tile_entry *e, const tile_access *access)
+{
+    if (e->team)
+        return false;
+    if (!access || !access->private_tile) {
+        e->team = true;
+        free(e->readers);
+        e->readers = NULL;
+        e->n_readers = 0;
+        return true;
+    }
+    for (size_t i = 0; i < e->n_readers; i++)
+        if (e->readers[i] == access->owner)
+            return false;
+    long long *grown = realloc(e->readers, (e->n_readers + 1) * sizeof *grown);
+    if (!grown)
+        return false;
+    e->readers = grown;
+    e->readers[e->n_readers++] = access->owner;
+    return true;
+}
+
+static bool readable(const tile_entry *e, long long uid, bool admin)
+{
+    if (e->team || admin)
+        return true;
+    for (size_t i = 0; i < e->n_readers; i++)
+        if (uid >= 0 && e->readers[i] == uid)
+            return true;
+    return false;
+}
+
 static void drop(tile_store *ts, tile_entry *e)
 {
     unlink_entry(ts, e);
@@ -96,12 +185,13 @@ static void drop(tile_store *ts, tile_entry *e)
         char path[4200];
         file_path(ts, e->id, path, sizeof path);
         unlink(path);
+        readers_path(ts, e->id, path, sizeof path);
+        unlink(path);
     }
     ts->bytes -= e->len;
     ts->count--;
     ts->evicted++;
-    free(e->data);
-    free(e);
+    entry_free(e);
 }
 
 static void evict_until(tile_store *ts, size_t room)
@@ -165,6 +255,7 @@ static void index_disk(tile_store *ts)
             break;
         memcpy(e->id, files[i].id, sizeof e->id);
         e->len = files[i].len;
+        read_readers(ts, e);
         /* Most recent first: append at the tail. */
         e->prev = ts->tail;
         if (ts->tail)
@@ -220,8 +311,7 @@ void tile_store_destroy(tile_store *ts)
     tile_entry *e = ts->head;
     while (e) {
         tile_entry *next = e->next;
-        free(e->data);
-        free(e);
+        entry_free(e);
         e = next;
     }
     pthread_mutex_destroy(&ts->lock);
@@ -246,6 +336,12 @@ static void write_file(const tile_store *ts, const char *id, const void *data, s
 int tile_store_put(tile_store *ts, const void *data, size_t len, char id[TILE_ID_LEN + 1],
                    aa_error *err)
 {
+    return tile_store_put_as(ts, data, len, NULL, id, err);
+}
+
+int tile_store_put_as(tile_store *ts, const void *data, size_t len, const tile_access *access,
+                      char id[TILE_ID_LEN + 1], aa_error *err)
+{
     content_id(data, len, id);
     if (len > ts->max_bytes)
         return aa_error_set(err, AA_ERANGE, "", "tile of %zu bytes exceeds the store (%zu)", len,
@@ -267,6 +363,8 @@ int tile_store_put(tile_store *ts, const void *data, size_t len, char id[TILE_ID
             old->data = copy;
             copy = NULL;
         }
+        if (grant(old, access) && ts->dir)
+            write_readers(ts, old);
         pthread_mutex_unlock(&ts->lock);
         free(copy);
         free(e);
@@ -276,11 +374,22 @@ int tile_store_put(tile_store *ts, const void *data, size_t len, char id[TILE_ID
     memcpy(e->id, id, TILE_ID_LEN + 1);
     e->len = len;
     e->data = copy;
+    grant(e, access);
+    if (!e->team && !e->n_readers) { /* out of memory recording the owner: keep it unreadable */
+        free(e->data);
+        free(e);
+        pthread_mutex_unlock(&ts->lock);
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
     push_front(ts, e);
     ts->bytes += len;
     ts->count++;
-    if (ts->dir)
-        write_file(ts, id, data, len); /* under the lock: eviction never races the write */
+    if (ts->dir) {
+        /* under the lock: eviction never races the write; the readers first, so a private tile
+         * is never on disk without them */
+        write_readers(ts, e);
+        write_file(ts, id, data, len);
+    }
     pthread_mutex_unlock(&ts->lock);
     return AA_OK;
 }
@@ -303,6 +412,12 @@ static void *read_file(const tile_store *ts, const char *id, size_t len)
 
 int tile_store_get(tile_store *ts, const char *id, void **data, size_t *len)
 {
+    return tile_store_get_as(ts, id, -1, true, data, len);
+}
+
+int tile_store_get_as(tile_store *ts, const char *id, long long uid, bool admin, void **data,
+                      size_t *len)
+{
     *data = NULL;
     *len = 0;
     if (!tile_id_valid(id))
@@ -317,6 +432,8 @@ int tile_store_get(tile_store *ts, const char *id, void **data, size_t *len)
         }
     }
     int rc = TILE_ENOENT;
+    if (e && !readable(e, uid, admin))
+        e = NULL;
     if (e) {
         unlink_entry(ts, e);
         push_front(ts, e);

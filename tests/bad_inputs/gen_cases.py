@@ -290,7 +290,22 @@ case("static_index_ok", 200, None, method="GET", path="/", via="tcp", check={"co
 case("tcp_bad_host", [400, 403, 421], "*", method="GET", path="/v1/health", via="tcp", headers={"Host": "evil.example"})
 case("tcp_post_job_no_token", 401, None, path="/v1/jobs", via="tcp", body_json={"kind": "sleep", "seconds": 0})
 case("tcp_post_job_wrong_token", 401, None, path="/v1/jobs", via="tcp", headers={"Content-Type": "application/json", "Authorization": "Bearer wrong"}, body_json={"kind": "sleep", "seconds": 0})
-case("tcp_delete_no_token", [401, 404], None, method="DELETE", path="/v1/jobs/1", via="tcp")
+case("tcp_delete_no_token", 401, None, method="DELETE", path="/v1/jobs/1", via="tcp")
+# every API read over TCP needs a token too; tokens are issued on the Unix socket only
+for n, p in [("health", "/v1/health"), ("jobs", "/v1/jobs"), ("job", "/v1/jobs/1"), ("presets", "/v1/presets"),
+             ("export", "/v1/patterns/1/export"), ("tile", "/v1/tiles/0123456789abcdef0123456789abcdef.png"),
+             ("tokens", "/v1/tokens"), ("unknown", "/v1/nope")]:
+    case("tcp_get_%s_no_token" % n, 401, None, method="GET", path=p, via="tcp")
+case("tcp_get_health_forged_token", 401, None, method="GET", path="/v1/health", via="tcp",
+     headers={"Authorization": "Bearer aalab_1_" + "0" * 64})
+case("token_label_not_string", 400, "label", path="/v1/tokens", body_json={"label": 5})
+case("token_unknown_key", 400, "uid", path="/v1/tokens", body_json={"uid": 0})
+case("token_label_too_long", 400, "label", path="/v1/tokens", body_json={"label": "x" * 101})
+case("token_revoke_not_id", 404, "id", method="DELETE", path="/v1/tokens/abc")
+case("token_revoke_unknown", 404, "id", method="DELETE", path="/v1/tokens/999999")
+case("job_visibility_bad", 400, "visibility", path="/v1/jobs", body_json={"kind": "sleep", "seconds": 0, "visibility": "public"})
+case("job_visibility_not_string", 400, "visibility", path="/v1/jobs", body_json={"kind": "sleep", "seconds": 0, "visibility": 1})
+case("render_visibility_bad", 400, "visibility", path="/v1/render", body_json={"pattern": {"preset": "rgss"}, "size": [8, 8], "visibility": "world"})
 with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "cases.jsonl"), "w") as f:
     for c in C:
         f.write(json.dumps(c, separators=(",", ":")) + "\n")

@@ -9,6 +9,7 @@ aalab=$1 aalabd=$2 src=$3
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/aalab-e2e.XXXXXX")
 sock=$tmp/aalabd.sock
 state=$tmp/state
+port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 daemon_pid=""
 failures=0
 checks=0
@@ -55,7 +56,7 @@ near() {
 }
 
 start_daemon() {
-  "$aalabd" --socket "$sock" --state-dir "$state" --workers 2 --user-quota 4 --enable-test-kinds >>"$tmp/daemon.log" 2>&1 &
+  "$aalabd" --socket "$sock" --state-dir "$state" --workers 2 --user-quota 4 --enable-test-kinds --tcp "127.0.0.1:$port" >>"$tmp/daemon.log" 2>&1 &
   daemon_pid=$!
   for _ in $(seq 1 100); do
     A health >/dev/null 2>&1 && return 0
@@ -271,9 +272,28 @@ if jq -e '.render == true' <<<"$health" >/dev/null; then
 elif expected render; then bad "this build should render (health.render is false)"
 else echo "skip render: no renderer in this build"; fi
 
+# --- tokens: issued on the socket, used over TCP, durable, revoked at once -----------------------
+tcp_status() { curl -s -o /dev/null -w '%{http_code}' ${1:+-H "Authorization: Bearer $1"} "http://127.0.0.1:$port/v1/jobs"; }
+expect 0 "token" -- A token --label e2e
+has "dashboard: http://127.0.0.1:$port/#token=aalab_" "token prints the dashboard URL with the token"
+expect 0 "token --json" -- A --json token --label e2e
+token=$(jq -r .token <<<"$out")
+token_id=$(jq -r .id <<<"$out")
+expect 0 "token list" -- A token list
+has "e2e" "token list shows the label"
+[ "$(A --json token list | jq "[.tokens[] | select(has(\"token\"))] | length")" = 0 ] &&
+  ok "token list never shows a secret" || bad "token list shows a secret"
+[ "$(tcp_status)" = 401 ] && ok "TCP read without a token: 401" || bad "TCP read without a token: $(tcp_status)"
+[ "$(tcp_status "$token")" = 200 ] && ok "TCP read with the token: 200" || bad "TCP read with the token: $(tcp_status "$token")"
+expect 1 "token revoke without an ID is a usage error" -- A token revoke
+expect 2 "token revoke of an unknown ID is a 4xx" -- A token revoke 999999
+
 # --- restart: finished results survive ----------------------------------------------------------
 stop_daemon
 start_daemon
+[ "$(tcp_status "$token")" = 200 ] && ok "the token survives a restart" || bad "token lost across restart"
+expect 0 "token revoke ID" -- A token revoke "$token_id"
+[ "$(tcp_status "$token")" = 401 ] && ok "a revoked token is refused at once" || bad "revoked token: $(tcp_status "$token")"
 expect 0 "job ID after restart" -- A --json job "$id"
 [ "$(jq -cS '{state, result, best, spec, trace}' <<<"$out")" = "$(jq -cS '{state, result, best, spec, trace}' <<<"$job_before")" ] &&
   ok "finished job identical after restart (state, spec, result, trace)" || bad "job changed across restart"

@@ -261,6 +261,28 @@ static void number_helpers(void **state)
     assert_int_equal(parse_size("-4x4", &w, &h), -1);
 }
 
+static void token_forms(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "token", "--label", "laptop"), 0);
+    assert_int_equal(a.command, CMD_TOKEN);
+    assert_null(a.target);
+    assert_string_equal(a.label, "laptop");
+    assert_int_equal(PARSE(&a, "token", "list", "--json"), 0);
+    assert_string_equal(a.target, "list");
+    assert_int_equal(PARSE(&a, "token", "revoke", "12"), 0);
+    assert_string_equal(a.target2, "12");
+    assert_int_equal(PARSE(&a, "token", "revoke"), -1);
+    assert_non_null(strstr(err, "token ID"));
+    assert_int_equal(PARSE(&a, "token", "revoke", "../x"), -1);
+    assert_int_equal(PARSE(&a, "token", "list", "3"), -1);
+    assert_int_equal(PARSE(&a, "token", "burn"), -1);
+    assert_int_equal(PARSE(&a, "token", "list", "--label", "x"), -1);
+    assert_int_equal(PARSE(&a, "jobs", "--label", "x"), -1); /* --label is token's only */
+    assert_int_equal(PARSE(&a, "job", "1", "2"), -1);        /* one positional elsewhere */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -279,6 +301,7 @@ int main(void)
         cmocka_unit_test(submit_forms),
         cmocka_unit_test(enumerate_forms),
         cmocka_unit_test(number_helpers),
+        cmocka_unit_test(token_forms),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -207,6 +207,32 @@ static void health_listing(void **state)
     json_decref(r);
 }
 
+static void token_views(void **state)
+{
+    json_t *r = doc("{\"id\":7,\"token\":\"aalab_7_abc\",\"uid\":1000,\"label\":\"x\","
+                    "\"created\":1700000000}");
+    capture c;
+    token_issued_print(capture_begin(&c), r, "http://127.0.0.1:8765/");
+    const char *text = capture_end(&c);
+    contains(text, "token aalab_7_abc (id 7;");
+    contains(text, "aalab token revoke 7");
+    contains(text, "dashboard: http://127.0.0.1:8765/#token=aalab_7_abc\n");
+    capture_free(&c);
+    token_issued_print(capture_begin(&c), r, NULL);
+    text = capture_end(&c);
+    assert_null(strstr(text, "dashboard"));
+    capture_free(&c);
+    json_decref(r);
+    r = doc("{\"tokens\":[{\"id\":3,\"uid\":1001,\"label\":\"laptop\","
+            "\"created\":1700000000}]}");
+    tokens_print(capture_begin(&c), r);
+    text = capture_end(&c);
+    contains(text, "laptop");
+    contains(text, "1001");
+    capture_free(&c);
+    json_decref(r);
+}
+
 static void error_lines(void **state)
 {
     capture c;
@@ -294,6 +320,7 @@ int main(void)
         cmocka_unit_test(render_summary),
         cmocka_unit_test(catalog_views),
         cmocka_unit_test(health_listing),
+        cmocka_unit_test(token_views),
         cmocka_unit_test(error_lines),
         cmocka_unit_test(exit_codes),
         cmocka_unit_test(url_escaping),

@@ -277,14 +277,19 @@ def test_enumerate_render(d):
 
 
 def test_tcp(d):
-    r = d.get("/v1/health", tcp=True)
+    auth = {"Authorization": "Bearer " + d.token}
+    # every API request over TCP needs the token, reads included
+    for path in ("/v1/health", "/v1/jobs", "/v1/presets", "/v1/tokens"):
+        expect_error(d.get(path, tcp=True), 401)
+    r = d.get("/v1/health", tcp=True, headers=auth)
     check(r.status == 200 and r.json()["tcp"] is True, r)
-    expect_error(d.get("/v1/health", tcp=True, headers={"Host": "evil.example"}), 403)
+    expect_error(d.get("/v1/health", tcp=True, headers=dict(auth, Host="evil.example")), 403)
+    expect_error(d.post("/v1/tokens", {}, tcp=True, headers=auth), 403)
     expect_error(d.post("/v1/jobs", {"kind": "sleep", "seconds": 0}, tcp=True), 401)
     expect_error(d.post("/v1/jobs", {"kind": "sleep", "seconds": 0}, tcp=True,
                         headers={"Authorization": "Bearer wrong"}), 401)
     r = d.post("/v1/jobs", {"kind": "sleep", "seconds": 0}, tcp=True,
-               headers={"Authorization": "Bearer " + d.token})
+               headers=auth)
     check(r.status == 202, r)
     check("access-control-allow-origin" not in r.headers, r.headers)
     r = d.get("/", tcp=True)

@@ -50,7 +50,12 @@ def test_activation(binary, root):
         print("systemd-socket-activate not found: activation part skipped")
         return False
     sock = os.path.join(root, "act.sock")
-    p = subprocess.Popen([activate, "-l", sock, binary, "--state-dir", os.path.join(root, "st2")],
+    probe = socket.socket()
+    probe.bind(("127.0.0.1", 0))
+    port = probe.getsockname()[1]
+    probe.close()
+    p = subprocess.Popen([activate, "-l", sock, "-l", "127.0.0.1:%d" % port, binary,
+                          "--state-dir", os.path.join(root, "st2")],
                          stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT)
     try:
         deadline = time.time() + 20
@@ -58,6 +63,23 @@ def test_activation(binary, root):
             time.sleep(0.05)
         check(curl_health(sock), "socket-activated daemon answers on the passed socket")
         check(curl_health(sock), "and keeps answering")
+        # The activated TCP listener: named in /v1/health (aalab token prints the URL), and
+        # every API request on it needs a token issued on the socket.
+        h = subprocess.run(["curl", "-sS", "--unix-socket", sock, "http://aalab/v1/health"],
+                           capture_output=True).stdout.decode()
+        check('"dashboard":"http://127.0.0.1:%d/"' % port in h, "health names the TCP listener: %s" % h)
+        tok = subprocess.run(["curl", "-sS", "--unix-socket", sock, "-d", "{}", "-H",
+                              "Content-Type: application/json",
+                              "http://aalab/v1/tokens"], capture_output=True).stdout.decode()
+        token = tok.split('"token":"')[1].split('"')[0]
+
+        def tcp_status(*extra):
+            return subprocess.run(["curl", "-s", "-o", "/dev/null", "-w", "%{http_code}"] +
+                                  list(extra) + ["http://127.0.0.1:%d/v1/health" % port],
+                                  capture_output=True).stdout.decode()
+        check(tcp_status() == "401", "activated TCP listener: no token, 401")
+        check(tcp_status("-H", "Authorization: Bearer " + token) == "200",
+              "activated TCP listener: with a token, 200")
         p.send_signal(signal.SIGTERM)
         check(p.wait(20) == 0, "exit 0")
     finally:

@@ -55,7 +55,7 @@ def run_wrk(d, seconds, connections=2, threads=1):
     with open(lua, "w") as f:
         f.write('wrk.method = "POST"\nwrk.body = %s\nwrk.headers["Content-Type"] = "application/json"\n'
                 % json.dumps(EVAL_BODY))
-        if d.token:  # the TCP listener wants the bearer token on every POST
+        if d.token:  # the TCP listener wants a bearer token on every API request
             f.write('wrk.headers["Authorization"] = "Bearer %s"\n' % d.token)
         f.write("done = function(summary, latency, requests)\n"
                 "  io.write(string.format('WRKJSON {\"requests\":%d,\"seconds\":%.3f,\"p50_us\":%.1f,"

@@ -2,6 +2,7 @@
 #define _GNU_SOURCE
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,11 +35,9 @@ static int setup(void **state)
     f->cfg.max_body = 4096;
     f->cfg.test_kinds = true;
     aa_error err = {0};
-    bool created = false;
-    f->ctx = api_context_create(&f->cfg, &created, &err);
+    f->ctx = api_context_create(&f->cfg, &err);
     if (!f->ctx)
         fail_msg("context: %s", err.message);
-    assert_true(created);
     *state = f;
     return 0;
 }
@@ -219,7 +218,7 @@ static void test_evaluate_work_limit(void **state)
     int st;
     api_context_destroy(f->ctx);
     aa_error err = {0};
-    f->ctx = api_context_create(&f->cfg, NULL, &err);
+    f->ctx = api_context_create(&f->cfg, &err);
     assert_non_null(f->ctx);
     json_t *j = call(f, "POST", "/v1/evaluate", body, 1000, &st);
     assert_int_equal(st, 400);
@@ -228,26 +227,86 @@ static void test_evaluate_work_limit(void **state)
     free(body);
 }
 
+/* One request over the "TCP listener" with an optional bearer token. */
+static json_t *call_tcp(fixture *f, const char *method, const char *path, const char *body,
+                        const char *token, int *status)
+{
+    char auth[256];
+    snprintf(auth, sizeof auth, "Bearer %s", token ? token : "");
+    api_request req = {.method = method,
+                       .path = path,
+                       .content_type = body ? "application/json" : NULL,
+                       .host = "127.0.0.1:8765",
+                       .authorization = token ? auth : NULL,
+                       .body = body,
+                       .body_len = body ? strlen(body) : 0,
+                       .via_tcp = true};
+    api_response resp;
+    api_handle(f->ctx, &req, &resp);
+    *status = resp.status;
+    json_t *j = json_loadb(resp.body, resp.body_len, 0, NULL);
+    api_response_free(&resp);
+    return j;
+}
+
+/* POST /v1/tokens on the socket as uid; returns the secret (malloc'd) and its id. */
+static char *issue_token(fixture *f, uid_t uid, long long *id)
+{
+    int st;
+    json_t *j = call(f, "POST", "/v1/tokens", "{\"label\":\"test\"}", uid, &st);
+    assert_int_equal(st, 201);
+    assert_int_equal(json_integer_value(json_object_get(j, "uid")), uid);
+    const char *t = json_string_value(json_object_get(j, "token"));
+    assert_non_null(t);
+    char *out = strdup(t);
+    if (id)
+        *id = json_integer_value(json_object_get(j, "id"));
+    json_decref(j);
+    return out;
+}
+
 static void test_tcp_access(void **state)
 {
     fixture *f = *state;
-    char auth[128];
-    snprintf(auth, sizeof auth, "Bearer %s", api_context_token(f->ctx));
+    char *tok = issue_token(f, 1000, NULL);
+    char auth[256];
+    snprintf(auth, sizeof auth, "Bearer %s", tok);
     struct {
-        const char *method, *host, *auth;
+        const char *method, *path, *host, *auth;
         int status;
     } cases[] = {
-        {"GET", "127.0.0.1:8765", NULL, 200}, {"GET", "localhost", NULL, 200},
-        {"GET", "[::1]:1", NULL, 200},        {"GET", "evil.example", NULL, 403},
-        {"GET", "127.0.0.1.evil", NULL, 403}, {"GET", NULL, NULL, 403},
-        {"POST", "localhost", NULL, 401},     {"POST", "localhost", "Bearer nope", 401},
-        {"POST", "localhost", auth, 200},     {"POST", "evil.example", auth, 403},
+        /* every API request needs the token, GET and HEAD included */
+        {"GET", "/v1/health", "127.0.0.1:8765", NULL, 401},
+        {"HEAD", "/v1/health", "localhost", NULL, 401},
+        {"GET", "/v1/jobs", "localhost", NULL, 401},
+        {"GET", "/v1/presets", "localhost", NULL, 401},
+        {"GET", "/v1/patterns/1/export", "localhost", NULL, 401},
+        {"GET", "/v1/tiles/0123456789abcdef0123456789abcdef.png", "localhost", NULL, 401},
+        {"GET", "/v1/nothing", "localhost", NULL, 401},
+        {"GET", "/v1/health", "localhost", "Bearer nope", 401},
+        {"GET", "/v1/health", "localhost",
+         "Bearer aalab_1_0000000000000000000000000000000000000000"
+         "000000000000000000000000",
+         401},
+        /* the dashboard's files are the one exception */
+        {"GET", "/", "localhost", NULL, 200},
+        {"POST", "/", "localhost", NULL, 401},
+        {"GET", "/v1/health", "127.0.0.1:8765", auth, 200},
+        {"GET", "/v1/health", "[::1]:1", auth, 200},
+        {"GET", "/v1/health", "evil.example", auth, 403},
+        {"GET", "/v1/health", "127.0.0.1.evil", auth, 403},
+        {"GET", "/v1/health", NULL, auth, 403},
+        {"POST", "/v1/evaluate", "localhost", NULL, 401},
+        {"POST", "/v1/evaluate", "localhost", auth, 200},
+        {"POST", "/v1/evaluate", "evil.example", auth, 403},
+        /* tokens come from the socket only */
+        {"POST", "/v1/tokens", "localhost", auth, 403},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         bool post = !strcmp(cases[i].method, "POST");
         const char *body = "{\"pattern\":{\"preset\":\"rgss\"}}";
         api_request req = {.method = cases[i].method,
-                           .path = post ? "/v1/evaluate" : "/v1/health",
+                           .path = cases[i].path,
                            .content_type = "application/json",
                            .host = cases[i].host,
                            .authorization = cases[i].auth,
@@ -257,10 +316,101 @@ static void test_tcp_access(void **state)
         api_response resp;
         api_handle(f->ctx, &req, &resp);
         if (resp.status != cases[i].status)
-            fail_msg("case %zu: %d, expected %d", i, resp.status, cases[i].status);
+            fail_msg("case %zu (%s %s): %d, expected %d", i, cases[i].method, cases[i].path,
+                     resp.status, cases[i].status);
         assert_null(strstr(resp.body ? resp.body : "", "Access-Control"));
         api_response_free(&resp);
     }
+    free(tok);
+}
+
+/* The status of a call whose body is not needed (st is read after the call filled it). */
+static int status_of(json_t *j, const int *st)
+{
+    json_decref(j);
+    return *st;
+}
+
+static bool list_has_id(json_t *list, const char *key, long long id)
+{
+    size_t i;
+    json_t *o;
+    json_array_foreach(json_object_get(list, key), i, o)
+    {
+        if (json_integer_value(json_object_get(o, "id")) == id)
+            return true;
+    }
+    return false;
+}
+
+static void test_tokens(void **state)
+{
+    fixture *f = *state;
+    int st;
+    long long id = 0, other = 0;
+    char *tok = issue_token(f, 1000, &id);
+    free(issue_token(f, 1001, &other));
+    json_t *j = call(f, "GET", "/v1/tokens", NULL, 1000, &st);
+    assert_int_equal(st, 200);
+    assert_true(list_has_id(j, "tokens", id));
+    assert_false(list_has_id(j, "tokens", other));
+    char *dump = json_dumps(j, 0);
+    assert_null(strstr(dump, strrchr(tok, '_') + 1)); /* the secret is shown once */
+    free(dump);
+    json_t *first = json_array_get(json_object_get(j, "tokens"), 0);
+    assert_null(json_object_get(first, "token"));
+    assert_string_equal(json_string_value(json_object_get(first, "label")), "test");
+    json_decref(j);
+    j = call(f, "GET", "/v1/tokens", NULL, 0, &st); /* root sees all */
+    assert_true(list_has_id(j, "tokens", id) && list_has_id(j, "tokens", other));
+    json_decref(j);
+    j = call_tcp(f, "GET", "/v1/tokens", NULL, tok, &st); /* over TCP: the token's uid */
+    assert_int_equal(st, 200);
+    assert_true(list_has_id(j, "tokens", id));
+    assert_false(list_has_id(j, "tokens", other));
+    json_decref(j);
+
+    j = call(f, "POST", "/v1/tokens", "{\"label\":7}", 1000, &st);
+    assert_int_equal(st, 400);
+    assert_string_equal(error_field(j), "label");
+    json_decref(j);
+    j = call(f, "POST", "/v1/tokens", "{\"uid\":0}", 1000, &st);
+    assert_int_equal(st, 400);
+    assert_string_equal(error_field(j), "uid");
+    json_decref(j);
+
+    char path[64];
+    snprintf(path, sizeof path, "/v1/tokens/%lld", id);
+    j = call(f, "DELETE", path, NULL, 1001, &st); /* not the owner */
+    assert_int_equal(st, 403);
+    json_decref(j);
+    j = call_tcp(f, "GET", "/v1/health", NULL, tok, &st);
+    assert_int_equal(st, 200);
+    json_decref(j);
+    j = call(f, "DELETE", path, NULL, 1000, &st);
+    assert_int_equal(st, 200);
+    json_decref(j);
+    j = call_tcp(f, "GET", "/v1/health", NULL, tok, &st); /* revoked at once */
+    assert_int_equal(st, 401);
+    json_decref(j);
+    j = call(f, "DELETE", path, NULL, 1000, &st);
+    assert_int_equal(st, 404);
+    json_decref(j);
+    snprintf(path, sizeof path, "/v1/tokens/%lld", other);
+    j = call(f, "DELETE", path, NULL, 0, &st); /* root may revoke anyone's */
+    assert_int_equal(st, 200);
+    json_decref(j);
+    free(tok);
+
+    /* Tied to the socket group: a token counts only while its owner is a member (root always);
+     * uid 4000000 has no account, so it is in no group. */
+    char *ghost = issue_token(f, 4000000, NULL), *root_tok = issue_token(f, 0, NULL);
+    assert_int_equal(status_of(call_tcp(f, "GET", "/v1/health", NULL, ghost, &st), &st), 200);
+    assert_int_equal(api_context_tie_tokens_to_group(f->ctx, getgid()), AA_OK);
+    assert_int_equal(status_of(call_tcp(f, "GET", "/v1/health", NULL, ghost, &st), &st), 401);
+    assert_int_equal(status_of(call_tcp(f, "GET", "/v1/health", NULL, root_tok, &st), &st), 200);
+    free(ghost);
+    free(root_tok);
 }
 
 static json_t *wait_state(fixture *f, long long id, const char *want)
@@ -336,6 +486,177 @@ static void test_jobs_owner_quota_queue(void **state)
     json_decref(j);
 }
 
+static long long submit(fixture *f, const char *spec, uid_t uid)
+{
+    int st;
+    json_t *j = call(f, "POST", "/v1/jobs", spec, uid, &st);
+    if (st != 202)
+        fail_msg("submit %s: %d", spec, st);
+    long long id = json_integer_value(json_object_get(j, "id"));
+    json_decref(j);
+    return id;
+}
+
+static void test_private_jobs(void **state)
+{
+    fixture *f = *state;
+    int st;
+    long long priv = submit(f,
+                            "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"private\","
+                            "\"pattern\":{\"preset\":\"quincunx\"}}",
+                            1000);
+    long long team = submit(f, "{\"kind\":\"sleep\",\"seconds\":0}", 1000);
+    json_t *j = wait_state(f, priv, "done");
+    assert_string_equal(json_string_value(json_object_get(j, "visibility")), "private");
+    json_decref(j);
+    json_decref(wait_state(f, team, "done"));
+    char *tok_root = issue_token(f, 0, NULL), *tok_alice = issue_token(f, 1000, NULL);
+    char *tok_bob = issue_token(f, 1001, NULL);
+
+    char job[64], export[80];
+    snprintf(job, sizeof job, "/v1/jobs/%lld", priv);
+    snprintf(export, sizeof export, "/v1/patterns/%lld/export", priv);
+    assert_int_equal(status_of(call(f, "GET", job, NULL, 1001, &st), &st), 404);
+    assert_int_equal(status_of(call_tcp(f, "GET", job, NULL, tok_bob, &st), &st), 404);
+    assert_int_equal(status_of(call(f, "GET", job, NULL, 1000, &st), &st), 200);
+    assert_int_equal(status_of(call_tcp(f, "GET", job, NULL, tok_alice, &st), &st), 200);
+    assert_int_equal(status_of(call(f, "GET", job, NULL, 0, &st), &st), 200); /* root, socket */
+    /* a token issued to root acts for uid 0 without root's powers */
+    assert_int_equal(status_of(call_tcp(f, "GET", job, NULL, tok_root, &st), &st), 404);
+    assert_int_equal(status_of(call(f, "GET", export, NULL, 1001, &st), &st), 404);
+    assert_int_equal(status_of(call_tcp(f, "GET", export, NULL, tok_root, &st), &st), 404);
+    assert_int_equal(status_of(call(f, "GET", export, NULL, 1000, &st), &st), 200);
+    assert_int_equal(status_of(call(f, "GET", export, NULL, 0, &st), &st), 200);
+
+    /* the list: filtered for bob, complete for alice */
+    j = call(f, "GET", "/v1/jobs", NULL, 1001, &st);
+    assert_int_equal(st, 200);
+    assert_false(list_has_id(j, "jobs", priv));
+    assert_true(list_has_id(j, "jobs", team));
+    json_decref(j);
+    j = call_tcp(f, "GET", "/v1/jobs", NULL, tok_alice, &st);
+    assert_true(list_has_id(j, "jobs", priv) && list_has_id(j, "jobs", team));
+    json_decref(j);
+
+    /* {"job": ID} references: someone else's private job reads as no job */
+    char body[128];
+    snprintf(body, sizeof body, "{\"pattern\":{\"job\":%lld}}", priv);
+    j = call(f, "POST", "/v1/evaluate", body, 1001, &st);
+    assert_int_equal(st, 400);
+    assert_string_equal(error_field(j), "pattern.job");
+    json_decref(j);
+    assert_int_equal(status_of(call(f, "POST", "/v1/evaluate", body, 1000, &st), &st), 200);
+    snprintf(body, sizeof body, "{\"kind\":\"sleep\",\"seconds\":0,\"pattern\":{\"job\":%lld}}",
+             priv);
+    j = call(f, "POST", "/v1/jobs", body, 1001, &st);
+    assert_int_equal(st, 400);
+    assert_string_equal(error_field(j), "pattern.job");
+    json_decref(j);
+    api_caller bob = {.uid = 1001}, root_tcp = {.uid = 0, .via_tcp = true}, root = {.admin = true};
+    snprintf(body, sizeof body, "{\"patterns\":[{\"job\":%lld}]}", priv);
+    json_t *doc = json_loads(body, 0, NULL);
+    aa_error err = {0};
+    assert_int_not_equal(api_resolve_pattern_refs(f->ctx, &bob, doc, &err), AA_OK);
+    assert_string_equal(err.field, "patterns[0].job");
+    assert_int_not_equal(api_resolve_pattern_refs(f->ctx, &root_tcp, doc, &err), AA_OK);
+    assert_int_equal(api_resolve_pattern_refs(f->ctx, &root, doc, &err), AA_OK);
+    json_decref(doc);
+
+    j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"secret\"}",
+             1000, &st);
+    assert_int_equal(st, 400);
+    assert_string_equal(error_field(j), "visibility");
+    json_decref(j);
+    free(tok_root);
+    free(tok_alice);
+    free(tok_bob);
+}
+
+static void test_cancel_rights(void **state)
+{
+    fixture *f = *state;
+    int st;
+    long long team = submit(f, "{\"kind\":\"sleep\",\"seconds\":30}", 1000);
+    long long priv =
+        submit(f, "{\"kind\":\"sleep\",\"seconds\":30,\"visibility\":\"private\"}", 1000);
+    char *tok_root = issue_token(f, 0, NULL), *tok_bob = issue_token(f, 1001, NULL);
+    char a[64], b[64];
+    snprintf(a, sizeof a, "/v1/jobs/%lld", team);
+    snprintf(b, sizeof b, "/v1/jobs/%lld", priv);
+    assert_int_equal(status_of(call(f, "DELETE", a, NULL, 1001, &st), &st), 403);
+    assert_int_equal(status_of(call_tcp(f, "DELETE", a, NULL, tok_bob, &st), &st), 403);
+    assert_int_equal(status_of(call_tcp(f, "DELETE", a, NULL, tok_root, &st), &st), 403);
+    assert_int_equal(status_of(call(f, "DELETE", b, NULL, 1001, &st), &st), 404);
+    assert_int_equal(status_of(call_tcp(f, "DELETE", b, NULL, tok_root, &st), &st), 404);
+    assert_int_equal(status_of(call(f, "DELETE", b, NULL, 0, &st), &st), 202);
+    assert_int_equal(status_of(call(f, "DELETE", a, NULL, 1000, &st), &st), 202);
+    json_decref(wait_state(f, team, "cancelled"));
+    free(tok_root);
+    free(tok_bob);
+}
+
+/* A queued private job across a restart: the kind re-parses its spec (visibility is no kind
+ * field) and the job stays private. */
+static void test_private_job_restart(void **state)
+{
+    fixture *f = *state;
+    int st;
+    long long run = submit(f, "{\"kind\":\"sleep\",\"seconds\":30}", 1000);
+    json_decref(wait_state(f, run, "running"));
+    long long priv =
+        submit(f, "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"private\"}", 1000);
+    api_context_destroy(f->ctx);
+    aa_error err = {0};
+    f->ctx = api_context_create(&f->cfg, &err);
+    assert_non_null(f->ctx);
+    char path[64];
+    snprintf(path, sizeof path, "/v1/jobs/%lld", run); /* re-queued first: out of the way */
+    assert_int_equal(status_of(call(f, "DELETE", path, NULL, 1000, &st), &st), 202);
+    json_t *j = wait_state(f, priv, "done"); /* not "interrupted": the spec still parses */
+    assert_string_equal(json_string_value(json_object_get(j, "visibility")), "private");
+    json_decref(j);
+    snprintf(path, sizeof path, "/v1/jobs/%lld", priv);
+    assert_int_equal(status_of(call(f, "GET", path, NULL, 1001, &st), &st), 404);
+}
+
+#ifdef AALAB_HAVE_RENDER
+static void test_private_tiles(void **state)
+{
+    fixture *f = *state;
+    int st;
+    json_t *j =
+        call(f, "POST", "/v1/render",
+             "{\"pattern\":{\"preset\":\"rgss\"},\"size\":[16,16],\"visibility\":\"private\"}",
+             1000, &st);
+    assert_int_equal(st, 200);
+    char url[128];
+    snprintf(url, sizeof url, "%s",
+             json_string_value(
+                 json_object_get(json_object_get(json_object_get(j, "tiles"), "pattern"), "url")));
+    json_decref(j);
+    char *tok_alice = issue_token(f, 1000, NULL), *tok_bob = issue_token(f, 1001, NULL);
+    assert_int_equal(status_of(call(f, "GET", url, NULL, 1001, &st), &st), 404);
+    assert_int_equal(status_of(call_tcp(f, "GET", url, NULL, tok_bob, &st), &st), 404);
+    assert_int_equal(status_of(call(f, "GET", url, NULL, 1000, &st), &st), 200);
+    assert_int_equal(status_of(call_tcp(f, "GET", url, NULL, tok_alice, &st), &st), 200);
+    assert_int_equal(status_of(call(f, "GET", url, NULL, 0, &st), &st), 200);
+    /* the same tile rendered for the team is the team's */
+    j = call(f, "POST", "/v1/render", "{\"pattern\":{\"preset\":\"rgss\"},\"size\":[16,16]}", 1001,
+             &st);
+    assert_int_equal(st, 200);
+    json_decref(j);
+    assert_int_equal(status_of(call_tcp(f, "GET", url, NULL, tok_bob, &st), &st), 200);
+    j = call(f, "POST", "/v1/render",
+             "{\"pattern\":{\"preset\":\"rgss\"},\"size\":[16,16],\"visibility\":\"all\"}", 1001,
+             &st);
+    assert_int_equal(st, 400);
+    assert_string_equal(error_field(j), "visibility");
+    json_decref(j);
+    free(tok_alice);
+    free(tok_bob);
+}
+#endif
+
 static void test_pattern_refs(void **state)
 {
     fixture *f = *state;
@@ -354,14 +675,15 @@ static void test_pattern_refs(void **state)
              id, id);
     json_t *doc = json_loads(body, 0, NULL);
     aa_error err = {0};
-    assert_int_equal(api_resolve_pattern_refs(f->ctx, doc, &err), AA_OK);
+    api_caller alice = {.uid = 1000};
+    assert_int_equal(api_resolve_pattern_refs(f->ctx, &alice, doc, &err), AA_OK);
     json_t *p1 = json_object_get(json_object_get(doc, "x"), "pattern");
     json_t *p2 = json_array_get(json_object_get(doc, "patterns"), 1);
     assert_non_null(json_object_get(p1, "kernels"));
     assert_true(json_equal(p1, p2));
     json_decref(doc);
     doc = json_loads("{\"patterns\":[{\"preset\":\"rgss\"},{\"job\":424242}]}", 0, NULL);
-    assert_int_not_equal(api_resolve_pattern_refs(f->ctx, doc, &err), AA_OK);
+    assert_int_not_equal(api_resolve_pattern_refs(f->ctx, &alice, doc, &err), AA_OK);
     assert_string_equal(err.field, "patterns[1].job");
     json_decref(doc);
 
@@ -382,6 +704,13 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_enumerate_cached, setup, teardown),
         cmocka_unit_test_setup_teardown(test_jobs_owner_quota_queue, setup, teardown),
         cmocka_unit_test_setup_teardown(test_pattern_refs, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_tokens, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_private_jobs, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_cancel_rights, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_private_job_restart, setup, teardown),
+#ifdef AALAB_HAVE_RENDER
+        cmocka_unit_test_setup_teardown(test_private_tiles, setup, teardown),
+#endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -32,9 +32,8 @@ static int setup(void **state)
     snprintf(cfg.state_dir, sizeof cfg.state_dir, "%s", state_dir);
     cfg.workers = 1;
     cfg.test_kinds = true;
-    bool created = false;
     aa_error err = {0};
-    ctx = api_context_create(&cfg, &created, &err);
+    ctx = api_context_create(&cfg, &err);
     return ctx ? 0 : -1;
 }
 

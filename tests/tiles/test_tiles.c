@@ -102,6 +102,61 @@ static void test_store_persists_in_state_dir(void **state)
     rmdir(dir);
 }
 
+/* Private tiles: readable by the uids that stored them (and admin), also after a restart; a team
+ * put of the same bytes makes the tile the team's; eviction removes the readers file too. */
+static void test_store_private_tiles(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/aalab-tiles-XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    tile_store *ts = tile_store_create(dir, 1000, NULL);
+    char id[TILE_ID_LEN + 1], other[TILE_ID_LEN + 1];
+    tile_access alice = {.owner = 1000, .private_tile = true};
+    tile_access bob = {.owner = 1001, .private_tile = true};
+    assert_int_equal(tile_store_put_as(ts, "secret tile", 11, &alice, id, NULL), AA_OK);
+    void *data;
+    size_t len;
+    assert_int_equal(tile_store_get_as(ts, id, 1001, false, &data, &len), TILE_ENOENT);
+    assert_null(data);
+    assert_int_equal(tile_store_get_as(ts, id, -1, false, &data, &len), TILE_ENOENT);
+    assert_int_equal(tile_store_get_as(ts, id, 1000, false, &data, &len), AA_OK);
+    free(data);
+    assert_int_equal(tile_store_get_as(ts, id, 0, true, &data, &len), AA_OK);
+    free(data);
+    tile_store_destroy(ts);
+
+    ts = tile_store_create(dir, 1000, NULL); /* restart: the readers come back from disk */
+    assert_int_equal(tile_store_get_as(ts, id, 1001, false, &data, &len), TILE_ENOENT);
+    assert_int_equal(tile_store_get_as(ts, id, 1000, false, &data, &len), AA_OK);
+    free(data);
+    /* bob renders the same bytes privately: both read it, nobody else */
+    assert_int_equal(tile_store_put_as(ts, "secret tile", 11, &bob, other, NULL), AA_OK);
+    assert_string_equal(other, id);
+    assert_int_equal(tile_store_get_as(ts, id, 1001, false, &data, &len), AA_OK);
+    free(data);
+    assert_int_equal(tile_store_get_as(ts, id, 1002, false, &data, &len), TILE_ENOENT);
+    /* a team put opens it to all, durably */
+    assert_int_equal(tile_store_put(ts, "secret tile", 11, other, NULL), AA_OK);
+    tile_store_destroy(ts);
+    ts = tile_store_create(dir, 1000, NULL);
+    assert_int_equal(tile_store_get_as(ts, id, 1002, false, &data, &len), AA_OK);
+    free(data);
+    /* eviction of a private tile removes its readers file */
+    assert_int_equal(tile_store_put_as(ts, "other secret", 12, &alice, other, NULL), AA_OK);
+    char path[256];
+    snprintf(path, sizeof path, "%s/tiles/%s.readers", dir, other);
+    assert_int_equal(access(path, F_OK), 0);
+    char big[990];
+    memset(big, 7, sizeof big);
+    char big_id[TILE_ID_LEN + 1];
+    assert_int_equal(tile_store_put(ts, big, sizeof big, big_id, NULL), AA_OK);
+    assert_int_not_equal(access(path, F_OK), 0);
+    tile_store_destroy(ts);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 static void *put_many(void *arg)
 {
     tile_store *ts = arg;
@@ -214,7 +269,7 @@ static void test_render_result_json_and_tiles(void **state)
     aa_render_result r;
     assert_int_equal(aa_render_tile(&rp, &p, &r, NULL), AA_OK);
     tile_crop crop = {true, {8, 8, 24, 20}, 4};
-    json_t *out = tile_render_result_json(ts, &rp, &p, &r, &crop, NULL);
+    json_t *out = tile_render_result_json(ts, NULL, &rp, &p, &r, &crop, NULL);
     assert_non_null(out);
     assert_float_equal(json_real_value(json_object_get(json_object_get(out, "stats"), "rmse")),
                        r.diff.rmse, 1e-12);
@@ -284,6 +339,7 @@ int main(void)
         cmocka_unit_test(test_png_round_trip),
         cmocka_unit_test(test_store_ids_bounds_and_lru),
         cmocka_unit_test(test_store_persists_in_state_dir),
+        cmocka_unit_test(test_store_private_tiles),
         cmocka_unit_test(test_store_is_thread_safe),
         cmocka_unit_test(test_decoding_names_fields),
         cmocka_unit_test(test_render_result_json_and_tiles),

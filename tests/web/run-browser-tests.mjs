@@ -107,7 +107,7 @@ async function main() {
           await page.screenshot({ path: path.join(opts.artifacts, `FAILED-${suiteName}.png`), fullPage: true }).catch(() => {});
         }
       };
-      await suite({ page, base: daemon.base, api: apiClient(daemon.base, daemon.token), step, shot });
+      await suite({ page, base: daemon.base, api: apiClient(daemon.base, daemon.token), step, shot, daemon, consoleProblems });
       await page.waitForTimeout(300); // let late console messages arrive
       if (consoleProblems.length) report.fail(`${suiteName}: no console errors`, consoleProblems.join('\n'));
       else report.pass(`${suiteName}: no console errors`);

@@ -1,5 +1,6 @@
 // Thin client for the aalabd JSON API (issue 4). Every request carries the bearer token when one
-// is known, because the TCP listener refuses state-changing requests without it.
+// is known: on the TCP listener every API request needs one (issued per user on the Unix socket
+// with `aalab token`). A 401 raises the event 'aalab:need-token' so the page asks for it.
 
 const TOKEN_KEY = 'aalab.token';
 
@@ -44,6 +45,11 @@ export function takeTokenFromFragment() {
   return rest;
 }
 
+/* Tells the page that the daemon wants a (valid) token: main.js opens the token form. */
+function needToken() {
+  if (typeof window !== 'undefined') window.dispatchEvent(new CustomEvent('aalab:need-token'));
+}
+
 function authHeaders() {
   const token = getToken() || memoryToken;
   return token ? { Authorization: `Bearer ${token}` } : {};
@@ -64,8 +70,10 @@ async function decode(resp) {
   if (!resp.ok) {
     const e = body && body.error ? body.error : {};
     let msg = e.message || `HTTP ${resp.status} ${resp.statusText}`;
-    if (resp.status === 401 || resp.status === 403)
-      msg += ' — set the API token (button “Token” at the top right; it is in <state-dir>/token)';
+    if (resp.status === 401) {
+      msg += ' — set your API token (button “Token” at the top right; get one with `aalab token`)';
+      needToken();
+    }
     if (resp.status === 429) msg += ` — server busy, retry after ${resp.headers.get('Retry-After') || '?'} s`;
     throw new ApiError(resp.status, e.code || 'http_error', msg, e.field);
   }
@@ -97,6 +105,7 @@ export async function apiGetText(path) {
   const resp = await fetch(path, { headers: authHeaders() });
   const text = await resp.text();
   if (!resp.ok) {
+    if (resp.status === 401) needToken();
     let msg = `HTTP ${resp.status}`;
     try {
       const j = JSON.parse(text);
@@ -112,6 +121,9 @@ export async function apiGetText(path) {
 /* Images need the token too when the tile endpoint is protected: fetch as a blob URL. */
 export async function apiImageUrl(path) {
   const resp = await fetch(path, { headers: authHeaders() });
-  if (!resp.ok) throw new ApiError(resp.status, 'http_error', `image ${path}: HTTP ${resp.status}`);
+  if (!resp.ok) {
+    if (resp.status === 401) needToken();
+    throw new ApiError(resp.status, 'http_error', `image ${path}: HTTP ${resp.status}`);
+  }
   return URL.createObjectURL(await resp.blob());
 }

@@ -99,11 +99,20 @@ function setupToken() {
     refresh();
   });
   refresh();
-  // Without a token every POST on the TCP listener is refused: ask for it straight away.
-  if (!getToken()) {
+  const ask = () => {
+    if (!form.hidden) return;
     form.hidden = false;
     btn.setAttribute('aria-expanded', 'true');
-  }
+    input.value = getToken();
+    input.focus();
+  };
+  // Every API request on the TCP listener needs a token: ask for it straight away, and again
+  // whenever the daemon refuses one (revoked, or from another daemon).
+  if (!getToken()) ask();
+  window.addEventListener('aalab:need-token', () => {
+    refresh();
+    ask();
+  });
 }
 
 async function pollHealth() {

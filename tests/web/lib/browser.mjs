@@ -42,7 +42,7 @@ export function watchConsole(page) {
   page.on('console', (msg) => {
     if (msg.type() === 'error') problems.push(`console.error: ${msg.text()} ${JSON.stringify(msg.location())}`);
   });
-  page.on('pageerror', (err) => problems.push(`page error: ${err.message}`));
+  page.on('pageerror', (err) => problems.push(`page error: ${err.message}\n${err.stack || ''}`));
   page.on('requestfailed', (req) => {
     const failure = req.failure();
     // A request the page itself aborted (e.g. an image replaced while loading) is not an error.

@@ -2,6 +2,7 @@
 
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
+import http from 'node:http';
 import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
@@ -18,6 +19,33 @@ function freePort() {
 }
 
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+/* One request over the daemon's Unix socket (where tokens are issued): {status, json}. */
+export function unixRequest(socketPath, method, p, body) {
+  return new Promise((resolve, reject) => {
+    const data = body ? JSON.stringify(body) : null;
+    const req = http.request(
+      { socketPath, method, path: p, headers: data ? { 'Content-Type': 'application/json', 'Content-Length': Buffer.byteLength(data) } : {} },
+      (res) => {
+        let text = '';
+        res.setEncoding('utf8');
+        res.on('data', (c) => (text += c));
+        res.on('end', () => {
+          let json = null;
+          try {
+            json = JSON.parse(text);
+          } catch {
+            /* not JSON */
+          }
+          resolve({ status: res.statusCode, json, text });
+        });
+      },
+    );
+    req.on('error', reject);
+    if (data) req.write(data);
+    req.end();
+  });
+}
 
 // Daemons still running; killed when this process exits however it exits.
 const live = new Set();
@@ -51,18 +79,23 @@ export async function startDaemon({ binary, webDir, logFile, extraArgs = [] }) {
       throw new Error(`aalabd did not answer GET /v1/health on ${base} within 20 s (${lastError}); see ${logFile}`);
     }
     try {
+      // Up when the TCP listener answers (401 without a token is an answer).
       const r = await fetch(`${base}/v1/health`);
-      if (r.ok && fs.existsSync(path.join(stateDir, 'token'))) break;
+      if (r.status === 401 && fs.existsSync(socket)) break;
       lastError = `HTTP ${r.status}`;
     } catch (e) {
       lastError = e.cause ? e.cause.code || e.message : e.message;
     }
     await sleep(100);
   }
-  const token = fs.readFileSync(path.join(stateDir, 'token'), 'utf8').trim();
+  // A token issued to this user over the Unix socket, as `aalab token` does.
+  const issued = await unixRequest(socket, 'POST', '/v1/tokens', { label: 'web tests' });
+  if (issued.status !== 201) throw new Error(`POST /v1/tokens: HTTP ${issued.status} ${issued.text.slice(0, 300)}`);
+  const { token } = issued.json;
   return {
     base,
     token,
+    socket,
     stateDir,
     async stop() {
       watchdog.kill('SIGKILL');

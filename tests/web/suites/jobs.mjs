@@ -17,7 +17,8 @@ export async function watchToDone(page, id, timeout) {
   return seen;
 }
 
-export default async function jobsSuite({ page, base, api, step, shot }) {
+export default async function jobsSuite({ page, base, api, step, shot, daemon, consoleProblems }) {
+  const auth = { headers: { Authorization: `Bearer ${daemon.token}` } };
   await step('a job (sleep kind, with a pattern) shows progress to done, its trace, best pattern and exports', async () => {
     await page.goto(`${base}/#/jobs`);
     const r = await api('POST', '/v1/jobs', { kind: 'sleep', seconds: 1.5, pattern: { preset: 'rgss' } });
@@ -35,7 +36,7 @@ export default async function jobsSuite({ page, base, api, step, shot }) {
       await page.click(`#jd-export button[data-format="${format}"]`);
       await page.waitForFunction((f) => document.getElementById('jd-download').download.includes(`.${f === 'utk' ? 'dat' : f}`), format, { timeout: 5000 });
       const text = await page.textContent('#jd-export-text');
-      const ref = await fetch(`${base}/v1/patterns/${id}/export?format=${format}`).then((x) => x.text());
+      const ref = await fetch(`${base}/v1/patterns/${id}/export?format=${format}`, auth).then((x) => x.text());
       if (format === 'utk') assert(text === ref, `UTK export shown differs from the API's`);
       else assert(JSON.stringify(JSON.parse(text)) === JSON.stringify(JSON.parse(ref)), `${format} export shown differs from the API's`);
     }
@@ -50,5 +51,34 @@ export default async function jobsSuite({ page, base, api, step, shot }) {
     await eventually(async () => (await page.getAttribute(`#jobs-table tr[data-job-id="${cid}"]`, 'data-state')) === 'cancelled', { timeout: 15000, message: `job ${cid} cancelled` });
     const shown = await page.textContent(`#jobs-table tr[data-job-id="${cid}"] td.state`);
     assert(/⊘\s*cancelled/.test(shown), `state cell "${shown}" should carry a symbol and the word`);
+  });
+
+  await step('without a valid token the API is refused (401) and the page asks for the token', async () => {
+    const before = consoleProblems.length;
+    for (const p of ['/v1/health', '/v1/jobs', '/v1/presets']) {
+      const r = await fetch(`${base}${p}`);
+      assert(r.status === 401, `GET ${p} without a token: HTTP ${r.status}`);
+    }
+    assert((await fetch(`${base}/`)).status === 200, 'the dashboard page itself needs no token');
+    // A token that was revoked: issued over the socket, revoked, then used by the page.
+    const { unixRequest } = await import('../lib/daemon.mjs');
+    const issued = await unixRequest(daemon.socket, 'POST', '/v1/tokens', { label: 'to revoke' });
+    assert(issued.status === 201, `issue: ${issued.status}`);
+    const revoked = await unixRequest(daemon.socket, 'DELETE', `/v1/tokens/${issued.json.id}`);
+    assert(revoked.status === 200, `revoke: ${revoked.status}`);
+    await page.evaluate((t) => localStorage.setItem('aalab.token', t), issued.json.token);
+    await page.goto(`${base}/#/jobs`);
+    await page.reload();
+    await page.waitForSelector('#token-form:not([hidden])', { timeout: 10000 });
+    // The user pastes a good token: the form closes and the views load again.
+    await page.fill('#token-input', daemon.token);
+    await page.click('#token-form button[type=submit]');
+    await page.waitForSelector('#token-form', { state: 'hidden', timeout: 5000 });
+    await eventually(async () => !/unreachable/.test(await page.textContent('#health')), { timeout: 10000, message: 'health line back after the token' });
+    // The browser logs the refused requests this step provoked; those, and only those, are expected.
+    const provoked = consoleProblems.splice(before);
+    const unexpected = provoked.filter((m) => !/\b401\b/.test(m));
+    consoleProblems.push(...unexpected);
+    assert(provoked.length > unexpected.length, 'the revoked token should have been refused with 401');
   });
 }

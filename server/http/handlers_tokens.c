@@ -1,0 +1,79 @@
+/* POST /v1/tokens (issue, Unix socket only), GET /v1/tokens (the caller's; root sees all),
+ * DELETE /v1/tokens/{id} (revoke: the owner or root). Tokens admit TCP requests as their uid. */
+#include <string.h>
+
+#include "handlers.h"
+#include "token_store.h"
+
+static const char *const token_keys[] = {"label", NULL};
+
+void handle_tokens_post(api_context *ctx, const api_request *req, api_response *resp)
+{
+    /* A token can only come from someone who can already reach the socket: a token holder
+     * minting more tokens would outlive a revocation. */
+    if (req->caller.via_tcp) {
+        api_reply_error(resp, 403, "forbidden", "",
+                        "tokens are issued on the Unix socket only (aalab token)");
+        return;
+    }
+    if (req->caller.uid < 0) {
+        api_reply_error(resp, 403, "forbidden", "", "the caller's uid is unknown");
+        return;
+    }
+    json_t *body = req->body_len ? api_parse_body(req, resp) : json_object();
+    if (!body)
+        return;
+    if (api_reject_unknown(body, token_keys, "", resp)) {
+        json_decref(body);
+        return;
+    }
+    json_t *lj = json_object_get(body, "label");
+    if (lj && (!json_is_string(lj) || json_string_length(lj) > TOKEN_LABEL_MAX ||
+               strlen(json_string_value(lj)) != json_string_length(lj))) {
+        json_decref(body);
+        api_reply_error(resp, 400, "invalid_field", "label",
+                        "label must be a string of at most %d bytes", TOKEN_LABEL_MAX);
+        return;
+    }
+    json_t *out = NULL;
+    aa_error err = {0};
+    int rc = token_store_issue(api_context_tokens(ctx), req->caller.uid,
+                               lj ? json_string_value(lj) : NULL, &out, &err);
+    json_decref(body);
+    if (rc) {
+        api_reply_error(resp, 503, "unavailable", "", "%s", err.message);
+        return;
+    }
+    api_reply_json(resp, 201, out);
+    resp->cache_control = "no-store";
+}
+
+void handle_tokens_list(api_context *ctx, const api_request *req, api_response *resp)
+{
+    if (req->caller.uid < 0 && !req->caller.admin) {
+        api_reply_error(resp, 403, "forbidden", "", "the caller's uid is unknown");
+        return;
+    }
+    json_t *list =
+        token_store_list(api_context_tokens(ctx), req->caller.admin ? -1 : req->caller.uid);
+    api_reply_json(resp, 200, json_pack("{s:o}", "tokens", list));
+    resp->cache_control = "no-store";
+}
+
+void handle_token_delete(api_context *ctx, const api_request *req, api_response *resp,
+                         const char *id_text)
+{
+    long long id = api_parse_job_id(id_text); /* the same positive-decimal rule */
+    int rc =
+        id > 0 ? token_store_revoke(api_context_tokens(ctx), id, req->caller.uid, req->caller.admin)
+               : TOKEN_ENOENT;
+    if (rc == TOKEN_ENOENT)
+        api_reply_error(resp, 404, "not_found", "id", "no token %.40s", id_text);
+    else if (rc == TOKEN_EFORBIDDEN)
+        api_reply_error(resp, 403, "forbidden", "id",
+                        "only the token's owner or root may revoke it");
+    else if (rc)
+        api_reply_error(resp, 503, "unavailable", "", "the token store failed");
+    else
+        api_reply_json(resp, 200, json_pack("{s:I,s:b}", "id", (json_int_t)id, "revoked", 1));
+}
