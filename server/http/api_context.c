@@ -15,6 +15,7 @@
 
 #include "eval_cache.h"
 #include "job_manager.h"
+#include "job_retention.h"
 #ifdef AALAB_HAVE_TILES
 #include "tile_store.h"
 #endif
@@ -22,6 +23,7 @@
 struct api_context {
     aalab_config cfg;
     job_manager *jobs;
+    job_retention *retention;
     eval_cache *cache;
     struct tile_store *tiles;
     char token[65];
@@ -118,9 +120,13 @@ api_context *api_context_create(const aalab_config *cfg, bool *token_created, aa
                              .queue_size = cfg->queue_size,
                              .user_quota = cfg->user_quota,
                              .services = ctx->tiles,
-                             .test_kinds = cfg->test_kinds};
+                             .test_kinds = cfg->test_kinds,
+                             .user_store_bytes = (long long)cfg->user_store_bytes};
     ctx->jobs = job_manager_create(cfg->state_dir, &jc, err);
     if (!ctx->jobs)
+        goto fail;
+    ctx->retention = job_retention_start(job_manager_store(ctx->jobs), cfg->keep_days, err);
+    if (!ctx->retention)
         goto fail;
     if (token_created)
         *token_created = created;
@@ -140,6 +146,7 @@ void api_context_destroy(api_context *ctx)
 {
     if (!ctx)
         return;
+    job_retention_stop(ctx->retention);
     job_manager_destroy(ctx->jobs);
 #ifdef AALAB_HAVE_TILES
     tile_store_destroy(ctx->tiles);

@@ -1,5 +1,5 @@
-/* POST /v1/jobs (202 + id), GET /v1/jobs, GET /v1/jobs/{id}, DELETE /v1/jobs/{id} (cancel:
- * owner or root only). */
+/* POST /v1/jobs (202 + id), GET /v1/jobs, GET /v1/jobs/{id}, DELETE /v1/jobs/{id} (cancel, or
+ * with ?purge=1 delete the record: owner or root only), PATCH /v1/jobs/{id} ({"pinned": b}). */
 #include <string.h>
 
 #include "handlers.h"
@@ -7,8 +7,23 @@
 
 #define JOB_LIST_LIMIT 500
 
+/* The one place these handlers learn who is calling. */
+static long long caller_of(const api_request *req)
+{
+    return api_caller_uid(req);
+}
+
 void handle_jobs_post(api_context *ctx, const api_request *req, api_response *resp)
 {
+    /* Refused before parsing: a big spec costs its parse and, stored, its bytes. */
+    size_t max_spec = api_context_config(ctx)->max_spec_bytes;
+    if (max_spec && req->body_len > max_spec) {
+        api_reply_error(resp, 413, "payload_too_large", "",
+                        "a job spec may have at most %zu bytes (--max-spec-bytes); this one has "
+                        "%zu",
+                        max_spec, req->body_len);
+        return;
+    }
     json_t *body = api_parse_body(req, resp);
     if (!body)
         return;
@@ -16,7 +31,7 @@ void handle_jobs_post(api_context *ctx, const api_request *req, api_response *re
     long long id = 0;
     int rc = api_resolve_pattern_refs(ctx, body, &err);
     if (!rc)
-        rc = job_manager_submit(api_context_jobs(ctx), body, api_caller_uid(req), &id, &err);
+        rc = job_manager_submit(api_context_jobs(ctx), body, caller_of(req), &id, &err);
     json_decref(body);
     if (rc == JM_EQUEUE_FULL) {
         api_reply_error(resp, 429, "queue_full", "", "%s", err.message);
@@ -24,6 +39,8 @@ void handle_jobs_post(api_context *ctx, const api_request *req, api_response *re
     } else if (rc == JM_EQUOTA) {
         api_reply_error(resp, 429, "too_many_requests", "", "%s", err.message);
         resp->retry_after = 10;
+    } else if (rc == JM_ESTORE_QUOTA) {
+        api_reply_error(resp, 403, "quota_exceeded", "", "%s", err.message);
     } else if (rc == JM_ESTORE) {
         api_reply_error(resp, 503, "unavailable", "", "%s", err.message);
         resp->retry_after = 30;
@@ -37,7 +54,7 @@ void handle_jobs_post(api_context *ctx, const api_request *req, api_response *re
     }
 }
 
-/* GET /v1/jobs?limit=N&state=S: newest first, at most N (default and max 500). */
+/* GET /v1/jobs?limit=N&state=S&kind=K: newest first, at most N (default and max 500). */
 void handle_jobs_list(api_context *ctx, const api_request *req, api_response *resp)
 {
     char buf[32];
@@ -64,7 +81,20 @@ void handle_jobs_list(api_context *ctx, const api_request *req, api_response *re
             return;
         }
     }
-    json_t *jobs = job_manager_list(api_context_jobs(ctx), limit, state);
+    v = api_query_get(req->query, "kind", buf, sizeof buf);
+    if (v && !job_kind_find(v)) {
+        api_reply_error(resp, 400, "invalid_field", "kind", "no job kind '%.31s'", v);
+        return;
+    }
+    /* Root sees every job; others see team jobs and their own private ones. */
+    long long uid = caller_of(req);
+    job_store_filter f = {.limit = limit,
+                          .state = state,
+                          .kind = v,
+                          .viewer = uid == 0   ? JOB_VIEWER_ALL
+                                    : uid >= 0 ? uid
+                                               : -2};
+    json_t *jobs = job_manager_list(api_context_jobs(ctx), &f);
     api_reply_json(resp, 200, json_pack("{s:o}", "jobs", jobs));
     resp->cache_control = "no-store";
 }
@@ -82,6 +112,69 @@ void handle_job_get(api_context *ctx, const api_request *req, api_response *resp
     resp->cache_control = "no-store";
 }
 
+static void handle_job_purge(api_context *ctx, const api_request *req, api_response *resp,
+                             long long id, const char *purge)
+{
+    if (strcmp(purge, "1")) {
+        api_reply_error(resp, 400, "invalid_field", "purge", "purge must be 0 or 1");
+        return;
+    }
+    switch (job_manager_purge(api_context_jobs(ctx), id, caller_of(req))) {
+    case JM_OK:
+        api_reply_json(resp, 200, json_pack("{s:I,s:b}", "id", (json_int_t)id, "purged", 1));
+        break;
+    case JM_ENOENT:
+        api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+        break;
+    case JM_EFORBIDDEN:
+        api_reply_error(resp, 403, "forbidden", "", "only the job's owner or root may purge it");
+        break;
+    default:
+        api_reply_error(resp, 409, "conflict", "",
+                        "job %lld is running: cancel it (DELETE without purge) and purge it "
+                        "when it has ended",
+                        id);
+        break;
+    }
+}
+
+/* PATCH /v1/jobs/{id} {"pinned": bool}: a pinned job is exempt from retention. */
+void handle_job_patch(api_context *ctx, const api_request *req, api_response *resp,
+                      const char *id_text)
+{
+    long long id = api_parse_job_id(id_text);
+    long long owner = -1;
+    job_store *st = job_manager_store(api_context_jobs(ctx));
+    if (id <= 0 || !job_store_owner(st, id, &owner, NULL)) {
+        api_reply_error(resp, 404, "not_found", "id", "no job %.40s", id_text);
+        return;
+    }
+    long long caller = caller_of(req);
+    if (caller != 0 && !(owner < 0 || (caller >= 0 && caller == owner))) {
+        api_reply_error(resp, 403, "forbidden", "", "only the job's owner or root may change it");
+        return;
+    }
+    json_t *body = api_parse_body(req, resp);
+    if (!body)
+        return;
+    static const char *const allowed[] = {"pinned", NULL};
+    json_t *pinned = json_object_get(body, "pinned");
+    if (!api_reject_unknown(body, allowed, "", resp)) {
+        if (!json_is_boolean(pinned)) {
+            api_reply_error(resp, 400, "invalid_field", "pinned", "pinned must be true or false");
+        } else if (job_store_set_pinned(st, id, json_is_true(pinned)) != AA_OK) {
+            api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+        } else {
+            json_t *job = job_manager_get(api_context_jobs(ctx), id);
+            if (job)
+                api_reply_json(resp, 200, job);
+            else
+                api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+        }
+    }
+    json_decref(body);
+}
+
 void handle_job_delete(api_context *ctx, const api_request *req, api_response *resp,
                        const char *id_text)
 {
@@ -90,8 +183,14 @@ void handle_job_delete(api_context *ctx, const api_request *req, api_response *r
         api_reply_error(resp, 404, "not_found", "id", "no job %.40s", id_text);
         return;
     }
+    char buf[8];
+    const char *purge = api_query_get(req->query, "purge", buf, sizeof buf);
+    if (purge && strcmp(purge, "0")) {
+        handle_job_purge(ctx, req, resp, id, purge);
+        return;
+    }
     const char *state = NULL;
-    int rc = job_manager_cancel(api_context_jobs(ctx), id, api_caller_uid(req), &state);
+    int rc = job_manager_cancel(api_context_jobs(ctx), id, caller_of(req), &state);
     switch (rc) {
     case JM_OK:
         api_reply_json(resp, 202,
@@ -108,4 +207,25 @@ void handle_job_delete(api_context *ctx, const api_request *req, api_response *r
         api_reply_error(resp, 409, "conflict", "", "job %lld has already finished", id);
         break;
     }
+}
+
+/* GET /v1/usage: the caller's stored job bytes against the quota; root also sees every user. */
+void handle_usage(api_context *ctx, const api_request *req, api_response *resp)
+{
+    job_store *st = job_manager_store(api_context_jobs(ctx));
+    long long uid = caller_of(req);
+    job_store_usage u = {0};
+    if (uid >= 0 && job_store_usage_of(st, uid, &u) != AA_OK) {
+        api_reply_error(resp, 503, "unavailable", "", "the job store cannot be read");
+        return;
+    }
+    u.limit = api_context_config(ctx)->user_store_bytes;
+    json_t *o =
+        json_pack("{s:o,s:I,s:I,s:I,s:f}", "uid", uid >= 0 ? json_integer(uid) : json_null(),
+                  "store_bytes", (json_int_t)u.bytes, "store_limit", (json_int_t)u.limit, "jobs",
+                  (json_int_t)u.jobs, "keep_days", api_context_config(ctx)->keep_days);
+    if (uid == 0)
+        json_object_set_new(o, "users", job_store_usage_all(st));
+    api_reply_json(resp, 200, o);
+    resp->cache_control = "no-store";
 }

@@ -9,6 +9,7 @@
 #include <time.h>
 
 #include "job_ctx_impl.h"
+#include "job_envelope.h"
 
 #define COUNTS_MAX_AGE 0.25 /* seconds */
 #define JOB_MAX_CRASHES 3   /* abnormal daemon exits while running one job before giving up */
@@ -312,6 +313,7 @@ job_manager *job_manager_create(const char *state_dir, const job_manager_config 
         job_manager_destroy(jm);
         return NULL;
     }
+    job_store_set_user_quota(jm->store, jm->cfg.user_store_bytes);
     job_store_unfinished(jm->store, recover_one, jm);
     jm->threads = calloc((size_t)jm->cfg.workers, sizeof *jm->threads);
     if (!jm->threads) {
@@ -398,19 +400,28 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
         return aa_error_set(err, AA_EINVAL, "kind", "unknown job kind; this daemon runs: %s",
                             names);
     }
-    void *params = NULL;
-    int rc = kind->parse(spec, &params, err);
+    job_envelope env;
+    json_t *kind_spec = NULL;
+    int rc = job_envelope_take(spec, &env, &kind_spec, err);
     if (rc)
+        return rc;
+    void *params = NULL;
+    rc = kind->parse(kind_spec, &params, err);
+    if (rc) {
+        json_decref(kind_spec);
         return rc < 0 ? rc : AA_EINVAL;
+    }
     job *j = calloc(1, sizeof *j);
     if (!j || job_live_init(&j->live) != AA_OK) {
         free(j);
         kind->free_params(params);
+        json_decref(kind_spec);
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
     j->kind = kind;
     j->params = params;
-    j->spec = json_deep_copy(spec);
+    j->spec = json_deep_copy(kind_spec);
+    json_decref(kind_spec);
     j->owner = owner;
     j->state = JOB_QUEUED;
     j->created = jm_now();
@@ -439,8 +450,16 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
         return rc;
     }
     long long new_id = 0;
-    if (job_store_insert(jm->store, kind->name, spec, owner, j->created, &new_id, err))
-        rc = JM_ESTORE;
+    job_store_new rec = {.kind = kind->name,
+                         .spec = j->spec,
+                         .owner = owner,
+                         .created = j->created,
+                         .visibility = env.visibility,
+                         .pinned = env.pinned,
+                         .priority = env.priority};
+    rc = job_store_insert(jm->store, &rec, &new_id, err);
+    if (rc)
+        rc = rc == JOB_STORE_EQUOTA ? JM_ESTORE_QUOTA : JM_ESTORE;
     pthread_mutex_lock(&jm->lock);
     jm->admitting--;
     if (!rc && queue_push(jm, j) != AA_OK)
@@ -496,9 +515,9 @@ json_t *job_manager_get(job_manager *jm, long long id)
     return o;
 }
 
-json_t *job_manager_list(job_manager *jm, int limit, int state)
+json_t *job_manager_list(job_manager *jm, const job_store_filter *filter)
 {
-    json_t *a = job_store_list(jm->store, limit, state);
+    json_t *a = job_store_list(jm->store, filter);
     pthread_mutex_lock(&jm->lock);
     size_t i;
     json_t *o;
@@ -604,4 +623,31 @@ void job_manager_stats_get(job_manager *jm, job_manager_stats *out)
 job_store *job_manager_store(job_manager *jm)
 {
     return jm->store;
+}
+
+int job_manager_purge(job_manager *jm, long long id, long long caller)
+{
+    pthread_mutex_lock(&jm->lock);
+    job *j = active_find(jm, id);
+    long long owner = -1;
+    job_state state = JOB_DONE;
+    bool found = j != NULL;
+    if (j) {
+        owner = j->owner;
+        state = j->state;
+    }
+    pthread_mutex_unlock(&jm->lock);
+    if (!found && !job_store_owner(jm->store, id, &owner, &state))
+        return JM_ENOENT;
+    if (caller != 0 && !(owner < 0 || (caller >= 0 && caller == owner)))
+        return JM_EFORBIDDEN;
+    if (found) {
+        const char *ignored;
+        int rc = state == JOB_QUEUED ? job_manager_cancel(jm, id, caller, &ignored) : JM_EACTIVE;
+        if (rc != JM_OK && rc != JM_EFINISHED)
+            return rc == JM_ENOENT ? JM_ENOENT : JM_EACTIVE;
+    }
+    /* A queued job that started meanwhile is still "running" in the store: refused. */
+    int rc = job_store_delete(jm->store, id);
+    return rc == AA_OK ? JM_OK : rc == JOB_STORE_ENOENT ? JM_ENOENT : JM_EACTIVE;
 }
