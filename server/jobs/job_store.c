@@ -102,10 +102,15 @@ job_store *job_store_open(const char *dir, aa_error *err)
         goto fail;
     chmod(path, 0600);
     char *msg = NULL;
+    /* A new database gives freed pages back to the file system (job_store_write.c trim);
+     * this must come before anything is written and is a no-op on an existing database. */
+    sqlite3_exec(st->db, "PRAGMA auto_vacuum=INCREMENTAL", NULL, NULL, NULL);
     /* WAL: readers never block the writer. synchronous=FULL so a state change survives a
-     * power cut; progress writes switch to NORMAL (job_store_sync). */
+     * power cut; progress writes switch to NORMAL (job_store_sync). The WAL is cut back to
+     * 4 MiB after a checkpoint so a big job's write does not leave a big file behind. */
     if (sqlite3_exec(st->db,
-                     "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON;",
+                     "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON; "
+                     "PRAGMA journal_size_limit=4194304;",
                      NULL, NULL, &msg) != SQLITE_OK) {
         aa_error_set(err, AA_EINVAL, "state_dir", "cannot initialise %s: %s", path,
                      msg ? msg : sqlite3_errmsg(st->db));

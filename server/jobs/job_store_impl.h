@@ -43,5 +43,9 @@ job_state job_state_from_name(const char *n);
     "id, kind, owner_uid, state, progress, created, started, finished, reason, error, best_e2, "   \
     "family, visibility, pinned, bytes"
 #define JOB_SUMMARY_COUNT 15
+/* A job's spec: in job_specs since the list columns came (so rewriting best or trace does not
+ * rewrite the spec too), in jobs.spec for rows written before. */
+#define JOB_SPEC_EXPR                                                                              \
+    "coalesce((SELECT s.spec FROM job_specs s WHERE s.job_id = jobs.id), jobs.spec)"
 
 #endif

@@ -71,8 +71,8 @@ json_t *job_store_get(job_store *st, long long id, bool full)
     json_t *o = NULL;
     char *error_text = NULL, *big[4] = {NULL, NULL, NULL, NULL}; /* best spec trace result */
     if (sqlite3_prepare_v2(r->db,
-                           full ? "SELECT " JOB_SUMMARY_COLUMNS
-                                  ", best, spec, trace, result FROM jobs WHERE id=?"
+                           full ? "SELECT " JOB_SUMMARY_COLUMNS ", best, " JOB_SPEC_EXPR
+                                  ", trace, result FROM jobs WHERE id=?"
                                 : "SELECT " JOB_SUMMARY_COLUMNS " FROM jobs WHERE id=?",
                            -1, &q, NULL) == SQLITE_OK) {
         sqlite3_bind_int64(q, 1, id);
@@ -234,7 +234,8 @@ int job_store_unfinished(job_store *st, job_store_visit_fn fn, void *user)
     row *rows = NULL;
     size_t n = 0, cap = 0;
     if (sqlite3_prepare_v2(r->db,
-                           "SELECT id, kind, spec, coalesce(owner_uid, -1), state, created "
+                           "SELECT id, kind, " JOB_SPEC_EXPR
+                           ", coalesce(owner_uid, -1), state, created "
                            "FROM jobs WHERE state IN ('queued','running') ORDER BY id",
                            -1, &q, NULL) == SQLITE_OK) {
         while (sqlite3_step(q) == SQLITE_ROW) {

@@ -30,10 +30,14 @@ static const char *const added_columns[] = {
     "priority INTEGER NOT NULL DEFAULT 0",
 };
 
-/* The list reads only jobs_list (a covering index in id order): the row itself, whose big
+/* job_specs keeps new jobs' specs out of the jobs row: a row is rewritten whole on update, and
+ * a progress write should not copy a megabyte spec each time.
+ * The list reads only jobs_list (a covering index in id order): the row itself, whose big
  * JSON columns precede the new ones and spill into overflow pages, is never touched.
  * jobs_usage makes a user's usage one index-only SUM; jobs_retention serves the sweep. */
 static const char index_sql[] =
+    "CREATE TABLE IF NOT EXISTS job_specs (job_id INTEGER PRIMARY KEY REFERENCES jobs(id) "
+    " ON DELETE CASCADE, spec TEXT NOT NULL);"
     "CREATE INDEX IF NOT EXISTS jobs_list ON jobs(id, state, kind, owner_uid, visibility, "
     " pinned, progress, created, started, finished, best_e2, family, bytes, reason, error);"
     "CREATE INDEX IF NOT EXISTS jobs_usage ON jobs(owner_uid, bytes, reserve);"

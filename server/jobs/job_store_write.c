@@ -51,6 +51,23 @@ static int step_done(sqlite3_stmt *q)
     return rc == SQLITE_DONE ? AA_OK : AA_EINVAL;
 }
 
+/* Gives free pages back to the file system once more than 1 MiB is free, so jobs.db follows
+ * what is stored (auto_vacuum=INCREMENTAL databases; elsewhere freelist pages are reused by
+ * later writes). Not after progress writes: the next one reuses the pages they free.
+ * Caller holds st->lock. */
+static void trim(job_store *st)
+{
+    sqlite3_stmt *q;
+    long long free_pages = 0;
+    if (sqlite3_prepare_v2(st->db, "PRAGMA freelist_count", -1, &q, NULL) == SQLITE_OK) {
+        if (sqlite3_step(q) == SQLITE_ROW)
+            free_pages = sqlite3_column_int64(q, 0);
+        sqlite3_finalize(q);
+    }
+    if (free_pages > 256)
+        sqlite3_exec(st->db, "PRAGMA incremental_vacuum", NULL, NULL, NULL);
+}
+
 /* Stored bytes plus reserves of owner's jobs other than `except`. Caller holds st->lock. */
 static long long usage_except(job_store *st, long long owner, long long except)
 {
@@ -88,34 +105,48 @@ int job_store_insert(job_store *st, const job_store_new *job, long long *id, aa_
                                "the limit is %lld bytes: purge jobs (DELETE /v1/jobs/ID?purge=1)",
                                job->owner, used, reserve, spec.len, st->user_quota);
     }
+    /* The row and its spec (job_specs) in one transaction. */
+    bool began = !out && sqlite3_exec(st->db, "BEGIN IMMEDIATE", NULL, NULL, NULL) == SQLITE_OK;
+    bool ok = false;
+    long long new_id = 0;
     sqlite3_stmt *q = NULL;
-    if (!out && sqlite3_prepare_v2(st->db,
-                                   "INSERT INTO jobs(kind, owner_uid, state, spec, created, "
-                                   "visibility, pinned, priority, family, bytes, reserve) "
-                                   "VALUES (?, ?, 'queued', ?, ?, ?, ?, ?, ?, ?, ?)",
-                                   -1, &q, NULL) == SQLITE_OK) {
+    if (began && sqlite3_prepare_v2(st->db,
+                                    "INSERT INTO jobs(kind, owner_uid, state, spec, created, "
+                                    "visibility, pinned, priority, family, bytes, reserve) "
+                                    "VALUES (?, ?, 'queued', '', ?, ?, ?, ?, ?, ?, ?)",
+                                    -1, &q, NULL) == SQLITE_OK) {
         sqlite3_bind_text(q, 1, job->kind, -1, SQLITE_TRANSIENT);
         if (job->owner >= 0)
             sqlite3_bind_int64(q, 2, job->owner);
         else
             sqlite3_bind_null(q, 2);
-        bind_encoded(q, 3, &spec);
-        sqlite3_bind_double(q, 4, job->created);
-        sqlite3_bind_text(q, 5, job->visibility ? job->visibility : "team", -1, SQLITE_TRANSIENT);
-        sqlite3_bind_int(q, 6, job->pinned);
-        sqlite3_bind_int(q, 7, job->priority);
-        const json_t *fam = json_object_get(job->spec, "family");
-        bind_text_or_null(q, 8, json_string_value(fam));
-        sqlite3_bind_int64(q, 9, spec.len);
-        sqlite3_bind_int64(q, 10, reserve);
-        if (step_done(q) == AA_OK)
-            *id = sqlite3_last_insert_rowid(st->db);
-        else
-            out = aa_error_set(err, AA_EINVAL, "", "job store write failed: %s",
-                               sqlite3_errmsg(st->db));
+        sqlite3_bind_double(q, 3, job->created);
+        sqlite3_bind_text(q, 4, job->visibility ? job->visibility : "team", -1, SQLITE_TRANSIENT);
+        sqlite3_bind_int(q, 5, job->pinned);
+        sqlite3_bind_int(q, 6, job->priority);
+        bind_text_or_null(q, 7, json_string_value(json_object_get(job->spec, "family")));
+        sqlite3_bind_int64(q, 8, spec.len);
+        sqlite3_bind_int64(q, 9, reserve);
+        ok = step_done(q) == AA_OK;
+        new_id = sqlite3_last_insert_rowid(st->db);
+    }
+    if (ok && sqlite3_prepare_v2(st->db, "INSERT INTO job_specs(job_id, spec) VALUES (?, ?)", -1,
+                                 &q, NULL) == SQLITE_OK) {
+        sqlite3_bind_int64(q, 1, new_id);
+        bind_encoded(q, 2, &spec);
+        ok = step_done(q) == AA_OK;
+    } else {
+        ok = false;
+    }
+    if (ok)
+        ok = sqlite3_exec(st->db, "COMMIT", NULL, NULL, NULL) == SQLITE_OK;
+    if (ok) {
+        *id = new_id;
     } else if (!out) {
         out =
             aa_error_set(err, AA_EINVAL, "", "job store write failed: %s", sqlite3_errmsg(st->db));
+        if (began)
+            sqlite3_exec(st->db, "ROLLBACK", NULL, NULL, NULL);
     }
     pthread_mutex_unlock(&st->lock);
     free(spec.text);
@@ -175,7 +206,7 @@ static bool read_sizes(job_store *st, long long id, row_sizes *s)
     sqlite3_stmt *q;
     bool found = false;
     if (sqlite3_prepare_v2(st->db,
-                           "SELECT coalesce(owner_uid, -1), reserve, length(CAST(spec AS BLOB)), "
+                           "SELECT coalesce(owner_uid, -1), reserve, bytes, "
                            "coalesce(length(CAST(best AS BLOB)), 0), "
                            "coalesce(length(CAST(trace AS BLOB)), 0), "
                            "coalesce(length(CAST(result AS BLOB)), 0), "
@@ -188,6 +219,8 @@ static bool read_sizes(job_store *st, long long id, row_sizes *s)
                               &s->trace, &s->result,  &s->error};
             for (int i = 0; i < 7; i++)
                 *f[i] = sqlite3_column_int64(q, i);
+            /* bytes is spec + the rest: the spec itself need not be read. */
+            s->spec -= s->best + s->trace + s->result + s->error;
         }
         sqlite3_finalize(q);
     }
@@ -323,6 +356,7 @@ int job_store_finish(job_store *st, long long id, job_state state, double progre
             rc = step_done(q);
         }
     }
+    trim(st);
     pthread_mutex_unlock(&st->lock);
     free(b.text);
     free(t.text);
@@ -347,6 +381,7 @@ int job_store_delete(job_store *st, long long id)
             rc = read_sizes(st, id, &s) ? JOB_STORE_EACTIVE : JOB_STORE_ENOENT;
         }
     }
+    trim(st);
     pthread_mutex_unlock(&st->lock);
     return rc;
 }
@@ -385,6 +420,7 @@ int job_store_sweep(job_store *st, double before, long long *deleted)
         if (!rc)
             *deleted = sqlite3_changes(st->db);
     }
+    trim(st);
     pthread_mutex_unlock(&st->lock);
     return rc;
 }

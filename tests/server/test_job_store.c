@@ -169,6 +169,21 @@ static long long usage(job_store *st, long long owner)
     return u.bytes;
 }
 
+static long long count_rows(const char *dir, const char *sql)
+{
+    char path[128];
+    snprintf(path, sizeof path, "%s/jobs.db", dir);
+    sqlite3 *db;
+    assert_int_equal(sqlite3_open(path, &db), SQLITE_OK);
+    sqlite3_stmt *q;
+    assert_int_equal(sqlite3_prepare_v2(db, sql, -1, &q, NULL), SQLITE_OK);
+    assert_int_equal(sqlite3_step(q), SQLITE_ROW);
+    long long n = sqlite3_column_int64(q, 0);
+    sqlite3_finalize(q);
+    sqlite3_close(db);
+    return n;
+}
+
 static void test_quota_accounting(void **state)
 {
     (void)state;
@@ -238,6 +253,11 @@ static void test_quota_accounting(void **state)
     assert_int_equal(job_store_delete(st, c), JOB_STORE_EACTIVE);
     assert_int_equal(job_store_delete(st, a), AA_OK);
     assert_int_equal(job_store_delete(st, a), JOB_STORE_ENOENT);
+    char sql[96];
+    snprintf(sql, sizeof sql, "SELECT count(*) FROM job_specs WHERE job_id = %lld", a);
+    assert_int_equal(count_rows(dir, sql), 0); /* the spec went with the row */
+    snprintf(sql, sizeof sql, "SELECT count(*) FROM job_specs WHERE job_id = %lld", c);
+    assert_int_equal(count_rows(dir, sql), 1);
     assert_int_equal(usage(st, 1000), before - stored_a);
     job_store_close(st);
     json_decref(small);
