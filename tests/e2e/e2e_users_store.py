@@ -130,12 +130,14 @@ def db_size(d, with_wal=True):
     return total
 
 
-def wait_state(d, job_id, states, timeout=60):
+def wait_state(d, job_id, states, timeout=120):
+    """Polls the list (cheap), not the job (megabytes when its pattern is big)."""
     deadline = time.time() + timeout
     while time.time() < deadline:
-        r = d.request("GET", "/v1/jobs/%d" % job_id)
-        if r.status == 200 and r.json()["state"] in states:
-            return r.json()
+        r = d.request("GET", "/v1/jobs?limit=500", timeout=30)
+        for j in r.json()["jobs"] if r.status == 200 else []:
+            if j["id"] == job_id and j["state"] in states:
+                return j
         time.sleep(0.1)
     raise RuntimeError("job %d did not reach %s" % (job_id, states))
 
