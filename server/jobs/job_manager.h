@@ -8,7 +8,7 @@
  * running jobs, which are written back as queued so the next start re-runs them.
  *
  * Live state (progress, best-so-far, trace) of queued and running jobs is kept in memory and
- * written to the store at most once a second; finished jobs are read from the store. */
+ * written to the store at most once every 5 s (job_ctx.c); finished jobs are read from the store. */
 #ifndef AALAB_JOB_MANAGER_H
 #define AALAB_JOB_MANAGER_H
 

@@ -465,8 +465,10 @@ static void test_derived_keys_not_stored(void **state)
                                        "[0.1667,0.5,0.25],[-0.1667,-0.5,0.25]]}");
     json_t *kernels = encoded_pattern("{\"kernels\":[[[-0.125,-0.375,0.25],[0.375,-0.125,0.25],"
                                       "[0.125,0.375,0.25],[-0.375,0.125,0.25]]]}");
+    json_t *tile = encoded_pattern("{\"tile\":{\"size\":2,\"samples\":[[0.1,0.2],[-0.3,0.25],"
+                                   "[0.4,-0.1],[-0.2,-0.4]]}}");
     json_t *best = json_pack("{s:O,s:f}", "pattern", mirrored, "e2", 0.364);
-    json_t *result = json_pack("{s:O,s:[O]}", "pattern", mirrored, "patterns", kernels);
+    json_t *result = json_pack("{s:O,s:[O,O]}", "pattern", mirrored, "patterns", kernels, tile);
     json_t *spec = json_pack("{s:s,s:f}", "kind", "sleep", "seconds", 1.0);
     long long a, b;
     assert_int_equal(insert(st, spec, 1000, 1.0, &a), AA_OK);
@@ -496,6 +498,7 @@ static void test_derived_keys_not_stored(void **state)
     job_store_close(st);
     json_decref(mirrored);
     json_decref(kernels);
+    json_decref(tile);
     json_decref(best);
     json_decref(result);
     json_decref(spec);
