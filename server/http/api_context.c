@@ -17,6 +17,7 @@
 #include "job_access.h"
 #include "job_manager.h"
 #include "token_store.h"
+#include "job_retention.h"
 #ifdef AALAB_HAVE_TILES
 #include "tile_store.h"
 #endif
@@ -24,6 +25,7 @@
 struct api_context {
     aalab_config cfg;
     job_manager *jobs;
+    job_retention *retention;
     eval_cache *cache;
     struct tile_store *tiles;
     token_store *tokens;
@@ -95,9 +97,13 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
                              .test_kinds = cfg->test_kinds,
                              .user_workers = cfg->user_workers,
                              .slice_seconds = cfg->job_slice,
-                             .max_job_seconds = cfg->max_job_seconds};
+                             .max_job_seconds = cfg->max_job_seconds,
+                             .user_store_bytes = (long long)cfg->user_store_bytes};
     ctx->jobs = job_manager_create(cfg->state_dir, &jc, err);
     if (!ctx->jobs)
+        goto fail;
+    ctx->retention = job_retention_start(job_manager_store(ctx->jobs), cfg->keep_days, err);
+    if (!ctx->retention)
         goto fail;
     return ctx;
 fail:
@@ -115,6 +121,7 @@ void api_context_destroy(api_context *ctx)
 {
     if (!ctx)
         return;
+    job_retention_stop(ctx->retention);
     job_manager_destroy(ctx->jobs);
 #ifdef AALAB_HAVE_TILES
     tile_store_destroy(ctx->tiles);

@@ -34,6 +34,8 @@ void handle_jobs_list(api_context *ctx, const api_request *req, api_response *re
 void handle_job_get(api_context *ctx, const api_request *req, api_response *resp, const char *id);
 void handle_job_delete(api_context *ctx, const api_request *req, api_response *resp,
                        const char *id);
+void handle_job_patch(api_context *ctx, const api_request *req, api_response *resp, const char *id);
+void handle_usage(api_context *ctx, const api_request *req, api_response *resp);
 void handle_enumerate(api_context *ctx, const api_request *req, api_response *resp);
 void handle_export(api_context *ctx, const api_request *req, api_response *resp, const char *id);
 void handle_tokens_post(api_context *ctx, const api_request *req, api_response *resp);

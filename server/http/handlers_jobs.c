@@ -1,5 +1,7 @@
-/* POST /v1/jobs (202 + id), GET /v1/jobs, GET /v1/jobs/{id}, DELETE /v1/jobs/{id} (cancel:
- * owner or root only). A private job is 404 to everyone but its owner and root (job_access.h). */
+/* POST /v1/jobs (202 + id), GET /v1/jobs, GET /v1/jobs/{id}, DELETE /v1/jobs/{id} (cancel, or
+ * with ?purge=1 delete the record), PATCH /v1/jobs/{id} ({"pinned": b}), GET /v1/usage.
+ * Changing a job is for its owner and root; a private job is 404 to everyone else
+ * (job_access.h). */
 #include <string.h>
 
 #include "handlers.h"
@@ -8,17 +10,41 @@
 
 #define JOB_LIST_LIMIT 500
 
+/* The caller as the job manager counts it: 0 (root's powers) only for an admin. The handlers
+ * check ownership first, so a TCP caller holding a token of root's (uid 0, not admin) reaches
+ * the manager only for root's own jobs. */
+static long long manager_caller(const api_request *req)
+{
+    return req->caller.admin ? 0 : req->caller.uid;
+}
+
+/* The job if the caller may read it (a new reference), else NULL after a 404. */
+static json_t *readable_job(api_context *ctx, const api_request *req, api_response *resp,
+                            long long id)
+{
+    json_t *job = id > 0 ? job_manager_get(api_context_jobs(ctx), id) : NULL;
+    if (!job || !job_readable(&req->caller, job)) {
+        json_decref(job);
+        api_reply_error(resp, 404, "not_found", "id", "no job %lld", id > 0 ? id : 0);
+        return NULL;
+    }
+    return job;
+}
+
 void handle_jobs_post(api_context *ctx, const api_request *req, api_response *resp)
 {
+    /* Refused before parsing: a big spec costs its parse and, stored, its bytes. */
+    size_t max_spec = api_context_config(ctx)->max_spec_bytes;
+    if (max_spec && req->body_len > max_spec) {
+        api_reply_error(resp, 413, "payload_too_large", "",
+                        "a job spec may have at most %zu bytes (--max-spec-bytes); this one has "
+                        "%zu",
+                        max_spec, req->body_len);
+        return;
+    }
     json_t *body = api_parse_body(req, resp);
     if (!body)
         return;
-    if (!job_visibility_valid(json_object_get(body, JOB_VISIBILITY_KEY))) {
-        json_decref(body);
-        api_reply_error(resp, 400, "invalid_field", JOB_VISIBILITY_KEY,
-                        "visibility must be \"team\" or \"private\"");
-        return;
-    }
     aa_error err = {0};
     long long id = 0;
     int rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
@@ -31,6 +57,8 @@ void handle_jobs_post(api_context *ctx, const api_request *req, api_response *re
     } else if (rc == JM_EQUOTA) {
         api_reply_error(resp, 429, "too_many_requests", "", "%s", err.message);
         resp->retry_after = 10;
+    } else if (rc == JM_ESTORE_QUOTA) {
+        api_reply_error(resp, 403, "quota_exceeded", "", "%s", err.message);
     } else if (rc == JM_ESTORE) {
         api_reply_error(resp, 503, "unavailable", "", "%s", err.message);
         resp->retry_after = 30;
@@ -40,13 +68,11 @@ void handle_jobs_post(api_context *ctx, const api_request *req, api_response *re
         json_t *job = job_manager_get(api_context_jobs(ctx), id);
         if (!job)
             job = json_pack("{s:I,s:s}", "id", (json_int_t)id, "state", "queued");
-        else
-            json_object_set_new(job, JOB_VISIBILITY_KEY, json_string(job_visibility(job)));
         api_reply_json(resp, 202, job);
     }
 }
 
-/* GET /v1/jobs?limit=N&state=S: newest first, at most N (default and max 500). */
+/* GET /v1/jobs?limit=N&state=S&kind=K: newest first, at most N (default and max 500). */
 void handle_jobs_list(api_context *ctx, const api_request *req, api_response *resp)
 {
     char buf[32];
@@ -73,21 +99,20 @@ void handle_jobs_list(api_context *ctx, const api_request *req, api_response *re
             return;
         }
     }
-    json_t *jobs = job_manager_list(api_context_jobs(ctx), limit, state);
-    /* Until the store filters by viewer in SQL: drop what the caller may not read. A list entry
-     * without "visibility" (the spec is not in it) is looked up in full (55 ms for 500 rows). */
-    for (size_t i = json_array_size(jobs); i-- > 0;) {
-        json_t *o = json_array_get(jobs, i);
-        json_t *full = json_object_get(o, JOB_VISIBILITY_KEY)
-                           ? json_incref(o)
-                           : job_manager_get(api_context_jobs(ctx),
-                                             json_integer_value(json_object_get(o, "id")));
-        if (!full || !job_readable(&req->caller, full))
-            json_array_remove(jobs, i);
-        else
-            json_object_set_new(o, JOB_VISIBILITY_KEY, json_string(job_visibility(full)));
-        json_decref(full);
+    v = api_query_get(req->query, "kind", buf, sizeof buf);
+    if (v && !job_kind_find(v)) {
+        api_reply_error(resp, 400, "invalid_field", "kind", "no job kind '%.31s'", v);
+        return;
     }
+    /* Root on the socket sees every job; others see team jobs and their own private ones. */
+    long long uid = req->caller.uid;
+    job_store_filter f = {.limit = limit,
+                          .state = state,
+                          .kind = v,
+                          .viewer = req->caller.admin ? JOB_VIEWER_ALL
+                                    : uid >= 0        ? uid
+                                                      : -2};
+    json_t *jobs = job_manager_list(api_context_jobs(ctx), &f);
     api_reply_json(resp, 200, json_pack("{s:o}", "jobs", jobs));
     resp->cache_control = "no-store";
 }
@@ -95,16 +120,79 @@ void handle_jobs_list(api_context *ctx, const api_request *req, api_response *re
 void handle_job_get(api_context *ctx, const api_request *req, api_response *resp,
                     const char *id_text)
 {
-    long long id = api_parse_job_id(id_text);
-    json_t *job = id > 0 ? job_manager_get(api_context_jobs(ctx), id) : NULL;
-    if (!job || !job_readable(&req->caller, job)) {
-        json_decref(job);
-        api_reply_error(resp, 404, "not_found", "id", "no job %.40s", id_text);
+    json_t *job = readable_job(ctx, req, resp, api_parse_job_id(id_text));
+    if (!job)
         return;
-    }
-    json_object_set_new(job, JOB_VISIBILITY_KEY, json_string(job_visibility(job)));
     api_reply_json(resp, 200, job);
     resp->cache_control = "no-store";
+}
+
+static void handle_job_purge(api_context *ctx, const api_request *req, api_response *resp,
+                             long long id, const char *purge)
+{
+    if (strcmp(purge, "1")) {
+        api_reply_error(resp, 400, "invalid_field", "purge", "purge must be 0 or 1");
+        return;
+    }
+    json_t *job = readable_job(ctx, req, resp, id);
+    if (!job)
+        return;
+    bool owned = job_owned_by(&req->caller, job);
+    json_decref(job);
+    switch (owned ? job_manager_purge(api_context_jobs(ctx), id, manager_caller(req))
+                  : JM_EFORBIDDEN) {
+    case JM_OK:
+        api_reply_json(resp, 200, json_pack("{s:I,s:b}", "id", (json_int_t)id, "purged", 1));
+        break;
+    case JM_ENOENT:
+        api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+        break;
+    case JM_EFORBIDDEN:
+        api_reply_error(resp, 403, "forbidden", "", "only the job's owner or root may purge it");
+        break;
+    default:
+        api_reply_error(resp, 409, "conflict", "",
+                        "job %lld is running: cancel it (DELETE without purge) and purge it "
+                        "when it has ended",
+                        id);
+        break;
+    }
+}
+
+/* PATCH /v1/jobs/{id} {"pinned": bool}: a pinned job is exempt from retention. */
+void handle_job_patch(api_context *ctx, const api_request *req, api_response *resp,
+                      const char *id_text)
+{
+    long long id = api_parse_job_id(id_text);
+    job_store *st = job_manager_store(api_context_jobs(ctx));
+    json_t *job = readable_job(ctx, req, resp, id);
+    if (!job)
+        return;
+    bool owned = job_owned_by(&req->caller, job);
+    json_decref(job);
+    if (!owned) {
+        api_reply_error(resp, 403, "forbidden", "", "only the job's owner or root may change it");
+        return;
+    }
+    json_t *body = api_parse_body(req, resp);
+    if (!body)
+        return;
+    static const char *const allowed[] = {"pinned", NULL};
+    json_t *pinned = json_object_get(body, "pinned");
+    if (!api_reject_unknown(body, allowed, "", resp)) {
+        if (!json_is_boolean(pinned)) {
+            api_reply_error(resp, 400, "invalid_field", "pinned", "pinned must be true or false");
+        } else if (job_store_set_pinned(st, id, json_is_true(pinned)) != AA_OK) {
+            api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+        } else {
+            json_t *changed = job_manager_get(api_context_jobs(ctx), id);
+            if (changed)
+                api_reply_json(resp, 200, changed);
+            else
+                api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+        }
+    }
+    json_decref(body);
 }
 
 void handle_job_delete(api_context *ctx, const api_request *req, api_response *resp,
@@ -115,19 +203,19 @@ void handle_job_delete(api_context *ctx, const api_request *req, api_response *r
         api_reply_error(resp, 404, "not_found", "id", "no job %.40s", id_text);
         return;
     }
-    /* Checked here, not only in the manager: a TCP caller with a token of root's is uid 0
-     * there but has no root powers. */
-    json_t *job = job_manager_get(api_context_jobs(ctx), id);
-    bool readable = job && job_readable(&req->caller, job);
-    bool owned = job && job_owned_by(&req->caller, job);
-    json_decref(job);
-    if (!readable) {
-        api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+    char buf[8];
+    const char *purge = api_query_get(req->query, "purge", buf, sizeof buf);
+    if (purge && strcmp(purge, "0")) {
+        handle_job_purge(ctx, req, resp, id, purge);
         return;
     }
+    json_t *job = readable_job(ctx, req, resp, id);
+    if (!job)
+        return;
+    bool owned = job_owned_by(&req->caller, job);
+    json_decref(job);
     const char *state = NULL;
-    int rc = owned ? job_manager_cancel(api_context_jobs(ctx), id,
-                                        req->caller.admin ? 0 : req->caller.uid, &state)
+    int rc = owned ? job_manager_cancel(api_context_jobs(ctx), id, manager_caller(req), &state)
                    : JM_EFORBIDDEN;
     switch (rc) {
     case JM_OK:
@@ -145,4 +233,25 @@ void handle_job_delete(api_context *ctx, const api_request *req, api_response *r
         api_reply_error(resp, 409, "conflict", "", "job %lld has already finished", id);
         break;
     }
+}
+
+/* GET /v1/usage: the caller's stored job bytes against the quota; root also sees every user. */
+void handle_usage(api_context *ctx, const api_request *req, api_response *resp)
+{
+    job_store *st = job_manager_store(api_context_jobs(ctx));
+    long long uid = req->caller.uid;
+    job_store_usage u = {0};
+    if (uid >= 0 && job_store_usage_of(st, uid, &u) != AA_OK) {
+        api_reply_error(resp, 503, "unavailable", "", "the job store cannot be read");
+        return;
+    }
+    u.limit = api_context_config(ctx)->user_store_bytes;
+    json_t *o =
+        json_pack("{s:o,s:I,s:I,s:I,s:f}", "uid", uid >= 0 ? json_integer(uid) : json_null(),
+                  "store_bytes", (json_int_t)u.bytes, "store_limit", (json_int_t)u.limit, "jobs",
+                  (json_int_t)u.jobs, "keep_days", api_context_config(ctx)->keep_days);
+    if (req->caller.admin)
+        json_object_set_new(o, "users", job_store_usage_all(st));
+    api_reply_json(resp, 200, o);
+    resp->cache_control = "no-store";
 }

@@ -106,6 +106,8 @@ static const route routes[] = {
     {"GET", "/v1/jobs", ARG_NONE, handle_jobs_list, NULL},
     {"GET", "/v1/jobs/", ARG_TAIL, NULL, handle_job_get},
     {"DELETE", "/v1/jobs/", ARG_TAIL, NULL, handle_job_delete},
+    {"PATCH", "/v1/jobs/", ARG_TAIL, NULL, handle_job_patch},
+    {"GET", "/v1/usage", ARG_NONE, handle_usage, NULL},
     {"POST", "/v1/families/enumerate", ARG_NONE, handle_enumerate, NULL},
     {"GET", "/v1/patterns/", ARG_JOB_EXPORT, NULL, handle_export},
     {"POST", "/v1/render", ARG_NONE, route_render, NULL},
@@ -175,7 +177,8 @@ void api_handle(api_context *ctx, const api_request *in, api_response *resp)
         path_known = true;
         if (!method_is(req, r->method))
             continue;
-        if (!strcmp(r->method, "POST") && !is_json_type(req->content_type)) {
+        if ((!strcmp(r->method, "POST") || !strcmp(r->method, "PATCH")) &&
+            !is_json_type(req->content_type)) {
             api_reply_error(resp, 415, "unsupported_media_type", "",
                             "send the body as Content-Type: application/json");
             return;

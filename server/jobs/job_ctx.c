@@ -1,7 +1,8 @@
 /* job_ctx: what a running job kind sees (job_kind.h). Progress and best-so-far go to memory at
- * once and to the store at most once a second; the trace keeps every improvement of best_e2
- * but at most 10 points a second (an improvement inside the 0.1 s window is held back and
- * written when the window opens or the job ends, so the last best is never lost). */
+ * once and to the store at most once every STORE_FLUSH_INTERVAL seconds, and only what changed
+ * (a best pattern can be megabytes; the store writes a row per flush); the trace keeps every
+ * improvement of best_e2 but at most 10 points a second (an improvement inside the 0.1 s window is
+ * held back and written when the window opens or the job ends, so the last best is never lost). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
@@ -9,7 +10,7 @@
 #include "job_ctx_impl.h"
 
 #define TRACE_MIN_INTERVAL 0.1
-#define STORE_FLUSH_INTERVAL 1.0
+#define STORE_FLUSH_INTERVAL 5.0
 
 int job_live_init(job_live *l)
 {
@@ -25,7 +26,8 @@ void job_live_clear(job_live *l)
 {
     json_decref(l->best);
     json_decref(l->trace);
-    l->best = l->trace = NULL;
+    json_decref(l->flushed_best);
+    l->best = l->trace = l->flushed_best = NULL;
 }
 
 static void append_point(job_live *l, const job_trace_point *p)
@@ -48,10 +50,26 @@ void job_live_flush_pending(job_live *l)
 
 void job_ctx_flush_locked(job_ctx *ctx)
 {
-    ctx->live->last_flush = jm_now();
-    double progress = ctx->live->progress;
-    json_t *best = json_incref(ctx->live->best);
-    json_t *trace = json_deep_copy(ctx->live->trace);
+    job_live *l = ctx->live;
+    l->last_flush = jm_now();
+    double progress = l->progress;
+    /* live.best is replaced, never modified, so the same pointer means the same best; a
+     * new object with equal content is not written again either. */
+    json_t *best = NULL;
+    if (l->best && l->best != l->flushed_best && !json_equal(l->best, l->flushed_best)) {
+        best = json_incref(l->best);
+        json_decref(l->flushed_best);
+        l->flushed_best = json_incref(l->best);
+    }
+    /* The trace only grows. */
+    json_t *trace = NULL;
+    if (json_array_size(l->trace) != l->flushed_trace_len) {
+        trace = json_deep_copy(l->trace);
+        l->flushed_trace_len = json_array_size(l->trace);
+    }
+    if (!best && !trace && progress == l->flushed_progress)
+        return;
+    l->flushed_progress = progress;
     pthread_mutex_unlock(ctx->lock);
     job_store_update_progress(ctx->store, ctx->id, progress, best, trace);
     json_decref(best);

@@ -21,6 +21,10 @@ typedef struct job_live {
     bool have_pending;
     job_trace_point pending; /* an improvement held back by the 10 points/s limit */
     double last_flush;       /* wall time of the last store write */
+    /* What the last store write held, so an unchanged best or trace is not written again. */
+    json_t *flushed_best;
+    size_t flushed_trace_len;
+    double flushed_progress;
 } job_live;
 
 int job_live_init(job_live *l);

@@ -403,7 +403,7 @@ static void *job_thread(void *arg)
 /* --- restart recovery --------------------------------------------------------------------- */
 
 static void recover_one(void *user, long long id, const char *kind_name, json_t *spec,
-                        long long owner, job_state state, double created)
+                        long long owner, int priority, job_state state, double created)
 {
     job_manager *jm = user;
     const job_kind *kind = kind_name ? job_manager_kind(jm, kind_name) : NULL;
@@ -430,6 +430,8 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
     }
     void *params = NULL;
     aa_error err = {0};
+    /* The stored spec is the kind's (the envelope lives in its own columns); a spec stored
+     * before that split still carries it, so it is taken out here too. */
     job_envelope env;
     json_t *kind_spec = NULL;
     int prc = job_envelope_take(spec, &env, &kind_spec, &err);
@@ -456,7 +458,7 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
     j->params = params;
     j->spec = json_incref(spec);
     j->owner = owner;
-    j->priority = env.priority;
+    j->priority = priority;
     j->state = JOB_QUEUED;
     j->created = created;
     if (state == JOB_RUNNING)
@@ -495,6 +497,7 @@ job_manager *job_manager_create(const char *state_dir, const job_manager_config 
         jm->cfg.slice_seconds = 60;
     if (!(jm->cfg.max_job_seconds > 0))
         jm->cfg.max_job_seconds = 86400;
+    job_store_set_user_quota(jm->store, jm->cfg.user_store_bytes);
     job_store_unfinished(jm->store, recover_one, jm);
     pthread_mutex_lock(&jm->lock);
     schedule_locked(jm);
@@ -583,18 +586,20 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
         return rc;
     void *params = NULL;
     rc = kind->parse(kind_spec, &params, err);
-    json_decref(kind_spec);
-    if (rc)
+    if (rc) {
+        json_decref(kind_spec);
         return rc < 0 ? rc : AA_EINVAL;
+    }
     job *j = job_new();
     if (!j) {
         kind->free_params(params);
+        json_decref(kind_spec);
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
     j->jm = jm;
     j->kind = kind;
     j->params = params;
-    j->spec = json_deep_copy(spec);
+    j->spec = kind_spec; /* the envelope is stored in its own columns */
     j->owner = owner;
     j->priority = env.priority;
     j->state = JOB_QUEUED;
@@ -624,8 +629,16 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
         return rc;
     }
     long long new_id = 0;
-    if (job_store_insert(jm->store, kind->name, spec, owner, j->created, &new_id, err))
-        rc = JM_ESTORE;
+    job_store_new rec = {.kind = kind->name,
+                         .spec = j->spec,
+                         .owner = owner,
+                         .created = j->created,
+                         .visibility = job_envelope_visibility(&env),
+                         .pinned = env.pinned,
+                         .priority = env.priority};
+    rc = job_store_insert(jm->store, &rec, &new_id, err);
+    if (rc)
+        rc = rc == JOB_STORE_EQUOTA ? JM_ESTORE_QUOTA : JM_ESTORE;
     pthread_mutex_lock(&jm->lock);
     jm->admitting--;
     if (!rc && queue_push(jm, j) != AA_OK)
@@ -683,9 +696,9 @@ json_t *job_manager_get(job_manager *jm, long long id)
     return o;
 }
 
-json_t *job_manager_list(job_manager *jm, int limit, int state)
+json_t *job_manager_list(job_manager *jm, const job_store_filter *filter)
 {
-    json_t *a = job_store_list(jm->store, limit, state);
+    json_t *a = job_store_list(jm->store, filter);
     pthread_mutex_lock(&jm->lock);
     size_t i;
     json_t *o;
@@ -795,4 +808,31 @@ void job_manager_stats_get(job_manager *jm, job_manager_stats *out)
 job_store *job_manager_store(job_manager *jm)
 {
     return jm->store;
+}
+
+int job_manager_purge(job_manager *jm, long long id, long long caller)
+{
+    pthread_mutex_lock(&jm->lock);
+    job *j = active_find(jm, id);
+    long long owner = -1;
+    job_state state = JOB_DONE;
+    bool found = j != NULL;
+    if (j) {
+        owner = j->owner;
+        state = j->state;
+    }
+    pthread_mutex_unlock(&jm->lock);
+    if (!found && !job_store_owner(jm->store, id, &owner, &state))
+        return JM_ENOENT;
+    if (caller != 0 && !(owner < 0 || (caller >= 0 && caller == owner)))
+        return JM_EFORBIDDEN;
+    if (found) {
+        const char *ignored;
+        int rc = state == JOB_QUEUED ? job_manager_cancel(jm, id, caller, &ignored) : JM_EACTIVE;
+        if (rc != JM_OK && rc != JM_EFINISHED)
+            return rc == JM_ENOENT ? JM_ENOENT : JM_EACTIVE;
+    }
+    /* A queued job that started meanwhile is still "running" in the store: refused. */
+    int rc = job_store_delete(jm->store, id);
+    return rc == AA_OK ? JM_OK : rc == JOB_STORE_ENOENT ? JM_ENOENT : JM_EACTIVE;
 }

@@ -22,7 +22,8 @@
  * written back as queued so the next start re-runs them.
  *
  * Live state (progress, best-so-far, trace) of queued and running jobs is kept in memory and
- * written to the store at most once a second; finished jobs are read from the store. */
+ * written to the store at most once every 5 s (job_ctx.c); finished jobs are read from the store.
+ */
 #ifndef AALAB_JOB_MANAGER_H
 #define AALAB_JOB_MANAGER_H
 
@@ -44,9 +45,10 @@ typedef struct job_manager_config {
     void *services;  /* handed to kinds as job_ctx_services() */
     bool test_kinds; /* offer kinds marked test_only (--enable-test-kinds) */
     /* Fair share (fair_share.h); 0 picks the default. */
-    int user_workers;       /* workers one user holds while others wait (half, at least 1) */
-    double slice_seconds;   /* a job yields to a waiting user after this (60) */
-    double max_job_seconds; /* ceiling on max_seconds and on running time (86400) */
+    int user_workers;           /* workers one user holds while others wait (half, at least 1) */
+    double slice_seconds;       /* a job yields to a waiting user after this (60) */
+    double max_job_seconds;     /* ceiling on max_seconds and on running time (86400) */
+    long long user_store_bytes; /* stored job bytes per owner, 0 = unlimited */
 } job_manager_config;
 
 enum {
@@ -56,7 +58,9 @@ enum {
     JM_EQUOTA = -1003,
     JM_EFORBIDDEN = -1004,
     JM_EFINISHED = -1005,
-    JM_ESTORE = -1006
+    JM_ESTORE = -1006,
+    JM_EACTIVE = -1007,     /* purge of a running job */
+    JM_ESTORE_QUOTA = -1008 /* the owner's stored jobs would exceed user_store_bytes */
 };
 
 /* Opens the store in state_dir, re-queues unfinished jobs (or marks them interrupted with a
@@ -68,14 +72,16 @@ void job_manager_shutdown(job_manager *jm);
 void job_manager_destroy(job_manager *jm); /* shuts down first if needed */
 
 /* Validates spec with the kind named spec.kind and queues the job. owner < 0 = unknown.
- * AA_E* with err (field relative to the body) for bad specs, JM_EQUEUE_FULL, JM_EQUOTA. */
+ * The envelope keys (job_envelope.h) are taken out of spec before the kind sees it.
+ * AA_E* with err (field relative to the body) for bad specs, JM_EQUEUE_FULL, JM_EQUOTA,
+ * JM_ESTORE_QUOTA. */
 int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, long long *id,
                        aa_error *err);
 /* The job object (full detail) or NULL. */
 json_t *job_manager_get(job_manager *jm, long long id);
-/* Newest first; state < 0 = all. A running job listed under "queued" in the store (it just
- * started) shows its live state. */
-json_t *job_manager_list(job_manager *jm, int limit, int state);
+/* Newest first, filtered (job_store_filter). A running job listed under "queued" in the store
+ * (it just started) shows its live state. */
+json_t *job_manager_list(job_manager *jm, const job_store_filter *filter);
 /* caller < 0 = unknown (refused unless the job has no owner). JM_ENOENT, JM_EFORBIDDEN,
  * JM_EFINISHED. On success *state_out names the state after the call ("cancelled" for a queued
  * job, "running" with cancel requested for a running one). */
@@ -88,6 +94,10 @@ json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why
 const job_kind *job_manager_kind(const job_manager *jm, const char *name);
 /* Writes the names of the kinds this daemon offers, comma-separated, into buf. */
 void job_manager_kind_names(const job_manager *jm, char *buf, size_t cap);
+
+/* Deletes a job's record (DELETE /v1/jobs/{id}?purge=1): owner or root, as for cancel. A
+ * queued job is cancelled and deleted; a running one is JM_EACTIVE (cancel it first). */
+int job_manager_purge(job_manager *jm, long long id, long long caller);
 
 typedef struct job_manager_stats {
     int workers, busy;

@@ -75,7 +75,8 @@ static void *client_main(void *arg)
         char buf[32];
         state_of(c->jm, id, buf, sizeof buf);
         if (i % 7 == 0) {
-            json_t *l = job_manager_list(c->jm, 50, -1);
+            job_store_filter f = {.limit = 50, .state = -1, .viewer = JOB_VIEWER_ALL};
+            json_t *l = job_manager_list(c->jm, &f);
             assert_non_null(l);
             json_decref(l);
             job_manager_stats s;
@@ -96,7 +97,8 @@ static void test_concurrent_submit_cancel_get(void **state)
     (void)state;
     char dir[] = "/tmp/aalab-jmstress-XXXXXX";
     assert_non_null(mkdtemp(dir));
-    job_manager_config cfg = {.workers = 3, .queue_size = 32, .user_quota = 24, .services = NULL, .test_kinds = true};
+    job_manager_config cfg = {
+        .workers = 3, .queue_size = 32, .user_quota = 24, .services = NULL, .test_kinds = true};
     aa_error err;
     memset(&err, 0, sizeof err);
     job_manager *jm = job_manager_create(dir, &cfg, &err);
@@ -155,7 +157,8 @@ static void test_shutdown_under_load(void **state)
     (void)state;
     char dir[] = "/tmp/aalab-jmstress-XXXXXX";
     assert_non_null(mkdtemp(dir));
-    job_manager_config cfg = {.workers = 2, .queue_size = 64, .user_quota = 64, .services = NULL, .test_kinds = true};
+    job_manager_config cfg = {
+        .workers = 2, .queue_size = 64, .user_quota = 64, .services = NULL, .test_kinds = true};
     aa_error err;
     memset(&err, 0, sizeof err);
     job_manager *jm = job_manager_create(dir, &cfg, &err);
