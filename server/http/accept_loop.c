@@ -2,6 +2,7 @@
 #include "accept_loop.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <poll.h>
 #include <pthread.h>
 #include <stdlib.h>
@@ -52,6 +53,13 @@ accept_loop *accept_loop_start(int listen_fd, accept_fn fn, void *cls)
     al->listen_fd = listen_fd;
     al->fn = fn;
     al->cls = cls;
+    /* A socket from systemd may be blocking: accept() must return EAGAIN once drained, or the
+     * thread would sit in accept() and never see the stop event. */
+    int fl = fcntl(listen_fd, F_GETFL);
+    if (fl < 0 || fcntl(listen_fd, F_SETFL, fl | O_NONBLOCK)) {
+        free(al);
+        return NULL;
+    }
     al->stop_fd = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
     if (al->stop_fd < 0) {
         free(al);
