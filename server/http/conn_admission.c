@@ -1,8 +1,10 @@
+#define _GNU_SOURCE
 #include "conn_admission.h"
 
 #include <pthread.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <time.h>
 
 #include "key_counts.h"
 #include "peer_identity.h"
@@ -11,6 +13,7 @@ typedef struct slot {
     bool used, token_counted;
     conn_peer peer;
     uint64_t token_key;
+    double accepted_at;
 } slot;
 
 struct conn_admission {
@@ -105,7 +108,10 @@ conn_admit_result conn_admission_admit(conn_admission *ca, int fd, const struct 
     if (r == ADMIT_OK && !key_counts_acquire(ca->users, user_key(peer), ca->user_limit))
         r = ADMIT_USER_LIMIT;
     if (r == ADMIT_OK) {
-        ca->by_fd[fd] = (slot){.used = true, .peer = *peer};
+        struct timespec t;
+        clock_gettime(CLOCK_MONOTONIC, &t);
+        ca->by_fd[fd] =
+            (slot){.used = true, .peer = *peer, .accepted_at = (double)t.tv_sec + t.tv_nsec * 1e-9};
         ca->open++;
     }
     pthread_mutex_unlock(&ca->lock);
@@ -118,6 +124,18 @@ bool conn_admission_peer(conn_admission *ca, int fd, conn_peer *peer)
     pthread_mutex_lock(&ca->lock);
     if (fd >= 0 && (size_t)fd < ca->cap && ca->by_fd[fd].used) {
         *peer = ca->by_fd[fd].peer;
+        found = true;
+    }
+    pthread_mutex_unlock(&ca->lock);
+    return found;
+}
+
+bool conn_admission_accepted_at(conn_admission *ca, int fd, double *when)
+{
+    bool found = false;
+    pthread_mutex_lock(&ca->lock);
+    if (fd >= 0 && (size_t)fd < ca->cap && ca->by_fd[fd].used) {
+        *when = ca->by_fd[fd].accepted_at;
         found = true;
     }
     pthread_mutex_unlock(&ca->lock);

@@ -35,6 +35,8 @@ conn_admit_result conn_admission_admit(conn_admission *ca, int fd, const struct 
                                        socklen_t len, conn_peer *peer);
 /* The identity found at admission; false if fd is not registered. */
 bool conn_admission_peer(conn_admission *ca, int fd, conn_peer *peer);
+/* When fd was admitted (CLOCK_MONOTONIC seconds); false if fd is not registered. */
+bool conn_admission_accepted_at(conn_admission *ca, int fd, double *when);
 /* Counts fd against the token in authorization, once per connection (later calls and a NULL
  * header are free). False when that token already has --token-connections open. */
 bool conn_admission_token(conn_admission *ca, int fd, const char *authorization);

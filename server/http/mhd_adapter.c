@@ -462,6 +462,13 @@ static void on_connection(void *cls, struct MHD_Connection *conn, void **socket_
 {
     http_listener *l = cls;
     request_deadline_notify(l->deadline, conn, socket_context, code);
+    const union MHD_ConnectionInfo *fdi =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+    double accepted;
+    /* The request clock started at accept, not when the request line had arrived. */
+    if (code == MHD_CONNECTION_NOTIFY_STARTED && fdi &&
+        conn_admission_accepted_at(l->adm, fdi->connect_fd, &accepted))
+        request_deadline_backdate(*socket_context, accepted);
     if (code == MHD_CONNECTION_NOTIFY_CLOSED) {
         const union MHD_ConnectionInfo *ci =
             MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
@@ -486,16 +493,16 @@ static void mhd_log(void *cls, const char *fmt, va_list ap)
         l->log(line);
 }
 
-/* The accept thread: admit, then hand over to one of the daemons. Never blocks (sock_diag is
- * a local kernel round trip; refusals are one non-blocking send). */
-static void on_accepted(void *cls, int fd, const struct sockaddr *sa, socklen_t len)
+/* The accept thread: admit (loopback, uid, counts). Never blocks: sock_diag is a local kernel
+ * round trip, refusals are one non-blocking send. */
+static bool on_accepted(void *cls, int fd, const struct sockaddr *sa, socklen_t len)
 {
     http_listener *l = cls;
     conn_peer peer;
     char line[160], host[INET6_ADDRSTRLEN] = "?";
     switch (conn_admission_admit(l->adm, fd, sa, len, &peer)) {
     case ADMIT_OK:
-        break;
+        return true;
     case ADMIT_NOT_LOOPBACK:
         if (sa->sa_family == AF_INET)
             inet_ntop(AF_INET, &((const struct sockaddr_in *)sa)->sin_addr, host, sizeof host);
@@ -506,20 +513,41 @@ static void on_accepted(void *cls, int fd, const struct sockaddr *sa, socklen_t 
         if (l->log)
             l->log(line);
         close(fd);
-        return;
+        return false;
     case ADMIT_USER_LIMIT:
         snprintf(line, sizeof line,
                  "this user already has %d open connections (--user-connections)",
                  conn_admission_user_limit(l->adm));
         http_refuse(fd, 429, "too_many_requests", line, 1);
-        return;
+        return false;
     case ADMIT_TOTAL_LIMIT:
         snprintf(line, sizeof line, "the daemon has %d open connections (--connection-limit)",
                  conn_admission_total_limit(l->adm));
         http_refuse(fd, 503, "unavailable", line, 1);
-        return;
+        return false;
     case ADMIT_NO_MEMORY:
-        close(fd);
+        break;
+    }
+    close(fd);
+    return false;
+}
+
+/* The request line has arrived (accept_loop): serve it, or answer the malformations
+ * libmicrohttpd would answer in HTML with the JSON error document. */
+static void on_first_line(void *cls, int fd, const struct sockaddr *sa, socklen_t len,
+                          accept_outcome outcome)
+{
+    http_listener *l = cls;
+    if (outcome != ACCEPT_HANDOVER) {
+        conn_admission_release(l->adm, fd); /* before the fd is closed and can be reused */
+        if (outcome == ACCEPT_BAD_VERSION)
+            http_refuse(fd, 505, "http_version_not_supported",
+                        "this server speaks HTTP/1.0 and HTTP/1.1", 0);
+        else if (outcome == ACCEPT_BAD_REQUEST)
+            http_refuse(fd, 400, "bad_request",
+                        "malformed request line (expected: METHOD /path HTTP/1.1)", 0);
+        else
+            close(fd);
         return;
     }
     struct MHD_Daemon *d = l->daemons[l->next++ % (unsigned)l->ndaemons];
@@ -579,7 +607,8 @@ http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, in
         }
         l->daemons[l->ndaemons] = d;
     }
-    l->acceptor = accept_loop_start(fd, on_accepted, l);
+    l->acceptor =
+        accept_loop_start(fd, (double)cfg->request_timeout, on_accepted, on_first_line, l);
     if (!l->acceptor) {
         snprintf(msg, cap, "could not start the accept thread for fd %d", fd);
         l->fd = -1; /* the caller still owns it */

@@ -364,7 +364,8 @@ def main():
         test_render_flood(users, d)
         test_unix_half_open(users, d)
         test_tcp_half_open(users, d)
-        test_malformed(d, expect_json={})
+        test_malformed(d, expect_json={"HTTP/9.9": 505, "PRI * HTTP/2.0": 505,
+                                        "bad request line": 400})
         check(not d.sanitizer_reports(), "no sanitizer reports: %s" % d.log_text()[-2000:])
         test_token_connections(users, binary)
         check(d.alive(), "the daemon survived")
