@@ -7,7 +7,8 @@
     dashboard over TCP; a token past --token-connections gets 429;
 (e) a socket-activated TCP socket bound to 0.0.0.0 makes aalabd refuse to start;
 (f) malformed requests: JSON errors where the daemon answers them itself, and a record of the
-    ones libmicrohttpd 0.9.75 answers with its own HTML (docs/http.md).
+    ones libmicrohttpd 0.9.75 answers with its own HTML (docs/http.md);
+(g) a render running on the compute pool outlives --connection-timeout and --request-timeout.
 
 Figures are printed as '# figure: ...' lines. argv[1] is the aalabd binary."""
 
@@ -277,6 +278,22 @@ def test_token_connections(users, binary):
           "(d) the 4th and 5th connection of one token get 429: %r" % statuses)
 
 
+def test_suspended_outlive_timeouts(users, binary):
+    """A render on the compute pool outlives --connection-timeout and --request-timeout (its
+    connection is suspended, its request complete)."""
+    d = users.start_daemon(binary, extra_args=["--connection-timeout", "1",
+                                               "--request-timeout", "1"])
+    t0 = time.monotonic()
+    r = users.alice.request(d, "POST", "/v1/render",
+                            {"pattern": {"preset": "rgss"}, "scene": "siemens-star",
+                             "size": [512, 512], "reference": {"spp": 4096}}, timeout=60)
+    took = time.monotonic() - t0
+    print("# figure: (g) a render of %.1f s with --connection-timeout 1 --request-timeout 1: %d"
+          % (took, r.status))
+    check(r.status == 200 and took > 1.5, "(g) the suspended render was answered: %d after "
+          "%.1f s" % (r.status, took))
+
+
 def test_activated_tcp_refused(binary):
     root = tempfile.mkdtemp(prefix="aalab-act-")
     s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
@@ -368,6 +385,7 @@ def main():
                                         "bad request line": 400})
         check(not d.sanitizer_reports(), "no sanitizer reports: %s" % d.log_text()[-2000:])
         test_token_connections(users, binary)
+        test_suspended_outlive_timeouts(users, binary)
         check(d.alive(), "the daemon survived")
     print("e2e_users_net: ok")
 
