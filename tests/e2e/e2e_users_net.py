@@ -389,6 +389,9 @@ def main():
         test_token_connections(users, binary)
         test_suspended_outlive_timeouts(users, binary)
         check(d.alive(), "the daemon survived")
+        # A graceful stop after the floods, and no sanitizer report (LeakSanitizer runs at exit).
+        check(d.stop() == 0, "clean exit after the floods")
+        check(not d.sanitizer_reports(), "no sanitizer reports: %s" % d.log_text()[-2000:])
     print("e2e_users_net: ok")
 
 
