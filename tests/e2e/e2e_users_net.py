@@ -304,7 +304,10 @@ def test_activated_tcp_refused(binary):
     port = s.getsockname()[1]
 
     def as_fd3():
-        os.dup2(s.fileno(), 3)
+        # fd 3, inheritable (dup2 onto itself would keep close-on-exec), as systemd passes it.
+        if s.fileno() != 3:
+            os.dup2(s.fileno(), 3)
+        os.set_inheritable(3, True)
         os.environ["LISTEN_PID"] = str(os.getpid())
 
     # The child inherits os.environ (LISTEN_FDS) and sets LISTEN_PID to its own pid, as
@@ -315,7 +318,7 @@ def test_activated_tcp_refused(binary):
         p = subprocess.run([binary, "--state-dir", os.path.join(root, "st"), "--socket",
                             os.path.join(root, "s.sock")], preexec_fn=as_fd3,
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                           timeout=30, pass_fds=(s.fileno(),))
+                           timeout=30, close_fds=False)
     finally:
         del os.environ["LISTEN_FDS"]
         s.close()
