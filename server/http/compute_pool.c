@@ -93,9 +93,11 @@ compute_admit compute_pool_submit(compute_pool *cp, compute_task *t)
             cp->head = t;
         cp->tail = t;
         cp->queued++;
-        pthread_cond_signal(&cp->work);
     }
     pthread_mutex_unlock(&cp->lock);
+    /* Signalled after unlocking: the woken thread does not wait for the lock we hold. */
+    if (a == COMPUTE_QUEUED)
+        pthread_cond_signal(&cp->work);
     if (a != COMPUTE_QUEUED)
         key_counts_release(cp->load[t->kind], t->user);
     return a;
