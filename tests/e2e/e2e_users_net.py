@@ -14,6 +14,7 @@ Figures are printed as '# figure: ...' lines. argv[1] is the aalabd binary."""
 
 import json
 import os
+import shutil
 import socket
 import subprocess
 import sys
@@ -335,6 +336,7 @@ def test_activated_tcp_refused(binary):
     finally:
         del os.environ["LISTEN_FDS"]
         s.close()
+        shutil.rmtree(root, ignore_errors=True)
     print("# figure: (e) aalabd with a socket-activated TCP socket on 0.0.0.0:%d: exit %d, "
           "%r" % (port, p.returncode, p.stderr.strip()[-300:]))
     check(p.returncode == 1, "(e) refuses to start (exit 1)")
