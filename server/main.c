@@ -21,6 +21,7 @@
 #include "config.h"
 #include "fallback_dir.h"
 #include "mhd_adapter.h"
+#include "peer_identity.h"
 
 #define MAX_LISTENERS 8
 
@@ -43,6 +44,40 @@ static int socket_file_gid(int activated, const char *own_path, gid_t *gid)
         }
     }
     return -1;
+}
+
+static void log_line(const char *line)
+{
+    fprintf(stderr, "aalabd: %s\n", line);
+}
+
+/* A TCP socket handed over by systemd must be bound to loopback: the listener serves loopback
+ * peers only, and a wider bind is a configuration mistake to report, not to half-serve. */
+static bool activated_tcp_is_loopback(int fd, char *msg, size_t cap)
+{
+    struct sockaddr_storage ss;
+    socklen_t len = sizeof ss;
+    if (getsockname(fd, (struct sockaddr *)&ss, &len)) {
+        snprintf(msg, cap, "cannot read the address of socket-activated fd %d: %s", fd,
+                 strerror(errno));
+        return false;
+    }
+    if (peer_addr_is_loopback((struct sockaddr *)&ss, len))
+        return true;
+    char host[INET6_ADDRSTRLEN] = "?";
+    int port = 0;
+    if (ss.ss_family == AF_INET) {
+        inet_ntop(AF_INET, &((struct sockaddr_in *)&ss)->sin_addr, host, sizeof host);
+        port = ntohs(((struct sockaddr_in *)&ss)->sin_port);
+    } else if (ss.ss_family == AF_INET6) {
+        inet_ntop(AF_INET6, &((struct sockaddr_in6 *)&ss)->sin6_addr, host, sizeof host);
+        port = ntohs(((struct sockaddr_in6 *)&ss)->sin6_port);
+    }
+    snprintf(msg, cap,
+             "the socket-activated TCP socket (fd %d) is bound to %s port %d, not a loopback "
+             "address; bind it to 127.0.0.1 or [::1] (ListenStream=127.0.0.1:%d)",
+             fd, host, port, port ? port : 8765);
+    return false;
 }
 
 int main(int argc, char **argv)
@@ -74,6 +109,14 @@ int main(int argc, char **argv)
     if (activated <= 0) {
         unix_fd = http_unix_socket_open(cfg.socket_path, cfg.socket_group, msg, sizeof msg);
         if (unix_fd < 0) {
+            fprintf(stderr, "aalabd: %s\n", msg);
+            return 1;
+        }
+    }
+    for (int i = 0; i < activated; i++) {
+        int fd = SD_LISTEN_FDS_START + i;
+        if (sd_is_socket_unix(fd, SOCK_STREAM, 1, NULL, 0) <= 0 &&
+            !activated_tcp_is_loopback(fd, msg, sizeof msg)) {
             fprintf(stderr, "aalabd: %s\n", msg);
             return 1;
         }
@@ -117,6 +160,20 @@ int main(int argc, char **argv)
         return 1;
     }
 
+    /* Evaluate and render run here, shared by the listeners so the per-user shares are the
+     * daemon's. The queue holds at most one task per allowed connection. */
+    compute_pool *pool = compute_pool_create(cfg.compute_threads, cfg.user_evaluates,
+                                             cfg.user_renders, cfg.connection_limit);
+    if (!pool) {
+        fprintf(stderr, "aalabd: could not start %d compute threads\n", cfg.compute_threads);
+        api_context_destroy(ctx);
+        if (unix_fd >= 0) {
+            close(unix_fd);
+            unlink(cfg.socket_path);
+        }
+        return 1;
+    }
+
     http_listener *listeners[MAX_LISTENERS] = {0};
     int nl = 0;
     bool own_socket = false, have_tcp = false;
@@ -124,7 +181,8 @@ int main(int argc, char **argv)
         for (int i = 0; i < activated && nl < MAX_LISTENERS; i++) {
             int fd = SD_LISTEN_FDS_START + i;
             bool is_unix = sd_is_socket_unix(fd, SOCK_STREAM, 1, NULL, 0) > 0;
-            listeners[nl] = http_listener_start(ctx, &cfg, fd, is_unix, msg, sizeof msg);
+            listeners[nl] =
+                http_listener_start(ctx, &cfg, fd, is_unix, pool, log_line, msg, sizeof msg);
             if (!listeners[nl]) {
                 fprintf(stderr, "aalabd: %s\n", msg);
                 goto fail;
@@ -137,7 +195,7 @@ int main(int argc, char **argv)
     } else {
         int fd = unix_fd;
         own_socket = true;
-        listeners[nl] = http_listener_start(ctx, &cfg, fd, true, msg, sizeof msg);
+        listeners[nl] = http_listener_start(ctx, &cfg, fd, true, pool, log_line, msg, sizeof msg);
         if (!listeners[nl]) {
             close(fd);
             fprintf(stderr, "aalabd: %s\n", msg);
@@ -148,8 +206,8 @@ int main(int argc, char **argv)
     }
     if (cfg.tcp_port && !have_tcp) {
         int fd = http_tcp_socket_open(cfg.tcp_host, cfg.tcp_port, msg, sizeof msg);
-        if (fd < 0 ||
-            !(listeners[nl] = http_listener_start(ctx, &cfg, fd, false, msg, sizeof msg))) {
+        if (fd < 0 || !(listeners[nl] = http_listener_start(ctx, &cfg, fd, false, pool, log_line,
+                                                            msg, sizeof msg))) {
             if (fd >= 0)
                 close(fd);
             fprintf(stderr, "aalabd: %s\n", msg);
@@ -180,8 +238,12 @@ int main(int argc, char **argv)
         http_listener_quiesce(listeners[i]);
     /* Checkpoint jobs first (running ones go back to queued), then drain HTTP. */
     api_context_shutdown(ctx);
+    /* Finish the evaluates and renders in flight: their connections are resumed and answered
+     * before the listeners stop. */
+    compute_pool_stop(pool);
     for (int i = 0; i < nl; i++)
         http_listener_stop(listeners[i]);
+    compute_pool_destroy(pool);
     if (own_socket)
         unlink(cfg.socket_path);
     api_context_destroy(ctx);
@@ -189,8 +251,10 @@ int main(int argc, char **argv)
     return 0;
 
 fail:
+    compute_pool_stop(pool);
     for (int i = 0; i < nl; i++)
         http_listener_stop(listeners[i]);
+    compute_pool_destroy(pool);
     if (own_socket)
         unlink(cfg.socket_path);
     api_context_destroy(ctx);

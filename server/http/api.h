@@ -36,6 +36,10 @@ typedef struct api_request {
     bool peer_known; /* peer_uid is valid (SO_PEERCRED on the Unix socket) */
     uid_t peer_uid;
     api_caller caller; /* set by api_handle() before a handler runs; callers leave it zero */
+    /* The owner uid of the connecting socket of a loopback TCP client (sock_diag). For limits
+     * and fair share only: ownership on TCP does not come from it. */
+    bool tcp_peer_known;
+    uid_t tcp_peer_uid;
 } api_request;
 
 typedef struct api_response {
@@ -46,6 +50,10 @@ typedef struct api_response {
     int retry_after;           /* seconds, > 0 adds Retry-After */
     const char *cache_control; /* static string or NULL */
 } api_response;
+
+/* Requests the HTTP layer runs on the compute pool rather than on an HTTP thread. */
+typedef enum { API_CLASS_OTHER, API_CLASS_EVALUATE, API_CLASS_RENDER } api_request_class;
+api_request_class api_classify(const char *method, const char *path);
 
 void api_handle(api_context *ctx, const api_request *req, api_response *resp);
 void api_response_free(api_response *resp);

@@ -129,6 +129,17 @@ bool eval_cache_get(eval_cache *c, const char *key, size_t key_len, char **out, 
     return hit;
 }
 
+bool eval_cache_contains(eval_cache *c, const char *key, size_t key_len)
+{
+    if (!c || key_len > EVAL_CACHE_MAX_KEY)
+        return false;
+    uint64_t h = fnv1a(key, key_len);
+    pthread_mutex_lock(&c->lock);
+    bool found = find(c, h, key, key_len) != NULL;
+    pthread_mutex_unlock(&c->lock);
+    return found;
+}
+
 static void bucket_remove(eval_cache *c, entry *e)
 {
     for (entry **p = &c->buckets[e->hash % c->nbuckets]; *p; p = &(*p)->chain) {

@@ -14,6 +14,8 @@ eval_cache *eval_cache_create(size_t capacity); /* NULL when capacity == 0 */
 void eval_cache_destroy(eval_cache *c);
 /* On a hit, *out is a malloc'd copy of the response body. */
 bool eval_cache_get(eval_cache *c, const char *key, size_t key_len, char **out, size_t *out_len);
+/* Is key cached? No LRU or statistics effect (the HTTP layer asks before choosing a thread). */
+bool eval_cache_contains(eval_cache *c, const char *key, size_t key_len);
 void eval_cache_put(eval_cache *c, const char *key, size_t key_len, const char *val,
                     size_t val_len);
 

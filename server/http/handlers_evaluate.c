@@ -1,7 +1,8 @@
 /* POST /v1/evaluate: {"pattern","filter"?,"acuity"?,"angles"?,"lp"?,"detail"?} -> E2 and its
  * argmax, family and cost (and per-kernel, per-angle detail on request). Identical request
- * bodies are answered from an LRU cache. Runs on the HTTP thread: a 4-sample pattern over the
- * 36 default angles costs microseconds; the size limits of the codec bound the worst case. */
+ * bodies are answered from an LRU cache. Runs on the compute pool (http/compute_pool.c; cache
+ * hits on the HTTP thread): a 4-sample pattern over the 36 default angles costs microseconds;
+ * the size limits of the codec bound the worst case. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,8 +42,8 @@ static int check_finite(const aa_pattern *p, const aa_evaluation *ev, aa_error *
                         "the error integral overflows for this kernel (weights too large)");
 }
 
-/* Evaluate runs on an HTTP thread: bound its work (kernel samples x angles; 2^23 is about half
- * a second here) so that no request holds a thread for long. Larger studies belong in jobs. */
+/* Evaluate is synchronous: bound its work (kernel samples x angles; 2^23 is about half a second
+ * here) so that no request holds a compute thread for long. Larger studies belong in jobs. */
 #define EVALUATE_MAX_WORK (1L << 23)
 
 static int check_work(const aa_pattern *p, const aa_acuity *a, size_t angle_count, aa_error *err)

@@ -5,6 +5,8 @@
 #include <errno.h>
 #include <grp.h>
 #include <netinet/in.h>
+#include <stdarg.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,21 +17,52 @@
 
 #include <microhttpd.h>
 
+#include "accept_loop.h"
+#include "api_context.h"
+#include "conn_admission.h"
+#include "eval_cache.h"
+#include "http_refusal.h"
 #include "request_deadline.h"
 
+/* Each listener: an accept thread of our own (accept_loop) that admits a connection
+ * (conn_admission: loopback peer on TCP, peer uid, per-uid and total counts) before handing it
+ * with MHD_add_connection to one of --http-threads libmicrohttpd daemons (round robin; each
+ * has one epoll thread and no listen socket, since MHD_USE_NO_LISTEN_SOCKET rules out MHD's own
+ * thread pool). Refused connections get a complete 429/503 JSON answer and are closed. The
+ * counts are given back at MHD_CONNECTION_NOTIFY_CLOSED. POST /v1/evaluate (unless cached) and
+ * POST /v1/render are suspended and run on the shared compute pool, which resumes them. */
+#define MAX_HTTP_DAEMONS 64
+
 struct http_listener {
-    struct MHD_Daemon *daemon;
+    struct MHD_Daemon *daemons[MAX_HTTP_DAEMONS];
+    int ndaemons;
+    unsigned next; /* round robin; only the accept thread touches it */
     api_context *ctx;
     size_t max_body;
     bool is_unix;
     int fd;
     request_deadline *deadline;
+    conn_admission *adm;
+    compute_pool *pool;
+    accept_loop *acceptor;
+    http_log_fn log;
 };
 
 typedef struct request_state {
     char *body;
     size_t len, cap;
     bool too_large;
+    /* A request run on the compute pool: req/resp are handed over through the pool's queue
+     * and back through done (release/acquire), since libmicrohttpd's resume is not a
+     * synchronisation the race detector can see. */
+    bool offloaded;
+    atomic_bool done;
+    http_listener *l;
+    struct MHD_Connection *conn;
+    api_request req;
+    api_response resp;
+    char query[1024];
+    compute_task task;
 } request_state;
 
 /* --- sockets ------------------------------------------------------------------------------ */
@@ -210,7 +243,7 @@ static enum MHD_Result add_query_arg(void *cls, enum MHD_ValueKind kind, const c
     return MHD_YES;
 }
 
-static enum MHD_Result send_response(struct MHD_Connection *conn, api_response *r)
+static enum MHD_Result send_response(struct MHD_Connection *conn, api_response *r, bool close)
 {
     struct MHD_Response *resp =
         MHD_create_response_from_buffer(r->body_len, r->body ? r->body : (void *)"",
@@ -230,6 +263,8 @@ static enum MHD_Result send_response(struct MHD_Connection *conn, api_response *
         snprintf(ra, sizeof ra, "%d", r->retry_after);
         MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER, ra);
     }
+    if (close)
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_CONNECTION, "close");
     enum MHD_Result ret = MHD_queue_response(conn, (unsigned)r->status, resp);
     MHD_destroy_response(resp);
     return ret;
@@ -240,7 +275,67 @@ static enum MHD_Result reply_simple_error(struct MHD_Connection *conn, int statu
 {
     api_response r = {0};
     api_reply_error(&r, status, code, "", "%s", message);
-    return send_response(conn, &r);
+    return send_response(conn, &r, false);
+}
+
+static void pool_run(void *arg)
+{
+    request_state *st = arg;
+    api_handle(st->l->ctx, &st->req, &st->resp);
+}
+
+static void pool_done(void *arg)
+{
+    request_state *st = arg;
+    struct MHD_Connection *conn = st->conn;
+    atomic_store_explicit(&st->done, true, memory_order_release);
+    MHD_resume_connection(conn); /* last touch: the connection may be answered and freed now */
+}
+
+/* Evaluate (not cached) and render go to the compute pool: the connection is suspended until
+ * the pool has the answer. True if the request was taken (suspended or answered 429/503). */
+static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_state *st,
+                        const api_request *req)
+{
+    api_request_class cls = api_classify(req->method, req->path);
+    if (!l->pool || cls == API_CLASS_OTHER)
+        return false;
+    /* A cached evaluate costs a hash and a copy: answered here, outside the user's share. */
+    if (cls == API_CLASS_EVALUATE &&
+        eval_cache_contains(api_context_eval_cache(l->ctx), req->body, req->body_len))
+        return false;
+    compute_kind kind = cls == API_CLASS_RENDER ? COMPUTE_RENDER : COMPUTE_EVALUATE;
+    bool known = l->is_unix ? req->peer_known : req->tcp_peer_known;
+    uid_t uid = l->is_unix ? req->peer_uid : req->tcp_peer_uid;
+    st->l = l;
+    st->conn = conn;
+    st->req = *req;
+    st->task = (compute_task){.run = pool_run,
+                              .done = pool_done,
+                              .arg = st,
+                              .kind = kind,
+                              .user = known ? (uint64_t)uid : COMPUTE_USER_UNKNOWN};
+    /* Suspend before submitting: the pool may resume the connection at once. */
+    st->offloaded = true;
+    MHD_suspend_connection(conn);
+    compute_admit a = compute_pool_submit(l->pool, &st->task);
+    if (a == COMPUTE_QUEUED)
+        return true;
+    api_response *r = &st->resp;
+    if (a == COMPUTE_OVER_SHARE)
+        api_reply_error(r, 429, "too_many_requests", "",
+                        "you already have %d %s running (%s); retry when one has finished",
+                        compute_pool_share(l->pool, kind),
+                        kind == COMPUTE_RENDER ? "render(s)" : "evaluate(s)",
+                        kind == COMPUTE_RENDER ? "--user-renders" : "--user-evaluates");
+    else
+        api_reply_error(r, 503, "unavailable", "",
+                        a == COMPUTE_FULL ? "the compute queue is full; retry shortly"
+                                          : "the daemon is shutting down");
+    r->retry_after = 1;
+    atomic_store_explicit(&st->done, true, memory_order_release);
+    MHD_resume_connection(conn);
+    return true;
 }
 
 static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const char *url,
@@ -254,6 +349,21 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
         if (!st)
             return MHD_NO;
         *con_cls = st;
+        if (!l->is_unix) {
+            const union MHD_ConnectionInfo *ci =
+                MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+            const char *auth =
+                MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_AUTHORIZATION);
+            if (ci && !conn_admission_token(l->adm, ci->connect_fd, auth)) {
+                api_response r = {0};
+                api_reply_error(&r, 429, "too_many_requests", "",
+                                "this token already has %d open connections "
+                                "(--token-connections)",
+                                conn_admission_token_limit(l->adm));
+                r.retry_after = 1;
+                return send_response(conn, &r, true);
+            }
+        }
         const char *cl =
             MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
         if (cl && strtoull(cl, NULL, 10) > l->max_body)
@@ -289,12 +399,21 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
         return reply_simple_error(conn, 413, "payload_too_large",
                                   "the body exceeds the daemon's --max-body");
 
+    if (st->offloaded) {
+        /* Resumed: the pool has stored the answer. */
+        if (!atomic_load_explicit(&st->done, memory_order_acquire))
+            return MHD_YES;
+        return send_response(conn, &st->resp, false);
+    }
+
     query_builder q = {.len = 0};
     MHD_get_connection_values(conn, MHD_GET_ARGUMENT_KIND, add_query_arg, &q);
+    memcpy(st->query, q.buf, q.len + 1 <= sizeof st->query ? q.len + 1 : sizeof st->query);
+    st->query[sizeof st->query - 1] = 0;
     api_request req = {
         .method = method,
         .path = url,
-        .query = q.len ? q.buf : NULL,
+        .query = q.len ? st->query : NULL,
         .content_type =
             MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_TYPE),
         .host = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_HOST),
@@ -304,20 +423,24 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
         .body_len = st->len,
         .via_tcp = !l->is_unix,
     };
-    if (l->is_unix) {
-        const union MHD_ConnectionInfo *ci =
-            MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
-        struct ucred cred;
-        socklen_t len = sizeof cred;
-        if (ci && getsockopt(ci->connect_fd, SOL_SOCKET, SO_PEERCRED, &cred, &len) == 0) {
+    const union MHD_ConnectionInfo *ci =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+    conn_peer peer;
+    if (ci && conn_admission_peer(l->adm, ci->connect_fd, &peer) && peer.uid_known) {
+        if (l->is_unix) {
             req.peer_known = true;
-            req.peer_uid = cred.uid;
+            req.peer_uid = peer.uid;
+        } else {
+            req.tcp_peer_known = true;
+            req.tcp_peer_uid = peer.uid;
         }
     }
     request_deadline_received(conn);
+    if (run_on_pool(l, conn, st, &req))
+        return MHD_YES;
     api_response resp;
     api_handle(l->ctx, &req, &resp);
-    return send_response(conn, &resp);
+    return send_response(conn, &resp, false);
 }
 
 static void on_completed(void *cls, struct MHD_Connection *conn, void **con_cls,
@@ -326,14 +449,121 @@ static void on_completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     request_deadline_completed(conn);
     request_state *st = *con_cls;
     if (st) {
+        if (st->offloaded && atomic_load_explicit(&st->done, memory_order_acquire))
+            api_response_free(&st->resp); /* not sent (the client went away) */
         free(st->body);
         free(st);
         *con_cls = NULL;
     }
 }
 
+static void on_connection(void *cls, struct MHD_Connection *conn, void **socket_context,
+                          enum MHD_ConnectionNotificationCode code)
+{
+    http_listener *l = cls;
+    request_deadline_notify(l->deadline, conn, socket_context, code);
+    const union MHD_ConnectionInfo *fdi =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+    double accepted;
+    /* The request clock started at accept, not when the request line had arrived. */
+    if (code == MHD_CONNECTION_NOTIFY_STARTED && fdi &&
+        conn_admission_accepted_at(l->adm, fdi->connect_fd, &accepted))
+        request_deadline_backdate(*socket_context, accepted);
+    if (code == MHD_CONNECTION_NOTIFY_CLOSED) {
+        const union MHD_ConnectionInfo *ci =
+            MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+        if (ci)
+            conn_admission_release(l->adm, ci->connect_fd);
+    }
+}
+
+/* libmicrohttpd's own messages, through the daemon's log. A connection handed over with
+ * MHD_add_connection is not known to be a Unix socket, so libmicrohttpd tries TCP_NODELAY and
+ * TCP_CORK on it and reports each failure: harmless there (no Nagle on AF_UNIX), so dropped. */
+static void mhd_log(void *cls, const char *fmt, va_list ap)
+{
+    http_listener *l = cls;
+    char line[512];
+    vsnprintf(line, sizeof line, fmt, ap);
+    line[strcspn(line, "\n")] = 0;
+    if (l->is_unix && (strstr(line, "TCP_NODELAY") || strstr(line, "TCP_CORK") ||
+                       strstr(line, "Failed to push the data")))
+        return;
+    if (l->log)
+        l->log(line);
+}
+
+/* The accept thread: admit (loopback, uid, counts). Never blocks: sock_diag is a local kernel
+ * round trip, refusals are one non-blocking send. */
+static bool on_accepted(void *cls, int fd, const struct sockaddr *sa, socklen_t len)
+{
+    http_listener *l = cls;
+    conn_peer peer;
+    char line[160], host[INET6_ADDRSTRLEN] = "?";
+    switch (conn_admission_admit(l->adm, fd, sa, len, &peer)) {
+    case ADMIT_OK:
+        return true;
+    case ADMIT_NOT_LOOPBACK:
+        if (sa->sa_family == AF_INET)
+            inet_ntop(AF_INET, &((const struct sockaddr_in *)sa)->sin_addr, host, sizeof host);
+        else if (sa->sa_family == AF_INET6)
+            inet_ntop(AF_INET6, &((const struct sockaddr_in6 *)sa)->sin6_addr, host, sizeof host);
+        snprintf(line, sizeof line, "refused a TCP connection from %s: not a loopback address",
+                 host);
+        if (l->log)
+            l->log(line);
+        close(fd);
+        return false;
+    case ADMIT_USER_LIMIT:
+        snprintf(line, sizeof line,
+                 "this user already has %d open connections (--user-connections)",
+                 conn_admission_user_limit(l->adm));
+        http_refuse(fd, 429, "too_many_requests", line, 1);
+        return false;
+    case ADMIT_TOTAL_LIMIT:
+        snprintf(line, sizeof line, "the daemon has %d open connections (--connection-limit)",
+                 conn_admission_total_limit(l->adm));
+        http_refuse(fd, 503, "unavailable", line, 1);
+        return false;
+    case ADMIT_NO_MEMORY:
+        break;
+    }
+    close(fd);
+    return false;
+}
+
+/* The request line has arrived (accept_loop): serve it, or answer the malformations
+ * libmicrohttpd would answer in HTML with the JSON error document. */
+static void on_first_line(void *cls, int fd, const struct sockaddr *sa, socklen_t len,
+                          accept_outcome outcome)
+{
+    http_listener *l = cls;
+    if (outcome != ACCEPT_HANDOVER) {
+        conn_admission_release(l->adm, fd); /* before the fd is closed and can be reused */
+        if (outcome == ACCEPT_BAD_VERSION)
+            http_refuse(fd, 505, "http_version_not_supported",
+                        "this server speaks HTTP/1.0 and HTTP/1.1", 0);
+        else if (outcome == ACCEPT_BAD_REQUEST)
+            http_refuse(fd, 400, "bad_request",
+                        "malformed request line (expected: METHOD /path HTTP/1.1)", 0);
+        else
+            close(fd);
+        return;
+    }
+    struct MHD_Daemon *d = l->daemons[l->next++ % (unsigned)l->ndaemons];
+    /* An unnamed Unix peer has a 2-byte address; libmicrohttpd takes a short address for an IP
+     * socket and tries TCP options on it, so it is given a whole sockaddr_un. */
+    struct sockaddr_un un = {.sun_family = AF_UNIX};
+    if (sa->sa_family == AF_UNIX) {
+        sa = (const struct sockaddr *)&un;
+        len = sizeof un;
+    }
+    if (MHD_add_connection(d, fd, sa, len) != MHD_YES)
+        conn_admission_release(l->adm, fd); /* MHD has closed fd */
+}
+
 http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, int fd, bool is_unix,
-                                   char *msg, size_t cap)
+                                   compute_pool *pool, http_log_fn log, char *msg, size_t cap)
 {
     http_listener *l = calloc(1, sizeof *l);
     if (!l) {
@@ -344,27 +574,45 @@ http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, in
     l->max_body = cfg->max_body;
     l->is_unix = is_unix;
     l->fd = fd;
-    /* epoll with a small internal thread pool: request handlers only do fast work (jobs go
-     * to the worker pool), so a pool the size of the core count keeps both cores busy. */
-    unsigned int flags = MHD_USE_EPOLL_INTERNAL_THREAD | MHD_USE_ERROR_LOG | MHD_USE_ITC;
+    l->pool = pool;
+    l->log = log;
     l->deadline = request_deadline_start(cfg->request_timeout);
-    if (!l->deadline) {
+    l->adm = conn_admission_create(is_unix, cfg->connection_limit, cfg->user_connections,
+                                   cfg->token_connections);
+    if (!l->deadline || !l->adm) {
         snprintf(msg, cap, "could not start the request watchdog");
-        free(l);
+        http_listener_stop(l);
         return NULL;
     }
-    l->daemon = MHD_start_daemon(
-        flags, 0, NULL, NULL, on_request, l, MHD_OPTION_LISTEN_SOCKET, (MHD_socket)fd,
-        MHD_OPTION_THREAD_POOL_SIZE, (unsigned int)cfg->http_threads, MHD_OPTION_CONNECTION_LIMIT,
-        (unsigned int)cfg->connection_limit, MHD_OPTION_CONNECTION_TIMEOUT,
-        (unsigned int)cfg->connection_timeout, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
-        cfg->connection_memory, MHD_OPTION_UNESCAPE_CALLBACK, unescape_keep_nul, NULL,
-        MHD_OPTION_NOTIFY_COMPLETED, on_completed, NULL, MHD_OPTION_NOTIFY_CONNECTION,
-        request_deadline_notify, l->deadline, MHD_OPTION_LISTEN_BACKLOG_SIZE, 128u, MHD_OPTION_END);
-    if (!l->daemon) {
-        snprintf(msg, cap, "libmicrohttpd could not start on fd %d", fd);
-        request_deadline_stop(l->deadline);
-        free(l);
+    /* One epoll thread per daemon; handlers only do fast work (jobs go to the worker pool,
+     * evaluate and render to the compute pool). The admission enforces --connection-limit;
+     * each daemon's own limit is only a backstop. */
+    unsigned int flags = MHD_USE_EPOLL_INTERNAL_THREAD | MHD_USE_ERROR_LOG | MHD_USE_ITC |
+                         MHD_USE_NO_LISTEN_SOCKET | MHD_ALLOW_SUSPEND_RESUME;
+    int n = cfg->http_threads < 1                  ? 1
+            : cfg->http_threads > MAX_HTTP_DAEMONS ? MAX_HTTP_DAEMONS
+                                                   : cfg->http_threads;
+    for (; l->ndaemons < n; l->ndaemons++) {
+        struct MHD_Daemon *d = MHD_start_daemon(
+            flags, 0, NULL, NULL, on_request, l, MHD_OPTION_EXTERNAL_LOGGER, mhd_log, l,
+            MHD_OPTION_CONNECTION_LIMIT, (unsigned int)cfg->connection_limit,
+            MHD_OPTION_CONNECTION_TIMEOUT, (unsigned int)cfg->connection_timeout,
+            MHD_OPTION_CONNECTION_MEMORY_LIMIT, cfg->connection_memory,
+            MHD_OPTION_UNESCAPE_CALLBACK, unescape_keep_nul, NULL, MHD_OPTION_NOTIFY_COMPLETED,
+            on_completed, NULL, MHD_OPTION_NOTIFY_CONNECTION, on_connection, l, MHD_OPTION_END);
+        if (!d) {
+            snprintf(msg, cap, "libmicrohttpd could not start for fd %d", fd);
+            http_listener_stop(l);
+            return NULL;
+        }
+        l->daemons[l->ndaemons] = d;
+    }
+    l->acceptor =
+        accept_loop_start(fd, (double)cfg->request_timeout, on_accepted, on_first_line, l);
+    if (!l->acceptor) {
+        snprintf(msg, cap, "could not start the accept thread for fd %d", fd);
+        l->fd = -1; /* the caller still owns it */
+        http_listener_stop(l);
         return NULL;
     }
     return l;
@@ -372,10 +620,11 @@ http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, in
 
 void http_listener_quiesce(http_listener *l)
 {
-    if (l && l->daemon) {
-        MHD_socket s = MHD_quiesce_daemon(l->daemon);
-        if (s != MHD_INVALID_SOCKET)
-            close(s);
+    if (l && l->acceptor) {
+        accept_loop_stop(l->acceptor);
+        l->acceptor = NULL;
+        close(l->fd);
+        l->fd = -1;
     }
 }
 
@@ -383,8 +632,10 @@ void http_listener_stop(http_listener *l)
 {
     if (!l)
         return;
-    if (l->daemon)
-        MHD_stop_daemon(l->daemon);
+    http_listener_quiesce(l);
+    for (int i = 0; i < l->ndaemons; i++)
+        MHD_stop_daemon(l->daemons[i]);
     request_deadline_stop(l->deadline);
+    conn_admission_destroy(l->adm);
     free(l);
 }

@@ -126,6 +126,17 @@ void request_deadline_notify(void *cls, struct MHD_Connection *conn, void **sock
     }
 }
 
+void request_deadline_backdate(void *socket_context, double since)
+{
+    tracked *t = socket_context;
+    if (!t)
+        return;
+    pthread_mutex_lock(&t->owner->lock);
+    if (t->receiving_since > 0 && since < t->receiving_since)
+        t->receiving_since = since;
+    pthread_mutex_unlock(&t->owner->lock);
+}
+
 static void set_clock(struct MHD_Connection *conn, bool running)
 {
     const union MHD_ConnectionInfo *ci =

@@ -21,6 +21,10 @@ void request_deadline_stop(request_deadline *rd);
 /* MHD_OPTION_NOTIFY_CONNECTION callback; cls is the request_deadline. */
 void request_deadline_notify(void *cls, struct MHD_Connection *conn, void **socket_context,
                              enum MHD_ConnectionNotificationCode code);
+/* The clock of a connection just STARTED (socket_context as set by request_deadline_notify)
+ * began earlier, at since (CLOCK_MONOTONIC seconds): the time it waited before libmicrohttpd
+ * saw it counts. */
+void request_deadline_backdate(void *socket_context, double since);
 /* The connection's request has fully arrived: stop the clock until its response completes. */
 void request_deadline_received(struct MHD_Connection *conn);
 /* Its response was sent: the clock runs again for the next request on this connection. */

@@ -142,6 +142,17 @@ static bool route_matches(const route *r, const char *path, char *arg, size_t ca
     return true;
 }
 
+api_request_class api_classify(const char *method, const char *path)
+{
+    if (!method || !path || strcmp(method, "POST"))
+        return API_CLASS_OTHER;
+    if (!strcmp(path, "/v1/evaluate"))
+        return API_CLASS_EVALUATE;
+    if (!strcmp(path, "/v1/render"))
+        return API_CLASS_RENDER;
+    return API_CLASS_OTHER;
+}
+
 void api_handle(api_context *ctx, const api_request *in, api_response *resp)
 {
     memset(resp, 0, sizeof *resp);

@@ -85,14 +85,34 @@ export async function apiGet(path, { signal } = {}) {
   return decode(resp);
 }
 
+/* The daemon runs at most 2 evaluates and 1 render per user at once (--user-evaluates,
+ * --user-renders; 429 beyond): the page queues its own beyond that, whichever view sends them. */
+const computeSlots = { '/v1/evaluate': { free: 2, waiting: [] }, '/v1/render': { free: 1, waiting: [] } };
+
+async function withSlot(path, fn) {
+  const slot = computeSlots[path];
+  if (!slot) return fn();
+  if (slot.free > 0) slot.free--;
+  else await new Promise((resolve) => slot.waiting.push(resolve));
+  try {
+    return await fn();
+  } finally {
+    const next = slot.waiting.shift();
+    if (next) next();
+    else slot.free++;
+  }
+}
+
 export async function apiPost(path, body, { signal } = {}) {
-  const resp = await fetch(path, {
-    method: 'POST',
-    headers: { 'Content-Type': 'application/json', Accept: 'application/json', ...authHeaders() },
-    body: JSON.stringify(body),
-    signal,
+  return withSlot(path, async () => {
+    const resp = await fetch(path, {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json', Accept: 'application/json', ...authHeaders() },
+      body: JSON.stringify(body),
+      signal,
+    });
+    return decode(resp);
   });
-  return decode(resp);
 }
 
 export async function apiDelete(path) {

@@ -1,0 +1,45 @@
+#include "http_refusal.h"
+
+#include <stdio.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+static const char *reason(int status)
+{
+    switch (status) {
+    case 400:
+        return "Bad Request";
+    case 429:
+        return "Too Many Requests";
+    case 503:
+        return "Service Unavailable";
+    case 505:
+        return "HTTP Version Not Supported";
+    default:
+        return "Error";
+    }
+}
+
+void http_refuse(int fd, int status, const char *code, const char *message, int retry_after)
+{
+    char body[512], head[256], ra[32] = "";
+    int bl =
+        snprintf(body, sizeof body,
+                 "{\"error\":{\"code\":\"%s\",\"message\":\"%s\",\"field\":\"\"}}", code, message);
+    if (bl < 0 || bl >= (int)sizeof body)
+        bl = 0;
+    if (retry_after > 0)
+        snprintf(ra, sizeof ra, "Retry-After: %d\r\n", retry_after);
+    int hl = snprintf(head, sizeof head,
+                      "HTTP/1.1 %d %s\r\nContent-Type: application/json\r\nContent-Length: %d\r\n"
+                      "%sConnection: close\r\n\r\n",
+                      status, reason(status), bl, ra);
+    char out[768];
+    int n = snprintf(out, sizeof out, "%.*s%.*s", hl, head, bl, body);
+    if (n > 0)
+        (void)!send(fd, out, (size_t)(n < (int)sizeof out ? n : (int)sizeof out - 1),
+                    MSG_DONTWAIT | MSG_NOSIGNAL);
+    /* No read of the request: a peer we refuse gets nothing more from us. */
+    shutdown(fd, SHUT_WR);
+    close(fd);
+}
