@@ -118,6 +118,10 @@ systemd_verify() {
   if [ -x /usr/local/bin/aalabd ]; then
     out="$out$(systemd-analyze verify systemd/aalabd.socket systemd/aalabd.service 2>&1)" || rc=1
   fi
+  # The same units with the dashboard drop-ins (systemd/dashboard/*.d) beside them.
+  cp -r systemd/dashboard/aalabd.socket.d systemd/dashboard/aalabd.service.d "$units_dir/"
+  out="$out$(systemd-analyze verify "$units_dir/aalabd.socket" "$units_dir/aalabd.service" 2>&1)" ||
+    rc=1
   [ -z "$out" ] && [ $rc -eq 0 ] || { echo "$out"; return 1; }
   # sysusers.d: creating the user and group in an empty root must work and say nothing odd.
   root=$(mktemp -d)
@@ -131,13 +135,25 @@ systemd_verify() {
 }
 
 exposure=""
-systemd_security() {
-  out=$(systemd-analyze security --offline=yes --threshold=20 systemd/aalabd.service 2>&1)
+security_of() { # security_of DIR: exposure of DIR/aalabd.service (with the drop-ins beside it)
+  out=$(cd "$1" && systemd-analyze security --offline=yes --threshold=20 aalabd.service 2>&1)
   rc=$?
   exposure=$(echo "$out" | sed -n 's/.*Overall exposure level for aalabd.service: \([0-9.]*\).*/\1/p')
-  echo "exposure: ${exposure:-unknown} (threshold 2.0)"
+  echo "exposure ($2): ${exposure:-unknown} (threshold 2.0)"
   [ $rc -eq 0 ] && [ -n "$exposure" ] && awk -v e="$exposure" 'BEGIN { exit !(e <= 2.0) }' ||
     { echo "$out" | grep -E "✗|Overall"; return 1; }
+}
+systemd_security() {
+  plain=$(mktemp -d)
+  cp systemd/aalabd.service "$plain/"
+  security_of "$plain" "as shipped" || { rm -rf "$plain"; return 1; }
+  shipped=$exposure
+  cp -r systemd/dashboard/aalabd.service.d "$plain/"
+  security_of "$plain" "with the dashboard drop-in"
+  rc=$?
+  rm -rf "$plain"
+  exposure="$shipped, dashboard $exposure"
+  return $rc
 }
 
 scripts/install-deps.sh || { echo "install-deps failed"; exit 1; }
