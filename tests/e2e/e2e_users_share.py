@@ -36,7 +36,12 @@ def wait_final(user, d, jid, timeout):
 
 
 def fair_share(users, aalabd):
-    d = users.start_daemon(aalabd, workers=2)
+    # The figure is for the default 60 s slice; the sanitizer stages of scripts/test.sh set
+    # AALAB_SHARE_SLICE to a few seconds (same check, bound slice + 10 s).
+    slice_s = float(os.environ.get("AALAB_SHARE_SLICE", "60"))
+    bound = 70.0 if slice_s == 60 else slice_s + 10
+    extra = [] if slice_s == 60 else ["--job-slice", str(slice_s)]
+    d = users.start_daemon(aalabd, workers=2, extra_args=extra)
     a, b = users.alice, users.bob
     alice_ids = []
     for _ in range(16):  # --user-quota 16: alice's whole allowance, each job 10 minutes
@@ -53,7 +58,7 @@ def fair_share(users, aalabd):
     bid = r.json()["id"]
     paused_seen = False
     started = None
-    while time.time() - t0 < 90:
+    while time.time() - t0 < bound + 20:
         j = job(b, d, bid)
         if j["state"] == "running" and started is None:
             started = time.time() - t0
@@ -64,9 +69,9 @@ def fair_share(users, aalabd):
         time.sleep(0.25)
     done = time.time() - t0
     print("# figure: bob's 2 s job started %.1f s and finished %.1f s after submission "
-          "(alice: 16 x 600 s jobs, 2 workers, --job-slice 60)" % (started or -1, done))
+          "(alice: 16 x 600 s jobs, 2 workers, --job-slice %g)" % (started or -1, done, slice_s))
     check(j["state"] == "done", "bob's job done (%s)" % j["state"])
-    check(done < 70, "bob's job finished within 70 s (%.1f s)" % done)
+    check(done < bound, "bob's job finished within %.0f s (%.1f s)" % (bound, done))
     check(paused_seen, "one of alice's jobs was paused for bob's turn")
     # After bob's job, alice's paused job holds a worker again.
     time.sleep(1.0)
