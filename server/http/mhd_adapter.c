@@ -480,7 +480,7 @@ static void on_connection(void *cls, struct MHD_Connection *conn, void **socket_
 /* libmicrohttpd's own messages, through the daemon's log. A connection handed over with
  * MHD_add_connection is not known to be a Unix socket, so libmicrohttpd tries TCP_NODELAY and
  * TCP_CORK on it and reports each failure: harmless there (no Nagle on AF_UNIX), so dropped. */
-static void mhd_log(void *cls, const char *fmt, va_list ap)
+__attribute__((format(printf, 2, 0))) static void mhd_log(void *cls, const char *fmt, va_list ap)
 {
     http_listener *l = cls;
     char line[512];

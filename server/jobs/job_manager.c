@@ -158,8 +158,8 @@ static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
     size_t count = 0;
     for (job *j = jm->active; j; j = j->next)
         count += j->id > 0; /* admitted jobs not yet in the store are not schedulable */
-    if (count > jm->snapshot_cap) {
-        size_t cap = count * 2;
+    if (count > jm->snapshot_cap || !jm->snapshot) {
+        size_t cap = count < 8 ? 16 : count * 2;
         fs_job *s = realloc(jm->snapshot, cap * (sizeof *s + sizeof(job *)));
         if (!s)
             return NULL;

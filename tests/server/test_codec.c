@@ -150,8 +150,9 @@ static void test_round_trip_forms(void **state)
         "{\"kernels\":[[[0,0,1]],[[0.1,0,1]],[[0,0.1,1]],[[0.2,0.2,1]]]}",
         "{\"mirrored\":[[-0.5,0.25,0.25],[-0.25,-0.5,0.25],[0.5,-0.25,0.25],[0.25,0.5,0.25]]}",
         /* One literal: clang's -Wstring-concatenation flags split literals in arrays. */
-        "{\"tile\":{\"size\":2,\"kernel\":1,\"border\":true,\"samples\":[[0.5,0.5],[1.5,0.5],[0.5,"
-        "1.5],[1.5,1.5]]}}",
+        // clang-format off
+        "{\"tile\":{\"size\":2,\"kernel\":1,\"border\":true,\"samples\":[[0.5,0.5],[1.5,0.5],[0.5,1.5],[1.5,1.5]]}}",
+        // clang-format on
         "{\"kernels\":[[[0,0,2],[0.25,0.25,2]]],\"normalize\":true}",
     };
     for (size_t i = 0; i < sizeof inputs / sizeof inputs[0]; i++) {
