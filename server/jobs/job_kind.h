@@ -32,6 +32,10 @@ bool job_ctx_progress(job_ctx *ctx, double fraction, json_t *best_so_far);
 /* Appends a trace point; the context keeps every improvement but at most 10 points a second. */
 void job_ctx_trace(job_ctx *ctx, const job_trace_point *point);
 bool job_ctx_cancelled(const job_ctx *ctx);
+/* Who the job belongs to (uid, -1 unknown) and whether it is private: what the job makes for
+ * others to fetch (tiles) gets the same owner and visibility. */
+long long job_ctx_owner(const job_ctx *ctx);
+bool job_ctx_private(const job_ctx *ctx);
 /* The job's own clock for time budgets (engine aa_clock): it stands still while the job is
  * paused for another user, so a pause costs the job none of its budget. */
 aa_clock job_ctx_clock(job_ctx *ctx);

@@ -25,6 +25,7 @@ typedef struct job {
     json_t *spec;
     long long owner;
     int priority;
+    bool private_job; /* visibility "private": what it makes (tiles) is private too */
     job_state state;
     double created, started;
     bool cancel_requested;
@@ -282,6 +283,16 @@ bool jm_job_stop_locked(const job_ctx *ctx)
     return j->cancel_requested || j->over_time || ((job_manager *)ctx->jm)->stopping;
 }
 
+long long job_ctx_owner(const job_ctx *ctx)
+{
+    return ctx->job->owner;
+}
+
+bool job_ctx_private(const job_ctx *ctx)
+{
+    return ctx->job->private_job;
+}
+
 double jm_job_clock(void *ctx_)
 {
     const job_ctx *ctx = ctx_;
@@ -403,7 +414,8 @@ static void *job_thread(void *arg)
 /* --- restart recovery --------------------------------------------------------------------- */
 
 static void recover_one(void *user, long long id, const char *kind_name, json_t *spec,
-                        long long owner, int priority, job_state state, double created)
+                        long long owner, int priority, bool private_job, job_state state,
+                        double created)
 {
     job_manager *jm = user;
     const job_kind *kind = kind_name ? job_manager_kind(jm, kind_name) : NULL;
@@ -459,6 +471,7 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
     j->spec = json_incref(spec);
     j->owner = owner;
     j->priority = priority;
+    j->private_job = private_job || env.private_job;
     j->state = JOB_QUEUED;
     j->created = created;
     if (state == JOB_RUNNING)
@@ -602,6 +615,7 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     j->spec = kind_spec; /* the envelope is stored in its own columns */
     j->owner = owner;
     j->priority = env.priority;
+    j->private_job = env.private_job;
     j->state = JOB_QUEUED;
     j->created = jm_now();
 

@@ -113,8 +113,10 @@ int job_store_usage_of(job_store *st, long long owner, job_store_usage *out);
 json_t *job_store_usage_all(job_store *st);
 
 /* Calls fn for every queued or running job, oldest first (restart recovery). */
+/* An unfinished job as stored: its envelope (priority, visibility) beside the kind's spec. */
 typedef void (*job_store_visit_fn)(void *user, long long id, const char *kind, json_t *spec,
-                                   long long owner, int priority, job_state state, double created);
+                                   long long owner, int priority, bool private_job, job_state state,
+                                   double created);
 int job_store_unfinished(job_store *st, job_store_visit_fn fn, void *user);
 
 /* PRAGMA integrity_check == "ok". */

@@ -229,16 +229,18 @@ int job_store_unfinished(job_store *st, job_store_visit_fn fn, void *user)
     typedef struct row {
         long long id, owner;
         int priority;
+        bool private_job;
         char *kind, *spec, *state;
         double created;
     } row;
     row *rows = NULL;
     size_t n = 0, cap = 0;
-    if (sqlite3_prepare_v2(r->db,
-                           "SELECT id, kind, " JOB_SPEC_EXPR
-                           ", coalesce(owner_uid, -1), state, created, priority "
-                           "FROM jobs WHERE state IN ('queued','running') ORDER BY id",
-                           -1, &q, NULL) == SQLITE_OK) {
+    if (sqlite3_prepare_v2(
+            r->db,
+            "SELECT id, kind, " JOB_SPEC_EXPR
+            ", coalesce(owner_uid, -1), state, created, priority, visibility = 'private' "
+            "FROM jobs WHERE state IN ('queued','running') ORDER BY id",
+            -1, &q, NULL) == SQLITE_OK) {
         while (sqlite3_step(q) == SQLITE_ROW) {
             if (n == cap) {
                 size_t c = cap ? 2 * cap : 16;
@@ -254,7 +256,8 @@ int job_store_unfinished(job_store *st, job_store_visit_fn fn, void *user)
                               .owner = sqlite3_column_int64(q, 3),
                               .state = column_dup(q, 4),
                               .created = sqlite3_column_double(q, 5),
-                              .priority = sqlite3_column_int(q, 6)};
+                              .priority = sqlite3_column_int(q, 6),
+                              .private_job = sqlite3_column_int(q, 7) != 0};
         }
         sqlite3_finalize(q);
     }
@@ -262,7 +265,7 @@ int job_store_unfinished(job_store *st, job_store_visit_fn fn, void *user)
     for (size_t i = 0; i < n; i++) {
         json_t *spec = parse_owned(rows[i].spec);
         fn(user, rows[i].id, rows[i].kind, spec, rows[i].owner, rows[i].priority,
-           job_state_from_name(rows[i].state), rows[i].created);
+           rows[i].private_job, job_state_from_name(rows[i].state), rows[i].created);
         json_decref(spec);
         free(rows[i].kind);
         free(rows[i].state);

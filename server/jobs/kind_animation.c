@@ -86,6 +86,8 @@ static int animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *
 {
     animation_params *ap = params;
     tile_store *ts = job_ctx_services(ctx);
+    /* The tiles belong to the job's owner and are private when the job is. */
+    const tile_access access = {job_ctx_owner(ctx), job_ctx_private(ctx)};
     aa_render_params rp = aa_render_params_default(ap->scene.kind);
     rp.scene = ap->scene;
     rp.scene.frame = 0;
@@ -124,7 +126,8 @@ static int animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *
                       (json_int_t)fs.ref.pixels_supersampled, "pattern_seconds", fs.pattern_seconds,
                       "reference_seconds", fs.reference_seconds);
         if (fj && ts && ap->tiles) {
-            json_t *t = tile_put_render_images(ts, &an.pattern_img, &an.reference_img, NULL, err);
+            json_t *t = tile_put_render_images_as(ts, &access, &an.pattern_img, &an.reference_img,
+                                                  NULL, err);
             if (t)
                 json_object_set_new(fj, "tiles", t);
         }

@@ -113,6 +113,8 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
 {
     compare_params *cp = params;
     tile_store *ts = job_ctx_services(ctx);
+    /* The tiles belong to the job's owner and are private when the job is. */
+    const tile_access access = {job_ctx_owner(ctx), job_ctx_private(ctx)};
     aa_scene scene;
     int rc = aa_scene_init(&scene, &cp->scene, err);
     if (rc)
@@ -145,7 +147,7 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
             slot[s].done = true;
             units += 1;
             if (ts && cp->tiles)
-                slot[s].tile = tile_put_image(ts, &slot[s].img, NULL);
+                slot[s].tile = tile_put_image(ts, &access, &slot[s].img, NULL);
             json_array_append_new(
                 refs, json_pack("{s:f, s:f, s:I, s:I, s:I, s:o*}", "output_offset", off, "seconds",
                                 slot[s].seconds, "supersampled",
@@ -174,8 +176,8 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
             d.max_dev, "render_seconds", seconds, "pixels_sampled", (json_int_t)rs.pixels_sampled,
             "coverage_samples", (json_int_t)rs.samples_evaluated, "stats", tile_encode_diff(&d));
         if (row && ts && cp->tiles) {
-            json_t *tp = tile_put_image(ts, &img, NULL);
-            json_t *td = tile_put_difference(ts, &img, &slot[s].img, NULL);
+            json_t *tp = tile_put_image(ts, &access, &img, NULL);
+            json_t *td = tile_put_difference(ts, &access, &img, &slot[s].img, NULL);
             json_object_set_new(row, "tiles",
                                 json_pack("{s:o*, s:o*}", "pattern", tp, "difference", td));
         }

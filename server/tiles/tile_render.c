@@ -360,7 +360,8 @@ json_t *tile_put_gray8_as(tile_store *ts, const tile_access *access, const uint8
                      "height", (json_int_t)height, "bytes", (json_int_t)len);
 }
 
-json_t *tile_put_image(tile_store *ts, const aa_image *img, aa_error *err)
+json_t *tile_put_image(tile_store *ts, const tile_access *access, const aa_image *img,
+                       aa_error *err)
 {
     uint8_t *px = malloc((size_t)img->width * (size_t)img->height);
     if (!px) {
@@ -368,12 +369,13 @@ json_t *tile_put_image(tile_store *ts, const aa_image *img, aa_error *err)
         return NULL;
     }
     aa_image_to_gray8(img, px);
-    json_t *o = tile_put_gray8(ts, px, img->width, img->height, err);
+    json_t *o = tile_put_gray8_as(ts, access, px, img->width, img->height, err);
     free(px);
     return o;
 }
 
-json_t *tile_put_difference(tile_store *ts, const aa_image *a, const aa_image *ref, aa_error *err)
+json_t *tile_put_difference(tile_store *ts, const tile_access *access, const aa_image *a,
+                            const aa_image *ref, aa_error *err)
 {
     uint8_t *px = malloc((size_t)a->width * (size_t)a->height);
     if (!px) {
@@ -381,7 +383,7 @@ json_t *tile_put_difference(tile_store *ts, const aa_image *a, const aa_image *r
         return NULL;
     }
     aa_image_difference_gray8(a, ref, 0.1, px);
-    json_t *o = tile_put_gray8(ts, px, a->width, a->height, err);
+    json_t *o = tile_put_gray8_as(ts, access, px, a->width, a->height, err);
     free(px);
     return o;
 }

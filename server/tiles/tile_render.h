@@ -58,8 +58,10 @@ json_t *tile_put_gray8(tile_store *ts, const uint8_t *px, int width, int height,
 /* The same, stored with an access (NULL = team; the plain functions store team tiles). */
 json_t *tile_put_gray8_as(tile_store *ts, const tile_access *access, const uint8_t *px, int width,
                           int height, aa_error *err);
-json_t *tile_put_image(tile_store *ts, const aa_image *img, aa_error *err);
-json_t *tile_put_difference(tile_store *ts, const aa_image *a, const aa_image *ref, aa_error *err);
+json_t *tile_put_image(tile_store *ts, const tile_access *access, const aa_image *img,
+                       aa_error *err);
+json_t *tile_put_difference(tile_store *ts, const tile_access *access, const aa_image *a,
+                            const aa_image *ref, aa_error *err);
 /* {"pattern", "reference", "difference"} (and "crop": {...} of the three when enabled). */
 json_t *tile_put_render_images(tile_store *ts, const aa_image *pattern, const aa_image *reference,
                                const tile_crop *crop, aa_error *err);

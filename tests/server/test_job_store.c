@@ -25,11 +25,12 @@ typedef struct seen {
 } seen;
 
 static void visit(void *user, long long id, const char *kind, json_t *spec, long long owner,
-                  int priority, job_state state, double created)
+                  int priority, bool private_job, job_state state, double created)
 {
     seen *s = user;
     (void)created;
     (void)priority;
+    (void)private_job;
     assert_string_equal(kind, "sleep");
     assert_non_null(json_object_get(spec, "seconds"));
     assert_int_equal(owner, 1000);

@@ -22,6 +22,7 @@ struct job_ctx {
     int progress_calls;
     int cancel_after; /* 0: never */
     double last_fraction;
+    bool private_job;
 };
 
 bool job_ctx_progress(job_ctx *ctx, double fraction, json_t *best_so_far)
@@ -55,6 +56,17 @@ void *job_ctx_services(job_ctx *ctx)
     return ctx->tiles;
 }
 
+long long job_ctx_owner(const job_ctx *ctx)
+{
+    (void)ctx;
+    return 1000;
+}
+
+bool job_ctx_private(const job_ctx *ctx)
+{
+    return ctx->private_job;
+}
+
 static json_t *parse(const char *text)
 {
     json_error_t e;
@@ -79,7 +91,8 @@ static int run(const job_kind *k, const char *spec, job_ctx *ctx, json_t **resul
 static void test_compare_rows(void **state)
 {
     (void)state;
-    job_ctx ctx = {tile_store_create(NULL, 1 << 22, NULL), 0, 0, 0};
+    /* A private job: its tiles are its owner's (uid 1000 in the stub) and root's only. */
+    job_ctx ctx = {.tiles = tile_store_create(NULL, 1 << 22, NULL), .private_job = true};
     json_t *res = NULL;
     aa_error err = {0};
     int rc = run(&job_kind_compare,
@@ -112,8 +125,11 @@ static void test_compare_rows(void **state)
         json_object_get(json_object_get(json_object_get(flipquad, "tiles"), "difference"), "id"));
     void *png;
     size_t len;
-    assert_int_equal(tile_store_get(ctx.tiles, id, &png, &len), AA_OK);
+    assert_int_equal(tile_store_get_as(ctx.tiles, id, 1000, false, &png, &len), AA_OK);
     free(png);
+    assert_int_equal(tile_store_get_as(ctx.tiles, id, 0, true, &png, &len), AA_OK);
+    free(png);
+    assert_int_equal(tile_store_get_as(ctx.tiles, id, 1001, false, &png, &len), TILE_ENOENT);
     assert_true(ctx.progress_calls > 0);
     json_decref(res);
 
@@ -132,7 +148,7 @@ static void test_compare_rows(void **state)
 static void test_reference_convergence_decreases(void **state)
 {
     (void)state;
-    job_ctx ctx = {NULL, 0, 0, 0};
+    job_ctx ctx = {.tiles = NULL};
     json_t *res = NULL;
     aa_error err = {0};
     int rc = run(&job_kind_reference_convergence,
@@ -161,7 +177,7 @@ static void test_reference_convergence_decreases(void **state)
 static void test_animation_frames_and_cancel(void **state)
 {
     (void)state;
-    job_ctx ctx = {tile_store_create(NULL, 1 << 22, NULL), 0, 0, 0};
+    job_ctx ctx = {.tiles = tile_store_create(NULL, 1 << 22, NULL)};
     json_t *res = NULL;
     aa_error err = {0};
     const char *spec = "{\"kind\":\"animation\",\"scene\":{\"name\":\"rotating-triangle\","
@@ -176,7 +192,7 @@ static void test_animation_frames_and_cancel(void **state)
     assert_non_null(
         json_object_get(json_object_get(json_array_get(frames, 2), "tiles"), "difference"));
     json_decref(res);
-    job_ctx stop = {NULL, 0, 2, 0};
+    job_ctx stop = {.cancel_after = 2};
     assert_int_equal(run(&job_kind_animation, spec, &stop, &res, &err), AA_ECANCELED);
     assert_int_equal(run(&job_kind_animation,
                          "{\"kind\":\"animation\",\"scene\":{\"name\":\"spiral\"},"
