@@ -113,11 +113,17 @@ class Daemon:
         return a + self.extra_args
 
     def start(self, timeout=20.0):
-        self.log = open(self.log_path, "ab")
         env = dict(os.environ)
         env.pop("LISTEN_FDS", None)
         env.pop("NOTIFY_SOCKET", None)
-        self.proc = subprocess.Popen(self.args(), stdout=self.log, stderr=subprocess.STDOUT, env=env)
+        return self.start_with(timeout, env=env)
+
+    def start_with(self, timeout, **popen_kw):
+        """Starts the daemon with these Popen arguments (env, user, ...) and waits until it
+        answers GET /v1/health; then issues the harness's token."""
+        self.log = open(self.log_path, "ab")
+        self.proc = subprocess.Popen(self.args(), stdout=self.log, stderr=subprocess.STDOUT,
+                                     **popen_kw)
         deadline = time.time() + timeout
         while time.time() < deadline:
             if self.proc.poll() is not None:

@@ -118,28 +118,30 @@ conn_admit_result conn_admission_admit(conn_admission *ca, int fd, const struct 
     return r;
 }
 
+/* The admitted connection on fd, or NULL. Lock held. */
+static const slot *slot_of_locked(const conn_admission *ca, int fd)
+{
+    return fd >= 0 && (size_t)fd < ca->cap && ca->by_fd[fd].used ? &ca->by_fd[fd] : NULL;
+}
+
 bool conn_admission_peer(conn_admission *ca, int fd, conn_peer *peer)
 {
-    bool found = false;
     pthread_mutex_lock(&ca->lock);
-    if (fd >= 0 && (size_t)fd < ca->cap && ca->by_fd[fd].used) {
-        *peer = ca->by_fd[fd].peer;
-        found = true;
-    }
+    const slot *s = slot_of_locked(ca, fd);
+    if (s)
+        *peer = s->peer;
     pthread_mutex_unlock(&ca->lock);
-    return found;
+    return s != NULL;
 }
 
 bool conn_admission_accepted_at(conn_admission *ca, int fd, double *when)
 {
-    bool found = false;
     pthread_mutex_lock(&ca->lock);
-    if (fd >= 0 && (size_t)fd < ca->cap && ca->by_fd[fd].used) {
-        *when = ca->by_fd[fd].accepted_at;
-        found = true;
-    }
+    const slot *s = slot_of_locked(ca, fd);
+    if (s)
+        *when = s->accepted_at;
     pthread_mutex_unlock(&ca->lock);
-    return found;
+    return s != NULL;
 }
 
 bool conn_admission_token(conn_admission *ca, int fd, const char *authorization)

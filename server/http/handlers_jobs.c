@@ -18,6 +18,10 @@ static long long manager_caller(const api_request *req)
     return req->caller.admin ? 0 : req->caller.uid;
 }
 
+/* 1 if the caller owns job id (or is admin), 0 if it may only read it, -1 after a 404 (it may
+ * not even read it). */
+static int caller_owns(api_context *ctx, const api_request *req, api_response *resp, long long id);
+
 /* The job if the caller may read it (a new reference), else NULL after a 404. */
 static json_t *readable_job(api_context *ctx, const api_request *req, api_response *resp,
                             long long id)
@@ -29,6 +33,16 @@ static json_t *readable_job(api_context *ctx, const api_request *req, api_respon
         return NULL;
     }
     return job;
+}
+
+static int caller_owns(api_context *ctx, const api_request *req, api_response *resp, long long id)
+{
+    json_t *job = readable_job(ctx, req, resp, id);
+    if (!job)
+        return -1;
+    int owned = job_owned_by(&req->caller, job);
+    json_decref(job);
+    return owned;
 }
 
 void handle_jobs_post(api_context *ctx, const api_request *req, api_response *resp)
@@ -134,11 +148,9 @@ static void handle_job_purge(api_context *ctx, const api_request *req, api_respo
         api_reply_error(resp, 400, "invalid_field", "purge", "purge must be 0 or 1");
         return;
     }
-    json_t *job = readable_job(ctx, req, resp, id);
-    if (!job)
+    int owned = caller_owns(ctx, req, resp, id);
+    if (owned < 0)
         return;
-    bool owned = job_owned_by(&req->caller, job);
-    json_decref(job);
     switch (owned ? job_manager_purge(api_context_jobs(ctx), id, manager_caller(req))
                   : JM_EFORBIDDEN) {
     case JM_OK:
@@ -165,11 +177,9 @@ void handle_job_patch(api_context *ctx, const api_request *req, api_response *re
 {
     long long id = api_parse_job_id(id_text);
     job_store *st = job_manager_store(api_context_jobs(ctx));
-    json_t *job = readable_job(ctx, req, resp, id);
-    if (!job)
+    int owned = caller_owns(ctx, req, resp, id);
+    if (owned < 0)
         return;
-    bool owned = job_owned_by(&req->caller, job);
-    json_decref(job);
     if (!owned) {
         api_reply_error(resp, 403, "forbidden", "", "only the job's owner or root may change it");
         return;
@@ -209,11 +219,9 @@ void handle_job_delete(api_context *ctx, const api_request *req, api_response *r
         handle_job_purge(ctx, req, resp, id, purge);
         return;
     }
-    json_t *job = readable_job(ctx, req, resp, id);
-    if (!job)
+    int owned = caller_owns(ctx, req, resp, id);
+    if (owned < 0)
         return;
-    bool owned = job_owned_by(&req->caller, job);
-    json_decref(job);
     const char *state = NULL;
     int rc = owned ? job_manager_cancel(api_context_jobs(ctx), id, manager_caller(req), &state)
                    : JM_EFORBIDDEN;

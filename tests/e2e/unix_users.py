@@ -229,29 +229,13 @@ class _UserDaemon(Daemon):
 
     def start(self, timeout=30.0):
         # The harness opens the log as root; the daemon writes it through the inherited fd.
-        self.log = open(self.log_path, "ab")
         env = {"PATH": "/usr/bin:/bin", "LANG": "C.UTF-8"}
         for k in ("ASAN_OPTIONS", "UBSAN_OPTIONS", "TSAN_OPTIONS", "LSAN_OPTIONS"):
             if k in os.environ:
                 env[k] = os.environ[k]
-        self.proc = subprocess.Popen(self.args(), stdout=self.log, stderr=subprocess.STDOUT,
-                                     env=env, user=self.account.uid, group=self.account.gid,
-                                     extra_groups=[grp.getgrnam(g).gr_gid
-                                                   for g in self.account.groups], cwd="/")
-        deadline = time.time() + timeout
-        while time.time() < deadline:
-            if self.proc.poll() is not None:
-                raise RuntimeError("aalabd exited with %s during start-up:\n%s" %
-                                   (self.proc.returncode, self.log_text()))
-            if os.path.exists(self.socket_path):
-                try:
-                    if self.request("GET", "/v1/health", timeout=2).status == 200:
-                        return self
-                except OSError:
-                    pass
-            time.sleep(0.05)
-        raise RuntimeError("aalabd did not become healthy in %.0f s:\n%s" %
-                           (timeout, self.log_text()))
+        return self.start_with(timeout, env=env, user=self.account.uid, group=self.account.gid,
+                               extra_groups=[grp.getgrnam(g).gr_gid for g in self.account.groups],
+                               cwd="/")
 
 
 def percentile(values, p):

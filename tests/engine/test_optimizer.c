@@ -103,6 +103,16 @@ static void optimize_never_raises_e2(void **state)
     }
 }
 
+/* A P(4,1+,n) seed with one corner, two edge and one interior sample (uniform, rng stream 9). */
+static void mirrored_test_seed(aa_pattern *seed)
+{
+    aa_mirrored_config c = {{1, 0, 0, 0}, {0, 2, 1, 0}, 1};
+    aa_rng rng;
+    aa_rng_seed(&rng, 9, 0);
+    assert_int_equal(aa_mirrored_config_seed(&c, AA_SEED_UNIFORM, &filter, &rng, seed, NULL),
+                     AA_OK);
+}
+
 /* A clock that advances one "second" per reading: the budget and the reported seconds follow
  * the caller's clock, not the wall clock (a paused run's clock stands still). */
 static double counting_clock(void *user)
@@ -114,12 +124,8 @@ static double counting_clock(void *user)
 static void budget_follows_the_given_clock(void **state)
 {
     (void)state;
-    aa_mirrored_config c = {{1, 0, 0, 0}, {0, 2, 1, 0}, 1};
-    aa_rng rng;
-    aa_rng_seed(&rng, 9, 0);
     aa_pattern seed, best;
-    assert_int_equal(aa_mirrored_config_seed(&c, AA_SEED_UNIFORM, &filter, &rng, &seed, NULL),
-                     AA_OK);
+    mirrored_test_seed(&seed);
     aa_optimize_params op;
     aa_optimize_params_default(&op);
     op.max_iterations = 1000000;
@@ -146,12 +152,8 @@ static void budget_follows_the_given_clock(void **state)
 
 static void mirrored_sites_are_preserved_by(aa_optimize_method method)
 {
-    aa_mirrored_config c = {{1, 0, 0, 0}, {0, 2, 1, 0}, 1};
-    aa_rng rng;
-    aa_rng_seed(&rng, 9, 0);
     aa_pattern seed, best;
-    assert_int_equal(aa_mirrored_config_seed(&c, AA_SEED_UNIFORM, &filter, &rng, &seed, NULL),
-                     AA_OK);
+    mirrored_test_seed(&seed);
     aa_optimize_params op;
     aa_optimize_params_default(&op);
     op.method = method;
