@@ -205,11 +205,10 @@ static int resolve_one(api_context *ctx, const api_caller *caller, json_t *paren
     if (id <= 0)
         return aa_error_set(err, AA_EINVAL, jfield, "not a job id");
     /* A private job of someone else reads as no job at all: its existence is not revealed. */
-    json_t *job = job_manager_get(ctx->jobs, id);
-    bool readable = job && job_readable(caller, job);
-    json_decref(job);
     const char *why = "no such job";
-    json_t *p = readable ? job_manager_best_pattern(ctx->jobs, id, &why) : NULL;
+    json_t *p = job_access_check(job_manager_store(ctx->jobs), caller, id, NULL)
+                    ? job_manager_best_pattern(ctx->jobs, id, &why)
+                    : NULL;
     if (!p)
         return aa_error_set(err, AA_EINVAL, jfield, "job %lld: %s", id, why);
     if (parent_obj)

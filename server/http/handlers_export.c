@@ -153,10 +153,9 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
     long long id = api_parse_job_id(id_text);
     const char *why = "no such job";
     /* Someone else's private job is "no such job", as in GET /v1/jobs/{id}. */
-    json_t *job = id > 0 ? job_manager_get(api_context_jobs(ctx), id) : NULL;
-    bool readable = job && job_readable(&req->caller, job);
-    json_decref(job);
-    json_t *pj = readable ? job_manager_best_pattern(api_context_jobs(ctx), id, &why) : NULL;
+    json_t *pj = job_access_check(job_manager_store(api_context_jobs(ctx)), &req->caller, id, NULL)
+                     ? job_manager_best_pattern(api_context_jobs(ctx), id, &why)
+                     : NULL;
     if (!pj) {
         int status = strcmp(why, "no such job") ? 409 : 404;
         api_reply_error(resp, status, status == 404 ? "not_found" : "conflict", "id",

@@ -18,31 +18,16 @@ static long long manager_caller(const api_request *req)
     return req->caller.admin ? 0 : req->caller.uid;
 }
 
-/* 1 if the caller owns job id (or is admin), 0 if it may only read it, -1 after a 404 (it may
- * not even read it). */
-static int caller_owns(api_context *ctx, const api_request *req, api_response *resp, long long id);
-
-/* The job if the caller may read it (a new reference), else NULL after a 404. */
-static json_t *readable_job(api_context *ctx, const api_request *req, api_response *resp,
-                            long long id)
-{
-    json_t *job = id > 0 ? job_manager_get(api_context_jobs(ctx), id) : NULL;
-    if (!job || !job_readable(&req->caller, job)) {
-        json_decref(job);
-        api_reply_error(resp, 404, "not_found", "id", "no job %lld", id > 0 ? id : 0);
-        return NULL;
-    }
-    return job;
-}
-
+/* 1 if the caller may change job id (its owner, or the admin), 0 if it may only read it, -1
+ * after a 404 (it may not even read it). */
 static int caller_owns(api_context *ctx, const api_request *req, api_response *resp, long long id)
 {
-    json_t *job = readable_job(ctx, req, resp, id);
-    if (!job)
+    bool owns = false;
+    if (!job_access_check(job_manager_store(api_context_jobs(ctx)), &req->caller, id, &owns)) {
+        api_reply_error(resp, 404, "not_found", "id", "no job %lld", id > 0 ? id : 0);
         return -1;
-    int owned = job_owned_by(&req->caller, job);
-    json_decref(job);
-    return owned;
+    }
+    return owns;
 }
 
 void handle_jobs_post(api_context *ctx, const api_request *req, api_response *resp)
@@ -134,9 +119,14 @@ void handle_jobs_list(api_context *ctx, const api_request *req, api_response *re
 void handle_job_get(api_context *ctx, const api_request *req, api_response *resp,
                     const char *id_text)
 {
-    json_t *job = readable_job(ctx, req, resp, api_parse_job_id(id_text));
-    if (!job)
+    long long id = api_parse_job_id(id_text);
+    json_t *job =
+        caller_owns(ctx, req, resp, id) >= 0 ? job_manager_get(api_context_jobs(ctx), id) : NULL;
+    if (!job) {
+        if (!resp->status)
+            api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
         return;
+    }
     api_reply_json(resp, 200, job);
     resp->cache_control = "no-store";
 }

@@ -3,25 +3,16 @@
 
 #include <string.h>
 
-const char *job_visibility(const json_t *job)
+bool job_access_check(job_store *st, const api_caller *caller, long long id, bool *owns)
 {
-    const json_t *v = json_object_get(job, JOB_VISIBILITY_KEY);
-    if (!json_is_string(v))
-        v = json_object_get(json_object_get(job, "spec"), JOB_VISIBILITY_KEY);
-    return json_is_string(v) && !strcmp(json_string_value(v), "private") ? "private" : "team";
-}
-
-bool job_owned_by(const api_caller *caller, const json_t *job)
-{
-    if (caller->admin)
-        return true;
-    const json_t *owner = json_object_get(job, "owner_uid");
-    return caller->uid >= 0 && json_is_integer(owner) && json_integer_value(owner) == caller->uid;
-}
-
-bool job_readable(const api_caller *caller, const json_t *job)
-{
-    return strcmp(job_visibility(job), "private") || job_owned_by(caller, job);
+    long long owner = -1;
+    bool private_job = false;
+    if (id <= 0 || !job_store_owner(st, id, &owner, NULL, &private_job))
+        return false;
+    bool owner_or_admin = caller->admin || (caller->uid >= 0 && owner == caller->uid);
+    if (owns)
+        *owns = owner_or_admin;
+    return !private_job || owner_or_admin;
 }
 
 bool job_visibility_valid(const json_t *value)

@@ -67,13 +67,6 @@ double jm_now(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-double jm_monotonic(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 static job *job_new(void)
 {
     job *j = calloc(1, sizeof *j);
@@ -201,7 +194,7 @@ static void schedule_locked(job_manager *jm)
         if (k < 0)
             return;
         job *j = jobs[k];
-        double now = jm_monotonic();
+        double now = aa_monotonic_seconds();
         j->holds_worker = true;
         j->slice_start = j->served = now;
         j->next_yield_check = now + jm->cfg.slice_seconds;
@@ -242,7 +235,7 @@ void jm_yield_point_locked(job_ctx *ctx)
 {
     job_manager *jm = ctx->jm;
     job *j = ctx->job;
-    double now = jm_monotonic();
+    double now = aa_monotonic_seconds();
     double ran = now - ctx->started_mono - (double)atomic_load(&j->paused_ns) * 1e-9;
     if (!j->over_time && ran > jm->cfg.max_job_seconds) {
         j->over_time = true; /* the caller sees the stop flag through cancel_requested */
@@ -264,7 +257,7 @@ void jm_yield_point_locked(job_ctx *ctx)
     job_ctx_flush_locked(ctx);
     j->holds_worker = false;
     j->paused = true;
-    j->paused_since = j->served = jm_monotonic();
+    j->paused_since = j->served = aa_monotonic_seconds();
     jm->busy--;
     schedule_locked(jm);
     fprintf(stderr, "aalabd: job %lld (uid %lld) yields its worker after a %.1f s slice\n", j->id,
@@ -273,7 +266,8 @@ void jm_yield_point_locked(job_ctx *ctx)
         pthread_cond_wait(&j->resume, &jm->lock);
     if (j->paused) { /* woken to stop: end without a worker (finish_job knows) */
         j->paused = false;
-        atomic_fetch_add(&j->paused_ns, (long long)((jm_monotonic() - j->paused_since) * 1e9));
+        atomic_fetch_add(&j->paused_ns,
+                         (long long)((aa_monotonic_seconds() - j->paused_since) * 1e9));
     }
 }
 
@@ -297,7 +291,7 @@ double jm_job_clock(void *ctx_)
 {
     const job_ctx *ctx = ctx_;
     const job *j = ctx->job;
-    return jm_monotonic() - (double)atomic_load(&j->paused_ns) * 1e-9;
+    return aa_monotonic_seconds() - (double)atomic_load(&j->paused_ns) * 1e-9;
 }
 
 static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa_error *err)
@@ -395,7 +389,7 @@ static void *job_thread(void *arg)
                           .workers = jm->cfg.workers,
                           .busy = &jm->busy,
                           .started = j->started,
-                          .started_mono = jm_monotonic()};
+                          .started_mono = aa_monotonic_seconds()};
     json_t *result = NULL;
     aa_error err = {0};
     int rc = j->kind->run(j->params, &ctx, &result, &err);
@@ -836,7 +830,7 @@ int job_manager_purge(job_manager *jm, long long id, long long caller)
         state = j->state;
     }
     pthread_mutex_unlock(&jm->lock);
-    if (!found && !job_store_owner(jm->store, id, &owner, &state))
+    if (!found && !job_store_owner(jm->store, id, &owner, &state, NULL))
         return JM_ENOENT;
     if (caller != 0 && !(owner < 0 || (caller >= 0 && caller == owner)))
         return JM_EFORBIDDEN;

@@ -87,8 +87,10 @@ int job_store_sweep(job_store *st, double before, long long *deleted);
 /* The job as the API shows it; full adds spec, best, trace, result (with derived pattern keys
  * re-derived). NULL if absent. */
 json_t *job_store_get(job_store *st, long long id, bool full);
-/* Owner (-1 = unknown) and state of a job; false if absent. */
-bool job_store_owner(job_store *st, long long id, long long *owner, job_state *state);
+/* Owner (-1 = unknown), state and visibility of a job from its indexed columns; false if
+ * absent. Any out pointer may be NULL. */
+bool job_store_owner(job_store *st, long long id, long long *owner, job_state *state,
+                     bool *private_job);
 
 #define JOB_VIEWER_ALL (-1LL) /* sees private jobs of every owner */
 typedef struct job_store_filter {

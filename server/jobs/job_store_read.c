@@ -105,13 +105,16 @@ json_t *job_store_get(job_store *st, long long id, bool full)
     return o;
 }
 
-bool job_store_owner(job_store *st, long long id, long long *owner, job_state *state)
+bool job_store_owner(job_store *st, long long id, long long *owner, job_state *state,
+                     bool *private_job)
 {
     job_store_reader *r = job_store_reader_acquire(st);
     sqlite3_stmt *q;
     bool found = false;
-    if (sqlite3_prepare_v2(r->db, "SELECT coalesce(owner_uid, -1), state FROM jobs WHERE id=?", -1,
-                           &q, NULL) == SQLITE_OK) {
+    if (sqlite3_prepare_v2(
+            r->db,
+            "SELECT coalesce(owner_uid, -1), state, visibility = 'private' FROM jobs WHERE id=?",
+            -1, &q, NULL) == SQLITE_OK) {
         sqlite3_bind_int64(q, 1, id);
         if (sqlite3_step(q) == SQLITE_ROW) {
             found = true;
@@ -119,6 +122,8 @@ bool job_store_owner(job_store *st, long long id, long long *owner, job_state *s
                 *owner = sqlite3_column_int64(q, 0);
             if (state)
                 *state = job_state_from_name((const char *)sqlite3_column_text(q, 1));
+            if (private_job)
+                *private_job = sqlite3_column_int(q, 2) != 0;
         }
         sqlite3_finalize(q);
     }

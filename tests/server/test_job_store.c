@@ -292,10 +292,10 @@ static void test_retention_keeps_pinned(void **state)
     long long deleted = -1;
     assert_int_equal(job_store_sweep(st, 1000.0, &deleted), AA_OK);
     assert_int_equal(deleted, 1);
-    assert_false(job_store_owner(st, old_plain, NULL, NULL));
-    assert_true(job_store_owner(st, old_pinned, NULL, NULL));
-    assert_true(job_store_owner(st, recent, NULL, NULL));
-    assert_true(job_store_owner(st, queued, NULL, NULL));
+    assert_false(job_store_owner(st, old_plain, NULL, NULL, NULL));
+    assert_true(job_store_owner(st, old_pinned, NULL, NULL, NULL));
+    assert_true(job_store_owner(st, recent, NULL, NULL, NULL));
+    assert_true(job_store_owner(st, queued, NULL, NULL, NULL));
 
     /* Unpinned, the old job goes at the next sweep; the thread sweeps at start. */
     assert_int_equal(job_store_set_pinned(st, old_pinned, false), AA_OK);
@@ -308,9 +308,9 @@ static void test_retention_keeps_pinned(void **state)
         usleep(10000);
     assert_int_equal(job_retention_deleted(r), 2);
     job_retention_stop(r);
-    assert_false(job_store_owner(st, old_pinned, NULL, NULL));
-    assert_false(job_store_owner(st, recent, NULL, NULL));
-    assert_true(job_store_owner(st, queued, NULL, NULL)); /* never finished: kept */
+    assert_false(job_store_owner(st, old_pinned, NULL, NULL, NULL));
+    assert_false(job_store_owner(st, recent, NULL, NULL, NULL));
+    assert_true(job_store_owner(st, queued, NULL, NULL, NULL)); /* never finished: kept */
     job_store_close(st);
     json_decref(spec);
     remove_dir(dir);
