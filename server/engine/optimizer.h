@@ -33,6 +33,7 @@
 #include <stdint.h>
 
 #include "aa_error.h"
+#include "clock.h"
 #include "enumerate.h"
 #include "family.h"
 #include "metric.h"
@@ -61,16 +62,6 @@ int aa_optimize_method_parse(const char *name, aa_optimize_method *out); /* AA_E
  * (P(16,16,4): 0.1730 against 0.1764 in 600 s); everything else -> laine-aila, which reaches the
  * published optima of the one-pixel families. */
 aa_optimize_method aa_auto_method(bool tiled_without_border, aa_optimize_mode mode);
-
-/* The time source of budgets and reported seconds: seconds since any fixed point, never going
- * backwards. fn NULL: CLOCK_MONOTONIC. A caller that pauses a run (the daemon gives a waiting
- * user's job the core for a while) passes a clock that stands still during the pause, so the
- * pause costs the run none of its budget and a budget-free run gives the same result. */
-typedef struct aa_clock {
-    double (*fn)(void *user);
-    void *user;
-} aa_clock;
-double aa_clock_seconds(const aa_clock *c);
 
 typedef struct aa_optimize_params {
     aa_optimize_mode mode;

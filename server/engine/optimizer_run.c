@@ -7,15 +7,6 @@
 #include <string.h>
 #include <time.h>
 
-double aa_clock_seconds(const aa_clock *c)
-{
-    if (c && c->fn)
-        return c->fn(c->user);
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 void opt_run_free(opt_run *r)
 {
     free(r->theta);

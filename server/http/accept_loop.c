@@ -1,5 +1,6 @@
 #define _GNU_SOURCE
 #include "accept_loop.h"
+#include "clock.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -37,13 +38,6 @@ struct accept_loop {
     int count;
 };
 
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + t.tv_nsec * 1e-9;
-}
-
 static void finish(accept_loop *al, int fd, accept_outcome o)
 {
     waiting w = al->by_fd[fd];
@@ -68,7 +62,8 @@ static void watch(accept_loop *al, int fd, const struct sockaddr_storage *ss, so
         al->by_fd = grown;
         al->cap = cap;
     }
-    al->by_fd[fd] = (waiting){.used = true, .since = now_seconds(), .peer = *ss, .len = len};
+    al->by_fd[fd] =
+        (waiting){.used = true, .since = aa_monotonic_seconds(), .peer = *ss, .len = len};
     al->count++;
     struct epoll_event ev = {.events = EPOLLIN | EPOLLRDHUP | EPOLLET, .data.fd = fd};
     if (epoll_ctl(al->ep, EPOLL_CTL_ADD, fd, &ev))
@@ -153,7 +148,7 @@ static void *accept_main(void *arg)
         }
         if (stop)
             break;
-        double now = now_seconds();
+        double now = aa_monotonic_seconds();
         if (paused_until > 0 && now >= paused_until) {
             struct epoll_event lev = {.events = EPOLLIN, .data.fd = al->listen_fd};
             epoll_ctl(al->ep, EPOLL_CTL_MOD, al->listen_fd, &lev);

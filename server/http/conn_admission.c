@@ -1,5 +1,6 @@
 #define _GNU_SOURCE
 #include "conn_admission.h"
+#include "clock.h"
 
 #include <pthread.h>
 #include <stdint.h>
@@ -108,10 +109,7 @@ conn_admit_result conn_admission_admit(conn_admission *ca, int fd, const struct 
     if (r == ADMIT_OK && !key_counts_acquire(ca->users, user_key(peer), ca->user_limit))
         r = ADMIT_USER_LIMIT;
     if (r == ADMIT_OK) {
-        struct timespec t;
-        clock_gettime(CLOCK_MONOTONIC, &t);
-        ca->by_fd[fd] =
-            (slot){.used = true, .peer = *peer, .accepted_at = (double)t.tv_sec + t.tv_nsec * 1e-9};
+        ca->by_fd[fd] = (slot){.used = true, .peer = *peer, .accepted_at = aa_monotonic_seconds()};
         ca->open++;
     }
     pthread_mutex_unlock(&ca->lock);

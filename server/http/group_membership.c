@@ -1,6 +1,7 @@
 /* Cached socket-group membership (group_membership.h). */
 #define _GNU_SOURCE
 #include "group_membership.h"
+#include "clock.h"
 
 #include <grp.h>
 #include <pthread.h>
@@ -23,13 +24,6 @@ struct group_membership {
     gid_t gid;
     slot cache[CACHE_SLOTS];
 };
-
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + t.tv_nsec * 1e-9;
-}
 
 group_membership *group_membership_create(gid_t gid)
 {
@@ -84,7 +78,7 @@ bool group_membership_check(group_membership *gm, long long uid)
         return true;
     if (uid < 0 || uid > (long long)(uid_t)-1)
         return false;
-    double now = now_seconds();
+    double now = aa_monotonic_seconds();
     pthread_mutex_lock(&gm->lock);
     for (int i = 0; i < CACHE_SLOTS; i++) {
         if (gm->cache[i].expires > now && gm->cache[i].uid == uid) {

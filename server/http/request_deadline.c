@@ -1,5 +1,6 @@
 #define _GNU_SOURCE
 #include "request_deadline.h"
+#include "clock.h"
 
 #include <pthread.h>
 #include <stdbool.h>
@@ -24,13 +25,6 @@ struct request_deadline {
     bool stopping;
 };
 
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + t.tv_nsec * 1e-9;
-}
-
 static void *watchdog(void *arg)
 {
     request_deadline *rd = arg;
@@ -44,7 +38,7 @@ static void *watchdog(void *arg)
             until.tv_nsec -= 1000000000L;
         }
         pthread_cond_timedwait(&rd->wake, &rd->lock, &until);
-        double now = now_seconds();
+        double now = aa_monotonic_seconds();
         for (tracked *t = rd->head.next; t != &rd->head; t = t->next) {
             if (!t->shut && t->receiving_since > 0 && now - t->receiving_since > rd->seconds) {
                 shutdown(t->fd, SHUT_RDWR);
@@ -106,7 +100,7 @@ void request_deadline_notify(void *cls, struct MHD_Connection *conn, void **sock
         t->owner = rd;
         t->fd = ci->connect_fd;
         pthread_mutex_lock(&rd->lock);
-        t->receiving_since = now_seconds();
+        t->receiving_since = aa_monotonic_seconds();
         t->next = rd->head.next;
         t->prev = &rd->head;
         rd->head.next->prev = t;
@@ -145,7 +139,7 @@ static void set_clock(struct MHD_Connection *conn, bool running)
     if (!t)
         return;
     pthread_mutex_lock(&t->owner->lock);
-    t->receiving_since = running ? now_seconds() : 0;
+    t->receiving_since = running ? aa_monotonic_seconds() : 0;
     pthread_mutex_unlock(&t->owner->lock);
 }
 

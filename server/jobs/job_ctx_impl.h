@@ -49,8 +49,7 @@ struct job_ctx {
     double started_mono; /* monotonic */
 };
 
-double jm_now(void);       /* Unix seconds */
-double jm_monotonic(void); /* CLOCK_MONOTONIC seconds */
+double jm_now(void); /* Unix seconds (monotonic time: aa_monotonic_seconds, clock.h) */
 
 /* Called by job_ctx_progress with the lock held: enforces --max-job-seconds and, when the job's
  * slice is over and another user waits with fewer workers, checkpoints the live state, gives the

@@ -12,7 +12,7 @@
 #include <jansson.h>
 
 #include "aa_error.h"
-#include "optimizer.h" /* aa_clock */
+#include "clock.h"
 
 typedef struct job_ctx job_ctx;
 
