@@ -32,9 +32,11 @@ void handle_health(api_context *ctx, const api_request *req, api_response *resp)
     const aalab_config *cfg = api_context_config(ctx);
     json_object_set_new(json_object_get(o, "workers"), "paused", json_integer(st.paused));
     json_object_set_new(o, "sharing",
-                        json_pack("{s:I,s:f,s:f}", "user_workers", (json_int_t)cfg->user_workers,
-                                  "job_slice_seconds", cfg->job_slice, "max_job_seconds",
-                                  cfg->max_job_seconds));
+                        json_pack("{s:I,s:f,s:f,s:I,s:I}", "user_workers",
+                                  (json_int_t)cfg->user_workers, "job_slice_seconds",
+                                  cfg->job_slice, "max_job_seconds", cfg->max_job_seconds,
+                                  "user_evaluates", (json_int_t)cfg->user_evaluates, "user_renders",
+                                  (json_int_t)cfg->user_renders));
     /* Where the dashboard is, so `aalab token` can print its URL (--tcp; a socket-activated
      * listener is not known here). */
     if (o && cfg->tcp_port > 0) {

@@ -85,19 +85,34 @@ export async function apiGet(path, { signal } = {}) {
   return decode(resp);
 }
 
-/* The daemon runs at most 2 evaluates and 1 render per user at once (--user-evaluates,
- * --user-renders; 429 beyond): the page queues its own beyond that, whichever view sends them. */
-const computeSlots = { '/v1/evaluate': { free: 2, waiting: [] }, '/v1/render': { free: 1, waiting: [] } };
+/* The daemon runs at most --user-evaluates evaluates and --user-renders renders per user at once
+ * (429 beyond): the page queues its own beyond that, whichever view sends them. The shares are
+ * the daemon's (GET /v1/health, "sharing"); its defaults until the first health answer. */
+const computeSlots = { '/v1/evaluate': { share: 2, free: 2, waiting: [] }, '/v1/render': { share: 1, free: 1, waiting: [] } };
+
+export function setComputeShares(sharing) {
+  const shares = { '/v1/evaluate': sharing && sharing.user_evaluates, '/v1/render': sharing && sharing.user_renders };
+  for (const [path, share] of Object.entries(shares)) {
+    const slot = computeSlots[path];
+    if (!Number.isInteger(share) || share < 1 || share === slot.share) continue;
+    slot.free += share - slot.share; /* may go negative while more than the new share run */
+    slot.share = share;
+    while (slot.free > 0 && slot.waiting.length) {
+      slot.free--;
+      slot.waiting.shift()();
+    }
+  }
+}
 
 async function withSlot(path, fn) {
   const slot = computeSlots[path];
   if (!slot) return fn();
-  if (slot.free > 0) slot.free--;
+  if (slot.free > 0 && slot.waiting.length === 0) slot.free--;
   else await new Promise((resolve) => slot.waiting.push(resolve));
   try {
     return await fn();
   } finally {
-    const next = slot.waiting.shift();
+    const next = slot.free >= 0 ? slot.waiting.shift() : undefined;
     if (next) next();
     else slot.free++;
   }

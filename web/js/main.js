@@ -1,6 +1,6 @@
 // Dashboard shell: token, tabs with hash routing (#/view?key=value), health line, error toast.
 
-import { apiGet, getToken, setToken, takeTokenFromFragment } from './api.js';
+import { apiGet, getToken, setComputeShares, setToken, takeTokenFromFragment } from './api.js';
 import { setHealth } from './store.js';
 import * as evaluate from './views/evaluate.js';
 import * as families from './views/families.js';
@@ -120,6 +120,7 @@ async function pollHealth() {
   try {
     const h = await apiGet('/v1/health');
     setHealth(h);
+    setComputeShares(h.sharing);
     const byState = h.jobs && typeof h.jobs === 'object' ? Object.entries(h.jobs).filter(([, n]) => n).map(([s, n]) => `${n} ${s}`).join(', ') : '';
     const workers = typeof h.workers === 'object' && h.workers ? `${h.workers.busy ?? '?'}/${h.workers.count ?? '?'}` : h.workers ?? '?';
     const queue = typeof h.queue === 'object' && h.queue ? h.queue.length : h.queue_length ?? h.queue ?? 0;
