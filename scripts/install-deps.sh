@@ -1,5 +1,6 @@
 #!/bin/sh
-# Installs every Debian 12 package aalab needs to build, run and test, then the dashboard test
+# Installs every Debian 12 package aalab needs to build, run and test (passwd and procps: the
+# multi-user tests create users with useradd and end their processes with pkill), then the dashboard test
 # dependencies (npm ci in tests/web). Idempotent and quiet: when everything is present it only
 # checks and returns. Needs root (or sudo) only when something is missing.
 set -eu
@@ -9,7 +10,8 @@ cd "$(dirname "$0")/.."
 PACKAGES="build-essential cmake pkg-config git ca-certificates
   libmicrohttpd-dev libjansson-dev libsqlite3-dev libpng-dev libcurl4-openssl-dev libsystemd-dev libssl-dev
   liblbfgs-dev libcmocka-dev clang libclang-rt-14-dev clang-format
-  curl jq python3 sqlite3 wrk chromium systemd"
+  curl jq python3 sqlite3 wrk chromium systemd
+  passwd procps"
 
 missing=""
 for p in $PACKAGES; do
