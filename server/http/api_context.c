@@ -93,7 +93,7 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
     job_manager_config jc = {.workers = cfg->workers,
                              .queue_size = cfg->queue_size,
                              .user_quota = cfg->user_quota,
-                             .services = ctx->tiles,
+                             .tiles = ctx->tiles,
                              .test_kinds = cfg->test_kinds,
                              .user_workers = cfg->user_workers,
                              .slice_seconds = cfg->job_slice,
