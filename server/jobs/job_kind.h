@@ -70,6 +70,9 @@ typedef struct job_kind {
     /* The family the spec names (the job list's "family" until a best pattern replaces it), or
      * NULL; may itself be NULL. */
     const char *(*spec_family)(const void *params);
+    /* The time budget the spec asks for (the daemon refuses one above --max-job-seconds);
+     * NULL for kinds without one. */
+    double (*max_seconds)(const void *params);
     /* Runs on a worker. On success *result is the encoded job result (stolen). Return AA_OK,
      * AA_ECANCELED when cancelled, or another negative code with err filled. */
     int (*run)(void *params, job_ctx *ctx, json_t **result, aa_error *err);

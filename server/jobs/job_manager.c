@@ -584,11 +584,6 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
         return aa_error_set(err, AA_EINVAL, "kind", "unknown job kind \"%.40s\"; known kinds: %s",
                             kind_name, names);
     }
-    json_t *max_seconds = json_object_get(spec, "max_seconds");
-    if (json_is_number(max_seconds) && json_number_value(max_seconds) > jm->cfg.max_job_seconds)
-        return aa_error_set(err, AA_ERANGE, "max_seconds",
-                            "must be at most %.0f (this daemon's --max-job-seconds)",
-                            jm->cfg.max_job_seconds);
     job_envelope env;
     json_t *kind_spec = NULL;
     int rc = job_envelope_take(spec, &env, &kind_spec, err);
@@ -596,6 +591,12 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
         return rc;
     void *params = NULL;
     rc = kind->decode(kind_spec, &params, err);
+    if (!rc && kind->max_seconds && kind->max_seconds(params) > jm->cfg.max_job_seconds) {
+        kind->free_params(params);
+        rc = aa_error_set(err, AA_ERANGE, "max_seconds",
+                          "must be at most %.0f (this daemon's --max-job-seconds)",
+                          jm->cfg.max_job_seconds);
+    }
     /* Stored as submitted, less the envelope (which has columns of its own). */
     json_t *stored = rc ? NULL : json_pack("{s:s}", "kind", kind->name);
     if (stored && json_object_update(stored, kind_spec)) {

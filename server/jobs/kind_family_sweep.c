@@ -15,6 +15,11 @@
 JOB_KIND_SPEC_PARAMS(kind_family_sweep, proto_family_sweep_spec, proto_decode_family_sweep_spec,
                      proto_family_sweep_spec_free)
 
+double kind_family_sweep_max_seconds(const void *params)
+{
+    return ((const proto_family_sweep_spec *)params)->common.max_seconds;
+}
+
 const char *kind_family_sweep_family(const void *params)
 {
     const proto_family_sweep_spec *sp = params;

@@ -16,6 +16,11 @@
 JOB_KIND_SPEC_PARAMS(kind_optimize, proto_optimize_spec, proto_decode_optimize_spec,
                      proto_optimize_spec_free)
 
+double kind_optimize_max_seconds(const void *params)
+{
+    return ((const proto_optimize_spec *)params)->common.max_seconds;
+}
+
 const char *kind_optimize_family(const void *params)
 {
     const proto_optimize_spec *op = params;

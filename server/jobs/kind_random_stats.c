@@ -19,6 +19,11 @@
 JOB_KIND_SPEC_PARAMS(kind_random_stats, proto_random_stats_spec, proto_decode_random_stats_spec,
                      proto_random_stats_spec_free)
 
+double kind_random_stats_max_seconds(const void *params)
+{
+    return ((const proto_random_stats_spec *)params)->common.max_seconds;
+}
+
 const char *kind_random_stats_family(const void *params)
 {
     const proto_random_stats_spec *sp = params;

@@ -48,6 +48,10 @@ const char *kind_optimize_family(const void *params);
 const char *kind_family_sweep_family(const void *params);
 const char *kind_random_stats_family(const void *params);
 
+double kind_optimize_max_seconds(const void *params);
+double kind_family_sweep_max_seconds(const void *params);
+double kind_random_stats_max_seconds(const void *params);
+
 json_t *kind_optimize_best_of(const json_t *result, double *e2);
 json_t *kind_family_sweep_best_of(const json_t *result, double *e2);
 json_t *kind_random_stats_best_of(const json_t *result, double *e2);

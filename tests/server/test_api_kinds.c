@@ -34,6 +34,7 @@ static int setup(void **state)
     snprintf(f->cfg.state_dir, sizeof f->cfg.state_dir, "%s/state", f->dir);
     f->cfg.workers = 2;
     f->cfg.test_kinds = true;
+    f->cfg.max_job_seconds = 50;
     aa_error err = {0};
     f->ctx = api_context_create(&f->cfg, &err);
     if (!f->ctx)
@@ -214,6 +215,8 @@ static void test_invalid_at_submit(void **state)
          "pattern.kernels[0][0]"},
         {"{\"kind\":\"optimize\",\"family\":\"P(4,1+,2)\",\"label\":7}", "label"},
         {"{\"kind\":\"optimize\",\"family\":\"P(4,1+,2)\",\"priority\":11}", "priority"},
+        /* Above this daemon's --max-job-seconds (50), read from the decoded spec. */
+        {"{\"kind\":\"random-stats\",\"family\":\"P(1,1,3)\",\"max_seconds\":100}", "max_seconds"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         json_t *j = call(f, "POST", "/v1/jobs", cases[i].body, &st);
