@@ -114,6 +114,8 @@ def range_of(s):
         out.append("%s..%s items" % (s.get("minItems", 0), s.get("maxItems", "∞")))
     if "maxLength" in s:
         out.append("at most %d characters" % s["maxLength"])
+    if "multipleOf" in s:
+        out.append("a multiple of %s" % fmt_value(s["multipleOf"]))
     if "pattern" in s:
         out.append("matches `%s`" % s["pattern"])
     items = s.get("items")
