@@ -20,13 +20,14 @@ ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
 SCHEMA_DIR = os.path.join(ROOT, "proto", "schemas")
 DOC = os.path.join(ROOT, "docs", "api.md")
 
-BLOCK = re.compile(r"(<!-- generated:begin (table|example) (\S+) -->\n)(.*?)(<!-- generated:end -->)",
-                   re.S)
+BLOCK = re.compile(
+    r"(<!-- generated:begin (table|example) (\S+) -->\n)(.*?)(<!-- generated:end -->)", re.S)
 
 # What each kind's curl example prints of the finished job (jq 1.6: keys as .["key"]).
 SUMMARY = {
     "optimize": '.["result"] | [.["e2"], .["family"], .["method"], .["seeds_run"]] | @tsv',
-    "family-sweep": '.["result"]["ranked"][] | [.["rank"], .["e2"], .["config"]["interior"]] | @tsv',
+    "family-sweep": ('.["result"]["ranked"][] | [.["rank"], .["e2"], .["config"]["interior"]]'
+                     ' | @tsv'),
     "random-stats": ('.["result"] | [.["random"]["min"], .["random"]["avg"], .["random"]["max"],'
                      ' .["opt_w"]["e2"], .["opt_wp"]["e2"]] | @tsv'),
     "compare": ('.["result"]["rows"][] | [.["name"], .["samples_per_pixel"], .["e2"], .["rmse"]]'

@@ -80,7 +80,8 @@ def check_kinds(s):
             check(ex["kind"] == kind, "%s example %d is of kind %s" % (spec, i, ex["kind"]))
             # The envelope is accepted, an unknown key and a wrong kind are not.
             env = dict(ex, label="l", priority=3, visibility="private", pinned=True)
-            check(not s.errors(spec, env), "%s rejects the envelope: %s" % (spec, s.errors(spec, env)))
+            errors = s.errors(spec, env)
+            check(not errors, "%s rejects the envelope: %s" % (spec, errors))
             check(s.errors(spec, dict(ex, bogus=1)), "%s accepts an unknown key" % spec)
             check(s.errors(spec, dict(ex, kind="nope")), "%s accepts another kind" % spec)
             check(s.errors(spec, dict(ex, priority=11)), "%s accepts priority 11" % spec)
