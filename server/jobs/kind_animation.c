@@ -16,7 +16,7 @@
 
 typedef struct animation_params {
     aa_scene_params scene;
-    tile_reference_spec ref;
+    proto_reference_spec ref;
     aa_acuity acuity;
     aa_pattern pattern;
     bool tiles;
@@ -51,19 +51,19 @@ static int animation_parse(const json_t *spec, void **params, aa_error *err)
                           "an animation scene is required (rotating-triangle, "
                           "translating-circle)");
     if (!rc)
-        rc = tile_decode_scene_request(spec, &ap->scene, err);
+        rc = proto_decode_scene_request(spec, &ap->scene, err);
     if (!rc && !aa_scene_kind_is_animation(ap->scene.kind))
         rc = aa_error_set(err, AA_EINVAL, "scene.name",
                           "not an animation (rotating-triangle, translating-circle)");
     if (!rc)
-        rc = tile_decode_reference(json_object_get(spec, "reference"), &ap->ref, "reference", err);
+        rc = proto_decode_reference(json_object_get(spec, "reference"), &ap->ref, "reference", err);
     if (!rc)
         rc = proto_decode_acuity(json_object_get(spec, "acuity"), &ap->acuity, "acuity", err);
     json_t *pj = json_object_get(spec, "pattern");
     if (!rc && !pj)
         rc = aa_error_set(err, AA_EINVAL, "pattern", "a pattern is required");
     if (!rc) {
-        rc = tile_pattern_from_preset_name(pj, &ap->pattern, "pattern", err);
+        rc = proto_pattern_from_preset_name(pj, &ap->pattern, "pattern", err);
         if (rc == 1)
             rc = proto_decode_pattern(pj, 0, &ap->pattern, "pattern", err);
     }
@@ -140,9 +140,9 @@ static int animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *
         size_t full = (size_t)F * (size_t)rp.scene.width * (size_t)rp.scene.height;
         *result =
             json_pack("{s:o, s:{s:s, s:f}, s:f, s:o, s:o, s:{s:f, s:f}, s:{s:I, s:I}}", "scene",
-                      tile_encode_scene(&rp.scene), "pattern", "family", ap->pattern.family,
+                      proto_encode_scene(&rp.scene), "pattern", "family", ap->pattern.family,
                       "samples_per_pixel", ap->pattern.cost_spp, "e2", e2, "frames", frames,
-                      "total", tile_encode_diff(&total), "times", "pattern_seconds",
+                      "total", proto_encode_diff(&total), "times", "pattern_seconds",
                       pattern_seconds, "reference_seconds", reference_seconds, "pixels",
                       "recomputed", (json_int_t)recomputed, "all_frames", (json_int_t)full);
         frames = NULL;

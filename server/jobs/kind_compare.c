@@ -18,7 +18,7 @@
 
 typedef struct compare_params {
     aa_scene_params scene;
-    tile_reference_spec ref;
+    proto_reference_spec ref;
     aa_acuity acuity;
     size_t count;
     aa_pattern *patterns;
@@ -51,9 +51,9 @@ static int compare_parse(const json_t *spec, void **params, aa_error *err)
     if (!cp)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     cp->tiles = true;
-    int rc = tile_decode_scene_request(spec, &cp->scene, err);
+    int rc = proto_decode_scene_request(spec, &cp->scene, err);
     if (!rc)
-        rc = tile_decode_reference(json_object_get(spec, "reference"), &cp->ref, "reference", err);
+        rc = proto_decode_reference(json_object_get(spec, "reference"), &cp->ref, "reference", err);
     if (!rc)
         rc = proto_decode_acuity(json_object_get(spec, "acuity"), &cp->acuity, "acuity", err);
     json_t *tiles = json_object_get(spec, "tiles");
@@ -78,7 +78,7 @@ static int compare_parse(const json_t *spec, void **params, aa_error *err)
             char field[32];
             snprintf(field, sizeof field, "patterns[%zu]", i);
             json_t *pj = json_array_get(list, i);
-            rc = tile_pattern_from_preset_name(pj, &cp->patterns[i], field, err);
+            rc = proto_pattern_from_preset_name(pj, &cp->patterns[i], field, err);
             if (rc == 1)
                 rc = proto_decode_pattern(pj, 0, &cp->patterns[i], field, err);
             if (rc)
@@ -174,7 +174,7 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
             "{s:s, s:s, s:f, s:f, s:f, s:f, s:f, s:I, s:I, s:o}", "name", cp->names[i], "family",
             p->family, "samples_per_pixel", p->cost_spp, "e2", e2, "rmse", d.rmse, "max_dev",
             d.max_dev, "render_seconds", seconds, "pixels_sampled", (json_int_t)rs.pixels_sampled,
-            "coverage_samples", (json_int_t)rs.samples_evaluated, "stats", tile_encode_diff(&d));
+            "coverage_samples", (json_int_t)rs.samples_evaluated, "stats", proto_encode_diff(&d));
         if (row && ts && cp->tiles) {
             json_t *tp = tile_put_image(ts, &access, &img, NULL);
             json_t *td = tile_put_difference(ts, &access, &img, &slot[s].img, NULL);
@@ -189,7 +189,7 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
     if (!rc) {
         const aa_filter *f = cp->ref.params.filter;
         *result = json_pack("{s:o, s:{s:I, s:I, s:s, s:o}, s:o}", "scene",
-                            tile_encode_scene(&cp->scene), "reference", "spp",
+                            proto_encode_scene(&cp->scene), "reference", "spp",
                             (json_int_t)cp->ref.params.spp, "seed", (json_int_t)cp->ref.params.seed,
                             "filter", f ? f->name : "mitchell", "renders", refs, "rows", rows);
         refs = rows = NULL;

@@ -18,7 +18,7 @@
 
 typedef struct convergence_params {
     aa_scene_params scene;
-    tile_reference_spec ref;
+    proto_reference_spec ref;
     int levels[CONVERGENCE_MAX_LEVELS];
     size_t level_count;
     int baseline_spp;
@@ -55,9 +55,9 @@ static int convergence_parse(const json_t *spec, void **params, aa_error *err)
     cp->level_count = 4;
     cp->baseline_spp = 4096;
     cp->kernel_size = 1;
-    int rc = tile_decode_scene_request(spec, &cp->scene, err);
+    int rc = proto_decode_scene_request(spec, &cp->scene, err);
     if (!rc)
-        rc = tile_decode_reference(json_object_get(spec, "reference"), &cp->ref, "reference", err);
+        rc = proto_decode_reference(json_object_get(spec, "reference"), &cp->ref, "reference", err);
     json_t *levels = json_object_get(spec, "levels");
     if (!rc && levels) {
         if (!json_is_array(levels) || json_array_size(levels) == 0 ||
@@ -162,7 +162,7 @@ static int convergence_run(void *params, job_ctx *ctx, json_t **result, aa_error
     if (rc == AA_ECANCELED)
         aa_error_set(err, AA_ECANCELED, "", "cancelled");
     if (!rc) {
-        *result = json_pack("{s:o, s:f, s:o, s:o}", "scene", tile_encode_scene(&cp->scene),
+        *result = json_pack("{s:o, s:f, s:o, s:o}", "scene", proto_encode_scene(&cp->scene),
                             "output_offset", aa_output_offset(cp->kernel_size), "baseline",
                             baseline, "rows", rows);
         baseline = rows = NULL;
