@@ -23,15 +23,15 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
 {
     tile_store *ts = api_context_tiles(ctx);
     if (!ts) {
-        api_reply_error(resp, 500, "internal", "", "the tile store is not configured");
+        api_reply_wire(resp, WIRE_INTERNAL, "", "the tile store is not configured");
         return;
     }
     json_error_t jerr;
     json_t *root =
         req->body_len ? json_loadb(req->body, req->body_len, JSON_REJECT_DUPLICATES, &jerr) : NULL;
     if (!root) {
-        api_reply_error(resp, 400, "invalid_json", "", "body is not JSON: %s",
-                        req->body_len ? jerr.text : "empty body");
+        api_reply_wire(resp, WIRE_INVALID_JSON, "", "body is not JSON: %s",
+                       req->body_len ? jerr.text : "empty body");
         return;
     }
     aa_error err = {0};
@@ -47,15 +47,15 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
     /* The tiles belong to the requester; private ones are served to them and root only. */
     tile_access access = {.owner = req->caller.uid, .private_tile = rq.private_tiles};
     if (access.private_tile && access.owner < 0) {
-        api_reply_error(resp, 400, "invalid_field", "visibility",
-                        "a private render needs a known caller");
+        api_reply_wire(resp, WIRE_INVALID_FIELD, "visibility",
+                       "a private render needs a known caller");
         goto done;
     }
     const aalab_config *cfg = api_context_config(ctx);
     if ((long long)rq.scene.width * rq.scene.height > cfg->render_max_pixels) {
-        api_reply_error(resp, 400, "out_of_range", "scene.width",
-                        "at most %ld pixels per tile here; use a compare job for larger renders",
-                        cfg->render_max_pixels);
+        api_reply_wire(resp, WIRE_OUT_OF_RANGE, "scene.width",
+                       "at most %ld pixels per tile here; use a compare job for larger renders",
+                       cfg->render_max_pixels);
         goto done;
     }
     size_t widest = 0;
@@ -63,10 +63,10 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
         widest = rq.pattern.kernels[k].count > widest ? rq.pattern.kernels[k].count : widest;
     if ((double)rq.scene.width * rq.scene.height * (double)widest >
         (double)RENDER_MAX_KERNEL_WORK) {
-        api_reply_error(resp, 400, "out_of_range", "pattern",
-                        "%zu samples per kernel on %d x %d pixels is too much work here; use a "
-                        "compare job",
-                        widest, rq.scene.width, rq.scene.height);
+        api_reply_wire(resp, WIRE_OUT_OF_RANGE, "pattern",
+                       "%zu samples per kernel on %d x %d pixels is too much work here; use a "
+                       "compare job",
+                       widest, rq.scene.width, rq.scene.height);
         goto done;
     }
     aa_render_params rp = proto_render_params(&rq);
@@ -75,9 +75,9 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
     rp.reference.user = &deadline;
     rc = aa_render_tile(&rp, &rq.pattern, &result, &err);
     if (rc == AA_ECANCELED) {
-        api_reply_error(resp, 422, "out_of_range", "reference.spp",
-                        "the reference exceeded %g s; lower spp or submit a compare job",
-                        cfg->render_seconds);
+        api_reply_wire(resp, WIRE_OVER_TIME_BUDGET, "reference.spp",
+                       "the reference exceeded %g s; lower spp or submit a compare job",
+                       cfg->render_seconds);
         goto done;
     }
     if (rc) {
@@ -110,7 +110,7 @@ void handle_tile(api_context *ctx, const api_request *req, api_response *resp, c
 {
     tile_store *ts = api_context_tiles(ctx);
     if (!ts) {
-        api_reply_error(resp, 500, "internal", "", "the tile store is not configured");
+        api_reply_wire(resp, WIRE_INTERNAL, "", "the tile store is not configured");
         return;
     }
     char bare[TILE_ID_LEN + 1];
@@ -118,8 +118,8 @@ void handle_tile(api_context *ctx, const api_request *req, api_response *resp, c
     if (n == TILE_ID_LEN + 4 && strcmp(id + TILE_ID_LEN, ".png") == 0)
         n = TILE_ID_LEN;
     if (n != TILE_ID_LEN) {
-        api_reply_error(resp, 400, "invalid_field", "id", "a tile id is %d hex characters",
-                        TILE_ID_LEN);
+        api_reply_wire(resp, WIRE_INVALID_FIELD, "id", "a tile id is %d hex characters",
+                       TILE_ID_LEN);
         return;
     }
     memcpy(bare, id, TILE_ID_LEN);
@@ -128,19 +128,19 @@ void handle_tile(api_context *ctx, const api_request *req, api_response *resp, c
     size_t len;
     int rc = tile_store_get_as(ts, bare, req->caller.uid, req->caller.admin, &data, &len);
     if (rc == AA_EINVAL) {
-        api_reply_error(resp, 400, "invalid_field", "id",
-                        "a tile id is %d lowercase hex characters", TILE_ID_LEN);
+        api_reply_wire(resp, WIRE_INVALID_FIELD, "id", "a tile id is %d lowercase hex characters",
+                       TILE_ID_LEN);
         return;
     }
     if (rc == TILE_ENOENT) {
-        api_reply_error(resp, 404, "not_found", "id",
-                        "no tile %s (tiles are evicted when the "
-                        "store is full; render again)",
-                        bare);
+        api_reply_wire(resp, WIRE_NOT_FOUND, "id",
+                       "no tile %s (tiles are evicted when the "
+                       "store is full; render again)",
+                       bare);
         return;
     }
     if (rc) {
-        api_reply_error(resp, 503, "internal", "", "out of memory");
+        api_reply_wire(resp, WIRE_OUT_OF_MEMORY, "", "out of memory");
         return;
     }
     resp->status = 200;
