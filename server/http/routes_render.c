@@ -1,6 +1,6 @@
 /* POST /v1/render and GET /v1/tiles/{id}.png: pattern references {"job": ID} are resolved
- * here, then the renderer's handlers (handlers_render.c, issue 5) run. Without them the daemon
- * answers 501. */
+ * here, then the renderer's handlers (handlers_render.c) run. Without them the daemon answers
+ * 501. */
 #include <stdlib.h>
 #include <string.h>
 
