@@ -34,11 +34,8 @@ int proto_decode_render_request(const json_t *body, proto_render_request *out, a
     json_t *pj = json_object_get(body, "pattern");
     if (!rc && !pj)
         rc = aa_error_set(err, AA_EINVAL, "pattern", "a pattern is required");
-    if (!rc) {
-        rc = proto_pattern_from_preset_name(pj, &out->pattern, "pattern", err);
-        if (rc == 1)
-            rc = proto_decode_pattern(pj, 0, &out->pattern, "pattern", err);
-    }
+    if (!rc)
+        rc = proto_decode_pattern_or_name(pj, 0, &out->pattern, "pattern", err);
     if (!rc)
         rc = proto_decode_reference(json_object_get(body, "reference"), &out->reference,
                                     "reference", err);

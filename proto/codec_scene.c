@@ -260,6 +260,13 @@ int proto_pattern_from_preset_name(const json_t *j, aa_pattern *p, const char *f
     return rc ? proto_prefix_error(err, field) : AA_OK;
 }
 
+int proto_decode_pattern_or_name(const json_t *j, unsigned flags, aa_pattern *p, const char *field,
+                                 aa_error *err)
+{
+    int rc = proto_pattern_from_preset_name(j, p, field, err);
+    return rc == 1 ? proto_decode_pattern(j, flags, p, field, err) : rc;
+}
+
 json_t *proto_encode_scene(const aa_scene_params *p)
 {
     json_t *o = json_pack("{s:s, s:I, s:I, s:f, s:f, s:I, s:b, s:b}", "name",

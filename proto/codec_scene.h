@@ -55,6 +55,10 @@ int proto_decode_crop(const json_t *j, int width, int height, proto_crop *out, c
  * returns AA_OK; returns 1 (nothing done) when j is not a string. */
 int proto_pattern_from_preset_name(const json_t *j, aa_pattern *p, const char *field,
                                    aa_error *err);
+/* A pattern as the render requests and kinds take it: a preset name, or any form of
+ * proto_decode_pattern (flags as there). */
+int proto_decode_pattern_or_name(const json_t *j, unsigned flags, aa_pattern *p, const char *field,
+                                 aa_error *err);
 
 /* {"name","width","height","zoom","angle","wedges","mirror_x","mirror_y"} plus "frames" and
  * "frame" for animations and "offset" for the half-plane. NULL on allocation failure. */

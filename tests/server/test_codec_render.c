@@ -202,6 +202,23 @@ static void test_preset_names(void **state)
     json_decref(j);
     j = parse("{\"preset\":\"flipquad\"}");
     assert_int_equal(proto_pattern_from_preset_name(j, &p, "pattern", &err), 1);
+    aa_pattern q;
+    assert_int_equal(proto_decode_pattern_or_name(j, 0, &q, "pattern", &err), AA_OK);
+    json_decref(j);
+    j = json_string("flipquad");
+    assert_int_equal(proto_decode_pattern_or_name(j, 0, &p, "pattern", &err), AA_OK);
+    assert_int_equal(p.kernel_count, q.kernel_count);
+    assert_int_equal(p.kernels[0].count, q.kernels[0].count);
+    for (size_t i = 0; i < p.kernels[0].count; i++) {
+        assert_float_equal(p.kernels[0].samples[i].x, q.kernels[0].samples[i].x, 0);
+        assert_float_equal(p.kernels[0].samples[i].y, q.kernels[0].samples[i].y, 0);
+    }
+    aa_pattern_free(&p);
+    aa_pattern_free(&q);
+    json_decref(j);
+    j = parse("{\"kernels\":[[[0,0,\"w\"]]]}");
+    assert_int_equal(proto_decode_pattern_or_name(j, 0, &p, "patterns[1]", &err), AA_EINVAL);
+    assert_string_equal(err.field, "patterns[1].kernels[0][0][2]");
     json_decref(j);
 }
 
