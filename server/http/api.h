@@ -11,6 +11,8 @@
 
 #include <jansson.h>
 
+#include "wire_error.h"
+
 typedef struct api_context api_context; /* daemon state: config, job pool, store, caches */
 
 /* Who is asking, resolved once per request by api_handle() (the router). On the Unix socket the
@@ -62,7 +64,9 @@ void api_response_free(api_response *resp);
 void api_reply_json(api_response *resp, int status, json_t *body);
 /* A JSON body already encoded (a cached answer); takes ownership of the malloc'd body. */
 void api_reply_owned(api_response *resp, int status, char *body, size_t body_len);
-void api_reply_error(api_response *resp, int status, const char *code, const char *field,
-                     const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+/* An error answer from the one table (proto/wire_error.h): its status, wire code and
+ * Retry-After, with field (the JSON path of the offending input, "" if none) and a message. */
+void api_reply_wire(api_response *resp, proto_wire_error e, const char *field, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
 
 #endif

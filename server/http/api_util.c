@@ -7,7 +7,9 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "codec.h"
 #include "handlers.h"
+#include "job_manager.h"
 
 void api_response_free(api_response *resp)
 {
@@ -33,46 +35,51 @@ void api_reply_json(api_response *resp, int status, json_t *body)
     resp->body = body ? json_dumps(body, JSON_COMPACT | JSON_ENCODE_ANY) : NULL;
     json_decref(body);
     if (!resp->body) {
-        resp->status = 500;
-        resp->body = strdup("{\"error\":{\"code\":\"internal\",\"message\":\"cannot encode the "
-                            "answer\",\"field\":\"\"}}");
+        const proto_wire_row *row = proto_wire_row_of(WIRE_INTERNAL);
+        resp->status = row->status;
+        if (asprintf(&resp->body,
+                     "{\"error\":{\"code\":\"%s\",\"message\":\"cannot encode the answer\","
+                     "\"field\":\"\"}}",
+                     row->code) < 0)
+            resp->body = NULL;
     }
     resp->body_len = resp->body ? strlen(resp->body) : 0;
 }
 
-void api_reply_error(api_response *resp, int status, const char *code, const char *field,
-                     const char *fmt, ...)
+void api_reply_wire(api_response *resp, proto_wire_error e, const char *field, const char *fmt, ...)
 {
+    const proto_wire_row *row = proto_wire_row_of(e);
     char msg[512];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    json_t *e = json_pack("{s:{s:s,s:s,s:s}}", "error", "code", code, "message", msg, "field",
-                          field ? field : "");
-    if (!e) /* message not valid UTF-8 (echoed input): drop it */
-        e = json_pack("{s:{s:s,s:s,s:s}}", "error", "code", code, "message", "invalid input",
-                      "field", "");
-    api_reply_json(resp, status, e);
-    resp->status = status;
+    json_t *doc = json_pack("{s:{s:s,s:s,s:s}}", "error", "code", row->code, "message", msg,
+                            "field", field ? field : "");
+    if (!doc) /* message not valid UTF-8 (echoed input): drop it */
+        doc = json_pack("{s:{s:s,s:s,s:s}}", "error", "code", row->code, "message", "invalid input",
+                        "field", "");
+    api_reply_json(resp, row->status, doc);
+    resp->status = row->status;
+    resp->retry_after = row->retry_after;
 }
 
 json_t *api_parse_body(const api_request *req, api_response *resp)
 {
     if (!req->body_len) {
-        api_reply_error(resp, 400, "invalid_json", "", "the request body is empty");
+        api_reply_wire(resp, WIRE_INVALID_JSON, "", "the request body is empty");
         return NULL;
     }
     json_error_t je;
     json_t *j = json_loadb(req->body, req->body_len, JSON_REJECT_DUPLICATES, &je);
     if (!j) {
-        api_reply_error(resp, 400, "invalid_json", "", "invalid JSON at line %d column %d: %s",
-                        je.line, je.column, je.text);
+        api_reply_wire(resp, WIRE_INVALID_JSON, "", "invalid JSON at line %d column %d: %s",
+                       je.line, je.column, je.text);
         return NULL;
     }
     if (!json_is_object(j)) {
         json_decref(j);
-        api_reply_error(resp, 400, "invalid_json", "", "the request body must be a JSON object");
+        api_reply_wire(resp, WIRE_INVALID_JSON, "", "the request body must be a JSON object");
         return NULL;
     }
     return j;
@@ -81,38 +88,51 @@ json_t *api_parse_body(const api_request *req, api_response *resp)
 int api_reject_unknown(const json_t *obj, const char *const *allowed, const char *prefix,
                        api_response *resp)
 {
-    const char *key;
-    json_t *v;
-    json_object_foreach((json_t *)obj, key, v)
-    {
-        bool ok = false;
-        for (size_t i = 0; allowed[i] && !ok; i++)
-            ok = !strcmp(key, allowed[i]);
-        if (!ok) {
-            char field[128];
-            snprintf(field, sizeof field, "%s%s%.80s", prefix ? prefix : "",
-                     prefix && *prefix ? "." : "", key);
-            api_reply_error(resp, 400, "invalid_field", field, "unknown field");
-            return -1;
-        }
-    }
-    return 0;
+    aa_error err = {0};
+    if (!proto_check_keys(obj, allowed, &err, prefix))
+        return 0;
+    api_reply_aa_error(resp, &err);
+    return -1;
 }
 
 void api_reply_aa_error(api_response *resp, const aa_error *err)
 {
-    switch (err->code) {
-    case AA_ENOMEM:
-        api_reply_error(resp, 503, "unavailable", err->field, "%s", err->message);
+    api_reply_wire(resp, proto_wire_error_of_aa(err->code), err->field, "%s",
+                   err->message[0] ? err->message : aa_strerror(err->code));
+}
+
+void api_reply_job_error(api_response *resp, int rc, const aa_error *err)
+{
+    proto_wire_error e;
+    switch (rc) {
+    case JM_ENOENT:
+        e = WIRE_NOT_FOUND;
         break;
-    case AA_ERANGE:
-        api_reply_error(resp, 400, "out_of_range", err->field, "%s", err->message);
+    case JM_EQUEUE_FULL:
+        e = WIRE_QUEUE_FULL;
+        break;
+    case JM_EQUOTA:
+        e = WIRE_JOB_QUOTA;
+        break;
+    case JM_EFORBIDDEN:
+        e = WIRE_FORBIDDEN;
+        break;
+    case JM_EFINISHED:
+    case JM_EACTIVE:
+        e = WIRE_CONFLICT;
+        break;
+    case JM_ESTORE:
+        e = WIRE_STORE_UNAVAILABLE;
+        break;
+    case JM_ESTORE_QUOTA:
+        e = WIRE_QUOTA_EXCEEDED;
         break;
     default:
-        api_reply_error(resp, 400, "invalid_field", err->field, "%s",
-                        err->message[0] ? err->message : "invalid input");
-        break;
+        api_reply_aa_error(resp, err);
+        return;
     }
+    /* A job manager refusal names no input field: it is about the daemon's state. */
+    api_reply_wire(resp, e, "", "%s", err->message[0] ? err->message : "the job was refused");
 }
 
 long long api_parse_job_id(const char *s)

@@ -14,8 +14,11 @@ json_t *api_parse_body(const api_request *req, api_response *resp);
 /* Unknown keys -> 400 naming the key (prefix.key). Returns 0 if all keys are allowed. */
 int api_reject_unknown(const json_t *obj, const char *const *allowed, const char *prefix,
                        api_response *resp);
-/* AA_EINVAL/AA_ERANGE -> 400, AA_ENOMEM -> 503, with err's field and message. */
+/* An engine error (AA_E*) answered from the error table with err's field and message. */
 void api_reply_aa_error(api_response *resp, const aa_error *err);
+/* A job manager result (JM_E*, job_manager.h) answered from the error table with err's message;
+ * any other code is an engine error (api_reply_aa_error). */
+void api_reply_job_error(api_response *resp, int rc, const aa_error *err);
 /* Job id from a path segment: positive decimal without sign or leading zeros, else -1. */
 long long api_parse_job_id(const char *s);
 /* Value of key in a raw query string (percent-decoding not needed for our keys); NULL if

@@ -51,7 +51,7 @@ void handle_preset_get(api_context *ctx, const api_request *req, api_response *r
 {
     const aa_preset *pr = aa_preset_find(name);
     if (!pr) {
-        api_reply_error(resp, 404, "not_found", "name", "no preset named '%.60s'", name);
+        api_reply_wire(resp, WIRE_NOT_FOUND, "name", "no preset named '%.60s'", name);
         return;
     }
     api_reply_json(resp, 200, preset_json(pr, true));

@@ -146,8 +146,8 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
         format = "json";
     if (strcmp(format, "json") && strcmp(format, "utk") && strcmp(format, "vulkan") &&
         strcmp(format, "d3d12")) {
-        api_reply_error(resp, 400, "invalid_field", "format",
-                        "format must be json, utk, vulkan or d3d12");
+        api_reply_wire(resp, WIRE_INVALID_FIELD, "format",
+                       "format must be json, utk, vulkan or d3d12");
         return;
     }
     long long id = api_parse_job_id(id_text);
@@ -157,9 +157,8 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
                      ? job_manager_best_pattern(api_context_jobs(ctx), id, &why)
                      : NULL;
     if (!pj) {
-        int status = strcmp(why, "no such job") ? 409 : 404;
-        api_reply_error(resp, status, status == 404 ? "not_found" : "conflict", "id",
-                        "job %.40s: %s", id_text, why);
+        api_reply_wire(resp, strcmp(why, "no such job") ? WIRE_CONFLICT : WIRE_NOT_FOUND, "id",
+                       "job %.40s: %s", id_text, why);
         return;
     }
     aa_pattern p;
@@ -167,8 +166,8 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
     int rc = proto_decode_pattern(pj, AA_PATTERN_NORMALIZE, &p, "pattern", &err);
     json_decref(pj);
     if (rc) {
-        api_reply_error(resp, 500, "internal", err.field, "the job's pattern does not decode: %s",
-                        err.message);
+        api_reply_wire(resp, WIRE_INTERNAL, err.field, "the job's pattern does not decode: %s",
+                       err.message);
         return;
     }
     if (!strcmp(format, "json")) {
@@ -179,7 +178,7 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
         size_t len = 0;
         char *text = export_utk(&p, &len);
         if (!text) {
-            api_reply_error(resp, 503, "unavailable", "", "out of memory");
+            api_reply_wire(resp, WIRE_OUT_OF_MEMORY, "", "out of memory");
         } else {
             resp->status = 200;
             resp->content_type = "text/plain; charset=utf-8";

@@ -24,7 +24,7 @@ static int caller_owns(api_context *ctx, const api_request *req, api_response *r
 {
     bool owns = false;
     if (!job_access_check(job_manager_store(api_context_jobs(ctx)), &req->caller, id, &owns)) {
-        api_reply_error(resp, 404, "not_found", "id", "no job %lld", id > 0 ? id : 0);
+        api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id > 0 ? id : 0);
         return -1;
     }
     return owns;
@@ -35,10 +35,10 @@ void handle_jobs_post(api_context *ctx, const api_request *req, api_response *re
     /* Refused before parsing: a big spec costs its parse and, stored, its bytes. */
     size_t max_spec = api_context_config(ctx)->max_spec_bytes;
     if (max_spec && req->body_len > max_spec) {
-        api_reply_error(resp, 413, "payload_too_large", "",
-                        "a job spec may have at most %zu bytes (--max-spec-bytes); this one has "
-                        "%zu",
-                        max_spec, req->body_len);
+        api_reply_wire(resp, WIRE_PAYLOAD_TOO_LARGE, "",
+                       "a job spec may have at most %zu bytes (--max-spec-bytes); this one has "
+                       "%zu",
+                       max_spec, req->body_len);
         return;
     }
     json_t *body = api_parse_body(req, resp);
@@ -50,19 +50,8 @@ void handle_jobs_post(api_context *ctx, const api_request *req, api_response *re
     if (!rc)
         rc = job_manager_submit(api_context_jobs(ctx), body, req->caller.uid, &id, &err);
     json_decref(body);
-    if (rc == JM_EQUEUE_FULL) {
-        api_reply_error(resp, 429, "queue_full", "", "%s", err.message);
-        resp->retry_after = 5;
-    } else if (rc == JM_EQUOTA) {
-        api_reply_error(resp, 429, "too_many_requests", "", "%s", err.message);
-        resp->retry_after = 10;
-    } else if (rc == JM_ESTORE_QUOTA) {
-        api_reply_error(resp, 403, "quota_exceeded", "", "%s", err.message);
-    } else if (rc == JM_ESTORE) {
-        api_reply_error(resp, 503, "unavailable", "", "%s", err.message);
-        resp->retry_after = 30;
-    } else if (rc) {
-        api_reply_aa_error(resp, &err);
+    if (rc) {
+        api_reply_job_error(resp, rc, &err);
     } else {
         json_t *job = job_manager_get(api_context_jobs(ctx), id);
         if (!job)
@@ -80,8 +69,8 @@ void handle_jobs_list(api_context *ctx, const api_request *req, api_response *re
     if (v) {
         long long n = api_parse_job_id(v); /* a positive decimal */
         if (n <= 0 || n > JOB_LIST_LIMIT) {
-            api_reply_error(resp, 400, "invalid_field", "limit", "limit must be 1..%d",
-                            JOB_LIST_LIMIT);
+            api_reply_wire(resp, WIRE_INVALID_FIELD, "limit", "limit must be 1..%d",
+                           JOB_LIST_LIMIT);
             return;
         }
         limit = (int)n;
@@ -92,9 +81,9 @@ void handle_jobs_list(api_context *ctx, const api_request *req, api_response *re
             if (!strcmp(v, job_state_name((job_state)i)))
                 state = i;
         if (state < 0) {
-            api_reply_error(resp, 400, "invalid_field", "state",
-                            "state must be queued, running, done, failed, cancelled or "
-                            "interrupted");
+            api_reply_wire(resp, WIRE_INVALID_FIELD, "state",
+                           "state must be queued, running, done, failed, cancelled or "
+                           "interrupted");
             return;
         }
     }
@@ -102,8 +91,8 @@ void handle_jobs_list(api_context *ctx, const api_request *req, api_response *re
     if (v && !job_manager_kind(api_context_jobs(ctx), v)) {
         char names[256];
         job_manager_kind_names(api_context_jobs(ctx), names, sizeof names);
-        api_reply_error(resp, 400, "invalid_field", "kind",
-                        "unknown job kind \"%.31s\"; known kinds: %s", v, names);
+        api_reply_wire(resp, WIRE_INVALID_FIELD, "kind",
+                       "unknown job kind \"%.31s\"; known kinds: %s", v, names);
         return;
     }
     /* Root on the socket sees every job; others see team jobs and their own private ones. */
@@ -127,7 +116,7 @@ void handle_job_get(api_context *ctx, const api_request *req, api_response *resp
         caller_owns(ctx, req, resp, id) >= 0 ? job_manager_get(api_context_jobs(ctx), id) : NULL;
     if (!job) {
         if (!resp->status)
-            api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+            api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id);
         return;
     }
     api_reply_json(resp, 200, job);
@@ -138,7 +127,7 @@ static void handle_job_purge(api_context *ctx, const api_request *req, api_respo
                              long long id, const char *purge)
 {
     if (strcmp(purge, "1")) {
-        api_reply_error(resp, 400, "invalid_field", "purge", "purge must be 0 or 1");
+        api_reply_wire(resp, WIRE_INVALID_FIELD, "purge", "purge must be 0 or 1");
         return;
     }
     int owned = caller_owns(ctx, req, resp, id);
@@ -150,16 +139,16 @@ static void handle_job_purge(api_context *ctx, const api_request *req, api_respo
         api_reply_json(resp, 200, json_pack("{s:I,s:b}", "id", (json_int_t)id, "purged", 1));
         break;
     case JM_ENOENT:
-        api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+        api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id);
         break;
     case JM_EFORBIDDEN:
-        api_reply_error(resp, 403, "forbidden", "", "only the job's owner or root may purge it");
+        api_reply_wire(resp, WIRE_FORBIDDEN, "", "only the job's owner or root may purge it");
         break;
     default:
-        api_reply_error(resp, 409, "conflict", "",
-                        "job %lld is running: cancel it (DELETE without purge) and purge it "
-                        "when it has ended",
-                        id);
+        api_reply_wire(resp, WIRE_CONFLICT, "",
+                       "job %lld is running: cancel it (DELETE without purge) and purge it "
+                       "when it has ended",
+                       id);
         break;
     }
 }
@@ -174,7 +163,7 @@ void handle_job_patch(api_context *ctx, const api_request *req, api_response *re
     if (owned < 0)
         return;
     if (!owned) {
-        api_reply_error(resp, 403, "forbidden", "", "only the job's owner or root may change it");
+        api_reply_wire(resp, WIRE_FORBIDDEN, "", "only the job's owner or root may change it");
         return;
     }
     json_t *body = api_parse_body(req, resp);
@@ -184,15 +173,15 @@ void handle_job_patch(api_context *ctx, const api_request *req, api_response *re
     json_t *pinned = json_object_get(body, "pinned");
     if (!api_reject_unknown(body, allowed, "", resp)) {
         if (!json_is_boolean(pinned)) {
-            api_reply_error(resp, 400, "invalid_field", "pinned", "pinned must be true or false");
+            api_reply_wire(resp, WIRE_INVALID_FIELD, "pinned", "pinned must be true or false");
         } else if (job_store_set_pinned(st, id, json_is_true(pinned)) != AA_OK) {
-            api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+            api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id);
         } else {
             json_t *changed = job_manager_get(api_context_jobs(ctx), id);
             if (changed)
                 api_reply_json(resp, 200, changed);
             else
-                api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+                api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id);
         }
     }
     json_decref(body);
@@ -203,7 +192,7 @@ void handle_job_delete(api_context *ctx, const api_request *req, api_response *r
 {
     long long id = api_parse_job_id(id_text);
     if (id <= 0) {
-        api_reply_error(resp, 404, "not_found", "id", "no job %.40s", id_text);
+        api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %.40s", id_text);
         return;
     }
     char buf[8];
@@ -225,13 +214,13 @@ void handle_job_delete(api_context *ctx, const api_request *req, api_response *r
                                  "cancel_requested", 1));
         break;
     case JM_ENOENT:
-        api_reply_error(resp, 404, "not_found", "id", "no job %lld", id);
+        api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id);
         break;
     case JM_EFORBIDDEN:
-        api_reply_error(resp, 403, "forbidden", "", "only the job's owner or root may cancel it");
+        api_reply_wire(resp, WIRE_FORBIDDEN, "", "only the job's owner or root may cancel it");
         break;
     default:
-        api_reply_error(resp, 409, "conflict", "", "job %lld has already finished", id);
+        api_reply_wire(resp, WIRE_CONFLICT, "", "job %lld has already finished", id);
         break;
     }
 }
@@ -243,7 +232,7 @@ void handle_usage(api_context *ctx, const api_request *req, api_response *resp)
     long long uid = req->caller.uid;
     job_store_usage u = {0};
     if (uid >= 0 && job_store_usage_of(st, uid, &u) != AA_OK) {
-        api_reply_error(resp, 503, "unavailable", "", "the job store cannot be read");
+        api_reply_wire(resp, WIRE_STORE_UNAVAILABLE, "", "the job store cannot be read");
         return;
     }
     u.limit = api_context_config(ctx)->user_store_bytes;

@@ -1,6 +1,6 @@
 /* POST /v1/render (one test tile: pattern, reference, difference PNGs and statistics) and
- * GET /v1/tiles/{id}.png (a stored tile). Request and response formats: server/tiles/
- * tile_render.h and docs in proto/schemas (render). */
+ * GET /v1/tiles/{id}.png (a stored tile). Request and response formats: proto/codec_render.h
+ * and proto/schemas (render). */
 #ifndef AALAB_HANDLERS_RENDER_H
 #define AALAB_HANDLERS_RENDER_H
 

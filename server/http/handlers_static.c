@@ -64,19 +64,19 @@ void handle_static(api_context *ctx, const api_request *req, api_response *resp)
     const aalab_config *cfg = api_context_config(ctx);
     const char *path = req->path;
     if (!path_clean(path)) {
-        api_reply_error(resp, 404, "not_found", "", "no such file");
+        api_reply_wire(resp, WIRE_NOT_FOUND, "", "no such file");
         return;
     }
     char root[PATH_MAX], want[PATH_MAX * 2], real[PATH_MAX];
     if (!realpath(cfg->web_dir, root)) {
-        api_reply_error(resp, 404, "not_found", "", "no dashboard directory configured");
+        api_reply_wire(resp, WIRE_NOT_FOUND, "", "no dashboard directory configured");
         return;
     }
     bool dir_index = path[strlen(path) - 1] == '/';
     snprintf(want, sizeof want, "%s%s%s", root, path, dir_index ? "index.html" : "");
     if (!realpath(want, real) || strncmp(real, root, strlen(root)) ||
         (real[strlen(root)] != '/' && real[strlen(root)] != 0)) {
-        api_reply_error(resp, 404, "not_found", "", "no such file");
+        api_reply_wire(resp, WIRE_NOT_FOUND, "", "no such file");
         return;
     }
     int fd = open(real, O_RDONLY | O_CLOEXEC);
@@ -84,7 +84,7 @@ void handle_static(api_context *ctx, const api_request *req, api_response *resp)
     if (fd < 0 || fstat(fd, &st) || !S_ISREG(st.st_mode) || st.st_size > STATIC_MAX_FILE) {
         if (fd >= 0)
             close(fd);
-        api_reply_error(resp, 404, "not_found", "", "no such file");
+        api_reply_wire(resp, WIRE_NOT_FOUND, "", "no such file");
         return;
     }
     char *buf = malloc((size_t)st.st_size + 1);
@@ -98,7 +98,7 @@ void handle_static(api_context *ctx, const api_request *req, api_response *resp)
     close(fd);
     if (!buf || got != (size_t)st.st_size) {
         free(buf);
-        api_reply_error(resp, 500, "internal", "", "cannot read the file");
+        api_reply_wire(resp, WIRE_INTERNAL, "", "cannot read the file");
         return;
     }
     resp->status = 200;

@@ -12,12 +12,12 @@ void handle_tokens_post(api_context *ctx, const api_request *req, api_response *
     /* A token can only come from someone who can already reach the socket: a token holder
      * minting more tokens would outlive a revocation. */
     if (req->caller.via_tcp) {
-        api_reply_error(resp, 403, "forbidden", "",
-                        "tokens are issued on the Unix socket only (aalab token)");
+        api_reply_wire(resp, WIRE_FORBIDDEN, "",
+                       "tokens are issued on the Unix socket only (aalab token)");
         return;
     }
     if (req->caller.uid < 0) {
-        api_reply_error(resp, 403, "forbidden", "", "the caller's uid is unknown");
+        api_reply_wire(resp, WIRE_FORBIDDEN, "", "the caller's uid is unknown");
         return;
     }
     json_t *body = req->body_len ? api_parse_body(req, resp) : json_object();
@@ -31,8 +31,8 @@ void handle_tokens_post(api_context *ctx, const api_request *req, api_response *
     if (lj && (!json_is_string(lj) || json_string_length(lj) > TOKEN_LABEL_MAX ||
                strlen(json_string_value(lj)) != json_string_length(lj))) {
         json_decref(body);
-        api_reply_error(resp, 400, "invalid_field", "label",
-                        "label must be a string of at most %d bytes", TOKEN_LABEL_MAX);
+        api_reply_wire(resp, WIRE_INVALID_FIELD, "label",
+                       "label must be a string of at most %d bytes", TOKEN_LABEL_MAX);
         return;
     }
     json_t *out = NULL;
@@ -41,7 +41,7 @@ void handle_tokens_post(api_context *ctx, const api_request *req, api_response *
                                lj ? json_string_value(lj) : NULL, &out, &err);
     json_decref(body);
     if (rc) {
-        api_reply_error(resp, 503, "unavailable", "", "%s", err.message);
+        api_reply_wire(resp, WIRE_STORE_UNAVAILABLE, "", "%s", err.message);
         return;
     }
     api_reply_json(resp, 201, out);
@@ -51,7 +51,7 @@ void handle_tokens_post(api_context *ctx, const api_request *req, api_response *
 void handle_tokens_list(api_context *ctx, const api_request *req, api_response *resp)
 {
     if (req->caller.uid < 0 && !req->caller.admin) {
-        api_reply_error(resp, 403, "forbidden", "", "the caller's uid is unknown");
+        api_reply_wire(resp, WIRE_FORBIDDEN, "", "the caller's uid is unknown");
         return;
     }
     json_t *list =
@@ -68,12 +68,11 @@ void handle_token_delete(api_context *ctx, const api_request *req, api_response 
         id > 0 ? token_store_revoke(api_context_tokens(ctx), id, req->caller.uid, req->caller.admin)
                : TOKEN_ENOENT;
     if (rc == TOKEN_ENOENT)
-        api_reply_error(resp, 404, "not_found", "id", "no token %.40s", id_text);
+        api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no token %.40s", id_text);
     else if (rc == TOKEN_EFORBIDDEN)
-        api_reply_error(resp, 403, "forbidden", "id",
-                        "only the token's owner or root may revoke it");
+        api_reply_wire(resp, WIRE_FORBIDDEN, "id", "only the token's owner or root may revoke it");
     else if (rc)
-        api_reply_error(resp, 503, "unavailable", "", "the token store failed");
+        api_reply_wire(resp, WIRE_STORE_UNAVAILABLE, "", "the token store failed");
     else
         api_reply_json(resp, 200, json_pack("{s:I,s:b}", "id", (json_int_t)id, "revoked", 1));
 }

@@ -20,8 +20,11 @@ static const char *reason(int status)
     }
 }
 
-void http_refuse(int fd, int status, const char *code, const char *message, int retry_after)
+void http_refuse(int fd, proto_wire_error e, const char *message)
 {
+    const proto_wire_row *row = proto_wire_row_of(e);
+    int status = row->status, retry_after = row->retry_after;
+    const char *code = row->code;
     char body[512], head[256], ra[32] = "";
     int bl =
         snprintf(body, sizeof body,

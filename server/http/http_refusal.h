@@ -4,7 +4,10 @@
 #ifndef AALAB_HTTP_REFUSAL_H
 #define AALAB_HTTP_REFUSAL_H
 
-/* message must not need JSON escaping (our own fixed texts). retry_after > 0 adds Retry-After. */
-void http_refuse(int fd, int status, const char *code, const char *message, int retry_after);
+#include "wire_error.h"
+
+/* Status, wire code and Retry-After come from e's row of the error table. message must not need
+ * JSON escaping (our own fixed texts). */
+void http_refuse(int fd, proto_wire_error e, const char *message);
 
 #endif

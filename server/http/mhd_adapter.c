@@ -270,11 +270,11 @@ static enum MHD_Result send_response(struct MHD_Connection *conn, api_response *
     return ret;
 }
 
-static enum MHD_Result reply_simple_error(struct MHD_Connection *conn, int status, const char *code,
+static enum MHD_Result reply_simple_error(struct MHD_Connection *conn, proto_wire_error e,
                                           const char *message)
 {
     api_response r = {0};
-    api_reply_error(&r, status, code, "", "%s", message);
+    api_reply_wire(&r, e, "", "%s", message);
     return send_response(conn, &r, false);
 }
 
@@ -323,16 +323,15 @@ static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_s
         return true;
     api_response *r = &st->resp;
     if (a == COMPUTE_OVER_SHARE)
-        api_reply_error(r, 429, "too_many_requests", "",
-                        "you already have %d %s running (%s); retry when one has finished",
-                        compute_pool_share(l->pool, kind),
-                        kind == COMPUTE_RENDER ? "render(s)" : "evaluate(s)",
-                        kind == COMPUTE_RENDER ? "--user-renders" : "--user-evaluates");
+        api_reply_wire(r, WIRE_TOO_MANY_REQUESTS, "",
+                       "you already have %d %s running (%s); retry when one has finished",
+                       compute_pool_share(l->pool, kind),
+                       kind == COMPUTE_RENDER ? "render(s)" : "evaluate(s)",
+                       kind == COMPUTE_RENDER ? "--user-renders" : "--user-evaluates");
     else
-        api_reply_error(r, 503, "unavailable", "",
-                        a == COMPUTE_FULL ? "the compute queue is full; retry shortly"
-                                          : "the daemon is shutting down");
-    r->retry_after = 1;
+        api_reply_wire(r, WIRE_BUSY, "",
+                       a == COMPUTE_FULL ? "the compute queue is full; retry shortly"
+                                         : "the daemon is shutting down");
     atomic_store_explicit(&st->done, true, memory_order_release);
     MHD_resume_connection(conn);
     return true;
@@ -356,18 +355,17 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
                 MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_AUTHORIZATION);
             if (ci && !conn_admission_token(l->adm, ci->connect_fd, auth)) {
                 api_response r = {0};
-                api_reply_error(&r, 429, "too_many_requests", "",
-                                "this token already has %d open connections "
-                                "(--token-connections)",
-                                conn_admission_token_limit(l->adm));
-                r.retry_after = 1;
+                api_reply_wire(&r, WIRE_TOO_MANY_REQUESTS, "",
+                               "this token already has %d open connections "
+                               "(--token-connections)",
+                               conn_admission_token_limit(l->adm));
                 return send_response(conn, &r, true);
             }
         }
         const char *cl =
             MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
         if (cl && strtoull(cl, NULL, 10) > l->max_body)
-            return reply_simple_error(conn, 413, "payload_too_large",
+            return reply_simple_error(conn, WIRE_PAYLOAD_TOO_LARGE,
                                       "the body exceeds the daemon's --max-body");
         return MHD_YES;
     }
@@ -396,7 +394,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
         return MHD_YES;
     }
     if (st->too_large)
-        return reply_simple_error(conn, 413, "payload_too_large",
+        return reply_simple_error(conn, WIRE_PAYLOAD_TOO_LARGE,
                                   "the body exceeds the daemon's --max-body");
 
     if (st->offloaded) {
@@ -518,12 +516,12 @@ static bool on_accepted(void *cls, int fd, const struct sockaddr *sa, socklen_t 
         snprintf(line, sizeof line,
                  "this user already has %d open connections (--user-connections)",
                  conn_admission_user_limit(l->adm));
-        http_refuse(fd, 429, "too_many_requests", line, 1);
+        http_refuse(fd, WIRE_TOO_MANY_REQUESTS, line);
         return false;
     case ADMIT_TOTAL_LIMIT:
         snprintf(line, sizeof line, "the daemon has %d open connections (--connection-limit)",
                  conn_admission_total_limit(l->adm));
-        http_refuse(fd, 503, "unavailable", line, 1);
+        http_refuse(fd, WIRE_BUSY, line);
         return false;
     case ADMIT_NO_MEMORY:
         break;
@@ -541,11 +539,10 @@ static void on_first_line(void *cls, int fd, const struct sockaddr *sa, socklen_
     if (outcome != ACCEPT_HANDOVER) {
         conn_admission_release(l->adm, fd); /* before the fd is closed and can be reused */
         if (outcome == ACCEPT_BAD_VERSION)
-            http_refuse(fd, 505, "http_version_not_supported",
-                        "this server speaks HTTP/1.0 and HTTP/1.1", 0);
+            http_refuse(fd, WIRE_HTTP_VERSION, "this server speaks HTTP/1.0 and HTTP/1.1");
         else if (outcome == ACCEPT_BAD_REQUEST)
-            http_refuse(fd, 400, "bad_request",
-                        "malformed request line (expected: METHOD /path HTTP/1.1)", 0);
+            http_refuse(fd, WIRE_BAD_REQUEST,
+                        "malformed request line (expected: METHOD /path HTTP/1.1)");
         else
             close(fd);
         return;

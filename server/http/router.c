@@ -165,19 +165,19 @@ void api_handle(api_context *ctx, const api_request *in, api_response *resp)
         /* DNS rebinding: a browser page on another origin resolving to 127.0.0.1 still sends
          * its own Host. */
         if (!host_is_loopback(req->host)) {
-            api_reply_error(resp, 403, "forbidden", "", "Host must be a loopback name");
+            api_reply_wire(resp, WIRE_FORBIDDEN, "", "Host must be a loopback name");
             return;
         }
     }
     if (!resolve_caller(ctx, in, &caller_req.caller) && !is_static_request(in, path)) {
-        api_reply_error(resp, 401, "unauthorized", "",
-                        "this request needs 'Authorization: Bearer <token>' with a valid token of "
-                        "a socket group member (issue one on the Unix socket: aalab token)");
+        api_reply_wire(resp, WIRE_UNAUTHORIZED, "",
+                       "this request needs 'Authorization: Bearer <token>' with a valid token of "
+                       "a socket group member (issue one on the Unix socket: aalab token)");
         return;
     }
     if (req->body_len > cfg->max_body) {
-        api_reply_error(resp, 413, "payload_too_large", "", "the body exceeds %zu bytes",
-                        cfg->max_body);
+        api_reply_wire(resp, WIRE_PAYLOAD_TOO_LARGE, "", "the body exceeds %zu bytes",
+                       cfg->max_body);
         return;
     }
     bool path_known = false;
@@ -191,8 +191,8 @@ void api_handle(api_context *ctx, const api_request *in, api_response *resp)
             continue;
         if ((!strcmp(r->method, "POST") || !strcmp(r->method, "PATCH")) &&
             !is_json_type(req->content_type)) {
-            api_reply_error(resp, 415, "unsupported_media_type", "",
-                            "send the body as Content-Type: application/json");
+            api_reply_wire(resp, WIRE_UNSUPPORTED_MEDIA_TYPE, "",
+                           "send the body as Content-Type: application/json");
             return;
         }
         if (r->arg == ARG_NONE)
@@ -202,13 +202,13 @@ void api_handle(api_context *ctx, const api_request *in, api_response *resp)
         return;
     }
     if (path_known) {
-        api_reply_error(resp, 405, "method_not_allowed", "", "%s is not allowed on this path",
-                        req->method);
+        api_reply_wire(resp, WIRE_METHOD_NOT_ALLOWED, "", "%s is not allowed on this path",
+                       req->method);
         return;
     }
     if (req->via_tcp && is_static_request(req, path)) {
         handle_static(ctx, req, resp);
         return;
     }
-    api_reply_error(resp, 404, "not_found", "", "no such endpoint");
+    api_reply_wire(resp, WIRE_NOT_FOUND, "", "no such endpoint");
 }

@@ -1,6 +1,6 @@
 /* POST /v1/render and GET /v1/tiles/{id}.png: pattern references {"job": ID} are resolved
- * here, then the renderer's handlers (handlers_render.c, issue 5) run. Without them the daemon
- * answers 501. */
+ * here, then the renderer's handlers (handlers_render.c) run. Without them the daemon answers
+ * 501. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -39,7 +39,7 @@ void route_render(api_context *ctx, const api_request *req, api_response *resp)
     free(before);
     free(after);
 #else
-    api_reply_error(resp, 501, "not_implemented", "", "rendering is not built into this daemon");
+    api_reply_wire(resp, WIRE_NOT_IMPLEMENTED, "", "rendering is not built into this daemon");
 #endif
 }
 
@@ -48,6 +48,6 @@ void route_tile(api_context *ctx, const api_request *req, api_response *resp, co
 #ifdef AALAB_HAVE_RENDER
     handle_tile(ctx, req, resp, id);
 #else
-    api_reply_error(resp, 501, "not_implemented", "", "rendering is not built into this daemon");
+    api_reply_wire(resp, WIRE_NOT_IMPLEMENTED, "", "rendering is not built into this daemon");
 #endif
 }

@@ -109,9 +109,9 @@ int kind_animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
         size_t full = (size_t)F * (size_t)rp.scene.width * (size_t)rp.scene.height;
         *result =
             json_pack("{s:o, s:{s:s, s:f}, s:f, s:o, s:o, s:{s:f, s:f}, s:{s:I, s:I}}", "scene",
-                      tile_encode_scene(&rp.scene), "pattern", "family", ap->pattern.family,
+                      proto_encode_scene(&rp.scene), "pattern", "family", ap->pattern.family,
                       "samples_per_pixel", ap->pattern.cost_spp, "e2", e2, "frames", frames,
-                      "total", tile_encode_diff(&total), "times", "pattern_seconds",
+                      "total", proto_encode_diff(&total), "times", "pattern_seconds",
                       pattern_seconds, "reference_seconds", reference_seconds, "pixels",
                       "recomputed", (json_int_t)recomputed, "all_frames", (json_int_t)full);
         frames = NULL;

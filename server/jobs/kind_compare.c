@@ -153,7 +153,7 @@ int kind_compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
             "{s:s, s:s, s:f, s:f, s:f, s:f, s:f, s:I, s:I, s:o}", "name", cp->names[i], "family",
             p->family, "samples_per_pixel", p->cost_spp, "e2", e2, "rmse", d.rmse, "max_dev",
             d.max_dev, "render_seconds", seconds, "pixels_sampled", (json_int_t)rs.pixels_sampled,
-            "coverage_samples", (json_int_t)rs.samples_evaluated, "stats", tile_encode_diff(&d));
+            "coverage_samples", (json_int_t)rs.samples_evaluated, "stats", proto_encode_diff(&d));
         if (row && ts && cp->common.tiles) {
             json_t *tp = tile_put_image(ts, &access, &img, NULL);
             json_t *td = tile_put_difference(ts, &access, &img, &slot[s].img, NULL);
@@ -168,7 +168,7 @@ int kind_compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     if (!rc) {
         const aa_filter *f = cp->common.ref.params.filter;
         *result = json_pack("{s:o, s:{s:I, s:I, s:s, s:o}, s:o}", "scene",
-                            tile_encode_scene(&cp->common.scene), "reference", "spp",
+                            proto_encode_scene(&cp->common.scene), "reference", "spp",
                             (json_int_t)cp->common.ref.params.spp, "seed",
                             (json_int_t)cp->common.ref.params.seed, "filter",
                             f ? f->name : "mitchell", "renders", refs, "rows", rows);

@@ -154,7 +154,7 @@ int kind_reference_convergence_run(void *params, job_ctx *ctx, json_t **result, 
     if (rc == AA_ECANCELED)
         aa_error_set(err, AA_ECANCELED, "", "cancelled");
     if (!rc) {
-        *result = json_pack("{s:o, s:f, s:o, s:o}", "scene", tile_encode_scene(&cp->common.scene),
+        *result = json_pack("{s:o, s:f, s:o, s:o}", "scene", proto_encode_scene(&cp->common.scene),
                             "output_offset", aa_output_offset(cp->kernel_size), "baseline",
                             baseline, "rows", rows);
         baseline = rows = NULL;

@@ -22,9 +22,9 @@ int render_spec_decode(const json_t *spec, const char *const *kind_keys, unsigne
     s->tiles = true;
     int rc = check_keys(spec, kind_keys, fields, err);
     if (!rc)
-        rc = tile_decode_scene_request(spec, &s->scene, err);
+        rc = proto_decode_scene_request(spec, &s->scene, err);
     if (!rc)
-        rc = tile_decode_reference(json_object_get(spec, "reference"), &s->ref, "reference", err);
+        rc = proto_decode_reference(json_object_get(spec, "reference"), &s->ref, "reference", err);
     if (!rc)
         rc = proto_decode_acuity(json_object_get(spec, "acuity"), &s->acuity, "acuity", err);
     json_t *tiles = json_object_get(spec, "tiles");

@@ -21,9 +21,9 @@ enum {
 
 typedef struct render_spec {
     aa_scene_params scene;
-    tile_reference_spec ref; /* ref.params.filter points into ref: never copy a render_spec */
-    aa_acuity acuity;        /* default naiman */
-    bool tiles;              /* default true: put the images in the tile store */
+    proto_reference_spec ref; /* ref.params.filter points into ref: never copy a render_spec */
+    aa_acuity acuity;         /* default naiman */
+    bool tiles;               /* default true: put the images in the tile store */
 } render_spec;
 
 int render_spec_decode(const json_t *spec, const char *const *kind_keys, unsigned fields,

@@ -14,6 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "codec_render.h"
 #include "png_encode.h"
 #include "presets.h"
 #include "tile_parallel.h"
@@ -206,7 +207,7 @@ static void test_decoding_names_fields(void **state)
     aa_scene_params sp;
     aa_error err = {0};
     json_t *j = parse("{\"name\":\"spiral\",\"width\":64,\"height\":48,\"zoom\":2}");
-    assert_int_equal(tile_decode_scene(j, &sp, "scene", &err), AA_OK);
+    assert_int_equal(proto_decode_scene(j, &sp, "scene", &err), AA_OK);
     assert_int_equal(sp.kind, AA_SCENE_SPIRAL);
     assert_int_equal(sp.width, 64);
     json_decref(j);
@@ -223,33 +224,33 @@ static void test_decoding_names_fields(void **state)
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         j = parse(bad[k].json);
         memset(&err, 0, sizeof err);
-        assert_int_equal(tile_decode_scene(j, &sp, "scene", &err), AA_EINVAL);
+        assert_int_equal(proto_decode_scene(j, &sp, "scene", &err), AA_EINVAL);
         assert_string_equal(err.field, bad[k].field);
         json_decref(j);
     }
-    tile_reference_spec rs;
+    proto_reference_spec rs;
     j = parse("{\"spp\":256,\"seed\":9,\"filter\":{\"name\":\"mitchell\",\"B\":0,\"C\":0.5}}");
-    assert_int_equal(tile_decode_reference(j, &rs, "reference", &err), AA_OK);
+    assert_int_equal(proto_decode_reference(j, &rs, "reference", &err), AA_OK);
     assert_int_equal(rs.params.spp, 256);
     assert_ptr_equal(rs.params.filter, &rs.filter);
     assert_float_equal(rs.filter.C, 0.5, 1e-15);
     json_decref(j);
     j = parse("{\"spp\":1000}");
-    assert_int_equal(tile_decode_reference(j, &rs, "reference", &err), AA_EINVAL);
+    assert_int_equal(proto_decode_reference(j, &rs, "reference", &err), AA_EINVAL);
     assert_string_equal(err.field, "reference.spp");
     json_decref(j);
     j = parse("{\"filter\":\"wobbly\"}");
-    assert_int_equal(tile_decode_reference(j, &rs, "reference", &err), AA_EINVAL);
+    assert_int_equal(proto_decode_reference(j, &rs, "reference", &err), AA_EINVAL);
     assert_true(strncmp(err.field, "reference.filter", 16) == 0);
     json_decref(j);
-    tile_crop crop;
+    proto_crop crop;
     j = parse("{\"x\":60,\"width\":10}");
-    assert_int_equal(tile_decode_crop(j, 64, 64, &crop, "crop", &err), AA_EINVAL);
+    assert_int_equal(proto_decode_crop(j, 64, 64, &crop, "crop", &err), AA_EINVAL);
     assert_string_equal(err.field, "crop.width");
     json_decref(j);
     aa_pattern p;
     j = json_string("nonesuch");
-    assert_int_equal(tile_pattern_from_preset_name(j, &p, "pattern", &err), AA_EINVAL);
+    assert_int_equal(proto_pattern_from_preset_name(j, &p, "pattern", &err), AA_EINVAL);
     assert_string_equal(err.field, "pattern");
     json_decref(j);
 }
@@ -264,12 +265,13 @@ static void test_render_result_json_and_tiles(void **state)
     rp.reference.spp = 16;
     aa_pattern p;
     json_t *name = json_string("flipquad");
-    assert_int_equal(tile_pattern_from_preset_name(name, &p, "pattern", NULL), AA_OK);
+    assert_int_equal(proto_pattern_from_preset_name(name, &p, "pattern", NULL), AA_OK);
     json_decref(name);
     aa_render_result r;
     assert_int_equal(aa_render_tile(&rp, &p, &r, NULL), AA_OK);
-    tile_crop crop = {true, {8, 8, 24, 20}, 4};
-    json_t *out = tile_render_result_json(ts, NULL, &rp, &p, &r, &crop, NULL);
+    proto_crop crop = {true, {8, 8, 24, 20}, 4};
+    json_t *tiles_json = tile_put_render_images_as(ts, NULL, &r.pattern, &r.reference, &crop, NULL);
+    json_t *out = proto_encode_render_result(&rp, &p, &r, tiles_json);
     assert_non_null(out);
     assert_float_equal(json_real_value(json_object_get(json_object_get(out, "stats"), "rmse")),
                        r.diff.rmse, 1e-12);
