@@ -1,4 +1,4 @@
-/* Following a submitted job: the --wait loop shared by optimize and submit. */
+/* Following a job: the --wait loop shared by optimize and submit, and `aalab wait ID`. */
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "../exit_codes.h"
+#include "../views/job_views.h"
 #include "view_util.h"
 
 void progress_line(char *buf, size_t cap, double fraction, const json_t *job, int width)
@@ -48,7 +49,7 @@ int job_wait(cli_session *s, const char *id)
 {
     char path[128];
     snprintf(path, sizeof path, "/v1/jobs/%s", id);
-    bool tty = isatty(fileno(s->err));
+    bool tty = !s->args->quiet && isatty(fileno(s->err));
     json_t *job = NULL;
     const char *state = "";
     for (;;) {
@@ -72,11 +73,14 @@ int job_wait(cli_session *s, const char *id)
     }
     if (tty)
         fputc('\n', s->err);
-    if (s->args->json) {
+    if (s->args->quiet)
+        ; /* -q: the id is already printed; the exit code says how it ended */
+    else if (s->args->json)
         cli_print_json(s->out, job);
-    } else {
-        job_print(s->out, job);
-    }
+    else if (s->args->trace)
+        view_trace(s->out, json_object_get(job, "trace"), s->args->csv);
+    else
+        job_print(s->out, job, s->args->csv);
     int code = strcmp(state, "done") == 0 ? EXIT_OK : EXIT_JOB_FAILED;
     if (code != EXIT_OK)
         fprintf(s->err, "aalab: job %s ended %s\n", id, state);
@@ -97,11 +101,17 @@ int job_submitted(cli_session *s, json_t *resp)
         json_decref(resp);
         return EXIT_SERVER_5XX;
     }
+    if (s->args->quiet) { /* for ID=$(aalab optimize -q ...) */
+        fprintf(s->out, "%s\n", job_id);
+        fflush(s->out);
+    }
     if (s->args->wait) {
         json_decref(resp);
         return job_wait(s, job_id);
     }
-    if (s->args->json)
+    if (s->args->quiet)
+        ;
+    else if (s->args->json)
         cli_print_json(s->out, resp);
     else
         fprintf(s->out, "job %s queued\n", job_id);
