@@ -1,8 +1,6 @@
 /* Job kind "family-sweep" (Hasselgren et al. Fig. 3 workflow): enumerate the mirrored
  * P(4,1+,n) placement configurations of a cost, optimise each from K seeds, rank by E2 and keep
- * every configuration's best pattern. Spec: {"kind":"family-sweep", "family":"P(4,1+,1.25)" |
- * "cost":1.25, "seeds_per_config":K?, "max_seconds":S?, "rng_seed":K?, "mode":...?, "method":...?,
- * "distributions":[...]?, "filter":F?, "acuity":A?, "angles":[...]?, "grid":{...}?}.
+ * every configuration's best pattern. The spec is proto/job_family_sweep.h.
  * The time budget is split evenly over the configurations. */
 #include <math.h>
 #include <stdlib.h>
@@ -10,74 +8,17 @@
 
 #include "codec.h"
 #include "enumerate.h"
-#include "kind_optimize_spec.h"
+#include "job_family_sweep.h"
+#include "kinds.h"
+#include "optimizer_bridge.h"
 
-typedef struct sweep_params {
-    opt_common_spec common;
-    double cost;
-    size_t per_config;
-    aa_seed_kind kinds[5];
-    size_t kind_count;
-} sweep_params;
+JOB_KIND_SPEC_PARAMS(kind_family_sweep, proto_family_sweep_spec, proto_decode_family_sweep_spec,
+                     proto_family_sweep_spec_free)
 
-static void sweep_free(void *params)
+const char *kind_family_sweep_family(const void *params)
 {
-    sweep_params *sp = params;
-    if (!sp)
-        return;
-    opt_common_free(&sp->common);
-    free(sp);
-}
-
-static const char *const sweep_keys[] = {
-    "kind",   "family",        "cost",   "seeds_per_config", "max_seconds", "rng_seed", "mode",
-    "method", "distributions", "filter", "acuity",           "angles",      "grid",     NULL};
-
-static int sweep_parse(const json_t *spec, void **params, aa_error *err)
-{
-    *params = NULL;
-    int rc = opt_spec_check_keys(spec, sweep_keys, err);
-    if (rc)
-        return rc;
-    sweep_params *sp = calloc(1, sizeof *sp);
-    if (!sp)
-        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    rc = opt_common_parse(spec, 60, &sp->common, err);
-    const char *family = NULL;
-    double cost = NAN;
-    if (!rc)
-        rc = opt_spec_string(spec, "family", &family, err);
-    if (!rc)
-        rc = opt_spec_number(spec, "cost", 0.25, AA_ENUMERATE_MAX_COST, &cost, err);
-    if (!rc && (family != NULL) == !isnan(cost))
-        rc = aa_error_set(err, AA_EINVAL, "family", "give exactly one of family and cost");
-    if (!rc && family) {
-        aa_family fam;
-        rc = aa_family_parse(family, &fam, err);
-        if (!rc && !fam.mirrored)
-            rc = aa_error_set(err, AA_EINVAL, "family", "the sweep enumerates P(4,1+,n)");
-        cost = fam.cost;
-    }
-    if (!rc) {
-        aa_mirrored_config *list;
-        size_t n;
-        rc = aa_enumerate_mirrored(cost, &list, &n, err); /* validates the cost ("cost") */
-        if (!rc)
-            free(list);
-    }
-    sp->cost = cost;
-    json_int_t k = 8;
-    if (!rc)
-        rc = opt_spec_integer(spec, "seeds_per_config", 1, 10000, &k, err);
-    sp->per_config = (size_t)k;
-    if (!rc)
-        rc = opt_parse_distributions(spec, sp->kinds, &sp->kind_count, err);
-    if (rc) {
-        sweep_free(sp);
-        return rc;
-    }
-    *params = sp;
-    return AA_OK;
+    const proto_family_sweep_spec *sp = params;
+    return sp->family[0] ? sp->family : NULL;
 }
 
 typedef struct sweep_row {
@@ -92,10 +33,10 @@ static int row_cmp(const void *a, const void *b)
     return (x->e2 > y->e2) - (x->e2 < y->e2);
 }
 
-static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+int kind_family_sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
-    sweep_params *sp = params;
-    aa_metric_params metric = opt_common_metric(&sp->common);
+    proto_family_sweep_spec *sp = params;
+    aa_metric_params metric = proto_optimizer_spec_metric(&sp->common);
     aa_mirrored_config *configs;
     size_t count;
     int rc = aa_enumerate_mirrored(sp->cost, &configs, &count, err);
@@ -127,7 +68,7 @@ static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
         aa_multistart_params_default(&mp);
         mp.local.mode = sp->common.mode;
         /* Mirrored configurations are never tiled without border samples. */
-        mp.local.method = opt_common_method(&sp->common, false, sp->common.mode);
+        mp.local.method = proto_optimizer_spec_method(&sp->common, false, sp->common.mode);
         mp.local.grid_bits = sp->common.grid_bits;
         mp.local.d3d12_range = sp->common.d3d12;
         mp.local.max_iterations = 20000;
@@ -193,6 +134,3 @@ static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     free(configs);
     return rc;
 }
-
-const job_kind job_kind_family_sweep = {
-    .name = "family-sweep", .parse = sweep_parse, .run = sweep_run, .free_params = sweep_free};
