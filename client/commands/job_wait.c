@@ -44,6 +44,20 @@ static void sleep_seconds(double s)
     nanosleep(&ts, NULL);
 }
 
+/* The finished job as `aalab job` shows it; nothing with -q (the id is already printed, the
+ * exit code says how the job ended). */
+static void print_finished(cli_session *s, const json_t *job)
+{
+    if (s->args->quiet)
+        return;
+    if (s->args->json)
+        cli_print_json(s->out, job);
+    else if (s->args->trace)
+        view_trace(s->out, json_object_get(job, "trace"), s->args->csv);
+    else
+        job_print(s->out, job, s->args->csv);
+}
+
 /* Polls GET /v1/jobs/ID until the job ends; a bar on stderr when stderr is a terminal. */
 int job_wait(cli_session *s, const char *id)
 {
@@ -73,14 +87,7 @@ int job_wait(cli_session *s, const char *id)
     }
     if (tty)
         fputc('\n', s->err);
-    if (s->args->quiet)
-        ; /* -q: the id is already printed; the exit code says how it ended */
-    else if (s->args->json)
-        cli_print_json(s->out, job);
-    else if (s->args->trace)
-        view_trace(s->out, json_object_get(job, "trace"), s->args->csv);
-    else
-        job_print(s->out, job, s->args->csv);
+    print_finished(s, job);
     int code = strcmp(state, "done") == 0 ? EXIT_OK : EXIT_JOB_FAILED;
     if (code != EXIT_OK)
         fprintf(s->err, "aalab: job %s ended %s\n", id, state);
@@ -109,11 +116,9 @@ int job_submitted(cli_session *s, json_t *resp)
         json_decref(resp);
         return job_wait(s, job_id);
     }
-    if (s->args->quiet)
-        ;
-    else if (s->args->json)
+    if (s->args->json && !s->args->quiet)
         cli_print_json(s->out, resp);
-    else
+    else if (!s->args->quiet)
         fprintf(s->out, "job %s queued\n", job_id);
     json_decref(resp);
     return EXIT_OK;
