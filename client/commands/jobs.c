@@ -52,6 +52,12 @@ static void job_head(FILE *out, const json_t *job)
     json_t *copy = json_deep_copy(job);
     for (size_t i = 0; i < sizeof SHOWN_ELSEWHERE / sizeof SHOWN_ELSEWHERE[0]; i++)
         json_object_del(copy, SHOWN_ELSEWHERE[i]);
+    const json_t *progress = json_object_get(job, "progress");
+    if (json_is_number(progress)) { /* a fraction on the wire, a percentage for people */
+        char pct[32];
+        snprintf(pct, sizeof pct, "%.0f%%", 100.0 * json_number_value(progress));
+        json_object_set_new(copy, "progress", json_string(pct));
+    }
     print_flat(out, copy);
     json_decref(copy);
 }

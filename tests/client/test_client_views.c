@@ -115,7 +115,7 @@ static void jobs_table(void **state)
 
 static void one_job(void **state)
 {
-    json_t *j = doc("{\"id\":9,\"kind\":\"some-future-kind\",\"state\":\"done\","
+    json_t *j = doc("{\"id\":9,\"kind\":\"some-future-kind\",\"state\":\"done\",\"progress\":0.625,"
                     "\"finished\":1763861207,\"result\":{\"e2\":0.33,\"family\":\"P(4,1+,2)\"},"
                     "\"trace\":[{\"seconds\":0.1,\"best_e2\":0.5},{\"seconds\":1.25,"
                     "\"best_e2\":0.33}]}");
@@ -124,6 +124,7 @@ static void one_job(void **state)
     const char *text = capture_end(&c);
     contains(text, "id        9\n");
     contains(text, "finished  2025-11-23 01:26:47\n");
+    contains(text, "progress  62%\n");
     /* a kind without a view of its own: every scalar of its result */
     contains(text, "\ne2      0.33\nfamily  P(4,1+,2)\n");
     contains(text, "trace  2 points, last at 1.25 s with E2 0.330000");
