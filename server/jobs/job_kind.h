@@ -73,9 +73,10 @@ typedef struct job_kind {
     /* Runs on a worker. On success *result is the encoded job result (stolen). Return AA_OK,
      * AA_ECANCELED when cancelled, or another negative code with err filled. */
     int (*run)(void *params, job_ctx *ctx, json_t **result, aa_error *err);
-    /* The best pattern of a result this kind made (borrowed; NULL: the kind has none) and its
-     * E2 (NaN when the kind gives none); NULL for kinds whose results hold no best pattern. */
-    const json_t *(*best_of)(const json_t *result, double *e2);
+    /* The best pattern (encoded, new reference; NULL: none) and its E2 (NaN when the kind
+     * gives none) of a result this kind made, read through the kind's result decoder; NULL for
+     * kinds whose results hold no best pattern. */
+    json_t *(*best_of)(const json_t *result, double *e2);
 } job_kind;
 
 const job_kind *job_kind_find(const char *name);

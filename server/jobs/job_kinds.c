@@ -12,7 +12,7 @@ static const job_kind table[] = {
      .free_params = kind_optimize_free,
      .spec_family = kind_optimize_family,
      .run = kind_optimize_run,
-     .best_of = kind_optimizer_best_of},
+     .best_of = kind_optimize_best_of},
     {.name = "family-sweep",
      .summary = "Optimises every mirrored P(4,1+,n) placement configuration of one cost and "
                 "ranks them by E2.",
@@ -20,7 +20,7 @@ static const job_kind table[] = {
      .free_params = kind_family_sweep_free,
      .spec_family = kind_family_sweep_family,
      .run = kind_family_sweep_run,
-     .best_of = kind_optimizer_best_of},
+     .best_of = kind_family_sweep_best_of},
     {.name = "random-stats",
      .summary = "Min, average and max E2 of random patterns of a family, and the best of them "
                 "optimised for weights (Opt W) and for weights and positions (Opt W+P).",
@@ -28,7 +28,7 @@ static const job_kind table[] = {
      .free_params = kind_random_stats_free,
      .spec_family = kind_random_stats_family,
      .run = kind_random_stats_run,
-     .best_of = kind_optimizer_best_of},
+     .best_of = kind_random_stats_best_of},
     {.name = "compare",
      .summary = "Renders one scene with several patterns and tabulates samples per pixel, E2, "
                 "RMSE and max deviation against a supersampled reference.",

@@ -339,7 +339,7 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
     /* The live best is posted at most 10 times a second, so the last improvement may be
      * missing from it: a finished job's best is its result's. */
     double final_e2 = NAN;
-    const json_t *final_pattern =
+    json_t *final_pattern =
         st == JOB_DONE && result && j->kind->best_of ? j->kind->best_of(result, &final_e2) : NULL;
     if (final_pattern && isfinite(final_e2)) {
         json_t *b = json_pack("{s:O,s:f}", "pattern", final_pattern, "e2", final_e2);
@@ -348,6 +348,7 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
             best = b;
         }
     }
+    json_decref(final_pattern);
     double now = jm_now();
     job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason, now);
     /* One line per finished run for the journal. */
@@ -775,9 +776,9 @@ json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why
     const job_kind *kind = job_kind_find(json_string_value(json_object_get(o, "kind")));
     json_t *result = json_object_get(o, "result");
     double e2;
-    if (!json_is_object(p) && kind && kind->best_of && json_is_object(result))
-        p = kind->best_of(result, &e2);
     json_t *out = json_is_object(p) ? json_deep_copy(p) : NULL;
+    if (!out && kind && kind->best_of && json_is_object(result))
+        out = kind->best_of(result, &e2);
     json_decref(o);
     if (!out)
         *why = "the job has no pattern (yet)";

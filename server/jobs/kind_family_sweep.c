@@ -21,15 +21,25 @@ const char *kind_family_sweep_family(const void *params)
     return sp->family[0] ? sp->family : NULL;
 }
 
-typedef struct sweep_row {
-    aa_mirrored_config config;
-    double e2;
-    json_t *pattern;
-} sweep_row;
+json_t *kind_family_sweep_best_of(const json_t *result, double *e2)
+{
+    proto_family_sweep_result r;
+    aa_error err = {0};
+    *e2 = NAN;
+    if (proto_decode_family_sweep_result(result, &r, &err))
+        return NULL;
+    json_t *best = NULL;
+    if (r.ranked_count && r.ranked[0].have_best) {
+        *e2 = r.ranked[0].e2;
+        best = proto_encode_pattern(&r.ranked[0].best);
+    }
+    proto_family_sweep_result_free(&r);
+    return best;
+}
 
 static int row_cmp(const void *a, const void *b)
 {
-    const sweep_row *x = a, *y = b;
+    const proto_sweep_row *x = a, *y = b;
     return (x->e2 > y->e2) - (x->e2 < y->e2);
 }
 
@@ -42,7 +52,7 @@ int kind_family_sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error 
     int rc = aa_enumerate_mirrored(sp->cost, &configs, &count, err);
     if (rc)
         return rc;
-    sweep_row *rows = calloc(count ? count : 1, sizeof *rows);
+    proto_sweep_row *rows = calloc(count ? count : 1, sizeof *rows);
     aa_pattern *seeds = calloc(sp->per_config, sizeof *seeds);
     if (!rows || !seeds) {
         free(rows);
@@ -88,12 +98,12 @@ int kind_family_sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error 
             rc = aa_multistart(&mp, &metric, opt_job_progress, &b, &best, &r, err);
         if (!rc) {
             rows[c].e2 = r.e2;
-            rows[c].pattern = proto_encode_pattern(&best);
+            rows[c].best = best; /* the row owns it now */
+            rows[c].have_best = true;
             b.iterations_before += r.iterations;
             b.evaluations_before += r.evaluations;
             b.seconds_before += r.seconds;
             done++;
-            aa_pattern_free(&best);
             aa_multistart_result_free(&r);
         }
         for (size_t i = 0; i < made; i++)
@@ -103,33 +113,19 @@ int kind_family_sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error 
     }
     if (!rc) {
         qsort(rows, count, sizeof *rows, row_cmp);
-        json_t *list = json_array();
-        for (size_t c = 0; c < count && list; c++) {
-            const aa_mirrored_config *k = &rows[c].config;
-            json_array_append_new(
-                list,
-                json_pack("{s:I,s:{s:[IIII],s:[IIII],s:I},s:f,s:o,s:O}", "rank", (json_int_t)c + 1,
-                          "config", "corners", (json_int_t)k->corners[0], (json_int_t)k->corners[1],
-                          (json_int_t)k->corners[2], (json_int_t)k->corners[3], "edges",
-                          (json_int_t)k->edges[0], (json_int_t)k->edges[1], (json_int_t)k->edges[2],
-                          (json_int_t)k->edges[3], "interior", (json_int_t)k->interior, "cost",
-                          aa_mirrored_config_cost(k), "e2", proto_real(rows[c].e2), "best",
-                          rows[c].pattern ? rows[c].pattern : json_null()));
-        }
-        *result =
-            json_pack("{s:f,s:I,s:I,s:o}", "cost", sp->cost, "configurations", (json_int_t)count,
-                      "seeds_per_config", (json_int_t)sp->per_config, "ranked", list);
-        if (!*result)
-            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
-        /* The winner also as the job's "best" / "e2", like the optimize kind's result. */
-        if (!rc && count && rows[0].pattern) {
-            json_object_set(*result, "best", rows[0].pattern);
-            json_object_set_new(*result, "e2", proto_real(rows[0].e2));
+        for (size_t c = 0; c < count; c++) {
+            rows[c].rank = (long)c + 1;
+            rows[c].cost = aa_mirrored_config_cost(&rows[c].config);
         }
     }
-    for (size_t c = 0; c < count; c++)
-        json_decref(rows[c].pattern);
-    free(rows);
+    proto_family_sweep_result out = {.cost = sp->cost,
+                                     .configurations = (long)count,
+                                     .seeds_per_config = (long)sp->per_config,
+                                     .ranked = rows,
+                                     .ranked_count = count};
+    if (!rc && !(*result = proto_encode_family_sweep_result(&out)))
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    proto_family_sweep_result_free(&out); /* frees rows */
     free(seeds);
     free(configs);
     return rc;

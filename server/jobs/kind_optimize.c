@@ -48,27 +48,30 @@ const char *kind_optimize_family(const void *params)
     return op->have_family ? op->family.label : NULL;
 }
 
-const json_t *kind_optimizer_best_of(const json_t *result, double *e2)
+json_t *kind_optimize_best_of(const json_t *result, double *e2)
 {
-    const json_t *v = json_object_get(result, "e2");
-    *e2 = json_is_number(v) ? json_number_value(v) : NAN;
-    const json_t *best = json_object_get(result, "best");
-    return json_is_object(best) ? best : NULL;
+    proto_optimize_result r;
+    aa_error err = {0};
+    *e2 = NAN;
+    if (proto_decode_optimize_result(result, &r, &err))
+        return NULL;
+    *e2 = r.e2;
+    json_t *best = proto_encode_pattern(&r.best);
+    proto_optimize_result_free(&r);
+    return best;
 }
 
-json_t *opt_per_seed_json(const aa_multistart_result *r)
+/* The seeds that ran, as the result lists them. */
+static proto_seed_summary *seed_summaries(const aa_multistart_result *r, size_t *count)
 {
-    json_t *a = json_array();
-    for (size_t i = 0; a && i < r->seed_count; i++) {
-        const aa_multistart_seed *s = &r->per_seed[i];
-        if (isnan(s->e2))
-            continue;
-        json_array_append_new(a, json_pack("{s:I,s:s,s:o,s:o,s:I}", "seed", (json_int_t)i,
-                                           "distribution", aa_seed_kind_name(s->kind), "initial_e2",
-                                           proto_real(s->initial_e2), "e2", proto_real(s->e2),
-                                           "iterations", (json_int_t)s->iterations));
+    proto_seed_summary *s = calloc(r->seed_count ? r->seed_count : 1, sizeof *s);
+    *count = 0;
+    for (size_t i = 0; s && i < r->seed_count; i++) {
+        const aa_multistart_seed *m = &r->per_seed[i];
+        if (!isnan(m->e2))
+            s[(*count)++] = (proto_seed_summary){i, m->kind, m->initial_e2, m->e2, m->iterations};
     }
-    return a;
+    return s;
 }
 
 int kind_optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
@@ -117,20 +120,22 @@ int kind_optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *err
         aa_multistart_result_free(&r);
         return rc;
     }
-    json_t *res = json_pack(
-        "{s:o,s:o,s:{s:I,s:o},s:I,s:I,s:I,s:o,s:s,s:s,s:o}", "best", proto_encode_pattern(&best),
-        "e2", proto_real(r.e2), "argmax", "kernel", (json_int_t)r.argmax_kernel, "angle_deg",
-        proto_real(r.argmax_angle_deg), "seeds_run", (json_int_t)r.seeds_run, "iterations",
-        (json_int_t)r.iterations, "evaluations", (json_int_t)r.evaluations, "seconds",
-        proto_real(r.seconds), "family", best.family, "method",
-        aa_optimize_method_name(mp.local.method), "per_seed", opt_per_seed_json(&r));
-    if (res && op->common.grid_bits)
-        json_object_set_new(res, "grid",
-                            json_pack("{s:I,s:b,s:o,s:o}", "bits", (json_int_t)op->common.grid_bits,
-                                      "d3d12", op->common.d3d12, "e2_before_snap",
-                                      proto_real(r.e2_before_snap), "quantisation_cost",
-                                      proto_real(r.e2 - r.e2_before_snap)));
-    aa_pattern_free(&best);
+    proto_optimize_result out = {.best = best,
+                                 .e2 = r.e2,
+                                 .argmax_kernel = (int)r.argmax_kernel,
+                                 .argmax_angle_deg = r.argmax_angle_deg,
+                                 .seeds_run = (long)r.seeds_run,
+                                 .iterations = r.iterations,
+                                 .evaluations = r.evaluations,
+                                 .seconds = r.seconds,
+                                 .method = mp.local.method,
+                                 .have_grid = op->common.grid_bits != 0,
+                                 .grid_bits = op->common.grid_bits,
+                                 .d3d12 = op->common.d3d12,
+                                 .e2_before_snap = r.e2_before_snap};
+    out.per_seed = seed_summaries(&r, &out.per_seed_count);
+    json_t *res = out.per_seed ? proto_encode_optimize_result(&out) : NULL;
+    proto_optimize_result_free(&out); /* frees best */
     aa_multistart_result_free(&r);
     if (!res)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");

@@ -6,6 +6,7 @@
  * the joint space either (measured, P(16,16,4) Poisson: W+P from Opt W 0.241 = Opt W, from the
  * random pattern 0.199). The spec is proto/job_random_stats.h. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -22,6 +23,19 @@ const char *kind_random_stats_family(const void *params)
 {
     const proto_random_stats_spec *sp = params;
     return sp->family.label;
+}
+
+json_t *kind_random_stats_best_of(const json_t *result, double *e2)
+{
+    proto_random_stats_result r;
+    aa_error err = {0};
+    *e2 = NAN;
+    if (proto_decode_random_stats_result(result, &r, &err))
+        return NULL;
+    *e2 = r.opt_wp.e2;
+    json_t *best = proto_encode_pattern(&r.opt_wp.pattern);
+    proto_random_stats_result_free(&r);
+    return best;
 }
 
 static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric,
@@ -110,21 +124,18 @@ int kind_random_stats_run(void *params, job_ctx *ctx, json_t **result, aa_error 
         rc = optimize_stage(&best, &metric, AA_OPTIMIZE_BOTH, mwp, sp->common.max_seconds / 2,
                             sp->common.rng_seed, &b, &optwp, &rwp, err);
     if (!rc) {
-        *result = json_pack(
-            "{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:{s:o,s:o,s:s},s:{s:o,s:o,s:s}}", "family",
-            sp->family.label, "distribution", aa_seed_kind_name(sp->kind), "count",
-            (json_int_t)rs.count, "random", "min", proto_real(rs.min), "avg", proto_real(rs.avg),
-            "max", proto_real(rs.max), "best_random", proto_encode_pattern(&best), "opt_w", "e2",
-            proto_real(rw.e2), "pattern", proto_encode_pattern(&optw), "method",
-            aa_optimize_method_name(mw), "opt_wp", "e2", proto_real(rwp.e2), "pattern",
-            proto_encode_pattern(&optwp), "method", aa_optimize_method_name(mwp));
+        proto_random_stats_result out = {.distribution = sp->kind,
+                                         .count = (long)rs.count,
+                                         .min = rs.min,
+                                         .avg = rs.avg,
+                                         .max = rs.max,
+                                         .best_random = best,
+                                         .opt_w = {rw.e2, optw, mw},
+                                         .opt_wp = {rwp.e2, optwp, mwp}};
+        snprintf(out.family, sizeof out.family, "%s", sp->family.label);
+        *result = proto_encode_random_stats_result(&out);
         if (!*result)
             rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
-        /* Opt W+P as the job's "best" / "e2", like the optimize kind's result. */
-        if (!rc) {
-            json_object_set_new(*result, "best", proto_encode_pattern(&optwp));
-            json_object_set_new(*result, "e2", proto_real(rwp.e2));
-        }
     }
     aa_pattern_free(&best);
     aa_pattern_free(&optw);

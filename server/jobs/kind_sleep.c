@@ -103,9 +103,15 @@ void kind_sleep_free(void *params)
     free(p);
 }
 
-const json_t *kind_sleep_best_of(const json_t *result, double *e2)
+json_t *kind_sleep_best_of(const json_t *result, double *e2)
 {
     *e2 = NAN;
-    const json_t *p = json_object_get(result, "pattern");
-    return json_is_object(p) ? p : NULL;
+    aa_pattern p;
+    aa_error err = {0};
+    const json_t *pj = json_object_get(result, "pattern");
+    if (!pj || proto_decode_pattern(pj, 0, &p, "pattern", &err))
+        return NULL;
+    json_t *out = proto_encode_pattern(&p);
+    aa_pattern_free(&p);
+    return out;
 }

@@ -48,9 +48,9 @@ const char *kind_optimize_family(const void *params);
 const char *kind_family_sweep_family(const void *params);
 const char *kind_random_stats_family(const void *params);
 
-/* optimize, family-sweep and random-stats results: "best" and "e2". */
-const json_t *kind_optimizer_best_of(const json_t *result, double *e2);
-/* sleep results: "pattern" (no E2). */
-const json_t *kind_sleep_best_of(const json_t *result, double *e2);
+json_t *kind_optimize_best_of(const json_t *result, double *e2);
+json_t *kind_family_sweep_best_of(const json_t *result, double *e2);
+json_t *kind_random_stats_best_of(const json_t *result, double *e2);
+json_t *kind_sleep_best_of(const json_t *result, double *e2);
 
 #endif

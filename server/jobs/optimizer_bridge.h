@@ -1,6 +1,6 @@
 /* Shared by the optimizer job kinds (optimize, family-sweep, random-stats): the bridge from the
  * engine's progress callback to job_ctx (progress, best-so-far, error-against-run-time trace,
- * cancellation), and what their results share. */
+ * cancellation). */
 #ifndef AALAB_OPTIMIZER_BRIDGE_H
 #define AALAB_OPTIMIZER_BRIDGE_H
 
@@ -19,8 +19,5 @@ typedef struct opt_job_bridge {
     double last_best_post;
 } opt_job_bridge;
 int opt_job_progress(void *user, const aa_optimize_progress *p);
-
-/* per-seed summary of a multi-start run. */
-json_t *opt_per_seed_json(const aa_multistart_result *r);
 
 #endif
