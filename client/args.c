@@ -38,7 +38,13 @@ typedef enum opt_id {
     OPT_IMAGE,
     OPT_FORMAT,
     OPT_COST,
-    OPT_LABEL
+    OPT_LABEL,
+    OPT_CSV,
+    OPT_QUIET,
+    OPT_STATE,
+    OPT_KIND,
+    OPT_LIMIT,
+    OPT_TRACE
 } opt_id;
 
 typedef struct opt_spec {
@@ -48,6 +54,11 @@ typedef struct opt_spec {
     unsigned commands; /* mask of BIT(cli_command) */
     opt_id id;
 } opt_spec;
+
+/* The commands that print tables, so --csv has a meaning there. */
+#define TABLE_COMMANDS                                                                             \
+    (BIT(CMD_EVAL) | BIT(CMD_PRESETS) | BIT(CMD_JOBS) | BIT(CMD_JOB) | BIT(CMD_WAIT) |             \
+     BIT(CMD_HEALTH) | BIT(CMD_FILTERS) | BIT(CMD_ACUITY) | BIT(CMD_ENUMERATE) | BIT(CMD_TOKEN))
 
 static const opt_spec OPTIONS[] = {
     {"socket", 's', true, ALL_COMMANDS, OPT_SOCKET},
@@ -68,7 +79,13 @@ static const opt_spec OPTIONS[] = {
     {"mode", 0, true, BIT(CMD_OPTIMIZE), OPT_MODE},
     {"method", 0, true, BIT(CMD_OPTIMIZE), OPT_METHOD},
     {"wait", 'w', false, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_WAIT},
-    {"poll", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_POLL},
+    {"poll", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT) | BIT(CMD_WAIT), OPT_POLL},
+    {"quiet", 'q', false, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_QUIET},
+    {"csv", 0, false, TABLE_COMMANDS, OPT_CSV},
+    {"state", 0, true, BIT(CMD_JOBS), OPT_STATE},
+    {"kind", 0, true, BIT(CMD_JOBS), OPT_KIND},
+    {"limit", 0, true, BIT(CMD_JOBS), OPT_LIMIT},
+    {"trace", 0, false, BIT(CMD_JOB) | BIT(CMD_WAIT), OPT_TRACE},
     {"scene", 0, true, BIT(CMD_RENDER), OPT_SCENE},
     {"size", 0, true, BIT(CMD_RENDER), OPT_SIZE},
     {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT), OPT_OUTPUT},
@@ -86,7 +103,7 @@ static const struct {
     {"jobs", CMD_JOBS},       {"job", CMD_JOB},           {"cancel", CMD_CANCEL},
     {"render", CMD_RENDER},   {"export", CMD_EXPORT},     {"health", CMD_HEALTH},
     {"filters", CMD_FILTERS}, {"acuity", CMD_ACUITY},     {"enumerate", CMD_ENUMERATE},
-    {"token", CMD_TOKEN},
+    {"token", CMD_TOKEN},     {"wait", CMD_WAIT},
 };
 
 const char *cli_command_name(cli_command c)
@@ -193,6 +210,8 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
     static const char *const METHODS[] = {"auto", "laine-aila", "minimax", "smooth", NULL};
     static const char *const IMAGES[] = {"pattern", "reference", "difference", NULL};
     static const char *const FORMATS[] = {"json", "utk", "vulkan", "d3d12", NULL};
+    static const char *const STATES[] = {"queued",    "running",     "done", "failed",
+                                         "cancelled", "interrupted", NULL};
     long l;
     switch (o->id) {
     case OPT_SOCKET:
@@ -283,6 +302,33 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
     case OPT_LABEL:
         a->label = v;
         break;
+    case OPT_CSV:
+        a->csv = true;
+        break;
+    case OPT_QUIET:
+        a->quiet = true;
+        break;
+    case OPT_TRACE:
+        a->trace = true;
+        break;
+    case OPT_STATE:
+        if (!one_of(v, STATES))
+            return fail(err, cap,
+                        "--state wants queued, running, done, failed, cancelled or interrupted, "
+                        "got '%s'",
+                        v);
+        a->state = v;
+        break;
+    case OPT_KIND:
+        if (!*v)
+            return fail(err, cap, "--kind wants a job kind, e.g. family-sweep");
+        a->kind = v;
+        break;
+    case OPT_LIMIT:
+        if (parse_long(v, 1, 1000000, &a->limit))
+            return fail(err, cap, "--limit wants a positive integer, got '%s'", v);
+        a->has_limit = true;
+        break;
     case OPT_FORMAT:
         if (!one_of(v, FORMATS))
             return fail(err, cap, "--format wants json, utk, vulkan or d3d12, got '%s'", v);
@@ -317,6 +363,7 @@ static int check_command(cli_args *a, char *err, size_t cap)
     case CMD_EVAL:
     case CMD_SUBMIT:
     case CMD_JOB:
+    case CMD_WAIT:
     case CMD_CANCEL:
     case CMD_EXPORT:
         if (!a->target)
@@ -356,10 +403,12 @@ static int check_command(cli_args *a, char *err, size_t cap)
     default:
         break;
     }
+    if (a->csv && a->json)
+        return fail(err, cap, "give --csv or --json, not both");
     bool takes_argument = a->command == CMD_EVAL || a->command == CMD_SUBMIT ||
-                          a->command == CMD_JOB || a->command == CMD_CANCEL ||
-                          a->command == CMD_EXPORT || a->command == CMD_PRESETS ||
-                          a->command == CMD_TOKEN;
+                          a->command == CMD_JOB || a->command == CMD_WAIT ||
+                          a->command == CMD_CANCEL || a->command == CMD_EXPORT ||
+                          a->command == CMD_PRESETS || a->command == CMD_TOKEN;
     if (a->target && !takes_argument)
         return fail(err, cap, "'%s' takes no argument, got '%s'", name, a->target);
     return 0;

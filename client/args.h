@@ -23,7 +23,8 @@ typedef enum cli_command {
     CMD_FILTERS,
     CMD_ACUITY,
     CMD_ENUMERATE,
-    CMD_TOKEN
+    CMD_TOKEN,
+    CMD_WAIT
 } cli_command;
 
 typedef struct cli_args {
@@ -31,8 +32,9 @@ typedef struct cli_args {
     /* global */
     const char *socket_path; /* NULL: default resolution */
     bool json;
+    bool csv;         /* tables as RFC 4180 CSV (commands that print tables) */
     double timeout_s; /* per request, default 30 */
-    /* positional: eval NAME|FILE, submit FILE|-, job/cancel/export ID, help COMMAND */
+    /* positional: eval NAME|FILE, submit FILE|-, job/wait/cancel/export ID, help COMMAND */
     const char *target;
     /* token: the second positional of "token revoke ID" */
     const char *target2;
@@ -52,7 +54,15 @@ typedef struct cli_args {
     long long rng_seed;
     bool has_seeds, has_max_seconds, has_rng_seed;
     bool wait;
+    bool quiet;    /* optimize/submit -q: only the job id on stdout */
     double poll_s; /* --wait polling interval */
+    /* jobs: filters sent as ?state=&kind=&limit= */
+    const char *state;
+    const char *kind;
+    long limit;
+    bool has_limit;
+    /* job/wait --trace: the error-against-time points instead of the view */
+    bool trace;
     /* enumerate */
     double cost;
     bool has_cost;

@@ -1,10 +1,16 @@
+#define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "exit_codes.h"
+#include "socket_path.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 void cli_print_json(FILE *out, const json_t *doc)
 {
@@ -35,6 +41,26 @@ void cli_print_error(FILE *err, long status, const char *body)
     json_decref(doc);
 }
 
+void cli_print_no_daemon(FILE *err, const char *socket, const char *tried)
+{
+    struct stat st;
+    const char *why = "nothing accepts connections there (a stale socket?)";
+    if (stat(socket, &st) != 0)
+        why = errno == EACCES ? "permission denied on its directory" : "no such socket";
+    else if (!S_ISSOCK(st.st_mode))
+        why = "that file is not a socket";
+    else if (access(socket, R_OK | W_OK) != 0)
+        why = "permission denied (the shared daemon's socket is for the aalab group)";
+    fprintf(err,
+            "aalab: cannot reach the daemon at %s: %s\n"
+            "aalab: socket paths tried: %s\n"
+            "aalab: start a daemon of your own with 'aalabd' (it listens on\n"
+            "       $XDG_RUNTIME_DIR/aalab/aalabd.sock), start the shared one with\n"
+            "       'systemctl start aalabd.socket' (/run/aalab/aalabd.sock), or give its\n"
+            "       path with --socket PATH or $AALAB_SOCKET\n",
+            socket, why, tried);
+}
+
 static int exchange(cli_session *s, const char *method, const char *path, const json_t *body,
                     http_response *resp)
 {
@@ -50,6 +76,12 @@ static int exchange(cli_session *s, const char *method, const char *path, const 
     int rc =
         http_request(s->http, method, path, text, text ? strlen(text) : 0, resp, err, sizeof err);
     free(text);
+    if (rc == HTTP_NO_DAEMON) {
+        char tried[1024];
+        socket_path_tried(s->args->socket_path, tried, sizeof tried);
+        cli_print_no_daemon(s->err, http_client_socket(s->http), tried);
+        return EXIT_NO_CONNECT;
+    }
     if (rc) {
         fprintf(s->err, "aalab: cannot reach the daemon at %s\n", err);
         return EXIT_NO_CONNECT;
@@ -99,7 +131,15 @@ int cli_call_raw(cli_session *s, const char *method, const char *path, http_resp
 
 const char *fmt_number(char *buf, size_t cap, const json_t *v, int decimals)
 {
-    if (json_is_integer(v) && decimals == 0)
+    if (json_is_real(v) && decimals == FMT_FULL && isfinite(json_real_value(v))) {
+        for (int digits = 6; digits <= 17; digits++) {
+            snprintf(buf, cap, "%.*g", digits, json_real_value(v));
+            if (strtod(buf, NULL) == json_real_value(v))
+                break;
+        }
+        return buf;
+    }
+    if (json_is_integer(v) && decimals <= 0)
         snprintf(buf, cap, "%lld", (long long)json_integer_value(v));
     else if (json_is_integer(v)) /* same column format whether the server wrote 2 or 2.0 */
         snprintf(buf, cap, "%.*f", decimals, (double)json_integer_value(v));

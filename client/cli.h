@@ -3,6 +3,7 @@
 #ifndef AALAB_CLI_H
 #define AALAB_CLI_H
 
+#include <stdbool.h>
 #include <stdio.h>
 
 #include <jansson.h>
@@ -30,11 +31,22 @@ void cli_print_json(FILE *out, const json_t *doc);
 /* Prints an {"error":{...}} body (or a plain one) as one human-readable line to err. */
 void cli_print_error(FILE *err, long status, const char *body);
 
+/* What to do when no daemon answers at socket: why (no such file, permission, refused), the
+ * paths tried (socket_path_tried) and how to start the daemon or point the client at it. */
+void cli_print_no_daemon(FILE *err, const char *socket, const char *tried);
+
 /* Percent-encodes everything but RFC 3986 unreserved characters (malloc'd; NULL on failure). */
 char *url_escape_segment(const char *s);
 
-/* Formatting helpers for table cells; buffers are the caller's. */
+/* Formatting helpers for table cells; buffers are the caller's. decimals FMT_FULL: the
+ * shortest text that reads back as the same double (for CSV, where nothing should be lost). */
+enum { FMT_FULL = -1 };
 const char *fmt_number(char *buf, size_t cap, const json_t *v, int decimals);
+/* decimals for a text table, FMT_FULL for CSV. */
+static inline int fmt_decimals(bool csv, int decimals)
+{
+    return csv ? FMT_FULL : decimals;
+}
 const char *fmt_string(const json_t *v);
 
 #endif

@@ -65,6 +65,11 @@ void http_client_free(http_client *c)
     free(c);
 }
 
+const char *http_client_socket(const http_client *c)
+{
+    return c->socket_path;
+}
+
 static size_t on_body(char *data, size_t size, size_t nmemb, void *userp)
 {
     buffer *b = userp;
@@ -157,7 +162,7 @@ int http_request(http_client *c, const char *method, const char *path, const cha
             snprintf(err, errcap, "%s: %s", c->socket_path,
                      curl_err[0] ? curl_err : curl_easy_strerror(rc));
         free(b.data);
-        return -1;
+        return rc == CURLE_COULDNT_CONNECT ? HTTP_NO_DAEMON : HTTP_BROKEN;
     }
     curl_easy_getinfo(h, CURLINFO_RESPONSE_CODE, &out->status);
     char *ct = NULL;

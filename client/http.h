@@ -18,10 +18,14 @@ typedef struct http_response {
 /* timeout_ms <= 0 means no overall timeout. Returns NULL when libcurl cannot start. */
 http_client *http_client_new(const char *socket_path, long timeout_ms);
 void http_client_free(http_client *c);
+/* The socket path the client connects to. */
+const char *http_client_socket(const http_client *c);
+
+enum { HTTP_BROKEN = -1, HTTP_NO_DAEMON = -2 };
 
 /* method "GET", "POST", "DELETE"; path with query, e.g. "/v1/jobs/3". body may be NULL.
- * Returns 0 when an HTTP answer arrived (any status), -1 when the socket could not be reached
- * or the exchange broke (err filled). */
+ * Returns 0 when an HTTP answer arrived (any status); HTTP_NO_DAEMON when nothing listens on the
+ * socket (missing, refused, not permitted); HTTP_BROKEN when the exchange broke (err filled). */
 int http_request(http_client *c, const char *method, const char *path, const char *body,
                  size_t body_len, http_response *out, char *err, size_t errcap);
 void http_response_free(http_response *r);

@@ -41,6 +41,8 @@ static command_fn command_for(cli_command c)
         return cmd_enumerate;
     case CMD_TOKEN:
         return cmd_token;
+    case CMD_WAIT:
+        return cmd_wait;
     default:
         return NULL;
     }

@@ -41,3 +41,21 @@ int socket_path_resolve(const char *explicit_path, char *out, size_t cap)
     }
     return copy_path(SYSTEM_SOCKET, out, cap);
 }
+
+void socket_path_tried(const char *explicit_path, char *out, size_t cap)
+{
+    if (explicit_path && *explicit_path) {
+        snprintf(out, cap, "%s (--socket)", explicit_path);
+        return;
+    }
+    const char *env = getenv("AALAB_SOCKET");
+    if (env && *env) {
+        snprintf(out, cap, "%s ($AALAB_SOCKET)", env);
+        return;
+    }
+    const char *runtime = getenv("XDG_RUNTIME_DIR");
+    if (runtime && *runtime)
+        snprintf(out, cap, "%s/aalab/aalabd.sock, %s", runtime, SYSTEM_SOCKET);
+    else
+        snprintf(out, cap, "/tmp/aalab-%u/aalabd.sock, %s", (unsigned)geteuid(), SYSTEM_SOCKET);
+}

@@ -11,4 +11,8 @@
  * group). Returns 0, or -1 if the path does not fit. */
 int socket_path_resolve(const char *explicit_path, char *out, size_t cap);
 
+/* The candidates socket_path_resolve considers, in its order, as "a, b, c" into out (for the
+ * message when nothing answers): the explicit path or $AALAB_SOCKET alone when given. */
+void socket_path_tried(const char *explicit_path, char *out, size_t cap);
+
 #endif

@@ -134,3 +134,57 @@ void print_key_values(FILE *out, const char *const *keys, const char *const *val
     for (size_t i = 0; i < n; i++)
         fprintf(out, "%-*s  %s\n", (int)w, keys[i], values[i] ? values[i] : "-");
 }
+
+void csv_field(FILE *out, const char *s)
+{
+    if (!s)
+        return;
+    if (!strpbrk(s, ",\"\r\n")) {
+        fputs(s, out);
+        return;
+    }
+    fputc('"', out);
+    for (; *s; s++) {
+        if (*s == '"')
+            fputc('"', out);
+        fputc(*s, out);
+    }
+    fputc('"', out);
+}
+
+/* "-" is how the text tables show a missing value; pandas reads an empty field as NaN. */
+static const char *csv_value(const char *cell, bool header)
+{
+    return !header && cell && strcmp(cell, "-") == 0 ? "" : cell;
+}
+
+void table_print_csv(const table *t, FILE *out)
+{
+    for (size_t r = 0; r <= t->rows; r++) {
+        for (size_t c = 0; c < t->columns; c++) {
+            if (c)
+                fputc(',', out);
+            csv_field(out, csv_value(t->cells[r * t->columns + c], r == 0));
+        }
+        fputs("\r\n", out);
+    }
+}
+
+void table_write(const table *t, FILE *out, bool csv)
+{
+    if (csv)
+        table_print_csv(t, out);
+    else
+        table_print(t, out);
+}
+
+void print_key_values_csv(FILE *out, const char *const *keys, const char *const *values, size_t n)
+{
+    fputs("key,value\r\n", out);
+    for (size_t i = 0; i < n; i++) {
+        csv_field(out, keys[i]);
+        fputc(',', out);
+        csv_field(out, csv_value(values[i], false));
+        fputs("\r\n", out);
+    }
+}

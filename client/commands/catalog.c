@@ -8,7 +8,7 @@
 #include "../table.h"
 #include "view_util.h"
 
-void filters_print(FILE *out, const json_t *resp)
+void filters_print(FILE *out, const json_t *resp, bool csv)
 {
     const char *headers[] = {"name", "radius", "B", "C", "default"};
     table *t = table_new(5, headers);
@@ -26,11 +26,11 @@ void filters_print(FILE *out, const json_t *resp)
                                json_is_true(json_object_get(f, "default")) ? "yes" : ""};
         table_add_row(t, cells);
     }
-    table_print(t, out);
+    table_write(t, out, csv);
     table_free(t);
 }
 
-void acuity_print(FILE *out, const json_t *resp)
+void acuity_print(FILE *out, const json_t *resp, bool csv)
 {
     const char *headers[] = {"name", "default", "knots (deg:W)"};
     table *t = table_new(3, headers);
@@ -56,12 +56,56 @@ void acuity_print(FILE *out, const json_t *resp)
                                json_is_true(json_object_get(a, "default")) ? "yes" : "", knots};
         table_add_row(t, cells);
     }
-    table_print(t, out);
+    table_write(t, out, csv);
     table_free(t);
 }
 
-void enumerate_print(FILE *out, const json_t *resp)
+/* Four per-side counts as "0 0 0 1". */
+static const char *side_counts(char *buf, size_t cap, const json_t *a)
 {
+    size_t used = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < json_array_size(a); i++) {
+        int n = snprintf(buf + used, cap - used, "%s%lld", i ? " " : "",
+                         (long long)json_integer_value(json_array_get(a, i)));
+        if (n < 0 || (size_t)n >= cap - used)
+            break;
+        used += (size_t)n;
+    }
+    return buf;
+}
+
+static void enumerate_csv(FILE *out, const json_t *resp)
+{
+    const char *headers[] = {"index", "corners", "edges", "interior", "samples", "label"};
+    table *t = table_new(6, headers);
+    if (!t)
+        return;
+    size_t i;
+    json_t *c;
+    json_array_foreach(json_object_get(resp, "configurations"), i, c)
+    {
+        char index[32], corners[64], edges[64], interior[32], samples[32];
+        snprintf(index, sizeof index, "%zu", i + 1);
+        const char *cells[] = {
+            index,
+            side_counts(corners, sizeof corners, json_object_get(c, "corners")),
+            side_counts(edges, sizeof edges, json_object_get(c, "edges")),
+            fmt_number(interior, sizeof interior, json_object_get(c, "interior"), 0),
+            fmt_number(samples, sizeof samples, json_object_get(c, "samples"), 0),
+            fmt_string(json_object_get(c, "label"))};
+        table_add_row(t, cells);
+    }
+    table_print_csv(t, out);
+    table_free(t);
+}
+
+void enumerate_print(FILE *out, const json_t *resp, bool csv)
+{
+    if (csv) {
+        enumerate_csv(out, resp);
+        return;
+    }
     char count[32];
     fprintf(out, "count  %s\n", fmt_number(count, sizeof count, json_object_get(resp, "count"), 0));
     size_t i;
@@ -75,7 +119,8 @@ void enumerate_print(FILE *out, const json_t *resp)
     }
 }
 
-static int get_and_print(cli_session *s, const char *path, void (*print)(FILE *, const json_t *))
+static int get_and_print(cli_session *s, const char *path,
+                         void (*print)(FILE *, const json_t *, bool))
 {
     json_t *resp;
     int code = cli_call(s, "GET", path, NULL, &resp);
@@ -84,7 +129,7 @@ static int get_and_print(cli_session *s, const char *path, void (*print)(FILE *,
     if (s->args->json)
         cli_print_json(s->out, resp);
     else
-        print(s->out, resp);
+        print(s->out, resp, s->args->csv);
     json_decref(resp);
     return EXIT_OK;
 }
@@ -111,7 +156,7 @@ int cmd_enumerate(cli_session *s)
     if (s->args->json)
         cli_print_json(s->out, resp);
     else
-        enumerate_print(s->out, resp);
+        enumerate_print(s->out, resp, s->args->csv);
     json_decref(resp);
     return EXIT_OK;
 }

@@ -25,6 +25,7 @@ int cmd_filters(cli_session *s);
 int cmd_acuity(cli_session *s);
 int cmd_enumerate(cli_session *s);
 int cmd_token(cli_session *s);
+int cmd_wait(cli_session *s);
 void cmd_help(FILE *out, const char *command); /* command NULL: overview */
 
 /* Request bodies. Return 0 with *req (new reference), or -1 with err (a usage error). */
@@ -44,25 +45,33 @@ int job_submitted(cli_session *s, json_t *resp);
  * name is the command for messages. */
 typedef int (*job_request_builder)(const cli_args *a, json_t **req, char *err, size_t errcap);
 int job_submit_built(cli_session *s, const char *name, job_request_builder build);
-/* Polls GET /v1/jobs/ID until it ends; exit 0 if done, 5 if failed/cancelled/interrupted. */
+/* Polls GET /v1/jobs/ID until it ends (a bar on stderr when it is a terminal), then prints the
+ * job as `aalab job` does (nothing with -q); exit 0 if done, 5 if failed/cancelled/interrupted. */
 int job_wait(cli_session *s, const char *id);
 
 /* Writes len bytes to path, or to out when path is NULL or "-"; returns an exit code. */
 int write_output(FILE *out, FILE *err, const char *path, const char *data, size_t len);
 
-/* Human-readable views of the daemon's answers. */
-void eval_print(FILE *out, const json_t *resp, bool detail);
-void presets_print(FILE *out, const json_t *resp);
-void jobs_print(FILE *out, const json_t *resp);
-void job_print(FILE *out, const json_t *job);
+/* Human-readable views of the daemon's answers; with csv, their table as RFC 4180 CSV (a
+ * "key  value" listing as two columns key,value). */
+void eval_print(FILE *out, const json_t *resp, bool detail, bool csv);
+void presets_print(FILE *out, const json_t *resp, bool csv);
+void jobs_print(FILE *out, const json_t *resp, bool csv);
+/* One job: its state, its kind's view of the result (views/job_views.h), its best pattern
+ * and a trace summary; with csv only the kind's main table. */
+void job_print(FILE *out, const json_t *job, bool csv);
+/* The query of GET /v1/jobs for --state, --kind and --limit ("" when none; values escaped). */
+int jobs_query(const cli_args *a, char *buf, size_t cap);
+/* The line for DELETE /v1/jobs/ID's answer. */
+void cancel_print(FILE *out, const char *id, const json_t *resp);
 void render_print(FILE *out, const json_t *resp);
-void health_print(FILE *out, const json_t *resp);
-void filters_print(FILE *out, const json_t *resp);
-void acuity_print(FILE *out, const json_t *resp);
-void enumerate_print(FILE *out, const json_t *resp);
+void health_print(FILE *out, const json_t *resp, bool csv);
+void filters_print(FILE *out, const json_t *resp, bool csv);
+void acuity_print(FILE *out, const json_t *resp, bool csv);
+void enumerate_print(FILE *out, const json_t *resp, bool csv);
 /* The new token, and the dashboard URL carrying it when dashboard is not NULL. */
 void token_issued_print(FILE *out, const json_t *resp, const char *dashboard);
-void tokens_print(FILE *out, const json_t *resp);
+void tokens_print(FILE *out, const json_t *resp, bool csv);
 /* "[#######.....]  58%  best E2 0.3712" into buf, width columns of bar. */
 void progress_line(char *buf, size_t cap, double fraction, const json_t *job, int width);
 

@@ -150,16 +150,51 @@ fail:
     return -1;
 }
 
+/* The kernel number of a detail block: its "kernel", else its position. */
+static const char *detail_kernel(char *buf, size_t cap, size_t index, const json_t *block)
+{
+    json_t *k = json_object_get(block, "kernel");
+    if (json_is_integer(k))
+        return fmt_number(buf, cap, k, 0);
+    snprintf(buf, cap, "%zu", index);
+    return buf;
+}
+
+/* The detail as one CSV table, a row per kernel and angle. */
+static void print_detail_csv(FILE *out, const json_t *blocks)
+{
+    const char *headers[] = {"kernel", "angle_deg", "weight", "e1", "weighted"};
+    table *t = table_new(5, headers);
+    if (!t)
+        return;
+    size_t b, i;
+    json_t *block, *row;
+    json_array_foreach(blocks, b, block)
+    {
+        char kbuf[32];
+        detail_kernel(kbuf, sizeof kbuf, b, block);
+        const json_t *angles = json_is_array(block) ? block : json_object_get(block, "angles");
+        json_array_foreach(angles, i, row)
+        {
+            char c[4][32];
+            const char *cells[5] = {kbuf,
+                                    fmt_number(c[0], 32, json_object_get(row, "angle_deg"), 1),
+                                    fmt_number(c[1], 32, json_object_get(row, "weight"), 4),
+                                    fmt_number(c[2], 32, json_object_get(row, "e1"), 6),
+                                    fmt_number(c[3], 32, json_object_get(row, "weighted"), 6)};
+            table_add_row(t, cells);
+        }
+    }
+    table_print_csv(t, out);
+    table_free(t);
+}
+
 /* One per-kernel block of the detail: either {"kernel":k,"angles":[...]} or a bare array. */
 static void print_detail_kernel(FILE *out, size_t index, const json_t *block)
 {
     const json_t *angles = json_is_array(block) ? block : json_object_get(block, "angles");
-    json_t *k = json_object_get(block, "kernel");
     char kbuf[32];
-    if (json_is_integer(k))
-        fmt_number(kbuf, sizeof kbuf, k, 0);
-    else
-        snprintf(kbuf, sizeof kbuf, "%zu", index);
+    detail_kernel(kbuf, sizeof kbuf, index, block);
     fprintf(out, "\nkernel %s\n", kbuf);
     const char *headers[] = {"angle_deg", "weight", "e1", "weighted"};
     table *t = table_new(4, headers);
@@ -180,7 +215,7 @@ static void print_detail_kernel(FILE *out, size_t index, const json_t *block)
     table_free(t);
 }
 
-void eval_print(FILE *out, const json_t *resp, bool detail)
+void eval_print(FILE *out, const json_t *resp, bool detail, bool csv)
 {
     const json_t *argmax = json_object_get(resp, "argmax");
     char e2[32], cost[32], kernel[32], angle[32];
@@ -191,12 +226,20 @@ void eval_print(FILE *out, const json_t *resp, bool detail)
         fmt_number(e2, sizeof e2, json_object_get(resp, "e2"), 6),
         fmt_number(kernel, sizeof kernel, json_object_get(argmax, "kernel"), 0),
         fmt_number(angle, sizeof angle, json_object_get(argmax, "angle_deg"), 1)};
-    print_key_values(out, keys, values, 5);
-    if (!detail)
-        return;
     const json_t *blocks = json_object_get(resp, "detail");
     if (!json_is_array(blocks))
         blocks = json_object_get(resp, "kernels");
+    if (csv && detail) {
+        print_detail_csv(out, blocks);
+        return;
+    }
+    if (csv) {
+        print_key_values_csv(out, keys, values, 5);
+        return;
+    }
+    print_key_values(out, keys, values, 5);
+    if (!detail)
+        return;
     size_t i;
     json_t *block;
     json_array_foreach(blocks, i, block) print_detail_kernel(out, i, block);
@@ -217,7 +260,7 @@ int cmd_eval(cli_session *s)
     if (s->args->json)
         cli_print_json(s->out, resp);
     else
-        eval_print(s->out, resp, s->args->detail);
+        eval_print(s->out, resp, s->args->detail, s->args->csv);
     json_decref(resp);
     return EXIT_OK;
 }

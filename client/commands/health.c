@@ -4,9 +4,9 @@
 #include "../exit_codes.h"
 #include "view_util.h"
 
-void health_print(FILE *out, const json_t *resp)
+void health_print(FILE *out, const json_t *resp, bool csv)
 {
-    print_flat(out, resp);
+    print_flat_as(out, resp, csv);
 }
 
 int cmd_health(cli_session *s)
@@ -18,7 +18,7 @@ int cmd_health(cli_session *s)
     if (s->args->json)
         cli_print_json(s->out, resp);
     else
-        health_print(s->out, resp);
+        health_print(s->out, resp, s->args->csv);
     json_decref(resp);
     return EXIT_OK;
 }

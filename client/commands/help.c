@@ -4,18 +4,19 @@
 #include <string.h>
 
 static const char OVERVIEW[] =
-    "usage: aalab [--socket PATH] [--json] [--timeout S] COMMAND [ARGS]\n"
+    "usage: aalab [--socket PATH] [--json|--csv] [--timeout S] COMMAND [ARGS]\n"
     "\n"
     "Client of aalabd, the antialiasing-pattern lab daemon.\n"
     "\n"
     "commands:\n"
     "  eval NAME|FILE.json   E2 of a preset or a pattern file (checked locally first)\n"
     "  presets [NAME]        the classic patterns, or one of them\n"
-    "  optimize ...          submit an optimization job (--wait to follow it)\n"
-    "  submit SPEC.json|-    submit a job of any kind from its JSON spec (--wait)\n"
-    "  jobs                  list jobs\n"
-    "  job ID                one job: state, progress, best so far, trace summary\n"
-    "  cancel ID             cancel a queued or running job (owner or root)\n"
+    "  optimize ...          submit an optimization job (--wait to follow it, -q: id only)\n"
+    "  submit SPEC.json|-    submit a job of any kind from its JSON spec (--wait, -q)\n"
+    "  jobs                  list jobs (--state S, --kind K, --limit N)\n"
+    "  job ID                one job: state, its kind's result table, best pattern (--trace)\n"
+    "  wait ID               follow a job to its end with a progress bar, then show it\n"
+    "  cancel ID             ask a queued or running job to stop (owner or root)\n"
     "  render ...            render a test tile to a PNG\n"
     "  export ID             the best pattern of a job (json, utk, vulkan, d3d12)\n"
     "  health                daemon version, uptime, workers, queue\n"
@@ -30,13 +31,14 @@ static const char OVERVIEW[] =
     "                        $XDG_RUNTIME_DIR/aalab/aalabd.sock if it exists,\n"
     "                        else /run/aalab/aalabd.sock)\n"
     "      --json            print the daemon's JSON instead of tables\n"
+    "      --csv             print tables as CSV (RFC 4180, header row), e.g. for pandas\n"
     "      --timeout S       per-request timeout in seconds (default 30)\n"
     "  -V, --version         print the client's version\n"
     "\n"
     "A pattern argument is a preset NAME, a FILE.json, or job:ID (a job's best pattern).\n"
     "\n"
     "exit codes: 0 ok, 1 usage or invalid local file, 2 server answered 4xx,\n"
-    "            3 server answered 5xx, 4 cannot connect, 5 job failed/cancelled (--wait)\n";
+    "            3 server answered 5xx, 4 cannot connect, 5 job failed/cancelled (--wait, wait)\n";
 
 static const struct {
     const char *command;
@@ -53,17 +55,35 @@ static const struct {
                  "                      [--seeds N] [--max-seconds S] [--rng-seed K]\n"
                  "                      [--mode weights|positions|both]\n"
                  "                      [--method auto|laine-aila|minimax|smooth]\n"
-                 "                      [--wait] [--poll S]\n"
+                 "                      [--wait] [--poll S] [-q]\n"
                  "Prints the job id. With --wait, follows the job with a progress bar on\n"
                  "stderr, prints the finished job and exits 5 if it failed or was cancelled.\n"
+                 "-q prints the bare id (ID=$(aalab optimize -q ...)); with --wait it then\n"
+                 "waits silently and the exit code says how the job ended.\n"
                  "--method picks the step rule (default auto: minimax for --mode weights,\n"
                  "smooth for P(4,4,n) and P(16,16,n), laine-aila otherwise).\n"},
-    {"submit", "usage: aalab submit SPEC.json|- [--wait] [--poll S]\n"
-               "SPEC is the POST /v1/jobs body, e.g. {\"kind\":\"family-sweep\",...}.\n"
-               "With --wait: progress bar on stderr, exit 5 if the job fails or is cancelled.\n"},
-    {"jobs", "usage: aalab jobs\n"},
-    {"job", "usage: aalab job ID\n"},
-    {"cancel", "usage: aalab cancel ID\n"},
+    {"submit", "usage: aalab submit SPEC.json|- [--wait] [--poll S] [-q]\n"
+               "SPEC is the POST /v1/jobs body, e.g. {\"kind\":\"family-sweep\",...}; the\n"
+               "kinds, their fields and runnable examples are at GET /v1/kinds.\n"
+               "With --wait: progress bar on stderr, exit 5 if the job fails or is cancelled.\n"
+               "-q prints the bare id, for ID=$(aalab submit -q spec.json).\n"},
+    {"jobs", "usage: aalab jobs [--state queued|running|done|failed|cancelled|interrupted]\n"
+             "                  [--kind KIND] [--limit N] [--csv]\n"
+             "Newest first: id, kind, state, progress, family, label, best E2, owner, created.\n"},
+    {"job", "usage: aalab job ID [--trace] [--csv]\n"
+            "The job's state, its kind's result (optimize: E2 and a row per seed;\n"
+            "family-sweep: the configurations ranked by E2; random-stats: min, avg, max,\n"
+            "Opt W, Opt W+P as in Laine & Aila's Table 3; compare, animation,\n"
+            "reference-convergence: their tables), the best pattern (x, y and weight of\n"
+            "each sample, kernels numbered from 0) and a summary of the trace.\n"
+            "--trace: the best E2 against run time (seconds, iterations, evaluations).\n"
+            "--csv: the kind's main table (or the trace) as CSV.\n"},
+    {"wait", "usage: aalab wait ID [--poll S] [--trace] [--csv]\n"
+             "Follows a queued or running job (a progress bar on stderr when it is a\n"
+             "terminal), then prints it as 'aalab job' does. Exit 0 if it ended done,\n"
+             "5 if it failed, was cancelled or interrupted; Ctrl-C stops waiting, not the job.\n"},
+    {"cancel", "usage: aalab cancel ID\n"
+               "Asks the job to stop; it ends 'cancelled' at its next check ('aalab wait ID').\n"},
     {"render", "usage: aalab render --pattern NAME|FILE.json [--scene siemens-star]\n"
                "                    [--size 256x256] [--image pattern|reference|difference]\n"
                "                    -o tile.png\n"

@@ -1,4 +1,4 @@
-/* Following a submitted job: the --wait loop shared by optimize and submit. */
+/* Following a job: the --wait loop shared by optimize and submit, and `aalab wait ID`. */
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "../exit_codes.h"
+#include "../views/job_views.h"
 #include "view_util.h"
 
 void progress_line(char *buf, size_t cap, double fraction, const json_t *job, int width)
@@ -43,12 +44,26 @@ static void sleep_seconds(double s)
     nanosleep(&ts, NULL);
 }
 
+/* The finished job as `aalab job` shows it; nothing with -q (the id is already printed, the
+ * exit code says how the job ended). */
+static void print_finished(cli_session *s, const json_t *job)
+{
+    if (s->args->quiet)
+        return;
+    if (s->args->json)
+        cli_print_json(s->out, job);
+    else if (s->args->trace)
+        view_trace(s->out, json_object_get(job, "trace"), s->args->csv);
+    else
+        job_print(s->out, job, s->args->csv);
+}
+
 /* Polls GET /v1/jobs/ID until the job ends; a bar on stderr when stderr is a terminal. */
 int job_wait(cli_session *s, const char *id)
 {
     char path[128];
     snprintf(path, sizeof path, "/v1/jobs/%s", id);
-    bool tty = isatty(fileno(s->err));
+    bool tty = !s->args->quiet && isatty(fileno(s->err));
     json_t *job = NULL;
     const char *state = "";
     for (;;) {
@@ -72,11 +87,7 @@ int job_wait(cli_session *s, const char *id)
     }
     if (tty)
         fputc('\n', s->err);
-    if (s->args->json) {
-        cli_print_json(s->out, job);
-    } else {
-        job_print(s->out, job);
-    }
+    print_finished(s, job);
     int code = strcmp(state, "done") == 0 ? EXIT_OK : EXIT_JOB_FAILED;
     if (code != EXIT_OK)
         fprintf(s->err, "aalab: job %s ended %s\n", id, state);
@@ -97,13 +108,17 @@ int job_submitted(cli_session *s, json_t *resp)
         json_decref(resp);
         return EXIT_SERVER_5XX;
     }
+    if (s->args->quiet) { /* for ID=$(aalab optimize -q ...) */
+        fprintf(s->out, "%s\n", job_id);
+        fflush(s->out);
+    }
     if (s->args->wait) {
         json_decref(resp);
         return job_wait(s, job_id);
     }
-    if (s->args->json)
+    if (s->args->json && !s->args->quiet)
         cli_print_json(s->out, resp);
-    else
+    else if (!s->args->quiet)
         fprintf(s->out, "job %s queued\n", job_id);
     json_decref(resp);
     return EXIT_OK;

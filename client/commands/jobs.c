@@ -1,31 +1,31 @@
-/* aalab jobs | aalab job ID | aalab cancel ID */
+/* aalab jobs [--state S] [--kind K] [--limit N] | aalab job ID [--trace] | aalab cancel ID */
 #include "commands.h"
 
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "../exit_codes.h"
 #include "../table.h"
+#include "../views/job_views.h"
 #include "view_util.h"
 
-static const json_t *first_of(const json_t *obj, const char *a, const char *b)
+void jobs_print(FILE *out, const json_t *resp, bool csv)
 {
-    const json_t *v = json_object_get(obj, a);
-    return v ? v : json_object_get(obj, b);
-}
-
-void jobs_print(FILE *out, const json_t *resp)
-{
-    const char *headers[] = {"id", "kind", "state", "progress", "owner", "best_e2", "created"};
-    table *t = table_new(7, headers);
+    const char *headers[] = {"id",    "kind",    "state", "progress", "family",
+                             "label", "best_e2", "owner", "created"};
+    table *t = table_new(9, headers);
     if (!t)
         return;
     size_t i;
     json_t *job;
-    json_array_foreach(list_member(resp, "jobs"), i, job)
+    json_array_foreach(json_object_get(resp, "jobs"), i, job)
     {
         char id[32], owner[32], progress[32], e2[32], created[64];
         const json_t *p = json_object_get(job, "progress");
-        if (json_is_number(p))
+        if (json_is_number(p) && csv) /* a fraction, as the API has it */
+            fmt_number(progress, sizeof progress, p, FMT_FULL);
+        else if (json_is_number(p))
             snprintf(progress, sizeof progress, "%.0f%%", 100.0 * json_number_value(p));
         else
             snprintf(progress, sizeof progress, "-");
@@ -34,73 +34,157 @@ void jobs_print(FILE *out, const json_t *resp)
             fmt_string(json_object_get(job, "kind")),
             fmt_string(json_object_get(job, "state")),
             progress,
-            fmt_number(owner, sizeof owner, first_of(job, "owner", "owner_uid"), 0),
-            fmt_number(e2, sizeof e2, job_best_e2(job), 6),
-            fmt_time(created, sizeof created, first_of(job, "created", "created_at"))};
+            fmt_string(json_object_get(job, "family")),
+            fmt_string(json_object_get(job, "label")),
+            fmt_number(e2, sizeof e2, job_best_e2(job), fmt_decimals(csv, 6)),
+            fmt_number(owner, sizeof owner, json_object_get(job, "owner_uid"), 0),
+            fmt_time(created, sizeof created, json_object_get(job, "created"))};
         table_add_row(t, cells);
     }
-    table_print(t, out);
+    table_write(t, out, csv);
     table_free(t);
 }
 
-void job_print(FILE *out, const json_t *job)
+/* The job's own members (job.json) as "key  value" lines: what the views below do not show. */
+static void job_head(FILE *out, const json_t *job)
 {
+    static const char *const SHOWN_ELSEWHERE[] = {"result", "spec", "trace", "best"};
     json_t *copy = json_deep_copy(job);
-    /* The trace is long: summarise it instead of listing it. */
-    const json_t *trace = json_object_get(job, "trace");
-    json_object_del(copy, "trace");
+    for (size_t i = 0; i < sizeof SHOWN_ELSEWHERE / sizeof SHOWN_ELSEWHERE[0]; i++)
+        json_object_del(copy, SHOWN_ELSEWHERE[i]);
+    const json_t *progress = json_object_get(job, "progress");
+    if (json_is_number(progress)) { /* a fraction on the wire, a percentage for people */
+        char pct[32];
+        snprintf(pct, sizeof pct, "%.0f%%", 100.0 * json_number_value(progress));
+        json_object_set_new(copy, "progress", json_string(pct));
+    }
     print_flat(out, copy);
     json_decref(copy);
-    if (json_is_array(trace) && json_array_size(trace) > 0) {
+}
+
+void job_print(FILE *out, const json_t *job, bool csv)
+{
+    const json_t *result = json_object_get(job, "result");
+    const job_view *view = job_view_find(json_string_value(json_object_get(job, "kind")));
+    if (csv) {
+        if (json_is_object(result))
+            view->print(out, result, true);
+        return;
+    }
+    job_head(out, job);
+    if (json_is_object(result)) {
+        fputc('\n', out);
+        view->print(out, result, false);
+    }
+    const json_t *pattern = json_object_get(json_object_get(job, "best"), "pattern");
+    if (json_is_object(pattern)) {
+        fputc('\n', out);
+        view_pattern(out, pattern, false);
+    }
+    const json_t *trace = json_object_get(job, "trace");
+    if (json_array_size(trace) > 0) {
         const json_t *last = json_array_get(trace, json_array_size(trace) - 1);
         char sec[32], e2[32];
-        fprintf(out, "trace  %zu points, last at %s s with E2 %s\n", json_array_size(trace),
-                fmt_number(sec, sizeof sec, json_object_get(last, "seconds"), 2),
-                fmt_number(e2, sizeof e2, json_object_get(last, "best_e2"), 6));
+        fprintf(out, "\ntrace  %zu points, last at %s s with E2 %s ('aalab job ID --trace')\n",
+                json_array_size(trace),
+                fmt_number(sec, sizeof sec, json_object_get(last, "seconds"), fmt_decimals(csv, 2)),
+                fmt_number(e2, sizeof e2, json_object_get(last, "best_e2"), fmt_decimals(csv, 6)));
     }
+}
+
+int jobs_query(const cli_args *a, char *buf, size_t cap)
+{
+    const char *names[] = {"state", "kind"};
+    const char *values[] = {a->state, a->kind};
+    size_t used = 0;
+    buf[0] = '\0';
+    for (size_t i = 0; i < 2; i++) {
+        if (!values[i])
+            continue;
+        char *escaped = url_escape_segment(values[i]);
+        if (!escaped)
+            return -1;
+        int n = snprintf(buf + used, cap - used, "%c%s=%s", used ? '&' : '?', names[i], escaped);
+        free(escaped);
+        if (n < 0 || (size_t)n >= cap - used)
+            return -1;
+        used += (size_t)n;
+    }
+    if (a->has_limit) {
+        int n = snprintf(buf + used, cap - used, "%climit=%ld", used ? '&' : '?', a->limit);
+        if (n < 0 || (size_t)n >= cap - used)
+            return -1;
+    }
+    return 0;
 }
 
 int cmd_jobs(cli_session *s)
 {
+    char query[512], path[600];
+    if (jobs_query(s->args, query, sizeof query)) {
+        fprintf(s->err, "aalab jobs: filter too long\n");
+        return EXIT_USAGE;
+    }
+    snprintf(path, sizeof path, "/v1/jobs%s", query);
     json_t *resp;
-    int code = cli_call(s, "GET", "/v1/jobs", NULL, &resp);
+    int code = cli_call(s, "GET", path, NULL, &resp);
     if (code != EXIT_OK)
         return code;
     if (s->args->json)
         cli_print_json(s->out, resp);
     else
-        jobs_print(s->out, resp);
+        jobs_print(s->out, resp, s->args->csv);
     json_decref(resp);
     return EXIT_OK;
 }
 
-static int job_call(cli_session *s, const char *method)
+void cancel_print(FILE *out, const char *id, const json_t *resp)
 {
-    char path[128];
-    snprintf(path, sizeof path, "/v1/jobs/%s", s->args->target); /* [A-Za-z0-9_-] (args.c) */
-    json_t *resp;
-    int code = cli_call(s, method, path, NULL, &resp);
-    if (code != EXIT_OK)
-        return code;
-    if (s->args->json)
-        cli_print_json(s->out, resp);
-    else if (method[0] == 'D')
-        fprintf(s->out, "job %s: %s\n", s->args->target,
-                json_is_string(json_object_get(resp, "state"))
-                    ? json_string_value(json_object_get(resp, "state"))
-                    : "cancel requested");
+    const char *state = json_string_value(json_object_get(resp, "state"));
+    if (json_is_true(json_object_get(resp, "cancel_requested")))
+        fprintf(out,
+                "job %s: cancelling was requested (state %s); it stops at its next check, "
+                "'aalab wait %s' follows it\n",
+                id, state ? state : "-", id);
     else
-        job_print(s->out, resp);
-    json_decref(resp);
-    return EXIT_OK;
+        fprintf(out, "job %s: %s\n", id, state ? state : "-");
 }
 
 int cmd_job(cli_session *s)
 {
-    return job_call(s, "GET");
+    char path[128];
+    snprintf(path, sizeof path, "/v1/jobs/%s", s->args->target); /* [A-Za-z0-9_-] (args.c) */
+    json_t *resp;
+    int code = cli_call(s, "GET", path, NULL, &resp);
+    if (code != EXIT_OK)
+        return code;
+    if (s->args->json)
+        cli_print_json(s->out, resp);
+    else if (s->args->trace)
+        view_trace(s->out, json_object_get(resp, "trace"), s->args->csv);
+    else
+        job_print(s->out, resp, s->args->csv);
+    json_decref(resp);
+    return EXIT_OK;
 }
 
 int cmd_cancel(cli_session *s)
 {
-    return job_call(s, "DELETE");
+    char path[128];
+    snprintf(path, sizeof path, "/v1/jobs/%s", s->args->target);
+    json_t *resp;
+    int code = cli_call(s, "DELETE", path, NULL, &resp);
+    if (code != EXIT_OK)
+        return code;
+    if (s->args->json)
+        cli_print_json(s->out, resp);
+    else
+        cancel_print(s->out, s->args->target, resp);
+    json_decref(resp);
+    return EXIT_OK;
+}
+
+int cmd_wait(cli_session *s)
+{
+    return job_wait(s, s->args->target);
 }

@@ -26,7 +26,7 @@ static const json_t *published_e2(const json_t *preset)
     return v;
 }
 
-void presets_print(FILE *out, const json_t *resp)
+void presets_print(FILE *out, const json_t *resp, bool csv)
 {
     const char *headers[] = {"name", "family", "cost_spp", "published_e2", "source"};
     table *t = table_new(5, headers);
@@ -44,7 +44,7 @@ void presets_print(FILE *out, const json_t *resp)
                                fmt_string(json_object_get(p, "source"))};
         table_add_row(t, cells);
     }
-    table_print(t, out);
+    table_write(t, out, csv);
     table_free(t);
 }
 
@@ -68,9 +68,9 @@ int cmd_presets(cli_session *s)
     if (s->args->json)
         cli_print_json(s->out, resp);
     else if (name)
-        print_flat(s->out, resp);
+        print_flat_as(s->out, resp, s->args->csv);
     else
-        presets_print(s->out, resp);
+        presets_print(s->out, resp, s->args->csv);
     json_decref(resp);
     return EXIT_OK;
 }

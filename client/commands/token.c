@@ -19,7 +19,7 @@ void token_issued_print(FILE *out, const json_t *resp, const char *dashboard)
         fprintf(out, "dashboard: %s#token=%s\n", dashboard, token);
 }
 
-void tokens_print(FILE *out, const json_t *resp)
+void tokens_print(FILE *out, const json_t *resp, bool csv)
 {
     const char *headers[] = {"id", "uid", "label", "created"};
     table *t = table_new(4, headers);
@@ -36,7 +36,7 @@ void tokens_print(FILE *out, const json_t *resp)
                                fmt_time(created, sizeof created, json_object_get(tok, "created"))};
         table_add_row(t, cells);
     }
-    table_print(t, out);
+    table_write(t, out, csv);
     table_free(t);
 }
 
@@ -75,7 +75,7 @@ int cmd_token(cli_session *s)
     if (!strcmp(sub, "list")) {
         code = cli_call(s, "GET", "/v1/tokens", NULL, &resp);
         if (code == EXIT_OK && !s->args->json)
-            tokens_print(s->out, resp);
+            tokens_print(s->out, resp, s->args->csv);
     } else {
         char path[128];
         snprintf(path, sizeof path, "/v1/tokens/%s", s->args->target2); /* checked in args.c */

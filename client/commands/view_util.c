@@ -120,10 +120,18 @@ static void flatten(flat_list *l, const char *prefix, const json_t *obj, int dep
 
 void print_flat(FILE *out, const json_t *obj)
 {
+    print_flat_as(out, obj, false);
+}
+
+void print_flat_as(FILE *out, const json_t *obj, bool csv)
+{
     flat_list l = {0};
     if (json_is_object(obj))
         flatten(&l, "", obj, 0);
-    print_key_values(out, (const char *const *)l.keys, (const char *const *)l.values, l.n);
+    if (csv)
+        print_key_values_csv(out, (const char *const *)l.keys, (const char *const *)l.values, l.n);
+    else
+        print_key_values(out, (const char *const *)l.keys, (const char *const *)l.values, l.n);
     for (size_t i = 0; i < l.n; i++) {
         free(l.keys[i]);
         free(l.values[i]);
@@ -134,16 +142,9 @@ void print_flat(FILE *out, const json_t *obj)
 
 const json_t *job_best_e2(const json_t *job)
 {
-    static const char *const HOLDERS[] = {"best", "best_so_far", "result"};
-    for (size_t i = 0; i < sizeof HOLDERS / sizeof HOLDERS[0]; i++) {
-        const json_t *e2 = json_object_get(json_object_get(job, HOLDERS[i]), "e2");
-        if (json_is_number(e2))
-            return e2;
-    }
     const json_t *e2 = json_object_get(job, "best_e2");
     if (json_is_number(e2))
         return e2;
-    const json_t *trace = json_object_get(job, "trace"); /* the last trace point's best */
-    e2 = json_object_get(json_array_get(trace, json_array_size(trace) - 1), "best_e2");
+    e2 = json_object_get(json_object_get(job, "best"), "e2");
     return json_is_number(e2) ? e2 : NULL;
 }

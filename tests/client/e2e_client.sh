@@ -84,6 +84,13 @@ expect 4 "no daemon: cannot connect" -- A health
 out=$err
 has "cannot reach" "connect error says so"
 has "$sock" "connect error names the socket"
+has "socket paths tried: $sock (--socket)" "connect error lists the socket paths tried"
+has "aalabd" "connect error says how to start the daemon"
+expect 4 "no daemon at \$AALAB_SOCKET" -- env AALAB_SOCKET="$sock" "$aalab" jobs
+out=$err
+has "socket paths tried: $sock (\$AALAB_SOCKET)" "the message names \$AALAB_SOCKET as the source"
+if grep -q "port 80" <<<"$err"; then bad "connect error still talks about port 80"; else ok "no port 80 in the connect error"; fi
+expect 1 "--csv and --json together are a usage error" -- A jobs --csv --json
 
 start_daemon
 
@@ -215,6 +222,64 @@ if [ -z "$long" ]; then bad "the long job never appeared"; kill "$waiter"; else
 fi
 expect 2 "cancelling a finished job is a 4xx" -- A cancel "$id"
 
+# --- -q, wait, --csv, jobs filters ------------------------------------------------------------------
+# csv_ok FILE DESCRIPTION [HEADER]: RFC 4180 as Python's csv module (what pandas follows) reads it:
+# CRLF records, all as wide as the header, the header as given.
+csv_ok() {
+  if python3 - "$1" "${3:-}" <<'PY'
+import csv, io, sys
+raw = open(sys.argv[1], newline="").read()
+assert raw.endswith("\r\n"), "records end in CRLF"
+rows = list(csv.reader(io.StringIO(raw, newline="")))
+assert rows, "no header"
+assert all(len(r) == len(rows[0]) for r in rows), "ragged rows"
+if sys.argv[2]:
+    assert ",".join(rows[0]) == sys.argv[2], "header %r" % rows[0]
+PY
+  then ok "$2"; else bad "$2: $(head -c 300 "$1")"; fi
+}
+expect 0 "submit -q prints the bare id" -- A submit -q - <<<'{"kind":"sleep","seconds":0.5,"pattern":{"preset":"rgss"}}'
+qid=$out
+[[ "$qid" =~ ^[0-9A-Za-z_-]+$ ]] && ok "submit -q: '$qid' is an id alone" || bad "submit -q printed '$qid'"
+expect 0 "wait ID re-attaches to the job" -- A wait "$qid" --poll 0.05
+has "done" "wait shows the job done"
+has "best pattern  P(1,1,4)" "wait shows the best pattern"
+has "kernel  sample" "the best pattern per kernel"
+expect 0 "wait ID --json on a finished job" -- A --json wait "$qid"
+jq -e '.state == "done"' <<<"$out" >/dev/null && ok "wait --json: the job" || bad "wait --json: ${out:0:300}"
+expect 5 "wait on a failing job exits 5" -- A wait "$(A submit -q - <<<'{"kind":"sleep","seconds":0.1,"fail":true}')" --poll 0.05
+expect 2 "wait on an unknown job is a 4xx" -- A wait 999999
+expect 1 "wait without an ID is a usage error" -- A wait
+expect 0 "submit -q --wait prints the id and waits" -- A submit -q --wait - <<<'{"kind":"sleep","seconds":0.2}'
+[[ "$out" =~ ^[0-9A-Za-z_-]+$ ]] && [ "$(A --json job "$out" | jq -r .state)" = done ] &&
+  ok "submit -q --wait: the id of a finished job" || bad "submit -q --wait printed '$out'"
+
+A jobs --csv >"$tmp/jobs.csv" && csv_ok "$tmp/jobs.csv" "jobs --csv" "id,kind,state,progress,family,label,best_e2,owner,created"
+A job "$qid" --csv >"$tmp/job.csv" && csv_ok "$tmp/job.csv" "job ID --csv (a kind without a view: key,value)" "key,value"
+for c in presets filters acuity health "token list"; do
+  A $c --csv >"$tmp/c.csv" && csv_ok "$tmp/c.csv" "$c --csv"
+done
+A eval rgss --detail --angles 0,45 --csv >"$tmp/eval.csv" && csv_ok "$tmp/eval.csv" "eval --detail --csv" "kernel,angle_deg,weight,e1,weighted"
+A enumerate --family 'P(4,1+,n)' --cost 1.25 --csv >"$tmp/enum.csv" && csv_ok "$tmp/enum.csv" "enumerate --csv" "index,corners,edges,interior,samples,label"
+
+expect 0 "jobs --state done --kind sleep" -- A --json jobs --state done --kind sleep
+jq -e '(.jobs | length) > 0 and all(.jobs[]; .state == "done" and .kind == "sleep")' <<<"$out" >/dev/null &&
+  ok "the filters reach the daemon" || bad "jobs filtered: ${out:0:300}"
+expect 0 "jobs --limit 1" -- A --json jobs --limit 1
+[ "$(jq '.jobs | length' <<<"$out")" = 1 ] && ok "--limit 1: one job" || bad "--limit 1: ${out:0:300}"
+expect 0 "jobs --state failed (table)" -- A jobs --state failed
+has "failed" "the failed jobs are listed"
+if grep -q " done " <<<"$out"; then bad "jobs --state failed lists a done job"; else ok "jobs --state failed lists no done job"; fi
+expect 2 "jobs --kind unknown is a 4xx" -- A jobs --kind no-such-kind
+out=$err; has "kind" "the refusal names the kind"
+expect 1 "jobs --state unknown is a usage error" -- A jobs --state sleeping
+
+# cancel says that cancelling was requested
+cid=$(A submit -q - <<<'{"kind":"sleep","seconds":120}')
+expect 0 "cancel a running job" -- A cancel "$cid"
+has "cancelling was requested" "cancel says cancelling was requested"
+expect 5 "wait on the cancelled job exits 5" -- A wait "$cid" --poll 0.05
+
 # over quota (the daemon runs with --user-quota 4): 429, exit 2, and the Retry-After hint
 held=""
 for _ in 1 2 3 4; do
@@ -245,8 +310,40 @@ if has_kind optimize; then
     ok "optimized P(4,1+,2) at least as good as FLIPQUAD (E2 $e)" || bad "optimized P(4,1+,2) E2 '$e' worse than FLIPQUAD's 0.364"
   expect 0 "optimize --pattern job:ID without --wait" -- A optimize --pattern "job:$id" --seeds 1 --max-seconds 1 --mode weights
   has "job " "optimize prints the job id"
+  expect 0 "optimize -q prints the bare id" -- A optimize -q --family 'P(4,1+,2)' --seeds 2 --max-seconds 20 --rng-seed 3
+  [[ "$out" =~ ^[0-9A-Za-z_-]+$ ]] && ok "optimize -q: '$out' is an id alone" || bad "optimize -q printed '$out'"
+  expect 0 "job ID of an optimize job" -- A job "$oid"
+  has "per seed" "optimize view: the per-seed table"
+  has "best pattern  P(4,1+,2)" "optimize view: the best pattern"
+  has "     3       3  " "optimize view: kernels 0..3, samples 0..3"
+  expect 0 "job ID --trace" -- A job "$oid" --trace
+  has "seconds  iterations  evaluations   best_e2" "trace table header"
+  A job "$oid" --trace --csv >"$tmp/trace.csv" && csv_ok "$tmp/trace.csv" "job ID --trace --csv" "seconds,iterations,evaluations,best_e2"
+  [ "$(($(wc -l <"$tmp/trace.csv") - 1))" = "$(A --json job "$oid" | jq '.trace | length')" ] &&
+    ok "one CSV record per trace point" || bad "trace CSV rows differ from the trace"
 elif expected optimize; then bad "this build should have the optimize kind (health: $(jq -c .job_kinds <<<"$health"))"
 else echo "skip optimize: no optimize kind in this build"; fi
+
+# --- every kind's runnable example (GET /v1/kinds), shown by its view --------------------------------
+kinds=$(curl -s --unix-socket "$sock" http://localhost/v1/kinds)
+if jq -e '.kinds | length > 0' <<<"$kinds" >/dev/null 2>&1; then
+  declare -A view_header=(
+    [optimize]="seed  distribution  initial_e2"
+    [family-sweep]="rank  configuration"
+    [random-stats]="family    distribution  count    min    avg    max  opt_w  opt_wp"
+    [compare]="name      family"
+    [animation]="frame    rmse  max_dev"
+    [reference-convergence]="spp    rmse  max_dev  seconds"
+  )
+  for k in optimize family-sweep random-stats compare animation reference-convergence; do
+    body=$(jq -c --arg k "$k" '.kinds[] | select(.name == $k) | .examples[0]' <<<"$kinds")
+    if [ -z "$body" ] || [ "$body" = null ]; then bad "GET /v1/kinds has no example for $k"; continue; fi
+    kid=$(A submit -q - <<<"$body")
+    expect 0 "$k example: wait" -- A wait "$kid" --poll 0.1
+    has "${view_header[$k]}" "$k view: its table"
+    A job "$kid" --csv >"$tmp/kind.csv" && csv_ok "$tmp/kind.csv" "$k view --csv"
+  done
+else echo "skip kind views: the daemon has no GET /v1/kinds"; fi
 
 A --json enumerate --family 'P(4,1+,n)' --cost 1.25 >"$tmp/out" 2>"$tmp/err"
 rc=$?

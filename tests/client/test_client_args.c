@@ -283,6 +283,69 @@ static void token_forms(void **state)
     assert_int_equal(PARSE(&a, "job", "1", "2"), -1);        /* one positional elsewhere */
 }
 
+static void quiet_wait_and_trace(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "optimize", "-q", "--family", "P(4,1+,2)"), 0);
+    assert_true(a.quiet);
+    assert_false(a.wait);
+    assert_int_equal(PARSE(&a, "submit", "spec.json", "--quiet", "--wait"), 0);
+    assert_true(a.quiet && a.wait);
+    assert_int_equal(PARSE(&a, "jobs", "-q"), -1);
+    assert_string_equal(err, "option '--quiet' does not apply to 'jobs'");
+
+    assert_int_equal(PARSE(&a, "wait", "17", "--poll", "0.5", "--trace"), 0);
+    assert_int_equal(a.command, CMD_WAIT);
+    assert_string_equal(a.target, "17");
+    assert_true(a.poll_s == 0.5 && a.trace);
+    assert_int_equal(PARSE(&a, "wait"), -1);
+    assert_string_equal(err, "'wait' needs a job ID");
+    assert_int_equal(PARSE(&a, "wait", "../etc"), -1);
+    assert_int_equal(PARSE(&a, "job", "3", "--trace", "--csv"), 0);
+    assert_true(a.trace && a.csv);
+    assert_int_equal(PARSE(&a, "jobs", "--trace"), -1);
+    assert_string_equal(err, "option '--trace' does not apply to 'jobs'");
+}
+
+static void csv_where_tables_are(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    const char *table_commands[] = {"presets", "jobs",  "filters", "acuity",
+                                    "health",  "token", NULL};
+    for (const char **c = table_commands; *c; c++) {
+        assert_int_equal(PARSE(&a, *c, "--csv"), 0);
+        assert_true(a.csv);
+    }
+    assert_int_equal(PARSE(&a, "--csv", "eval", "rgss", "--detail"), 0);
+    assert_int_equal(PARSE(&a, "enumerate", "--family", "P(4,1+,n)", "--cost", "1", "--csv"), 0);
+    assert_int_equal(PARSE(&a, "jobs", "--csv", "--json"), -1);
+    assert_string_equal(err, "give --csv or --json, not both");
+    assert_int_equal(PARSE(&a, "export", "3", "--csv"), -1);
+    assert_string_equal(err, "option '--csv' does not apply to 'export'");
+    assert_int_equal(PARSE(&a, "optimize", "--family", "P(4,1+,2)", "--csv"), -1);
+}
+
+static void jobs_filters(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(
+        PARSE(&a, "jobs", "--state", "running", "--kind", "family-sweep", "--limit", "20"), 0);
+    assert_string_equal(a.state, "running");
+    assert_string_equal(a.kind, "family-sweep");
+    assert_true(a.has_limit && a.limit == 20);
+    assert_int_equal(PARSE(&a, "jobs", "--state", "sleeping"), -1);
+    assert_string_equal(err, "--state wants queued, running, done, failed, cancelled or "
+                             "interrupted, got 'sleeping'");
+    assert_int_equal(PARSE(&a, "jobs", "--limit", "0"), -1);
+    assert_string_equal(err, "--limit wants a positive integer, got '0'");
+    assert_int_equal(PARSE(&a, "jobs", "--limit", "ten"), -1);
+    assert_int_equal(PARSE(&a, "jobs", "--kind", ""), -1);
+    assert_int_equal(PARSE(&a, "job", "3", "--state", "done"), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -302,6 +365,9 @@ int main(void)
         cmocka_unit_test(enumerate_forms),
         cmocka_unit_test(number_helpers),
         cmocka_unit_test(token_forms),
+        cmocka_unit_test(quiet_wait_and_trace),
+        cmocka_unit_test(csv_where_tables_are),
+        cmocka_unit_test(jobs_filters),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -108,6 +108,40 @@ static void key_values(void **state)
     capture_free(&c);
 }
 
+static void csv_quoting(void **state)
+{
+    const char *headers[] = {"name", "label", "e2"};
+    table *t = table_new(3, headers);
+    const char *r1[] = {"plain", "a, b", "0.5"};
+    const char *r2[] = {"say \"hi\"", "two\nlines", NULL};
+    const char *r3[] = {"-", "cr\rhere", "-"};
+    assert_int_equal(table_add_row(t, r1), 0);
+    assert_int_equal(table_add_row(t, r2), 0);
+    assert_int_equal(table_add_row(t, r3), 0);
+    capture c;
+    table_print_csv(t, capture_begin(&c));
+    /* RFC 4180: CRLF records; fields with , " CR LF quoted, quotes doubled; no value is empty */
+    assert_string_equal(capture_end(&c), "name,label,e2\r\n"
+                                         "plain,\"a, b\",0.5\r\n"
+                                         "\"say \"\"hi\"\"\",\"two\nlines\",\r\n"
+                                         ",\"cr\rhere\",\r\n");
+    capture_free(&c);
+    table_write(t, capture_begin(&c), false);
+    assert_non_null(strstr(capture_end(&c), "name      label"));
+    capture_free(&c);
+    table_free(t);
+}
+
+static void csv_key_values(void **state)
+{
+    const char *keys[] = {"family", "E2"};
+    const char *values[] = {"P(4,1+,2)", "-"};
+    capture c;
+    print_key_values_csv(capture_begin(&c), keys, values, 2);
+    assert_string_equal(capture_end(&c), "key,value\r\nfamily,\"P(4,1+,2)\"\r\nE2,\r\n");
+    capture_free(&c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -117,6 +151,8 @@ int main(void)
         cmocka_unit_test(many_rows_grow),
         cmocka_unit_test(header_only),
         cmocka_unit_test(key_values),
+        cmocka_unit_test(csv_quoting),
+        cmocka_unit_test(csv_key_values),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -43,7 +43,7 @@ static void evaluation_summary_and_detail(void **state)
                     "\"e1\":0.25,\"weighted\":0.25},{\"angle_deg\":5,\"weight\":0.9,"
                     "\"e1\":0.3,\"weighted\":0.27}]}]}");
     capture c;
-    eval_print(capture_begin(&c), r, false);
+    eval_print(capture_begin(&c), r, false, false);
     const char *text = capture_end(&c);
     contains(text, "family            P(4,1+,2)\n");
     contains(text, "E2                0.364123\n");
@@ -53,7 +53,7 @@ static void evaluation_summary_and_detail(void **state)
     assert_null(strstr(text, "weighted"));
     capture_free(&c);
 
-    eval_print(capture_begin(&c), r, true);
+    eval_print(capture_begin(&c), r, true, false);
     text = capture_end(&c);
     contains(text, "\nkernel 0\n");
     contains(text, "angle_deg  weight        e1  weighted\n");
@@ -71,7 +71,7 @@ static void presets_table(void **state)
                     "\"published_e2\":null,\"source\":\"Akenine-Moller\"},"
                     "{\"name\":\"fliptri\",\"published_e2\":{\"laine-aila-table-2\":0.636}}]}");
     capture c;
-    presets_print(capture_begin(&c), r);
+    presets_print(capture_begin(&c), r, false);
     const char *text = capture_end(&c);
     contains(text, "name      family     cost_spp  published_e2  source\n");
     contains(text, "quincunx  P(1,1,2)       2.00         0.518  NVIDIA\n");
@@ -81,7 +81,7 @@ static void presets_table(void **state)
     json_decref(r);
     /* a bare array works too */
     r = doc("[{\"name\":\"rgss\"}]");
-    presets_print(capture_begin(&c), r);
+    presets_print(capture_begin(&c), r, false);
     contains(capture_end(&c), "rgss");
     capture_free(&c);
     json_decref(r);
@@ -90,36 +90,47 @@ static void presets_table(void **state)
 static void jobs_table(void **state)
 {
     json_t *r = doc("{\"jobs\":[{\"id\":3,\"kind\":\"optimize\",\"state\":\"running\","
-                    "\"progress\":0.425,\"owner\":1000,\"best\":{\"e2\":0.3712}},"
-                    "{\"id\":\"4\",\"kind\":\"render\",\"state\":\"queued\",\"progress\":0,"
-                    "\"owner_uid\":0,\"created\":1763861207.5},"
-                    "{\"id\":5,\"kind\":\"sleep\",\"state\":\"done\",\"progress\":1,"
-                    "\"trace\":[{\"best_e2\":0.5},{\"best_e2\":0.25}]}]}");
+                    "\"progress\":0.425,\"owner_uid\":1000,\"family\":\"P(4,1+,2)\","
+                    "\"label\":\"night run\",\"best_e2\":0.3712},"
+                    "{\"id\":4,\"kind\":\"compare\",\"state\":\"queued\",\"progress\":0,"
+                    "\"owner_uid\":0,\"created\":1763861207.5,\"family\":null,\"label\":null,"
+                    "\"best_e2\":null}]}");
     capture c;
-    jobs_print(capture_begin(&c), r);
+    jobs_print(capture_begin(&c), r, false);
     const char *text = capture_end(&c);
-    contains(text, "id  kind      state    progress  owner   best_e2  created\n");
-    contains(text, " 3  optimize  running       42%   1000  0.371200  -\n");
-    contains(text, " 4  render    queued         0%      0         -  2025-11-23 01:26:47\n");
-    contains(text, " 5  sleep     done         100%      -  0.250000  -\n");
+    contains(text,
+             "id  kind      state    progress  family     label       best_e2  owner  created\n");
+    contains(text, " 3  optimize  running       42%  P(4,1+,2)  night run  0.371200   1000  -\n");
+    contains(text, " 4  compare   queued         0%  -          -                 -      0  "
+                   "2025-11-23 01:26:47\n");
+    capture_free(&c);
+    jobs_print(capture_begin(&c), r, true);
+    text = capture_end(&c);
+    assert_string_equal(text, "id,kind,state,progress,family,label,best_e2,owner,created\r\n"
+                              "3,optimize,running,0.425,\"P(4,1+,2)\",night run,0.3712,1000,\r\n"
+                              "4,compare,queued,0,,,,0,2025-11-23 01:26:47\r\n");
     capture_free(&c);
     json_decref(r);
 }
 
 static void one_job(void **state)
 {
-    json_t *j = doc("{\"id\":9,\"state\":\"done\",\"finished\":1763861207,\"result\":{\"e2\":0.33,"
-                    "\"family\":\"P(4,1+,2)\"},"
+    json_t *j = doc("{\"id\":9,\"kind\":\"some-future-kind\",\"state\":\"done\",\"progress\":0.625,"
+                    "\"finished\":1763861207,\"result\":{\"e2\":0.33,\"family\":\"P(4,1+,2)\"},"
                     "\"trace\":[{\"seconds\":0.1,\"best_e2\":0.5},{\"seconds\":1.25,"
                     "\"best_e2\":0.33}]}");
     capture c;
-    job_print(capture_begin(&c), j);
+    job_print(capture_begin(&c), j, false);
     const char *text = capture_end(&c);
-    contains(text, "id             9\n");
-    contains(text, "finished       2025-11-23 01:26:47\n");
-    contains(text, "result.e2      0.33\n");
-    contains(text, "result.family  P(4,1+,2)\n");
-    contains(text, "trace  2 points, last at 1.25 s with E2 0.330000\n");
+    contains(text, "id        9\n");
+    contains(text, "finished  2025-11-23 01:26:47\n");
+    contains(text, "progress  62%\n");
+    /* a kind without a view of its own: every scalar of its result */
+    contains(text, "\ne2      0.33\nfamily  P(4,1+,2)\n");
+    contains(text, "trace  2 points, last at 1.25 s with E2 0.330000");
+    capture_free(&c);
+    job_print(capture_begin(&c), j, true);
+    assert_string_equal(capture_end(&c), "key,value\r\ne2,0.33\r\nfamily,\"P(4,1+,2)\"\r\n");
     capture_free(&c);
     json_decref(j);
 }
@@ -127,7 +138,7 @@ static void one_job(void **state)
 static void progress_bar(void **state)
 {
     char line[160];
-    json_t *j = doc("{\"state\":\"running\",\"best_so_far\":{\"e2\":0.41}}");
+    json_t *j = doc("{\"state\":\"running\",\"best_e2\":0.41}");
     progress_line(line, sizeof line, 0.5, j, 10);
     assert_string_equal(line, "[#####.....]  50%  running  best E2 0.410000");
     progress_line(line, sizeof line, 7, j, 4); /* clamped */
@@ -167,7 +178,7 @@ static void catalog_views(void **state)
     json_t *r = doc("{\"filters\":[{\"name\":\"mitchell\",\"radius\":2.0,\"B\":0.3333333,"
                     "\"C\":0.3333333,\"default\":true},{\"name\":\"box\",\"radius\":0.5}]}");
     capture c;
-    filters_print(capture_begin(&c), r);
+    filters_print(capture_begin(&c), r, false);
     const char *text = capture_end(&c);
     contains(text, "mitchell    2.00  0.3333  0.3333  yes\n");
     contains(text, "box         0.50       -       -\n"); /* no trailing blanks */
@@ -175,13 +186,13 @@ static void catalog_views(void **state)
     json_decref(r);
 
     r = doc("{\"tables\":[{\"name\":\"naiman\",\"default\":true,\"knots\":[[0,3.93],[45,2.5]]}]}");
-    acuity_print(capture_begin(&c), r);
+    acuity_print(capture_begin(&c), r, false);
     contains(capture_end(&c), "naiman  yes      0:3.93 45:2.5\n");
     capture_free(&c);
     json_decref(r);
 
     r = doc("{\"count\":2,\"configurations\":[{\"corners\":1},{\"edges\":2}]}");
-    enumerate_print(capture_begin(&c), r);
+    enumerate_print(capture_begin(&c), r, false);
     assert_string_equal(capture_end(&c), "count  2\n"
                                          "   1  {\"corners\":1}\n"
                                          "   2  {\"edges\":2}\n");
@@ -195,7 +206,7 @@ static void health_listing(void **state)
                     "\"jobs\":{\"queued\":1,\"done\":4},\"job_kinds\":[\"sleep\",\"optimize\"],"
                     "\"big\":[[1],[2]]}");
     capture c;
-    health_print(capture_begin(&c), r);
+    health_print(capture_begin(&c), r, false);
     const char *text = capture_end(&c);
     contains(text, "version      0.1.0\n");
     contains(text, "uptime_s     12.5\n");
@@ -225,7 +236,7 @@ static void token_views(void **state)
     json_decref(r);
     r = doc("{\"tokens\":[{\"id\":3,\"uid\":1001,\"label\":\"laptop\","
             "\"created\":1700000000}]}");
-    tokens_print(capture_begin(&c), r);
+    tokens_print(capture_begin(&c), r, false);
     text = capture_end(&c);
     contains(text, "laptop");
     contains(text, "1001");
@@ -309,6 +320,58 @@ static void socket_paths(void **state)
     assert_int_equal(socket_path_resolve("/a/long/path.sock", tiny, sizeof tiny), -1);
 }
 
+static void no_daemon_message(void **state)
+{
+    char tried[512];
+    setenv("AALAB_SOCKET", "/env/a.sock", 1);
+    socket_path_tried(NULL, tried, sizeof tried);
+    assert_string_equal(tried, "/env/a.sock ($AALAB_SOCKET)");
+    socket_path_tried("/flag.sock", tried, sizeof tried);
+    assert_string_equal(tried, "/flag.sock (--socket)");
+    unsetenv("AALAB_SOCKET");
+    setenv("XDG_RUNTIME_DIR", "/run/user/1000", 1);
+    socket_path_tried(NULL, tried, sizeof tried);
+    assert_string_equal(tried, "/run/user/1000/aalab/aalabd.sock, /run/aalab/aalabd.sock");
+    unsetenv("XDG_RUNTIME_DIR");
+    socket_path_tried(NULL, tried, sizeof tried);
+    char want[128];
+    snprintf(want, sizeof want, "/tmp/aalab-%u/aalabd.sock, /run/aalab/aalabd.sock",
+             (unsigned)geteuid());
+    assert_string_equal(tried, want);
+
+    capture c;
+    cli_print_no_daemon(capture_begin(&c), "/nonexistent/aalabd.sock", "/a.sock, /b.sock");
+    const char *text = capture_end(&c);
+    contains(text, "aalab: cannot reach the daemon at /nonexistent/aalabd.sock: no such socket\n");
+    contains(text, "socket paths tried: /a.sock, /b.sock\n");
+    contains(text, "'aalabd'");
+    contains(text, "systemctl start aalabd.socket");
+    contains(text, "--socket PATH or $AALAB_SOCKET");
+    capture_free(&c);
+    cli_print_no_daemon(capture_begin(&c), "/", "/");
+    contains(capture_end(&c), ": that file is not a socket\n");
+    capture_free(&c);
+}
+
+static void jobs_query_string(void **state)
+{
+    cli_args a = {0};
+    char q[128];
+    assert_int_equal(jobs_query(&a, q, sizeof q), 0);
+    assert_string_equal(q, "");
+    a.kind = "family-sweep";
+    assert_int_equal(jobs_query(&a, q, sizeof q), 0);
+    assert_string_equal(q, "?kind=family-sweep");
+    a.state = "done";
+    a.kind = "a b&c";
+    a.limit = 5;
+    a.has_limit = true;
+    assert_int_equal(jobs_query(&a, q, sizeof q), 0);
+    assert_string_equal(q, "?state=done&kind=a%20b%26c&limit=5");
+    char tiny[8];
+    assert_int_equal(jobs_query(&a, tiny, sizeof tiny), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -325,6 +388,8 @@ int main(void)
         cmocka_unit_test(exit_codes),
         cmocka_unit_test(url_escaping),
         cmocka_unit_test(socket_paths),
+        cmocka_unit_test(no_daemon_message),
+        cmocka_unit_test(jobs_query_string),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

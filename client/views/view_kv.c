@@ -1,0 +1,45 @@
+#include "view_kv.h"
+
+#include <stdarg.h>
+
+#include "../cli.h"
+#include "../table.h"
+
+void view_kv_add(view_kv *kv, const char *key, const char *fmt, ...)
+{
+    if (kv->n >= VIEW_KV_MAX)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(kv->values[kv->n], sizeof kv->values[kv->n], fmt, ap);
+    va_end(ap);
+    kv->keys[kv->n++] = key;
+}
+
+void view_kv_number(view_kv *kv, const char *key, const json_t *v, int decimals)
+{
+    char buf[64];
+    view_kv_add(kv, key, "%s", fmt_number(buf, sizeof buf, v, decimals));
+}
+
+void view_kv_print(FILE *out, const view_kv *kv)
+{
+    const char *values[VIEW_KV_MAX];
+    for (size_t i = 0; i < kv->n; i++)
+        values[i] = kv->values[i];
+    print_key_values(out, kv->keys, values, kv->n);
+}
+
+const char *view_scene_label(char *buf, size_t cap, const json_t *scene)
+{
+    const char *name = json_string_value(json_object_get(scene, "name"));
+    snprintf(buf, cap, "%s %lldx%lld", name ? name : "-",
+             (long long)json_integer_value(json_object_get(scene, "width")),
+             (long long)json_integer_value(json_object_get(scene, "height")));
+    return buf;
+}
+
+const char *view_str(const json_t *v)
+{
+    return json_is_string(v) ? json_string_value(v) : "-";
+}

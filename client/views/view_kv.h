@@ -1,0 +1,31 @@
+/* A "key  value" listing built cell by cell, for the heads of the job views. */
+#ifndef AALAB_VIEW_KV_H
+#define AALAB_VIEW_KV_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include <jansson.h>
+
+#define VIEW_KV_MAX 24
+
+typedef struct view_kv {
+    const char *keys[VIEW_KV_MAX];
+    char values[VIEW_KV_MAX][128];
+    size_t n;
+} view_kv;
+
+/* Adds a line (silently dropped past VIEW_KV_MAX: the views add fewer). */
+void view_kv_add(view_kv *kv, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Adds a JSON number with decimals ("-" when missing or null). */
+void view_kv_number(view_kv *kv, const char *key, const json_t *v, int decimals);
+void view_kv_print(FILE *out, const view_kv *kv);
+
+/* The string, or "-" when v is not one. */
+const char *view_str(const json_t *v);
+/* "siemens-star 64x64" from a scene object. */
+const char *view_scene_label(char *buf, size_t cap, const json_t *scene);
+
+#endif

@@ -1,0 +1,62 @@
+/* optimize: E2 and how it was reached, then one row per starting pattern (per_seed). */
+#include "job_views.h"
+
+#include "../cli.h"
+#include "../table.h"
+#include "view_kv.h"
+
+static void per_seed_table(FILE *out, const json_t *per_seed, bool csv)
+{
+    const char *headers[] = {"seed", "distribution", "initial_e2", "e2", "iterations"};
+    table *t = table_new(5, headers);
+    if (!t)
+        return;
+    size_t i;
+    json_t *s;
+    json_array_foreach(per_seed, i, s)
+    {
+        char seed[32], e0[32], e2[32], it[32];
+        const char *cells[] = {
+            fmt_number(seed, sizeof seed, json_object_get(s, "seed"), 0),
+            fmt_string(json_object_get(s, "distribution")),
+            fmt_number(e0, sizeof e0, json_object_get(s, "initial_e2"), fmt_decimals(csv, 6)),
+            fmt_number(e2, sizeof e2, json_object_get(s, "e2"), fmt_decimals(csv, 6)),
+            fmt_number(it, sizeof it, json_object_get(s, "iterations"), 0)};
+        table_add_row(t, cells);
+    }
+    table_write(t, out, csv);
+    table_free(t);
+}
+
+void view_optimize(FILE *out, const json_t *result, bool csv)
+{
+    const json_t *per_seed = json_object_get(result, "per_seed");
+    if (csv) {
+        per_seed_table(out, per_seed, true);
+        return;
+    }
+    view_kv kv = {0};
+    const json_t *argmax = json_object_get(result, "argmax");
+    const json_t *grid = json_object_get(result, "grid");
+    view_kv_add(&kv, "family", "%s", view_str(json_object_get(result, "family")));
+    view_kv_number(&kv, "E2", json_object_get(result, "e2"), 6);
+    view_kv_number(&kv, "argmax kernel", json_object_get(argmax, "kernel"), 0);
+    view_kv_number(&kv, "argmax angle_deg", json_object_get(argmax, "angle_deg"), 1);
+    view_kv_add(&kv, "method", "%s", view_str(json_object_get(result, "method")));
+    view_kv_number(&kv, "seeds_run", json_object_get(result, "seeds_run"), 0);
+    view_kv_number(&kv, "iterations", json_object_get(result, "iterations"), 0);
+    view_kv_number(&kv, "evaluations", json_object_get(result, "evaluations"), 0);
+    view_kv_number(&kv, "seconds", json_object_get(result, "seconds"), 3);
+    if (json_is_object(grid)) {
+        view_kv_number(&kv, "grid bits", json_object_get(grid, "bits"), 0);
+        view_kv_add(&kv, "grid d3d12", "%s",
+                    json_is_true(json_object_get(grid, "d3d12")) ? "true" : "false");
+        view_kv_number(&kv, "E2 before snap", json_object_get(grid, "e2_before_snap"), 6);
+        view_kv_number(&kv, "quantisation cost", json_object_get(grid, "quantisation_cost"), 6);
+    }
+    view_kv_print(out, &kv);
+    if (json_array_size(per_seed) > 0) {
+        fputs("\nper seed\n", out);
+        per_seed_table(out, per_seed, false);
+    }
+}
