@@ -5,16 +5,22 @@ import fs from 'node:fs';
 import path from 'node:path';
 import Ajv2020 from 'ajv/dist/2020.js';
 
-/* Endpoint -> schema file (relative to proto/schemas). Answers of endpoints not listed here
- * (health, presets, filters, acuity, tokens, exports) have no schema and are counted apart. */
+/* Endpoint -> schema file (relative to proto/schemas). An answer of an endpoint not listed here
+ * is counted apart and named in the suite's output. */
 const ROUTES = [
+  { method: 'GET', re: /^\/v1\/health$/, schema: 'health_response.json' },
+  { method: 'GET', re: /^\/v1\/presets$/, schema: 'presets_response.json' },
+  { method: 'GET', re: /^\/v1\/presets\/[^/]+$/, schema: 'preset_response.json' },
+  { method: 'GET', re: /^\/v1\/filters$/, schema: 'filters_response.json' },
+  { method: 'GET', re: /^\/v1\/acuity$/, schema: 'acuity_response.json' },
+  { method: 'GET', re: /^\/v1\/kinds$/, schema: 'kinds_response.json' },
   { method: 'GET', re: /^\/v1\/jobs$/, schema: 'jobs_list.json' },
   { method: 'GET', re: /^\/v1\/jobs\/\d+$/, schema: 'job.json' },
   { method: 'POST', re: /^\/v1\/jobs$/, schema: 'job.json' },
-  { method: 'DELETE', re: /^\/v1\/jobs\/\d+$/, schema: 'job.json' },
+  { method: 'DELETE', re: /^\/v1\/jobs\/\d+$/, schema: 'job_delete_response.json' },
+  { method: 'GET', re: /^\/v1\/patterns\/\d+\/export$/, schema: 'export_response.json' },
   { method: 'POST', re: /^\/v1\/evaluate$/, schema: 'evaluate_response.json' },
   { method: 'POST', re: /^\/v1\/render$/, schema: 'render_response.json' },
-  { method: 'GET', re: /^\/v1\/kinds$/, schema: 'kinds_response.json' },
 ];
 
 function schemaFiles(dir) {
