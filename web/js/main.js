@@ -113,6 +113,11 @@ function setupToken() {
     ask();
     document.getElementById('health').textContent = 'no API token yet: open the dashboard URL with #token=… that scripts/run.sh (or aalab token) prints, or paste the token';
   }
+  window.addEventListener('aalab:token-given', () => {
+    form.hidden = true;
+    btn.setAttribute('aria-expanded', 'false');
+    refresh();
+  });
   window.addEventListener('aalab:need-token', () => {
     refresh();
     ask();
@@ -147,5 +152,12 @@ function start() {
 takeTokenFromFragment();
 setupTabs();
 setupToken();
-window.addEventListener('hashchange', () => getToken() && route());
+window.addEventListener('hashchange', () => {
+  // A dashboard URL with #token=… pasted into an open page changes the fragment only.
+  if (/(?:^#|&)token=/.test(location.hash)) {
+    takeTokenFromFragment();
+    window.dispatchEvent(new CustomEvent('aalab:token-given'));
+    start();
+  } else if (getToken()) route();
+});
 start();

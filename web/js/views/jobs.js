@@ -252,8 +252,9 @@ function drawTrace(j) {
       ...chartSize(),
       scales: { x: scale('x'), y: scale('y') },
       axes: [
-        { label: 'seconds', splits: ticks('x'), values: labels('x') },
-        { label: 'best E2', size: 70, splits: ticks('y'), values: labels('y') },
+        // uPlot labels only some ticks of a log axis by default: label every one of ours.
+        { label: 'seconds', splits: ticks('x'), filter: (u, splits) => splits, values: labels('x') },
+        { label: 'best E2', size: 70, splits: ticks('y'), filter: (u, splits) => splits, values: labels('y') },
       ],
       // Without the cursor over the plot, the legend shows the job's end and its best E2.
       series: [
