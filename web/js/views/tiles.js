@@ -8,7 +8,7 @@ import { drawComparison } from './kind-details.js';
 import { loadPresets, loadJob, jobKinds, loadFinishedWithBest } from '../store.js';
 
 const $ = (id) => document.getElementById(id);
-// Scene names of the renderer (issue 5).
+// Scene names of the renderer.
 export const SCENES = ['siemens-star', 'checkerboard', 'rings', 'sliver', 'spiral', 'half-plane'];
 const CMP_DEFAULT = new Set(['centroid', 'quincunx', 'rgss', 'flipquad', 'fliptri', 'grid-2x2']);
 
