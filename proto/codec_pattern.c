@@ -1,5 +1,6 @@
 /* Pattern wire forms <-> aa_pattern. */
 #include "codec_internal.h"
+#include "preset_suggest.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -284,8 +285,11 @@ int proto_decode_pattern(const json_t *j, unsigned flags, aa_pattern *out, const
         if (!json_is_string(v))
             return proto_fail(err, AA_EINVAL, prefix, "preset", "must be a preset name");
         const aa_preset *pr = aa_preset_find(json_string_value(v));
-        if (!pr)
-            return proto_fail(err, AA_EINVAL, prefix, "preset", "unknown preset");
+        if (!pr) {
+            char field[PROTO_FIELD_MAX];
+            proto_join_field(field, sizeof field, prefix, "preset");
+            return proto_unknown_preset(err, field, json_string_value(v));
+        }
         rc = aa_pattern_from_preset(out, pr, err);
         if (rc)
             proto_prefix_error(err, prefix);

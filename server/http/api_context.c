@@ -16,6 +16,7 @@
 #include "group_membership.h"
 #include "job_access.h"
 #include "job_manager.h"
+#include "kind_schemas.h"
 #include "token_store.h"
 #include "job_retention.h"
 #ifdef AALAB_HAVE_TILES
@@ -63,6 +64,9 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
     ctx->cfg = *cfg;
     ctx->lock_fd = -1;
     clock_gettime(CLOCK_MONOTONIC, &ctx->started);
+    /* GET /v1/kinds serves every kind's schemas: a build without them must not start. */
+    if (kind_schemas_check(err))
+        goto fail;
     if (make_dirs(cfg->state_dir, 0700)) {
         aa_error_set(err, AA_EINVAL, "state_dir", "cannot create %s: %s", cfg->state_dir,
                      strerror(errno));
@@ -93,7 +97,7 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
     job_manager_config jc = {.workers = cfg->workers,
                              .queue_size = cfg->queue_size,
                              .user_quota = cfg->user_quota,
-                             .services = ctx->tiles,
+                             .tiles = ctx->tiles,
                              .test_kinds = cfg->test_kinds,
                              .user_workers = cfg->user_workers,
                              .slice_seconds = cfg->job_slice,

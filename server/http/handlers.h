@@ -23,6 +23,7 @@ long long api_parse_job_id(const char *s);
 const char *api_query_get(const char *query, const char *key, char *buf, size_t cap);
 
 void handle_health(api_context *ctx, const api_request *req, api_response *resp);
+void handle_kinds(api_context *ctx, const api_request *req, api_response *resp);
 void handle_presets_list(api_context *ctx, const api_request *req, api_response *resp);
 void handle_preset_get(api_context *ctx, const api_request *req, api_response *resp,
                        const char *name);

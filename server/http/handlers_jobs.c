@@ -99,8 +99,11 @@ void handle_jobs_list(api_context *ctx, const api_request *req, api_response *re
         }
     }
     v = api_query_get(req->query, "kind", buf, sizeof buf);
-    if (v && !job_kind_find(v)) {
-        api_reply_error(resp, 400, "invalid_field", "kind", "no job kind '%.31s'", v);
+    if (v && !job_manager_kind(api_context_jobs(ctx), v)) {
+        char names[256];
+        job_manager_kind_names(api_context_jobs(ctx), names, sizeof names);
+        api_reply_error(resp, 400, "invalid_field", "kind",
+                        "unknown job kind \"%.31s\"; known kinds: %s", v, names);
         return;
     }
     /* Root on the socket sees every job; others see team jobs and their own private ones. */

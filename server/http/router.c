@@ -97,6 +97,7 @@ typedef struct route {
 
 static const route routes[] = {
     {"GET", "/v1/health", ARG_NONE, handle_health, NULL},
+    {"GET", "/v1/kinds", ARG_NONE, handle_kinds, NULL},
     {"GET", "/v1/presets", ARG_NONE, handle_presets_list, NULL},
     {"GET", "/v1/presets/", ARG_TAIL, NULL, handle_preset_get},
     {"GET", "/v1/filters", ARG_NONE, handle_filters, NULL},

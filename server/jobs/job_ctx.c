@@ -146,7 +146,7 @@ int job_ctx_workers(const job_ctx *ctx)
     return idle > 0 ? idle + 1 : 1;
 }
 
-void *job_ctx_services(job_ctx *ctx)
+tile_store *job_ctx_tiles(job_ctx *ctx)
 {
-    return ctx->services;
+    return ctx->tiles;
 }

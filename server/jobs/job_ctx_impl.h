@@ -42,7 +42,7 @@ struct job_ctx {
     job_live *live;
     job_store *store;
     long long id;
-    void *services;
+    tile_store *tiles;
     int workers;
     int *busy;
     double started;      /* wall clock (Unix seconds) */

@@ -98,25 +98,8 @@ double job_derived_best_e2(const json_t *best)
     return json_is_number(e2) ? json_number_value(e2) : NAN;
 }
 
-/* The pattern a best holds: itself, or under "pattern", "best_pattern" or "best" (as
- * job_manager_best_pattern finds it). */
-static const json_t *find_pattern(const json_t *v, int depth)
-{
-    if (!json_is_object(v) || depth > 4)
-        return NULL;
-    if (is_encoded_pattern(v) || json_object_get(v, "preset"))
-        return v;
-    static const char *const members[] = {"pattern", "best_pattern", "best"};
-    for (size_t i = 0; i < 3; i++) {
-        const json_t *p = find_pattern(json_object_get(v, members[i]), depth + 1);
-        if (p)
-            return p;
-    }
-    return NULL;
-}
-
 const char *job_derived_family(const json_t *best)
 {
-    const json_t *p = find_pattern(best, 0);
-    return p ? json_string_value(json_object_get(p, "family")) : NULL;
+    const json_t *p = json_is_object(best) ? json_object_get(best, "pattern") : NULL;
+    return json_is_object(p) ? json_string_value(json_object_get(p, "family")) : NULL;
 }

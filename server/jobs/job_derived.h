@@ -15,7 +15,8 @@ json_t *job_derived_stripped(const json_t *v);
  * pattern and re-encoding it. Patterns that do not decode are left as they are. */
 void job_derived_restore(json_t *v);
 
-/* best.e2 if it is a number (else NaN) and the family of the pattern inside best (NULL). */
+/* Of a job's best ({"pattern", "e2"}, job_kind.h): best.e2 if it is a number (else NaN) and
+ * best.pattern.family (else NULL). */
 double job_derived_best_e2(const json_t *best);
 const char *job_derived_family(const json_t *best);
 

@@ -29,12 +29,22 @@ int job_envelope_take(const json_t *spec, job_envelope *env, json_t **kind_spec,
             return aa_error_set(err, AA_EINVAL, "pinned", "must be true or false");
         env->pinned = json_is_true(v);
     }
+    v = json_object_get(spec, "label");
+    if (v) {
+        const char *s = json_string_value(v);
+        if (!s || strlen(s) != json_string_length(v) || json_string_length(v) > JOB_LABEL_MAX)
+            return aa_error_set(err, AA_EINVAL, "label", "must be a string of at most %d bytes",
+                                JOB_LABEL_MAX);
+        memcpy(env->label, s, json_string_length(v) + 1);
+    }
     json_t *copy = json_deep_copy(spec);
     if (!copy)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    json_object_del(copy, "kind");
     json_object_del(copy, "priority");
     json_object_del(copy, "visibility");
     json_object_del(copy, "pinned");
+    json_object_del(copy, "label");
     *kind_spec = copy;
     return AA_OK;
 }

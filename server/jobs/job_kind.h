@@ -23,7 +23,9 @@ typedef struct job_trace_point {
     double best_e2;   /* best E2 so far */
 } job_trace_point;
 
-/* Progress 0..1 and, optionally, the best result so far (borrowed; NULL keeps the previous).
+/* Progress 0..1 and, optionally, the best result so far (borrowed; NULL keeps the previous):
+ * {"pattern": an encoded pattern, "e2": its E2} (either may be missing; the job list reads
+ * best_e2 and family from them).
  * Returns true if the job has been cancelled, has run past --max-job-seconds, or the daemon is
  * shutting down: stop then. This is also where a job yields its worker to a waiting user when
  * its slice is over (fair share): the call then returns only when the job has a worker again,
@@ -48,25 +50,37 @@ typedef struct job_progress_span {
     double base, span;
 } job_progress_span;
 int job_progress_span_report(void *user, double fraction);
-/* Opaque pointer to daemon services a kind may need (tile store for renders); may be NULL. */
-void *job_ctx_services(job_ctx *ctx);
+/* The daemon's tile store, where render kinds put the images they make; NULL when the daemon
+ * runs without one (the kinds then return no tile references). */
+typedef struct tile_store tile_store;
+tile_store *job_ctx_tiles(job_ctx *ctx);
 
+/* One row of the table of kinds (job_kinds.c). The envelope (kind, label, priority, visibility,
+ * pinned) is the job manager's: a kind's decode never sees those keys. */
 typedef struct job_kind {
     const char *name;
-    /* spec: the whole POST /v1/jobs body. On error fill err (field relative to the body, e.g.
-     * "seeds") and return a negative AA_E* code. */
-    int (*parse)(const json_t *spec, void **params, aa_error *err);
-    /* Runs on a worker. On success *result is the job result object (stolen). Return AA_OK,
-     * AA_ECANCELED when cancelled, or another negative code with err filled. */
-    int (*run)(void *params, job_ctx *ctx, json_t **result, aa_error *err);
-    void (*free_params)(void *params);
+    const char *summary; /* one sentence, served by GET /v1/kinds */
     /* Offered only when the daemon runs with --enable-test-kinds (the harmless "sleep" kind
      * that the tests drive; a release daemon does not run it). */
     bool test_only;
+    /* spec: the POST /v1/jobs body without the envelope. On error fill err (field relative to
+     * the body, e.g. "seeds") and return a negative AA_E* code. */
+    int (*decode)(const json_t *spec, void **params, aa_error *err);
+    void (*free_params)(void *params);
+    /* The family the spec names (the job list's "family" until a best pattern replaces it), or
+     * NULL; may itself be NULL. */
+    const char *(*spec_family)(const void *params);
+    /* Runs on a worker. On success *result is the encoded job result (stolen). Return AA_OK,
+     * AA_ECANCELED when cancelled, or another negative code with err filled. */
+    int (*run)(void *params, job_ctx *ctx, json_t **result, aa_error *err);
+    /* The best pattern (encoded, new reference; NULL: none) and its E2 (NaN when the kind
+     * gives none) of a result this kind made, read through the kind's result decoder; NULL for
+     * kinds whose results hold no best pattern. */
+    json_t *(*best_of)(const json_t *result, double *e2);
 } job_kind;
 
 const job_kind *job_kind_find(const char *name);
-/* NULL-terminated list of all kinds. */
-const job_kind *const *job_kinds_all(void);
+/* The table, and its length. */
+const job_kind *job_kinds_table(size_t *count);
 
 #endif

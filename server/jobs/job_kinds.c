@@ -1,55 +1,74 @@
-/* The table of job kinds.
- *
- * How kinds are added without merge conflicts: every kind is one file server/jobs/kind_*.c that
- * defines `const job_kind job_kind_<name>` (dashes become underscores). server/CMakeLists.txt
- * globs kind_*.c into an OBJECT library, so every kind file that exists is linked. Here each
- * known kind is declared weak and listed on its own line: a kind whose file has not landed yet
- * resolves to NULL and is skipped, so this table can name kinds before their code exists.
- * To add a kind: add its file, then one KIND_DECL line and one table line below. */
-#include <stddef.h>
+/* The table of job kinds: what each is, how its spec is decoded, how it runs and where its
+ * result keeps the best pattern. The order is the one GET /v1/kinds and error messages list. */
 #include <string.h>
 
-#include "job_kind.h"
+#include "kinds.h"
 
-#define KIND_DECL(sym) extern const job_kind sym __attribute__((weak))
-
-KIND_DECL(job_kind_sleep);                 /* service: test kind (kind_sleep.c) */
-KIND_DECL(job_kind_optimize);              /* optimizer (issue 3) */
-KIND_DECL(job_kind_family_sweep);          /* optimizer */
-KIND_DECL(job_kind_random_stats);          /* optimizer */
-KIND_DECL(job_kind_animation);             /* renderer (issue 5) */
-KIND_DECL(job_kind_compare);               /* renderer */
-KIND_DECL(job_kind_reference_convergence); /* renderer */
-
-static const job_kind *const candidates[] = {
-    &job_kind_sleep,
-    &job_kind_optimize,
-    &job_kind_family_sweep,
-    &job_kind_random_stats,
-    &job_kind_animation,
-    &job_kind_compare,
-    &job_kind_reference_convergence,
+static const job_kind table[] = {
+    {.name = "optimize",
+     .summary = "Multi-start optimisation of a sample pattern (a family, or a given pattern) "
+                "for the smallest worst-case error E2.",
+     .decode = kind_optimize_decode,
+     .free_params = kind_optimize_free,
+     .spec_family = kind_optimize_family,
+     .run = kind_optimize_run,
+     .best_of = kind_optimize_best_of},
+    {.name = "family-sweep",
+     .summary = "Optimises every mirrored P(4,1+,n) placement configuration of one cost and "
+                "ranks them by E2.",
+     .decode = kind_family_sweep_decode,
+     .free_params = kind_family_sweep_free,
+     .spec_family = kind_family_sweep_family,
+     .run = kind_family_sweep_run,
+     .best_of = kind_family_sweep_best_of},
+    {.name = "random-stats",
+     .summary = "Min, average and max E2 of random patterns of a family, and the best of them "
+                "optimised for weights (Opt W) and for weights and positions (Opt W+P).",
+     .decode = kind_random_stats_decode,
+     .free_params = kind_random_stats_free,
+     .spec_family = kind_random_stats_family,
+     .run = kind_random_stats_run,
+     .best_of = kind_random_stats_best_of},
+    {.name = "compare",
+     .summary = "Renders one scene with several patterns and tabulates samples per pixel, E2, "
+                "RMSE and max deviation against a supersampled reference.",
+     .decode = kind_compare_decode,
+     .free_params = kind_compare_free,
+     .run = kind_compare_run},
+    {.name = "animation",
+     .summary = "Renders a moving scene frame by frame with a pattern beside the reference and "
+                "reports the error of each frame and of the whole animation.",
+     .decode = kind_animation_decode,
+     .free_params = kind_animation_free,
+     .run = kind_animation_run},
+    {.name = "reference-convergence",
+     .summary = "Measures how the reference render's error falls with its samples per pixel, "
+                "against a high-sample baseline.",
+     .decode = kind_reference_convergence_decode,
+     .free_params = kind_reference_convergence_free,
+     .run = kind_reference_convergence_run},
+    {.name = "sleep",
+     .summary = "Test kind: waits a given time, reporting progress, and returns an optional "
+                "pattern.",
+     .test_only = true,
+     .decode = kind_sleep_decode,
+     .free_params = kind_sleep_free,
+     .run = kind_sleep_run,
+     .best_of = kind_sleep_best_of},
 };
 
-#define CANDIDATE_COUNT (sizeof candidates / sizeof candidates[0])
+#define KIND_COUNT (sizeof table / sizeof table[0])
 
-const job_kind *const *job_kinds_all(void)
+const job_kind *job_kinds_table(size_t *count)
 {
-    /* Built on every call from constant data: no mutable global state, no init race. The
-     * returned array is thread-local storage so callers get a stable NULL-terminated list. */
-    static _Thread_local const job_kind *list[CANDIDATE_COUNT + 1];
-    size_t n = 0;
-    for (size_t i = 0; i < CANDIDATE_COUNT; i++)
-        if (candidates[i])
-            list[n++] = candidates[i];
-    list[n] = NULL;
-    return list;
+    *count = KIND_COUNT;
+    return table;
 }
 
 const job_kind *job_kind_find(const char *name)
 {
-    for (size_t i = 0; i < CANDIDATE_COUNT; i++)
-        if (candidates[i] && !strcmp(candidates[i]->name, name))
-            return candidates[i];
+    for (size_t i = 0; i < KIND_COUNT; i++)
+        if (!strcmp(table[i].name, name))
+            return &table[i];
     return NULL;
 }

@@ -338,17 +338,17 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
     }
     /* The live best is posted at most 10 times a second, so the last improvement may be
      * missing from it: a finished job's best is its result's. */
-    json_t *final_pattern = json_is_object(result) ? json_object_get(result, "pattern") : NULL;
-    if (!final_pattern && json_is_object(result))
-        final_pattern = json_object_get(result, "best");
-    json_t *final_e2 = json_is_object(result) ? json_object_get(result, "e2") : NULL;
-    if (st == JOB_DONE && json_is_object(final_pattern) && json_is_number(final_e2)) {
-        json_t *b = json_pack("{s:O,s:O}", "pattern", final_pattern, "e2", final_e2);
+    double final_e2 = NAN;
+    json_t *final_pattern =
+        st == JOB_DONE && result && j->kind->best_of ? j->kind->best_of(result, &final_e2) : NULL;
+    if (final_pattern && isfinite(final_e2)) {
+        json_t *b = json_pack("{s:O,s:f}", "pattern", final_pattern, "e2", final_e2);
         if (b) {
             json_decref(best);
             best = b;
         }
     }
+    json_decref(final_pattern);
     double now = jm_now();
     job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason, now);
     /* One line per finished run for the journal. */
@@ -385,7 +385,7 @@ static void *job_thread(void *arg)
                           .live = &j->live,
                           .store = jm->store,
                           .id = j->id,
-                          .services = jm->cfg.services,
+                          .tiles = jm->cfg.tiles,
                           .workers = jm->cfg.workers,
                           .busy = &jm->busy,
                           .started = j->started,
@@ -442,7 +442,7 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
     json_t *kind_spec = NULL;
     int prc = job_envelope_take(spec, &env, &kind_spec, &err);
     if (!prc)
-        prc = kind->parse(kind_spec, &params, &err);
+        prc = kind->decode(kind_spec, &params, &err);
     json_decref(kind_spec);
     if (prc != AA_OK) {
         snprintf(reason, sizeof reason, "spec no longer valid after restart: %s (%s)", err.message,
@@ -556,10 +556,12 @@ void job_manager_kind_names(const job_manager *jm, char *buf, size_t cap)
 {
     size_t n = 0;
     buf[0] = 0;
-    for (const job_kind *const *k = job_kinds_all(); *k && n < cap; k++) {
-        if ((*k)->test_only && !jm->cfg.test_kinds)
+    size_t count;
+    const job_kind *table = job_kinds_table(&count);
+    for (size_t k = 0; k < count && n < cap; k++) {
+        if (table[k].test_only && !jm->cfg.test_kinds)
             continue;
-        int w = snprintf(buf + n, cap - n, "%s%s", n ? ", " : "", (*k)->name);
+        int w = snprintf(buf + n, cap - n, "%s%s", n ? ", " : "", table[k].name);
         if (w < 0)
             break;
         n += (size_t)w;
@@ -574,12 +576,13 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
         return aa_error_set(err, AA_EINVAL, "kind", "a job needs a kind");
     if (!json_is_string(kind_j))
         return aa_error_set(err, AA_EINVAL, "kind", "kind must be a string");
-    const job_kind *kind = job_manager_kind(jm, json_string_value(kind_j));
-    if (!kind || strlen(json_string_value(kind_j)) != json_string_length(kind_j)) {
+    const char *kind_name = json_string_value(kind_j);
+    const job_kind *kind = job_manager_kind(jm, kind_name);
+    if (!kind || strlen(kind_name) != json_string_length(kind_j)) {
         char names[256];
         job_manager_kind_names(jm, names, sizeof names);
-        return aa_error_set(err, AA_EINVAL, "kind", "unknown job kind; this daemon runs: %s",
-                            names);
+        return aa_error_set(err, AA_EINVAL, "kind", "unknown job kind \"%.40s\"; known kinds: %s",
+                            kind_name, names);
     }
     json_t *max_seconds = json_object_get(spec, "max_seconds");
     if (json_is_number(max_seconds) && json_number_value(max_seconds) > jm->cfg.max_job_seconds)
@@ -592,21 +595,26 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     if (rc)
         return rc;
     void *params = NULL;
-    rc = kind->parse(kind_spec, &params, err);
-    if (rc) {
-        json_decref(kind_spec);
-        return rc < 0 ? rc : AA_EINVAL;
+    rc = kind->decode(kind_spec, &params, err);
+    /* Stored as submitted, less the envelope (which has columns of its own). */
+    json_t *stored = rc ? NULL : json_pack("{s:s}", "kind", kind->name);
+    if (stored && json_object_update(stored, kind_spec)) {
+        json_decref(stored);
+        stored = NULL;
     }
-    job *j = job_new();
+    json_decref(kind_spec);
+    if (rc)
+        return rc < 0 ? rc : AA_EINVAL;
+    job *j = stored ? job_new() : NULL;
     if (!j) {
         kind->free_params(params);
-        json_decref(kind_spec);
+        json_decref(stored);
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
     j->jm = jm;
     j->kind = kind;
     j->params = params;
-    j->spec = kind_spec; /* the envelope is stored in its own columns */
+    j->spec = stored;
     j->owner = owner;
     j->priority = env.priority;
     j->private_job = env.private_job;
@@ -643,7 +651,9 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
                          .created = j->created,
                          .visibility = job_envelope_visibility(&env),
                          .pinned = env.pinned,
-                         .priority = env.priority};
+                         .priority = env.priority,
+                         .label = env.label,
+                         .family = kind->spec_family ? kind->spec_family(params) : NULL};
     rc = job_store_insert(jm->store, &rec, &new_id, err);
     if (rc)
         rc = rc == JOB_STORE_EQUOTA ? JM_ESTORE_QUOTA : JM_ESTORE;
@@ -753,25 +763,6 @@ int job_manager_cancel(job_manager *jm, long long id, long long caller, const ch
     return JM_OK;
 }
 
-/* A pattern inside a job's best/result: the object itself if it is a pattern, else its
- * "pattern" or "best_pattern" member, else best.pattern of the result. */
-static json_t *find_pattern(json_t *v)
-{
-    if (!json_is_object(v))
-        return NULL;
-    static const char *const forms[] = {"kernels", "mirrored", "tile", "preset"};
-    for (size_t i = 0; i < 4; i++)
-        if (json_object_get(v, forms[i]))
-            return v;
-    static const char *const members[] = {"pattern", "best_pattern", "best"};
-    for (size_t i = 0; i < 3; i++) {
-        json_t *p = find_pattern(json_object_get(v, members[i]));
-        if (p)
-            return p;
-    }
-    return NULL;
-}
-
 json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why)
 {
     json_t *o = job_manager_get(jm, id);
@@ -779,10 +770,15 @@ json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why
         *why = "no such job";
         return NULL;
     }
-    json_t *p = find_pattern(json_object_get(o, "best"));
-    if (!p)
-        p = find_pattern(json_object_get(o, "result"));
-    json_t *out = p ? json_deep_copy(p) : NULL;
+    /* A job's best is {"pattern", "e2"} (job_kind.h); a finished job's result knows its best
+     * through its kind's row. */
+    const json_t *p = json_object_get(json_object_get(o, "best"), "pattern");
+    const job_kind *kind = job_kind_find(json_string_value(json_object_get(o, "kind")));
+    json_t *result = json_object_get(o, "result");
+    double e2;
+    json_t *out = json_is_object(p) ? json_deep_copy(p) : NULL;
+    if (!out && kind && kind->best_of && json_is_object(result))
+        out = kind->best_of(result, &e2);
     json_decref(o);
     if (!out)
         *why = "the job has no pattern (yet)";

@@ -40,10 +40,10 @@ typedef struct job_manager job_manager;
 
 typedef struct job_manager_config {
     int workers;
-    int queue_size;  /* queued jobs beyond which submit answers JM_EQUEUE_FULL */
-    int user_quota;  /* queued + running per owner */
-    void *services;  /* handed to kinds as job_ctx_services() */
-    bool test_kinds; /* offer kinds marked test_only (--enable-test-kinds) */
+    int queue_size;    /* queued jobs beyond which submit answers JM_EQUEUE_FULL */
+    int user_quota;    /* queued + running per owner */
+    tile_store *tiles; /* where render kinds put their images (job_ctx_tiles); may be NULL */
+    bool test_kinds;   /* offer kinds marked test_only (--enable-test-kinds) */
     /* Fair share (fair_share.h); 0 picks the default. */
     int user_workers;           /* workers one user holds while others wait (half, at least 1) */
     double slice_seconds;       /* a job yields to a waiting user after this (60) */

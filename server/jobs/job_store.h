@@ -60,6 +60,8 @@ typedef struct job_store_new {
     const char *visibility;
     bool pinned;
     int priority;
+    const char *label;  /* NULL or "": none */
+    const char *family; /* the spec's family, NULL: none (the best pattern's replaces it) */
 } job_store_new;
 
 /* A new queued job. JOB_STORE_EQUOTA (err names usage and limit) or AA_EINVAL. */

@@ -41,8 +41,8 @@ job_state job_state_from_name(const char *n);
 /* Columns every job object shows, in this order (job_store_read.c row_summary). */
 #define JOB_SUMMARY_COLUMNS                                                                        \
     "id, kind, owner_uid, state, progress, created, started, finished, reason, error, best_e2, "   \
-    "family, visibility, pinned, bytes"
-#define JOB_SUMMARY_COUNT 15
+    "family, visibility, pinned, bytes, label"
+#define JOB_SUMMARY_COUNT 16
 /* A job's spec: in job_specs since the list columns came (so rewriting best or trace does not
  * rewrite the spec too), in jobs.spec for rows written before. */
 #define JOB_SPEC_EXPR                                                                              \

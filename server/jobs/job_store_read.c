@@ -20,6 +20,12 @@ static json_t *number_or_null(sqlite3_stmt *q, int i)
                                                     : json_real(sqlite3_column_double(q, i));
 }
 
+static json_t *text_or_null(sqlite3_stmt *q, int i)
+{
+    const unsigned char *t = sqlite3_column_text(q, i);
+    return t ? json_string((const char *)t) : json_null();
+}
+
 /* Parses a stored JSON text (NULL or invalid -> JSON null); frees the text. */
 static json_t *parse_owned(char *text)
 {
@@ -47,14 +53,13 @@ static json_t *row_summary(sqlite3_stmt *q, char **error_text)
     if (sqlite3_column_type(q, 8) != SQLITE_NULL)
         json_object_set_new(o, "reason", json_string((const char *)sqlite3_column_text(q, 8)));
     *error_text = column_dup(q, 9);
-    if (sqlite3_column_type(q, 10) != SQLITE_NULL)
-        json_object_set_new(o, "best_e2", json_real(sqlite3_column_double(q, 10)));
-    if (sqlite3_column_type(q, 11) != SQLITE_NULL)
-        json_object_set_new(o, "family", json_string((const char *)sqlite3_column_text(q, 11)));
+    json_object_set_new(o, "best_e2", number_or_null(q, 10));
+    json_object_set_new(o, "family", text_or_null(q, 11));
     const unsigned char *vis = sqlite3_column_text(q, 12);
     json_object_set_new(o, "visibility", json_string(vis ? (const char *)vis : "team"));
     json_object_set_new(o, "pinned", json_boolean(sqlite3_column_int(q, 13)));
     json_object_set_new(o, "bytes", json_integer(sqlite3_column_int64(q, 14)));
+    json_object_set_new(o, "label", text_or_null(q, 15));
     return o;
 }
 

@@ -1,11 +1,13 @@
 /* The jobs table and its migration. user_version 0 is the first schema (no list columns):
  * opening such a database adds the columns with ALTER TABLE and backfills them once, in one
- * transaction, from the JSON already stored. */
+ * transaction, from the JSON already stored. Version 2 lacks the label column: it is added and
+ * filled from the specs that carried a label. */
 #include <stdio.h>
 
 #include "job_store_impl.h"
 
-#define SCHEMA_VERSION 2
+#define SCHEMA_VERSION 3
+#define SCHEMA_VERSION_LIST_COLUMNS 2 /* the first with best_e2, family, bytes, job_specs */
 
 static const char create_sql[] = "CREATE TABLE IF NOT EXISTS jobs ("
                                  " id INTEGER PRIMARY KEY AUTOINCREMENT,"
@@ -28,6 +30,7 @@ static const char *const added_columns[] = {
     "bytes INTEGER NOT NULL DEFAULT 0",
     "reserve INTEGER NOT NULL DEFAULT 0", /* bytes held for an unfinished job's output */
     "priority INTEGER NOT NULL DEFAULT 0",
+    "label TEXT",
 };
 
 /* job_specs keeps new jobs' specs out of the jobs row: a row is rewritten whole on update, and
@@ -38,13 +41,14 @@ static const char *const added_columns[] = {
 static const char index_sql[] =
     "CREATE TABLE IF NOT EXISTS job_specs (job_id INTEGER PRIMARY KEY REFERENCES jobs(id) "
     " ON DELETE CASCADE, spec TEXT NOT NULL);"
-    "CREATE INDEX IF NOT EXISTS jobs_list ON jobs(id, state, kind, owner_uid, visibility, "
-    " pinned, progress, created, started, finished, best_e2, family, bytes, reason, error);"
+    "DROP INDEX IF EXISTS jobs_list;"
+    "CREATE INDEX jobs_list ON jobs(id, state, kind, owner_uid, visibility, "
+    " pinned, progress, created, started, finished, best_e2, family, bytes, reason, error, label);"
     "CREATE INDEX IF NOT EXISTS jobs_usage ON jobs(owner_uid, bytes, reserve);"
     "CREATE INDEX IF NOT EXISTS jobs_retention ON jobs(pinned, finished);";
 
-/* One-time backfill of rows written by the first schema (SQLite's JSON1 does the parsing,
- * once, at migration). */
+/* One-time backfill of rows written by the first schema (version 0 or 1) (SQLite's JSON1 does the
+ * parsing, once, at migration). */
 static const char backfill_sql[] =
     "UPDATE jobs SET"
     " bytes = length(CAST(spec AS BLOB)) + coalesce(length(CAST(best AS BLOB)), 0)"
@@ -58,6 +62,12 @@ static const char backfill_sql[] =
     " WHERE family IS NULL AND json_valid(spec) AND json_type(spec, '$.family') = 'text';"
     "UPDATE jobs SET reserve = 2 * length(CAST(spec AS BLOB)) + 262144"
     " WHERE state IN ('queued', 'running');";
+
+/* Specs stored before the envelope took "label" out of them still carry it. */
+static const char label_backfill_sql[] =
+    "UPDATE jobs SET label = (SELECT CASE WHEN json_valid(t.s) AND"
+    "  json_type(t.s, '$.label') = 'text' THEN substr(json_extract(t.s, '$.label'), 1, 200) END"
+    "  FROM (SELECT " JOB_SPEC_EXPR " AS s) t) WHERE label IS NULL;";
 
 static int user_version(sqlite3 *db)
 {
@@ -107,8 +117,11 @@ int job_store_schema_init(sqlite3 *db, aa_error *err)
     }
     char pragma[64];
     snprintf(pragma, sizeof pragma, "PRAGMA user_version = %d", SCHEMA_VERSION);
-    if (sqlite3_exec(db, backfill_sql, NULL, NULL, &msg) != SQLITE_OK ||
+    /* Rows of a later schema keep their spec in job_specs: the backfill would misread them. */
+    if ((version < SCHEMA_VERSION_LIST_COLUMNS &&
+         sqlite3_exec(db, backfill_sql, NULL, NULL, &msg) != SQLITE_OK) ||
         sqlite3_exec(db, index_sql, NULL, NULL, &msg) != SQLITE_OK ||
+        sqlite3_exec(db, label_backfill_sql, NULL, NULL, &msg) != SQLITE_OK ||
         sqlite3_exec(db, pragma, NULL, NULL, &msg) != SQLITE_OK ||
         sqlite3_exec(db, "COMMIT", NULL, NULL, &msg) != SQLITE_OK)
         goto rollback;

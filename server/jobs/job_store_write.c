@@ -112,8 +112,8 @@ int job_store_insert(job_store *st, const job_store_new *job, long long *id, aa_
     sqlite3_stmt *q = NULL;
     if (began && sqlite3_prepare_v2(st->db,
                                     "INSERT INTO jobs(kind, owner_uid, state, spec, created, "
-                                    "visibility, pinned, priority, family, bytes, reserve) "
-                                    "VALUES (?, ?, 'queued', '', ?, ?, ?, ?, ?, ?, ?)",
+                                    "visibility, pinned, priority, family, bytes, reserve, label) "
+                                    "VALUES (?, ?, 'queued', '', ?, ?, ?, ?, ?, ?, ?, ?)",
                                     -1, &q, NULL) == SQLITE_OK) {
         sqlite3_bind_text(q, 1, job->kind, -1, SQLITE_TRANSIENT);
         if (job->owner >= 0)
@@ -124,9 +124,10 @@ int job_store_insert(job_store *st, const job_store_new *job, long long *id, aa_
         sqlite3_bind_text(q, 4, job->visibility ? job->visibility : "team", -1, SQLITE_TRANSIENT);
         sqlite3_bind_int(q, 5, job->pinned);
         sqlite3_bind_int(q, 6, job->priority);
-        bind_text_or_null(q, 7, json_string_value(json_object_get(job->spec, "family")));
+        bind_text_or_null(q, 7, job->family);
         sqlite3_bind_int64(q, 8, spec.len);
         sqlite3_bind_int64(q, 9, reserve);
+        bind_text_or_null(q, 10, job->label && *job->label ? job->label : NULL);
         ok = step_done(q) == AA_OK;
         new_id = sqlite3_last_insert_rowid(st->db);
     }

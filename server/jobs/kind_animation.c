@@ -9,7 +9,8 @@
 #include <string.h>
 
 #include "codec.h"
-#include "job_kind.h"
+#include "kinds.h"
+#include "render_pattern.h"
 #include "render.h"
 #include "tile_render.h"
 #include "tile_store.h"
@@ -22,7 +23,7 @@ typedef struct animation_params {
     bool tiles;
 } animation_params;
 
-static void animation_free(void *params)
+void kind_animation_free(void *params)
 {
     animation_params *ap = params;
     if (!ap)
@@ -31,10 +32,10 @@ static void animation_free(void *params)
     free(ap);
 }
 
-static const char *const spec_keys[] = {"kind",    "label",     "priority", "scene", "size",
-                                        "pattern", "reference", "acuity",   "tiles", NULL};
+static const char *const spec_keys[] = {"scene",  "size",  "pattern", "reference",
+                                        "acuity", "tiles", NULL};
 
-static int animation_parse(const json_t *spec, void **params, aa_error *err)
+int kind_animation_decode(const json_t *spec, void **params, aa_error *err)
 {
     *params = NULL;
     int rc0 = proto_check_keys(spec, spec_keys, err, "");
@@ -62,11 +63,8 @@ static int animation_parse(const json_t *spec, void **params, aa_error *err)
     json_t *pj = json_object_get(spec, "pattern");
     if (!rc && !pj)
         rc = aa_error_set(err, AA_EINVAL, "pattern", "a pattern is required");
-    if (!rc) {
-        rc = tile_pattern_from_preset_name(pj, &ap->pattern, "pattern", err);
-        if (rc == 1)
-            rc = proto_decode_pattern(pj, 0, &ap->pattern, "pattern", err);
-    }
+    if (!rc)
+        rc = render_pattern_decode(pj, &ap->pattern, "pattern", err);
     json_t *tiles = json_object_get(spec, "tiles");
     if (!rc && tiles) {
         if (!json_is_boolean(tiles))
@@ -75,17 +73,17 @@ static int animation_parse(const json_t *spec, void **params, aa_error *err)
             ap->tiles = json_is_true(tiles);
     }
     if (rc) {
-        animation_free(ap);
+        kind_animation_free(ap);
         return rc;
     }
     *params = ap;
     return AA_OK;
 }
 
-static int animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+int kind_animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
     animation_params *ap = params;
-    tile_store *ts = job_ctx_services(ctx);
+    tile_store *ts = job_ctx_tiles(ctx);
     /* The tiles belong to the job's owner and are private when the job is. */
     const tile_access access = {job_ctx_owner(ctx), job_ctx_private(ctx)};
     aa_render_params rp = aa_render_params_default(ap->scene.kind);
@@ -153,8 +151,3 @@ static int animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *
     aa_animation_free(&an);
     return rc;
 }
-
-const job_kind job_kind_animation = {.name = "animation",
-                                     .parse = animation_parse,
-                                     .run = animation_run,
-                                     .free_params = animation_free};

@@ -8,7 +8,8 @@
 #include <string.h>
 
 #include "codec.h"
-#include "job_kind.h"
+#include "kinds.h"
+#include "render_pattern.h"
 #include "render.h"
 #include "tile_parallel.h"
 #include "tile_render.h"
@@ -26,7 +27,7 @@ typedef struct compare_params {
     bool tiles;
 } compare_params;
 
-static void compare_free(void *params)
+void kind_compare_free(void *params)
 {
     compare_params *cp = params;
     if (!cp)
@@ -38,10 +39,10 @@ static void compare_free(void *params)
     free(cp);
 }
 
-static const char *const spec_keys[] = {"kind",     "label",     "priority", "scene", "size",
-                                        "patterns", "reference", "acuity",   "tiles", NULL};
+static const char *const spec_keys[] = {"scene",  "size",  "patterns", "reference",
+                                        "acuity", "tiles", NULL};
 
-static int compare_parse(const json_t *spec, void **params, aa_error *err)
+int kind_compare_decode(const json_t *spec, void **params, aa_error *err)
 {
     *params = NULL;
     int rc0 = proto_check_keys(spec, spec_keys, err, "");
@@ -78,9 +79,7 @@ static int compare_parse(const json_t *spec, void **params, aa_error *err)
             char field[32];
             snprintf(field, sizeof field, "patterns[%zu]", i);
             json_t *pj = json_array_get(list, i);
-            rc = tile_pattern_from_preset_name(pj, &cp->patterns[i], field, err);
-            if (rc == 1)
-                rc = proto_decode_pattern(pj, 0, &cp->patterns[i], field, err);
+            rc = render_pattern_decode(pj, &cp->patterns[i], field, err);
             if (rc)
                 break;
             cp->count = i + 1;
@@ -93,7 +92,7 @@ static int compare_parse(const json_t *spec, void **params, aa_error *err)
         }
     }
     if (rc) {
-        compare_free(cp);
+        kind_compare_free(cp);
         return rc;
     }
     *params = cp;
@@ -109,10 +108,10 @@ typedef struct reference_slot {
     json_t *tile;
 } reference_slot;
 
-static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+int kind_compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
     compare_params *cp = params;
-    tile_store *ts = job_ctx_services(ctx);
+    tile_store *ts = job_ctx_tiles(ctx);
     /* The tiles belong to the job's owner and are private when the job is. */
     const tile_access access = {job_ctx_owner(ctx), job_ctx_private(ctx)};
     aa_scene scene;
@@ -205,6 +204,3 @@ static int compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
     aa_image_free(&img);
     return rc;
 }
-
-const job_kind job_kind_compare = {
-    .name = "compare", .parse = compare_parse, .run = compare_run, .free_params = compare_free};

@@ -1,8 +1,6 @@
 /* Job kind "family-sweep" (Hasselgren et al. Fig. 3 workflow): enumerate the mirrored
  * P(4,1+,n) placement configurations of a cost, optimise each from K seeds, rank by E2 and keep
- * every configuration's best pattern. Spec: {"kind":"family-sweep", "family":"P(4,1+,1.25)" |
- * "cost":1.25, "seeds_per_config":K?, "max_seconds":S?, "rng_seed":K?, "mode":...?, "method":...?,
- * "distributions":[...]?, "filter":F?, "acuity":A?, "angles":[...]?, "grid":{...}?}.
+ * every configuration's best pattern. The spec is proto/job_family_sweep.h.
  * The time budget is split evenly over the configurations. */
 #include <math.h>
 #include <stdlib.h>
@@ -10,98 +8,51 @@
 
 #include "codec.h"
 #include "enumerate.h"
-#include "kind_optimize_spec.h"
+#include "job_family_sweep.h"
+#include "kinds.h"
+#include "optimizer_bridge.h"
 
-typedef struct sweep_params {
-    opt_common_spec common;
-    double cost;
-    size_t per_config;
-    aa_seed_kind kinds[5];
-    size_t kind_count;
-} sweep_params;
+JOB_KIND_SPEC_PARAMS(kind_family_sweep, proto_family_sweep_spec, proto_decode_family_sweep_spec,
+                     proto_family_sweep_spec_free)
 
-static void sweep_free(void *params)
+const char *kind_family_sweep_family(const void *params)
 {
-    sweep_params *sp = params;
-    if (!sp)
-        return;
-    opt_common_free(&sp->common);
-    free(sp);
+    const proto_family_sweep_spec *sp = params;
+    return sp->family[0] ? sp->family : NULL;
 }
 
-static const char *const sweep_keys[] = {
-    "kind",   "family",        "cost",   "seeds_per_config", "max_seconds", "rng_seed", "mode",
-    "method", "distributions", "filter", "acuity",           "angles",      "grid",     NULL};
-
-static int sweep_parse(const json_t *spec, void **params, aa_error *err)
+json_t *kind_family_sweep_best_of(const json_t *result, double *e2)
 {
-    *params = NULL;
-    int rc = opt_spec_check_keys(spec, sweep_keys, err);
-    if (rc)
-        return rc;
-    sweep_params *sp = calloc(1, sizeof *sp);
-    if (!sp)
-        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    rc = opt_common_parse(spec, 60, &sp->common, err);
-    const char *family = NULL;
-    double cost = NAN;
-    if (!rc)
-        rc = opt_spec_string(spec, "family", &family, err);
-    if (!rc)
-        rc = opt_spec_number(spec, "cost", 0.25, AA_ENUMERATE_MAX_COST, &cost, err);
-    if (!rc && (family != NULL) == !isnan(cost))
-        rc = aa_error_set(err, AA_EINVAL, "family", "give exactly one of family and cost");
-    if (!rc && family) {
-        aa_family fam;
-        rc = aa_family_parse(family, &fam, err);
-        if (!rc && !fam.mirrored)
-            rc = aa_error_set(err, AA_EINVAL, "family", "the sweep enumerates P(4,1+,n)");
-        cost = fam.cost;
+    proto_family_sweep_result r;
+    aa_error err = {0};
+    *e2 = NAN;
+    if (proto_decode_family_sweep_result(result, &r, &err))
+        return NULL;
+    json_t *best = NULL;
+    if (r.ranked_count && r.ranked[0].have_best) {
+        *e2 = r.ranked[0].e2;
+        best = proto_encode_pattern(&r.ranked[0].best);
     }
-    if (!rc) {
-        aa_mirrored_config *list;
-        size_t n;
-        rc = aa_enumerate_mirrored(cost, &list, &n, err); /* validates the cost ("cost") */
-        if (!rc)
-            free(list);
-    }
-    sp->cost = cost;
-    json_int_t k = 8;
-    if (!rc)
-        rc = opt_spec_integer(spec, "seeds_per_config", 1, 10000, &k, err);
-    sp->per_config = (size_t)k;
-    if (!rc)
-        rc = opt_parse_distributions(spec, sp->kinds, &sp->kind_count, err);
-    if (rc) {
-        sweep_free(sp);
-        return rc;
-    }
-    *params = sp;
-    return AA_OK;
+    proto_family_sweep_result_free(&r);
+    return best;
 }
-
-typedef struct sweep_row {
-    aa_mirrored_config config;
-    double e2;
-    json_t *pattern;
-} sweep_row;
 
 static int row_cmp(const void *a, const void *b)
 {
-    const sweep_row *x = a, *y = b;
+    const proto_sweep_row *x = a, *y = b;
     return (x->e2 > y->e2) - (x->e2 < y->e2);
 }
 
-static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+int kind_family_sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
-    sweep_params *sp = params;
-    aa_metric_params metric = opt_common_metric(&sp->common);
+    proto_family_sweep_spec *sp = params;
+    aa_metric_params metric = proto_optimizer_spec_metric(&sp->common);
     aa_mirrored_config *configs;
     size_t count;
     int rc = aa_enumerate_mirrored(sp->cost, &configs, &count, err);
     if (rc)
         return rc;
-    sweep_row *rows = calloc(count ? count : 1, sizeof *rows);
+    proto_sweep_row *rows = calloc(count ? count : 1, sizeof *rows);
     aa_pattern *seeds = calloc(sp->per_config, sizeof *seeds);
     if (!rows || !seeds) {
         free(rows);
@@ -127,7 +78,7 @@ static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
         aa_multistart_params_default(&mp);
         mp.local.mode = sp->common.mode;
         /* Mirrored configurations are never tiled without border samples. */
-        mp.local.method = opt_common_method(&sp->common, false, sp->common.mode);
+        mp.local.method = proto_optimizer_spec_method(&sp->common, false, sp->common.mode);
         mp.local.grid_bits = sp->common.grid_bits;
         mp.local.d3d12_range = sp->common.d3d12;
         mp.local.max_iterations = 20000;
@@ -147,12 +98,12 @@ static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
             rc = aa_multistart(&mp, &metric, opt_job_progress, &b, &best, &r, err);
         if (!rc) {
             rows[c].e2 = r.e2;
-            rows[c].pattern = proto_encode_pattern(&best);
+            rows[c].best = best; /* the row owns it now */
+            rows[c].have_best = true;
             b.iterations_before += r.iterations;
             b.evaluations_before += r.evaluations;
             b.seconds_before += r.seconds;
             done++;
-            aa_pattern_free(&best);
             aa_multistart_result_free(&r);
         }
         for (size_t i = 0; i < made; i++)
@@ -162,37 +113,20 @@ static int sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     }
     if (!rc) {
         qsort(rows, count, sizeof *rows, row_cmp);
-        json_t *list = json_array();
-        for (size_t c = 0; c < count && list; c++) {
-            const aa_mirrored_config *k = &rows[c].config;
-            json_array_append_new(
-                list,
-                json_pack("{s:I,s:{s:[IIII],s:[IIII],s:I},s:f,s:o,s:O}", "rank", (json_int_t)c + 1,
-                          "config", "corners", (json_int_t)k->corners[0], (json_int_t)k->corners[1],
-                          (json_int_t)k->corners[2], (json_int_t)k->corners[3], "edges",
-                          (json_int_t)k->edges[0], (json_int_t)k->edges[1], (json_int_t)k->edges[2],
-                          (json_int_t)k->edges[3], "interior", (json_int_t)k->interior, "cost",
-                          aa_mirrored_config_cost(k), "e2", proto_real(rows[c].e2), "best",
-                          rows[c].pattern ? rows[c].pattern : json_null()));
-        }
-        *result =
-            json_pack("{s:f,s:I,s:I,s:o}", "cost", sp->cost, "configurations", (json_int_t)count,
-                      "seeds_per_config", (json_int_t)sp->per_config, "ranked", list);
-        if (!*result)
-            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
-        /* The winner also as the job's "best" / "e2", like the optimize kind's result. */
-        if (!rc && count && rows[0].pattern) {
-            json_object_set(*result, "best", rows[0].pattern);
-            json_object_set_new(*result, "e2", proto_real(rows[0].e2));
+        for (size_t c = 0; c < count; c++) {
+            rows[c].rank = (long)c + 1;
+            rows[c].cost = aa_mirrored_config_cost(&rows[c].config);
         }
     }
-    for (size_t c = 0; c < count; c++)
-        json_decref(rows[c].pattern);
-    free(rows);
+    proto_family_sweep_result out = {.cost = sp->cost,
+                                     .configurations = (long)count,
+                                     .seeds_per_config = (long)sp->per_config,
+                                     .ranked = rows,
+                                     .ranked_count = count};
+    if (!rc && !(*result = proto_encode_family_sweep_result(&out)))
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    proto_family_sweep_result_free(&out); /* frees rows */
     free(seeds);
     free(configs);
     return rc;
 }
-
-const job_kind job_kind_family_sweep = {
-    .name = "family-sweep", .parse = sweep_parse, .run = sweep_run, .free_params = sweep_free};

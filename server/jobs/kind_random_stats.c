@@ -4,69 +4,38 @@
  * positions ("Opt W+P"), each with half of the remaining time budget. Opt W+P does not start
  * from Opt W: the weights-only optimum is a kink of the max where the descent finds no step in
  * the joint space either (measured, P(16,16,4) Poisson: W+P from Opt W 0.241 = Opt W, from the
- * random pattern 0.199). Spec: {"kind":"random-stats",
- * "family":"P(1,4,2)", "count":N?, "distribution":"uniform"?, "max_seconds":S?, "rng_seed":K?,
- * "filter":F?, "acuity":A?, "angles":[...]?}. */
+ * random pattern 0.199). The spec is proto/job_random_stats.h. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "codec.h"
-#include "kind_optimize_spec.h"
+#include "job_random_stats.h"
+#include "kinds.h"
+#include "optimizer_bridge.h"
 #include "random_patterns.h"
 
-typedef struct stats_params {
-    opt_common_spec common;
-    aa_family family;
-    size_t count;
-    aa_seed_kind kind;
-} stats_params;
+JOB_KIND_SPEC_PARAMS(kind_random_stats, proto_random_stats_spec, proto_decode_random_stats_spec,
+                     proto_random_stats_spec_free)
 
-static void stats_free(void *params)
+const char *kind_random_stats_family(const void *params)
 {
-    stats_params *sp = params;
-    if (!sp)
-        return;
-    opt_common_free(&sp->common);
-    free(sp);
+    const proto_random_stats_spec *sp = params;
+    return sp->family.label;
 }
 
-static const char *const stats_keys[] = {"kind",        "family",   "count",  "distribution",
-                                         "max_seconds", "rng_seed", "method", "filter",
-                                         "acuity",      "angles",   NULL};
-
-static int stats_parse(const json_t *spec, void **params, aa_error *err)
+json_t *kind_random_stats_best_of(const json_t *result, double *e2)
 {
-    *params = NULL;
-    int rc = opt_spec_check_keys(spec, stats_keys, err);
-    if (rc)
-        return rc;
-    stats_params *sp = calloc(1, sizeof *sp);
-    if (!sp)
-        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    rc = opt_common_parse(spec, 30, &sp->common, err);
-    const char *family = NULL, *dist = "uniform";
-    if (!rc)
-        rc = opt_spec_string(spec, "family", &family, err);
-    if (!rc && !family)
-        rc = aa_error_set(err, AA_EINVAL, "family", "family is required");
-    if (!rc)
-        rc = aa_family_parse(family, &sp->family, err);
-    json_int_t n = 1000;
-    if (!rc)
-        rc = opt_spec_integer(spec, "count", 1, 1000000, &n, err);
-    sp->count = (size_t)n;
-    if (!rc)
-        rc = opt_spec_string(spec, "distribution", &dist, err);
-    if (!rc && aa_seed_kind_parse(dist, &sp->kind))
-        rc = aa_error_set(err, AA_EINVAL, "distribution",
-                          "must be uniform, jittered, n-rooks, poisson or lloyd");
-    if (rc) {
-        stats_free(sp);
-        return rc;
-    }
-    *params = sp;
-    return AA_OK;
+    proto_random_stats_result r;
+    aa_error err = {0};
+    *e2 = NAN;
+    if (proto_decode_random_stats_result(result, &r, &err))
+        return NULL;
+    *e2 = r.opt_wp.e2;
+    json_t *best = proto_encode_pattern(&r.opt_wp.pattern);
+    proto_random_stats_result_free(&r);
+    return best;
 }
 
 static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric,
@@ -124,10 +93,10 @@ static int random_patterns_progress(void *user, size_t i)
     return job_ctx_progress(rp->ctx, 0.2 * (double)i / (double)rp->count, NULL);
 }
 
-static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+int kind_random_stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
-    stats_params *sp = params;
-    aa_metric_params metric = opt_common_metric(&sp->common);
+    proto_random_stats_spec *sp = params;
+    aa_metric_params metric = proto_optimizer_spec_metric(&sp->common);
     aa_rng rng;
     aa_rng_seed(&rng, sp->common.rng_seed, 0);
     opt_job_bridge b = {ctx, 0, 0.2, 0, 0, 0, INFINITY, -1};
@@ -145,8 +114,8 @@ static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     b.base = 0.2;
     b.span = 0.4;
     bool tiled = !rc && aa_pattern_tiled_without_border(&best);
-    aa_optimize_method mw = opt_common_method(&sp->common, tiled, AA_OPTIMIZE_WEIGHTS);
-    aa_optimize_method mwp = opt_common_method(&sp->common, tiled, AA_OPTIMIZE_BOTH);
+    aa_optimize_method mw = proto_optimizer_spec_method(&sp->common, tiled, AA_OPTIMIZE_WEIGHTS);
+    aa_optimize_method mwp = proto_optimizer_spec_method(&sp->common, tiled, AA_OPTIMIZE_BOTH);
     if (!rc)
         rc = optimize_stage(&best, &metric, AA_OPTIMIZE_WEIGHTS, mw, sp->common.max_seconds / 2,
                             sp->common.rng_seed, &b, &optw, &rw, err);
@@ -155,27 +124,21 @@ static int stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
         rc = optimize_stage(&best, &metric, AA_OPTIMIZE_BOTH, mwp, sp->common.max_seconds / 2,
                             sp->common.rng_seed, &b, &optwp, &rwp, err);
     if (!rc) {
-        *result = json_pack(
-            "{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:{s:o,s:o,s:s},s:{s:o,s:o,s:s}}", "family",
-            sp->family.label, "distribution", aa_seed_kind_name(sp->kind), "count",
-            (json_int_t)rs.count, "random", "min", proto_real(rs.min), "avg", proto_real(rs.avg),
-            "max", proto_real(rs.max), "best_random", proto_encode_pattern(&best), "opt_w", "e2",
-            proto_real(rw.e2), "pattern", proto_encode_pattern(&optw), "method",
-            aa_optimize_method_name(mw), "opt_wp", "e2", proto_real(rwp.e2), "pattern",
-            proto_encode_pattern(&optwp), "method", aa_optimize_method_name(mwp));
+        proto_random_stats_result out = {.distribution = sp->kind,
+                                         .count = (long)rs.count,
+                                         .min = rs.min,
+                                         .avg = rs.avg,
+                                         .max = rs.max,
+                                         .best_random = best,
+                                         .opt_w = {rw.e2, optw, mw},
+                                         .opt_wp = {rwp.e2, optwp, mwp}};
+        snprintf(out.family, sizeof out.family, "%s", sp->family.label);
+        *result = proto_encode_random_stats_result(&out);
         if (!*result)
             rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
-        /* Opt W+P as the job's "best" / "e2", like the optimize kind's result. */
-        if (!rc) {
-            json_object_set_new(*result, "best", proto_encode_pattern(&optwp));
-            json_object_set_new(*result, "e2", proto_real(rwp.e2));
-        }
     }
     aa_pattern_free(&best);
     aa_pattern_free(&optw);
     aa_pattern_free(&optwp);
     return rc;
 }
-
-const job_kind job_kind_random_stats = {
-    .name = "random-stats", .parse = stats_parse, .run = stats_run, .free_params = stats_free};

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "codec.h"
-#include "job_kind.h"
+#include "kinds.h"
 #include "raster.h"
 #include "render.h"
 #include "tile_parallel.h"
@@ -25,9 +25,8 @@ typedef struct convergence_params {
     int kernel_size; /* selects the output grid: 0.5 (odd) or 1 (even) */
 } convergence_params;
 
-static const char *const spec_keys[] = {"kind",        "label",     "priority", "scene",
-                                        "size",        "reference", "levels",   "baseline_spp",
-                                        "kernel_size", NULL};
+static const char *const spec_keys[] = {"scene",        "size",        "reference", "levels",
+                                        "baseline_spp", "kernel_size", NULL};
 
 static bool valid_spp(json_t *v, int *out)
 {
@@ -41,7 +40,7 @@ static bool valid_spp(json_t *v, int *out)
     return m * m == x;
 }
 
-static int convergence_parse(const json_t *spec, void **params, aa_error *err)
+int kind_reference_convergence_decode(const json_t *spec, void **params, aa_error *err)
 {
     *params = NULL;
     int rc0 = proto_check_keys(spec, spec_keys, err, "");
@@ -112,7 +111,7 @@ static int render_level(const aa_scene *scene, const convergence_params *cp, int
     return rc;
 }
 
-static int convergence_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+int kind_reference_convergence_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
     convergence_params *cp = params;
     aa_scene scene;
@@ -176,12 +175,7 @@ static int convergence_run(void *params, job_ctx *ctx, json_t **result, aa_error
     return rc;
 }
 
-static void convergence_free(void *params)
+void kind_reference_convergence_free(void *params)
 {
     free(params);
 }
-
-const job_kind job_kind_reference_convergence = {.name = "reference-convergence",
-                                                 .parse = convergence_parse,
-                                                 .run = convergence_run,
-                                                 .free_params = convergence_free};

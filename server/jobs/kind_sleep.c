@@ -11,7 +11,7 @@
 #include <time.h>
 
 #include "codec.h"
-#include "job_kind.h"
+#include "kinds.h"
 
 typedef struct sleep_params {
     double seconds;
@@ -19,17 +19,14 @@ typedef struct sleep_params {
     json_t *pattern; /* encoded, or NULL */
 } sleep_params;
 
-static int sleep_parse(const json_t *spec, void **params, aa_error *err)
+static const char *const spec_keys[] = {"seconds", "fail", "pattern", NULL};
+
+int kind_sleep_decode(const json_t *spec, void **params, aa_error *err)
 {
-    const char *key;
-    json_t *v;
-    json_object_foreach((json_t *)spec, key, v)
-    {
-        if (strcmp(key, "kind") && strcmp(key, "seconds") && strcmp(key, "fail") &&
-            strcmp(key, "pattern"))
-            return aa_error_set(err, AA_EINVAL, key, "unknown field");
-    }
-    v = json_object_get(spec, "seconds");
+    int rc0 = proto_check_keys(spec, spec_keys, err, "");
+    if (rc0)
+        return rc0;
+    json_t *v = json_object_get(spec, "seconds");
     if (!v)
         return aa_error_set(err, AA_EINVAL, "seconds", "seconds is required");
     if (!json_is_number(v))
@@ -64,7 +61,7 @@ static int sleep_parse(const json_t *spec, void **params, aa_error *err)
     return AA_OK;
 }
 
-static int sleep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+int kind_sleep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
     const sleep_params *p = params;
     /* The job's clock: time paused for another user's job does not count as sleeping. */
@@ -98,7 +95,7 @@ static int sleep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
     return AA_OK;
 }
 
-static void sleep_free(void *params)
+void kind_sleep_free(void *params)
 {
     sleep_params *p = params;
     if (p)
@@ -106,8 +103,15 @@ static void sleep_free(void *params)
     free(p);
 }
 
-const job_kind job_kind_sleep = {.name = "sleep",
-                                 .parse = sleep_parse,
-                                 .run = sleep_run,
-                                 .free_params = sleep_free,
-                                 .test_only = true};
+json_t *kind_sleep_best_of(const json_t *result, double *e2)
+{
+    *e2 = NAN;
+    aa_pattern p;
+    aa_error err = {0};
+    const json_t *pj = json_object_get(result, "pattern");
+    if (!pj || proto_decode_pattern(pj, 0, &p, "pattern", &err))
+        return NULL;
+    json_t *out = proto_encode_pattern(&p);
+    aa_pattern_free(&p);
+    return out;
+}

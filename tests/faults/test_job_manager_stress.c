@@ -98,7 +98,7 @@ static void test_concurrent_submit_cancel_get(void **state)
     char dir[] = "/tmp/aalab-jmstress-XXXXXX";
     assert_non_null(mkdtemp(dir));
     job_manager_config cfg = {
-        .workers = 3, .queue_size = 32, .user_quota = 24, .services = NULL, .test_kinds = true};
+        .workers = 3, .queue_size = 32, .user_quota = 24, .tiles = NULL, .test_kinds = true};
     aa_error err;
     memset(&err, 0, sizeof err);
     job_manager *jm = job_manager_create(dir, &cfg, &err);
@@ -158,7 +158,7 @@ static void test_shutdown_under_load(void **state)
     char dir[] = "/tmp/aalab-jmstress-XXXXXX";
     assert_non_null(mkdtemp(dir));
     job_manager_config cfg = {
-        .workers = 2, .queue_size = 64, .user_quota = 64, .services = NULL, .test_kinds = true};
+        .workers = 2, .queue_size = 64, .user_quota = 64, .tiles = NULL, .test_kinds = true};
     aa_error err;
     memset(&err, 0, sizeof err);
     job_manager *jm = job_manager_create(dir, &cfg, &err);

@@ -11,10 +11,22 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "job_kind.h"
+#include "kinds.h"
 #include "tile_store.h"
 
-extern const job_kind job_kind_compare, job_kind_animation, job_kind_reference_convergence;
+static const job_kind job_kind_compare = {.name = "compare",
+                                          .decode = kind_compare_decode,
+                                          .free_params = kind_compare_free,
+                                          .run = kind_compare_run};
+static const job_kind job_kind_animation = {.name = "animation",
+                                            .decode = kind_animation_decode,
+                                            .free_params = kind_animation_free,
+                                            .run = kind_animation_run};
+static const job_kind job_kind_reference_convergence = {.name = "reference-convergence",
+                                                        .decode = kind_reference_convergence_decode,
+                                                        .free_params =
+                                                            kind_reference_convergence_free,
+                                                        .run = kind_reference_convergence_run};
 
 /* Stub context: the worker pool is not part of this test. */
 struct job_ctx {
@@ -51,7 +63,7 @@ int job_ctx_workers(const job_ctx *ctx)
     return 2; /* exercises the banded reference */
 }
 
-void *job_ctx_services(job_ctx *ctx)
+tile_store *job_ctx_tiles(job_ctx *ctx)
 {
     return ctx->tiles;
 }
@@ -78,8 +90,9 @@ static json_t *parse(const char *text)
 static int run(const job_kind *k, const char *spec, job_ctx *ctx, json_t **result, aa_error *err)
 {
     json_t *s = parse(spec);
+    json_object_del(s, "kind"); /* the job manager's envelope */
     void *params = NULL;
-    int rc = k->parse(s, &params, err);
+    int rc = k->decode(s, &params, err);
     json_decref(s);
     if (rc)
         return rc;

@@ -1,0 +1,69 @@
+/* The spec fields the optimizer job kinds (optimize, family-sweep, random-stats) share, decoded
+ * in one place: filter, acuity, angles, max_seconds, rng_seed, mode, method, grid. Each kind's
+ * decoder (proto/job_<kind>.c) names its own keys; proto_optimizer_spec_decode checks the spec
+ * against the shared keys plus those (one unknown-key check) and decodes the shared ones. */
+#ifndef AALAB_PROTO_JOB_OPTIMIZER_SPEC_H
+#define AALAB_PROTO_JOB_OPTIMIZER_SPEC_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include <jansson.h>
+
+#include "acuity.h"
+#include "aa_error.h"
+#include "family.h"
+#include "filter.h"
+#include "metric.h"
+#include "optimizer.h"
+
+#define PROTO_MAX_DISTRIBUTIONS 5
+
+/* Which shared fields a kind accepts (random-stats has no mode and no grid). */
+enum {
+    PROTO_OPT_MODE = 1u << 0,
+    PROTO_OPT_GRID = 1u << 1,
+};
+
+typedef struct proto_optimizer_spec {
+    aa_filter filter;
+    aa_acuity acuity;
+    double *angles; /* NULL: the acuity's default set */
+    size_t angle_count;
+    double max_seconds;
+    uint64_t rng_seed; /* default 1 */
+    aa_optimize_mode mode;
+    bool method_auto; /* "method" absent or "auto": the engine's choice (aa_auto_method) */
+    aa_optimize_method method;
+    int grid_bits; /* 0: no grid */
+    bool d3d12;
+} proto_optimizer_spec;
+
+/* Checks spec's keys against the shared ones (those `fields` selects) plus kind_keys
+ * (NULL-terminated), then decodes the shared fields; max_seconds defaults to def_seconds. On
+ * error out holds nothing to free. */
+int proto_optimizer_spec_decode(const json_t *spec, const char *const *kind_keys, unsigned fields,
+                                double def_seconds, proto_optimizer_spec *out, aa_error *err);
+void proto_optimizer_spec_free(proto_optimizer_spec *s);
+aa_metric_params proto_optimizer_spec_metric(const proto_optimizer_spec *s);
+/* The step rule for a run of mode on patterns that are (or not) tiled without border samples:
+ * the spec's "method", or the engine's choice for "auto". */
+aa_optimize_method proto_optimizer_spec_method(const proto_optimizer_spec *s,
+                                               bool tiled_without_border, aa_optimize_mode mode);
+
+/* Optional fields of a spec object: absent leaves *out unchanged; a bad type or range is
+ * AA_EINVAL naming key. */
+int proto_spec_number(const json_t *spec, const char *key, double lo, double hi, double *out,
+                      aa_error *err);
+int proto_spec_integer(const json_t *spec, const char *key, json_int_t lo, json_int_t hi,
+                       json_int_t *out, aa_error *err);
+int proto_spec_string(const json_t *spec, const char *key, const char **out, aa_error *err);
+/* "family": required (or optional when !required: *out untouched if absent); an invalid family
+ * string is AA_EINVAL naming "family". */
+int proto_spec_family(const json_t *spec, bool required, bool *present, aa_family *out,
+                      aa_error *err);
+/* "distributions": [names] -> kinds (count 0 when absent). */
+int proto_spec_distributions(const json_t *spec, aa_seed_kind kinds[PROTO_MAX_DISTRIBUTIONS],
+                             size_t *count, aa_error *err);
+
+#endif

@@ -1,0 +1,43 @@
+/* Spec of the "random-stats" job kind (L&A Table 3): {"family":"P(1,4,2)", "count":N?,
+ * "distribution":"uniform"?, and the shared optimizer fields except mode and grid}. */
+#ifndef AALAB_PROTO_JOB_RANDOM_STATS_H
+#define AALAB_PROTO_JOB_RANDOM_STATS_H
+
+#include "job_optimizer_spec.h"
+#include "pattern.h"
+
+typedef struct proto_random_stats_spec {
+    proto_optimizer_spec common; /* max_seconds default 30: half for Opt W, half for Opt W+P */
+    aa_family family;
+    size_t count;      /* default 1000 */
+    aa_seed_kind kind; /* default uniform */
+} proto_random_stats_spec;
+
+int proto_decode_random_stats_spec(const json_t *spec, proto_random_stats_spec *out, aa_error *err);
+void proto_random_stats_spec_free(proto_random_stats_spec *s);
+
+/* Result of a "random-stats" job: the random patterns' E2 and the two optimised stages. */
+typedef struct proto_stats_stage {
+    double e2;
+    aa_pattern pattern;
+    aa_optimize_method method;
+} proto_stats_stage;
+
+typedef struct proto_random_stats_result {
+    char family[48];
+    aa_seed_kind distribution;
+    long count;
+    double min, avg, max; /* E2 of the random patterns */
+    aa_pattern best_random;
+    proto_stats_stage opt_w, opt_wp; /* weights only; weights and positions */
+} proto_random_stats_result;
+
+/* {"family","distribution","count","random":{"min","avg","max"},"best_random","opt_w":{"e2",
+ * "pattern","method"},"opt_wp":{...},"best","e2"}: Opt W+P is also the result's "best" and
+ * "e2". NULL when out of memory. */
+json_t *proto_encode_random_stats_result(const proto_random_stats_result *r);
+int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result *out,
+                                     aa_error *err);
+void proto_random_stats_result_free(proto_random_stats_result *r);
+
+#endif

@@ -1,0 +1,51 @@
+#include "job_result_util.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "codec.h"
+
+int proto_result_real(const json_t *obj, const char *key, double *out, aa_error *err)
+{
+    const json_t *v = json_object_get(obj, key);
+    if (json_is_null(v)) {
+        *out = NAN;
+        return AA_OK;
+    }
+    if (!json_is_number(v))
+        return aa_error_set(err, AA_EINVAL, key, "must be a number or null");
+    *out = json_number_value(v);
+    return AA_OK;
+}
+
+int proto_result_integer(const json_t *obj, const char *key, long long *out, aa_error *err)
+{
+    const json_t *v = json_object_get(obj, key);
+    if (!json_is_integer(v))
+        return aa_error_set(err, AA_EINVAL, key, "must be an integer");
+    *out = json_integer_value(v);
+    return AA_OK;
+}
+
+int proto_result_pattern(const json_t *obj, const char *key, bool optional, aa_pattern *out,
+                         bool *present, aa_error *err)
+{
+    const json_t *v = json_object_get(obj, key);
+    memset(out, 0, sizeof *out);
+    if (present)
+        *present = false;
+    if (!v || json_is_null(v))
+        return optional ? AA_OK : aa_error_set(err, AA_EINVAL, key, "a pattern is required");
+    int rc = proto_decode_pattern(v, 0, out, key, err);
+    if (!rc && present)
+        *present = true;
+    return rc;
+}
+
+int proto_result_method(const json_t *obj, const char *key, aa_optimize_method *out, aa_error *err)
+{
+    const char *name = json_string_value(json_object_get(obj, key));
+    if (!name || aa_optimize_method_parse(name, out))
+        return aa_error_set(err, AA_EINVAL, key, "must be laine-aila, minimax or smooth");
+    return AA_OK;
+}
