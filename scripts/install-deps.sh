@@ -1,6 +1,7 @@
 #!/bin/sh
 # Installs every Debian 12 package aalab needs to build, run and test (passwd and procps: the
-# multi-user tests create users with useradd and end their processes with pkill), then the dashboard test
+# multi-user tests create users with useradd and end their processes with pkill;
+# python3-jsonschema: the e2e tests validate every answer against proto/schemas), then the dashboard test
 # dependencies (npm ci in tests/web). Idempotent and quiet: when everything is present it only
 # checks and returns. Needs root (or sudo) only when something is missing.
 set -eu
@@ -10,7 +11,7 @@ cd "$(dirname "$0")/.."
 PACKAGES="build-essential cmake pkg-config git ca-certificates
   libmicrohttpd-dev libjansson-dev libsqlite3-dev libpng-dev libcurl4-openssl-dev libsystemd-dev libssl-dev
   liblbfgs-dev libcmocka-dev clang libclang-rt-14-dev clang-format
-  curl jq python3 sqlite3 wrk chromium systemd
+  curl jq python3 python3-jsonschema sqlite3 wrk chromium systemd
   passwd procps"
 
 missing=""

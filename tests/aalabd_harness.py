@@ -12,6 +12,10 @@ import subprocess
 import tempfile
 import time
 
+# Called as RESPONSE_HOOK(method, path, status, headers, body) with every answer of
+# Daemon.request; the e2e tests set it to validate answers against their JSON Schemas.
+RESPONSE_HOOK = None
+
 SANITIZER_MARKERS = ("ERROR: AddressSanitizer", "ERROR: LeakSanitizer", "runtime error:",
                      "WARNING: ThreadSanitizer", "SUMMARY: UndefinedBehaviorSanitizer")
 
@@ -226,7 +230,10 @@ class Daemon:
                 payload += b"".join(parts) + b"0\r\n\r\n"
             else:
                 payload += body
-        return self.send_raw(payload, via=via, timeout=timeout)
+        resp = self.send_raw(payload, via=via, timeout=timeout)
+        if RESPONSE_HOOK:
+            RESPONSE_HOOK(method, path, resp.status, resp.headers, resp.body)
+        return resp
 
     def send_raw(self, payload, via="unix", timeout=10.0):
         s = self.open_conn(via, timeout)

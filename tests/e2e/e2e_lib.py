@@ -1,5 +1,6 @@
 """Helpers for the end-to-end tests: start aalabd on a temporary socket and state directory and
-talk to it with curl (over the Unix socket, or TCP loopback)."""
+talk to it with curl (over the Unix socket, or TCP loopback). Every answer is checked against its
+JSON Schema (response_check.py)."""
 
 import json
 import os
@@ -9,6 +10,8 @@ import socket
 import subprocess
 import tempfile
 import time
+
+import response_check
 
 
 SANITIZER_MARKERS = ("ERROR: AddressSanitizer", "ERROR: LeakSanitizer", "runtime error:",
@@ -48,6 +51,7 @@ class Daemon:
         self.proc = None
         self.log_path = os.path.join(self.root, "aalabd.log")
         self.token = None
+        self.check_responses = True
 
     def start(self):
         args = [self.binary, "--socket", self.sock, "--state-dir", self.state,
@@ -132,6 +136,8 @@ class Daemon:
             for line in lines[1:]:
                 k, _, v = line.partition(b":")
                 headers[k.strip().lower().decode()] = v.strip().decode()
+        if self.check_responses:
+            response_check.check(method, path, status, headers, out)
         return Reply(status, headers, out.decode("utf-8", "replace"))
 
     def get(self, path, **kw):

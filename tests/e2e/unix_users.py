@@ -26,7 +26,12 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
+import aalabd_harness  # noqa: E402
+import response_check  # noqa: E402
 from aalabd_harness import Daemon, parse_response  # noqa: E402
+
+# Every answer the multi-user tests get is checked against its schema, also through the harness.
+aalabd_harness.RESPONSE_HOOK = response_check.check
 
 SKIP = 77
 # Children run as other users, who cannot read a Python installed under /root (pyenv): the
@@ -111,7 +116,9 @@ class User:
         raw = base64.b64decode(p.stdout.strip() or "")
         if not raw:
             raise OSError("request as %s: connection closed without an answer" % self.name)
-        return parse_response(raw)
+        resp = parse_response(raw)
+        response_check.check(method, path, resp.status, resp.headers, resp.body)
+        return resp
 
     def new_token(self, daemon, label="test"):
         """A bearer token issued to this user over the Unix socket (POST /v1/tokens)."""
