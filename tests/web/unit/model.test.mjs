@@ -73,6 +73,8 @@ test('job list: summaries carry kind, state, family and best E2; no detail neede
   }
   const opt = jobs.find((j) => j.kind === 'optimize');
   assert.equal(opt.bestE2, load('job-optimize').result.e2);
+  assert.equal(opt.label, load('job-optimize').label);
+  assert.ok(opt.label.length > 0, 'the fixture optimize job carries a label');
 });
 
 test('optimize job: best pattern and E2 from the result; the trace curve runs to the end', () => {
