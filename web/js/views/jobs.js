@@ -35,6 +35,7 @@ export async function init(context) {
     const spec = { kind: 'optimize', seeds: +$('job-seeds').value, max_seconds: +$('job-seconds').value, rng_seed: +$('job-rng').value };
     if ($('job-mode').value) spec.mode = $('job-mode').value;
     if ($('job-method').value) spec.method = $('job-method').value;
+    if ($('job-label').value.trim()) spec.label = $('job-label').value.trim();
     if ($('job-start').value === 'pattern') {
       const p = currentEvaluatePattern();
       if (!p) {
