@@ -94,6 +94,16 @@ test('optimize job: best pattern and E2 from the result; the trace curve runs to
   assert.equal(c.ys[c.ys.length - 1], raw.trace[raw.trace.length - 1].best_e2);
 });
 
+test('a running job: the trace curve runs to now; a job not started has no end', () => {
+  const raw = { ...load('job-optimize'), state: 'running', finished: null };
+  const now = raw.started + 5;
+  const c = traceCurve(normJob(raw), now);
+  assert.equal(c.endSeconds, 5);
+  assert.equal(c.xs[c.xs.length - 1], 5);
+  const queued = traceCurve(normJob({ ...raw, state: 'queued', started: null, trace: [] }), now);
+  assert.deepEqual([queued.xs, queued.endSeconds], [[], null]);
+});
+
 test('sleep job with a pattern: best {elapsed, pattern}, trace from 1 down', () => {
   const raw = load('job-sleep');
   const j = normJob(raw);
