@@ -1,5 +1,6 @@
 // Tiles: render a scene with a pattern beside the reference and their difference, with zoom,
-// RMSE / max deviation / penalised histogram; and the comparison job as error against time.
+// RMSE / max deviation / penalised histogram; and the comparison job as RMSE and E2 against
+// samples per pixel.
 
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
 import { apiPost, apiImageUrl } from '../api.js';
