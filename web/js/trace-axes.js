@@ -30,10 +30,17 @@ export function tickLabels(ticks) {
   return ticks.map((t) => String(t));
 }
 
+const MAX_TICKS = 9;
+
 function ticksIn(range, log) {
   // Inside a decade, 1-2-5 steps give one or two ticks: linear steps, as many as on a linear axis.
-  const t = log && range[1] / range[0] >= 10 ? logTicks(range[0], range[1]) : niceTicks(range[0], range[1], 6);
-  return t.filter((v) => v >= range[0] && v <= range[1]);
+  let t = log && range[1] / range[0] >= 10 ? logTicks(range[0], range[1]) : niceTicks(range[0], range[1], 6);
+  t = t.filter((v) => v >= range[0] && v <= range[1]);
+  if (t.length <= MAX_TICKS || !log) return t;
+  // Many decades (a trace from microseconds to seconds): powers of ten only, then every k-th.
+  const decades = t.filter((v) => Math.abs(Math.log10(v) - Math.round(Math.log10(v))) < 1e-9);
+  const k = Math.ceil(decades.length / MAX_TICKS);
+  return decades.filter((_, i) => i % k === (decades.length - 1) % k);
 }
 
 /* xs (seconds) and ys (best E2) of equal length; mode "log" or "linear". On log axes the points

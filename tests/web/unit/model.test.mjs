@@ -219,6 +219,15 @@ test('trace axes: log axes leave out t = 0 and never get an empty or non-positiv
   assert.ok(lin.x.range[1] > lin.x.range[0] && lin.y.range[1] > lin.y.range[0]);
 });
 
+test('trace axes: a trace over many decades of time keeps its labels apart', () => {
+  const raw = load('job-sleep'); // first point after about 1e-7 s, last after 0.3 s
+  const c = traceCurve(normJob(raw));
+  const a = traceAxes(c.xs, c.ys, 'log');
+  assert.ok(a.x.range[1] / a.x.range[0] > 1e5, `x range ${a.x.range}`);
+  assert.ok(a.x.ticks.length >= 3 && a.x.ticks.length <= 9, String(a.x.ticks));
+  for (let i = 1; i < a.x.ticks.length; i++) assert.ok(a.x.ticks[i] / a.x.ticks[i - 1] >= 10 - 1e-9, String(a.x.ticks));
+});
+
 test('family series label', () => {
   assert.equal(familySeries('P(4,1+,1.25)'), 'P(4,1+,n)');
   assert.equal(familySeries('P(1, 1, 4)'), 'P(1,1,n)');
