@@ -52,6 +52,10 @@ void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub
  * ("prefix.key", "unknown field"). */
 int proto_check_keys(const json_t *obj, const char *const *allowed, aa_error *err,
                      const char *prefix);
+/* The same with the allowed keys in several NULL-terminated lists (lists ends with NULL), e.g.
+ * the keys a family of job kinds shares and the kind's own. */
+int proto_check_keys_in(const json_t *obj, const char *const *const *lists, aa_error *err,
+                        const char *prefix);
 /* A JSON number for a double; null for non-finite values (JSON has no NaN). */
 json_t *proto_real(double v);
 

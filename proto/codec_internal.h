@@ -5,6 +5,7 @@
 #include "codec.h"
 
 #define PROTO_FIELD_MAX 96
+#define PROTO_MAX_KEYS 64 /* keys of one object, over all the lists of proto_check_keys_in */
 
 /* Sets err with field prefix+sub and a fixed message; returns code. */
 int proto_fail(aa_error *err, int code, const char *prefix, const char *sub, const char *msg);

@@ -53,6 +53,18 @@ int proto_number(const json_t *j, double *out, aa_error *err, const char *prefix
     return AA_OK;
 }
 
+int proto_check_keys_in(const json_t *obj, const char *const *const *lists, aa_error *err,
+                        const char *prefix)
+{
+    const char *all[PROTO_MAX_KEYS + 1];
+    size_t n = 0;
+    for (size_t l = 0; lists[l]; l++)
+        for (size_t i = 0; lists[l][i] && n < PROTO_MAX_KEYS; i++)
+            all[n++] = lists[l][i];
+    all[n] = NULL;
+    return proto_check_keys(obj, all, err, prefix);
+}
+
 int proto_check_keys(const json_t *obj, const char *const *allowed, aa_error *err,
                      const char *prefix)
 {

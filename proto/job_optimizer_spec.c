@@ -8,8 +8,6 @@
 
 #include "codec.h"
 
-#define MAX_KEYS 32
-
 static const char *const shared_keys[] = {"filter",   "acuity", "angles", "max_seconds",
                                           "rng_seed", "method", NULL};
 
@@ -147,18 +145,11 @@ static int decode_grid(const json_t *grid, proto_optimizer_spec *s, aa_error *er
 static int check_keys(const json_t *spec, const char *const *kind_keys, unsigned fields,
                       aa_error *err)
 {
-    const char *keys[MAX_KEYS];
-    size_t n = 0;
-    for (size_t i = 0; shared_keys[i]; i++)
-        keys[n++] = shared_keys[i];
-    if (fields & PROTO_OPT_MODE)
-        keys[n++] = "mode";
-    if (fields & PROTO_OPT_GRID)
-        keys[n++] = "grid";
-    for (size_t i = 0; kind_keys[i] && n < MAX_KEYS - 1; i++)
-        keys[n++] = kind_keys[i];
-    keys[n] = NULL;
-    return proto_check_keys(spec, keys, err, "");
+    static const char *const mode[] = {"mode", NULL}, *const grid[] = {"grid", NULL};
+    static const char *const none[] = {NULL};
+    const char *const *const lists[] = {shared_keys, fields & PROTO_OPT_MODE ? mode : none,
+                                        fields & PROTO_OPT_GRID ? grid : none, kind_keys, NULL};
+    return proto_check_keys_in(spec, lists, err, "");
 }
 
 int proto_optimizer_spec_decode(const json_t *spec, const char *const *kind_keys, unsigned fields,

@@ -11,92 +11,63 @@
 #include "codec.h"
 #include "kinds.h"
 #include "render_pattern.h"
+#include "render_spec.h"
 #include "render.h"
 #include "tile_render.h"
 #include "tile_store.h"
 
-typedef struct animation_params {
-    aa_scene_params scene;
-    tile_reference_spec ref;
-    aa_acuity acuity;
+typedef struct animation_spec {
+    render_spec common;
     aa_pattern pattern;
-    bool tiles;
-} animation_params;
+} animation_spec;
 
-void kind_animation_free(void *params)
+static void animation_spec_free(animation_spec *ap)
 {
-    animation_params *ap = params;
-    if (!ap)
-        return;
     aa_pattern_free(&ap->pattern);
-    free(ap);
 }
 
-static const char *const spec_keys[] = {"scene",  "size",  "pattern", "reference",
-                                        "acuity", "tiles", NULL};
+static const char *const kind_keys[] = {"pattern", NULL};
 
-int kind_animation_decode(const json_t *spec, void **params, aa_error *err)
+static int animation_spec_decode(const json_t *spec, animation_spec *ap, aa_error *err)
 {
-    *params = NULL;
-    int rc0 = proto_check_keys(spec, spec_keys, err, "");
-    if (rc0)
-        return rc0;
-    animation_params *ap = calloc(1, sizeof *ap);
-    if (!ap)
-        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    ap->tiles = true;
+    /* Without a scene the render default (a still one) would be taken: ask for a moving one. */
     json_t *scene = json_object_get(spec, "scene");
-    int rc = AA_OK;
     if (!json_is_string(scene) && !(json_is_object(scene) && json_object_get(scene, "name")))
-        rc = aa_error_set(err, AA_EINVAL, "scene.name",
-                          "an animation scene is required (rotating-triangle, "
-                          "translating-circle)");
-    if (!rc)
-        rc = tile_decode_scene_request(spec, &ap->scene, err);
-    if (!rc && !aa_scene_kind_is_animation(ap->scene.kind))
+        return aa_error_set(err, AA_EINVAL, "scene.name",
+                            "an animation scene is required (rotating-triangle, "
+                            "translating-circle)");
+    int rc = render_spec_decode(spec, kind_keys, RENDER_SPEC_ACUITY | RENDER_SPEC_TILES,
+                                &ap->common, err);
+    if (!rc && !aa_scene_kind_is_animation(ap->common.scene.kind))
         rc = aa_error_set(err, AA_EINVAL, "scene.name",
                           "not an animation (rotating-triangle, translating-circle)");
-    if (!rc)
-        rc = tile_decode_reference(json_object_get(spec, "reference"), &ap->ref, "reference", err);
-    if (!rc)
-        rc = proto_decode_acuity(json_object_get(spec, "acuity"), &ap->acuity, "acuity", err);
     json_t *pj = json_object_get(spec, "pattern");
     if (!rc && !pj)
         rc = aa_error_set(err, AA_EINVAL, "pattern", "a pattern is required");
     if (!rc)
         rc = render_pattern_decode(pj, &ap->pattern, "pattern", err);
-    json_t *tiles = json_object_get(spec, "tiles");
-    if (!rc && tiles) {
-        if (!json_is_boolean(tiles))
-            rc = aa_error_set(err, AA_EINVAL, "tiles", "must be true or false");
-        else
-            ap->tiles = json_is_true(tiles);
-    }
-    if (rc) {
-        kind_animation_free(ap);
-        return rc;
-    }
-    *params = ap;
-    return AA_OK;
+    return rc;
 }
+
+JOB_KIND_SPEC_PARAMS(kind_animation, animation_spec, animation_spec_decode, animation_spec_free)
 
 int kind_animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
-    animation_params *ap = params;
+    animation_spec *ap = params;
     tile_store *ts = job_ctx_tiles(ctx);
     /* The tiles belong to the job's owner and are private when the job is. */
     const tile_access access = {job_ctx_owner(ctx), job_ctx_private(ctx)};
-    aa_render_params rp = aa_render_params_default(ap->scene.kind);
-    rp.scene = ap->scene;
+    aa_render_params rp = aa_render_params_default(ap->common.scene.kind);
+    rp.scene = ap->common.scene;
     rp.scene.frame = 0;
-    rp.reference = ap->ref.params;
-    rp.acuity = &ap->acuity;
+    rp.reference = ap->common.ref.params;
+    rp.acuity = &ap->common.acuity;
     int F = rp.scene.frames;
     job_progress_span probe = {ctx, 0, 1.0 / F};
     rp.reference.progress = job_progress_span_report;
     rp.reference.user = &probe;
     double e2 = 0;
-    int rc = aa_pattern_e2(&ap->pattern, rp.reference.filter, &ap->acuity, &e2, err);
+    int rc = aa_pattern_e2(&ap->pattern, rp.reference.filter, &ap->common.acuity, &e2, err);
     aa_animation an;
     memset(&an, 0, sizeof an);
     if (!rc)
@@ -123,7 +94,7 @@ int kind_animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *er
                       (json_int_t)fs.raster.pixels_sampled, "reference_supersampled",
                       (json_int_t)fs.ref.pixels_supersampled, "pattern_seconds", fs.pattern_seconds,
                       "reference_seconds", fs.reference_seconds);
-        if (fj && ts && ap->tiles) {
+        if (fj && ts && ap->common.tiles) {
             json_t *t = tile_put_render_images_as(ts, &access, &an.pattern_img, &an.reference_img,
                                                   NULL, err);
             if (t)

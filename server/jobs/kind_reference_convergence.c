@@ -9,6 +9,7 @@
 
 #include "codec.h"
 #include "kinds.h"
+#include "render_spec.h"
 #include "raster.h"
 #include "render.h"
 #include "tile_parallel.h"
@@ -16,17 +17,15 @@
 
 #define CONVERGENCE_MAX_LEVELS 8
 
-typedef struct convergence_params {
-    aa_scene_params scene;
-    tile_reference_spec ref;
+typedef struct convergence_spec {
+    render_spec common;
     int levels[CONVERGENCE_MAX_LEVELS];
     size_t level_count;
     int baseline_spp;
     int kernel_size; /* selects the output grid: 0.5 (odd) or 1 (even) */
-} convergence_params;
+} convergence_spec;
 
-static const char *const spec_keys[] = {"scene",        "size",        "reference", "levels",
-                                        "baseline_spp", "kernel_size", NULL};
+static const char *const kind_keys[] = {"levels", "baseline_spp", "kernel_size", NULL};
 
 static bool valid_spp(json_t *v, int *out)
 {
@@ -40,23 +39,14 @@ static bool valid_spp(json_t *v, int *out)
     return m * m == x;
 }
 
-int kind_reference_convergence_decode(const json_t *spec, void **params, aa_error *err)
+static int convergence_spec_decode(const json_t *spec, convergence_spec *cp, aa_error *err)
 {
-    *params = NULL;
-    int rc0 = proto_check_keys(spec, spec_keys, err, "");
-    if (rc0)
-        return rc0;
-    convergence_params *cp = calloc(1, sizeof *cp);
-    if (!cp)
-        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     static const int default_levels[] = {16, 64, 256, 1024};
     memcpy(cp->levels, default_levels, sizeof default_levels);
     cp->level_count = 4;
     cp->baseline_spp = 4096;
     cp->kernel_size = 1;
-    int rc = tile_decode_scene_request(spec, &cp->scene, err);
-    if (!rc)
-        rc = tile_decode_reference(json_object_get(spec, "reference"), &cp->ref, "reference", err);
+    int rc = render_spec_decode(spec, kind_keys, 0, &cp->common, err);
     json_t *levels = json_object_get(spec, "levels");
     if (!rc && levels) {
         if (!json_is_array(levels) || json_array_size(levels) == 0 ||
@@ -87,19 +77,22 @@ int kind_reference_convergence_decode(const json_t *spec, void **params, aa_erro
         else
             cp->kernel_size = (int)json_integer_value(ks);
     }
-    if (rc) {
-        free(cp);
-        return rc;
-    }
-    *params = cp;
-    return AA_OK;
+    return rc;
 }
 
-static int render_level(const aa_scene *scene, const convergence_params *cp, int spp, uint64_t seed,
+static void convergence_spec_free(convergence_spec *cp)
+{
+    (void)cp; /* nothing of its own to free */
+}
+
+JOB_KIND_SPEC_PARAMS(kind_reference_convergence, convergence_spec, convergence_spec_decode,
+                     convergence_spec_free)
+
+static int render_level(const aa_scene *scene, const convergence_spec *cp, int spp, uint64_t seed,
                         job_progress_span *probe, aa_image *img, aa_reference_stats *st,
                         double *seconds, aa_error *err)
 {
-    aa_reference_params rp = cp->ref.params;
+    aa_reference_params rp = cp->common.ref.params;
     rp.spp = spp;
     rp.seed = seed;
     rp.progress = job_progress_span_report;
@@ -113,16 +106,16 @@ static int render_level(const aa_scene *scene, const convergence_params *cp, int
 
 int kind_reference_convergence_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
 {
-    convergence_params *cp = params;
+    convergence_spec *cp = params;
     aa_scene scene;
     aa_image base, img;
     memset(&base, 0, sizeof base);
     memset(&img, 0, sizeof img);
-    int rc = aa_scene_init(&scene, &cp->scene, err);
+    int rc = aa_scene_init(&scene, &cp->common.scene, err);
     if (!rc)
-        rc = aa_image_init(&base, cp->scene.width, cp->scene.height, err);
+        rc = aa_image_init(&base, cp->common.scene.width, cp->common.scene.height, err);
     if (!rc)
-        rc = aa_image_init(&img, cp->scene.width, cp->scene.height, err);
+        rc = aa_image_init(&img, cp->common.scene.width, cp->common.scene.height, err);
     /* Progress in proportion to the samples each render takes. */
     double total = cp->baseline_spp, done = 0;
     for (size_t i = 0; i < cp->level_count; i++)
@@ -131,8 +124,8 @@ int kind_reference_convergence_run(void *params, job_ctx *ctx, json_t **result, 
     double seconds = 0;
     job_progress_span probe = {ctx, 0, cp->baseline_spp / total};
     if (!rc)
-        rc = render_level(&scene, cp, cp->baseline_spp, cp->ref.params.seed + 1, &probe, &base, &st,
-                          &seconds, err);
+        rc = render_level(&scene, cp, cp->baseline_spp, cp->common.ref.params.seed + 1, &probe,
+                          &base, &st, &seconds, err);
     json_t *rows = json_array();
     json_t *baseline =
         rc ? NULL
@@ -143,7 +136,7 @@ int kind_reference_convergence_run(void *params, job_ctx *ctx, json_t **result, 
     for (size_t i = 0; i < cp->level_count && !rc; i++) {
         probe.base = done / total;
         probe.span = cp->levels[i] / total;
-        rc = render_level(&scene, cp, cp->levels[i], cp->ref.params.seed, &probe, &img, &st,
+        rc = render_level(&scene, cp, cp->levels[i], cp->common.ref.params.seed, &probe, &img, &st,
                           &seconds, err);
         if (rc)
             break;
@@ -161,7 +154,7 @@ int kind_reference_convergence_run(void *params, job_ctx *ctx, json_t **result, 
     if (rc == AA_ECANCELED)
         aa_error_set(err, AA_ECANCELED, "", "cancelled");
     if (!rc) {
-        *result = json_pack("{s:o, s:f, s:o, s:o}", "scene", tile_encode_scene(&cp->scene),
+        *result = json_pack("{s:o, s:f, s:o, s:o}", "scene", tile_encode_scene(&cp->common.scene),
                             "output_offset", aa_output_offset(cp->kernel_size), "baseline",
                             baseline, "rows", rows);
         baseline = rows = NULL;
@@ -173,9 +166,4 @@ int kind_reference_convergence_run(void *params, job_ctx *ctx, json_t **result, 
     aa_image_free(&base);
     aa_image_free(&img);
     return rc;
-}
-
-void kind_reference_convergence_free(void *params)
-{
-    free(params);
 }

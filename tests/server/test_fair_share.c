@@ -109,7 +109,7 @@ static void test_envelope(void **state)
     json_error_t je;
     json_t *spec =
         json_loads("{\"kind\":\"sleep\",\"seconds\":1,\"priority\":3,\"visibility\":\"private\","
-                   "\"pinned\":true}",
+                   "\"pinned\":true,\"label\":\"nap\"}",
                    0, &je);
     job_envelope env;
     json_t *kind_spec = NULL;
@@ -118,14 +118,16 @@ static void test_envelope(void **state)
     assert_int_equal(env.priority, 3);
     assert_true(env.private_job && env.pinned);
     assert_string_equal(job_envelope_visibility(&env), "private");
-    assert_int_equal(json_object_size(kind_spec), 2); /* kind, seconds */
-    assert_int_equal(json_object_size(spec), 5);      /* the caller's spec is untouched */
+    assert_string_equal(env.label, "nap");
+    assert_int_equal(json_object_size(kind_spec), 1); /* seconds: the kind sees no envelope */
+    assert_int_equal(json_object_size(spec), 6);      /* the caller's spec is untouched */
     json_decref(kind_spec);
     static const char *const bad[][2] = {{"{\"priority\":11}", "priority"},
                                          {"{\"priority\":1.5}", "priority"},
                                          {"{\"visibility\":\"public\"}", "visibility"},
                                          {"{\"visibility\":1}", "visibility"},
-                                         {"{\"pinned\":\"yes\"}", "pinned"}};
+                                         {"{\"pinned\":\"yes\"}", "pinned"},
+                                         {"{\"label\":false}", "label"}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         json_t *b = json_loads(bad[i][0], 0, &je);
         memset(&err, 0, sizeof err);
