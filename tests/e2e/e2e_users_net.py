@@ -25,6 +25,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from e2e_lib import check  # noqa: E402
 from unix_users import LabUsers, percentile  # noqa: E402
+import response_check  # noqa: E402
 from aalabd_harness import parse_response  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -216,6 +217,7 @@ def test_render_flood(users, d):
     check(counts.get("429", 0) >= 1, "(c) alice's extra renders got 429: %r" % counts)
     first = next(r["first429"] for r in results if r["first429"])
     resp = parse_response(first.encode("latin-1"))
+    response_check.check("POST", "/v1/render", resp.status, resp.headers, resp.body)
     check(resp.status == 429 and int(resp.headers.get("retry-after", "0")) >= 1,
           "(c) 429 with Retry-After: %r" % first[:300])
     err = resp.json()["error"]
@@ -233,6 +235,8 @@ def test_unix_half_open(users, d):
         check(r["held"] <= 32, "(b) alice holds at most --user-connections (32): %r" % r)
         if r["first"]:
             resp = parse_response(r["first"].encode("latin-1"))
+            # Refused at accept, before any request line: the error schema, whatever the route.
+            response_check.check("GET", "/v1/health", resp.status, resp.headers, resp.body)
             check(resp.status == 429 and resp.json()["error"]["code"] == "too_many_requests"
                   and "--user-connections" in resp.json()["error"]["message"],
                   "(b) refusal is a JSON 429: %r" % r["first"][:300])
