@@ -216,12 +216,16 @@ int main(int argc, char **argv)
         nl++;
         have_tcp = true;
     }
+    /* No URL here: the page needs a token, and 'aalab token' prints the URL that carries one. */
     if (have_tcp && cfg.tcp_port)
-        printf("dashboard: http://%s:%d/ (web dir %s)\n",
+        printf("dashboard: served on %s:%d (web dir %s); its URL with a token: aalab token\n",
                strchr(cfg.tcp_host, ':') ? "[::1]" : cfg.tcp_host, cfg.tcp_port, cfg.web_dir);
+    else if (have_tcp)
+        printf("dashboard: served on the activated TCP listener (web dir %s); its URL with a "
+               "token: aalab token\n",
+               cfg.web_dir);
     else
-        printf("dashboard: start with --tcp 127.0.0.1:8765 to serve it on "
-               "http://127.0.0.1:8765/\n");
+        printf("dashboard: off (start with --tcp 127.0.0.1:8765 to serve it)\n");
     printf("state: %s (%d workers)\n", cfg.state_dir, cfg.workers);
     if (have_tcp)
         printf("TCP requests need a bearer token: issue one on the socket with 'aalab token'\n");

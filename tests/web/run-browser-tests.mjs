@@ -16,10 +16,10 @@ import { Report } from './lib/check.mjs';
 import { CHROMIUM } from './lib/browser.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
-const SUITES = ['evaluate', 'families', 'jobs', 'optimize', 'tiles'];
+const SUITES = ['evaluate', 'families', 'jobs', 'optimize', 'tiles', 'kinds'];
 
 function parseArgs(argv) {
-  const o = { suites: SUITES, daemonArgs: [], widths: [1366, 1920] };
+  const o = { suites: SUITES, daemonArgs: [], widths: [1366, 1920], schemas: path.resolve(HERE, '../../proto/schemas') };
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i];
     const next = () => argv[++i];
@@ -28,6 +28,7 @@ function parseArgs(argv) {
     else if (a === '--artifacts') o.artifacts = next();
     else if (a === '--suite') o.suites = next().split(',');
     else if (a === '--daemon-arg') o.daemonArgs.push(next());
+    else if (a === '--schemas') o.schemas = next();
     else throw new Error(`unknown argument ${a}`);
   }
   return o;
@@ -54,8 +55,9 @@ async function main() {
   } catch {
     problems.push(`Chromium not found at ${CHROMIUM}: install it with "apt-get install chromium" (Debian package; no browser is ever downloaded)`);
   }
-  if (!fs.existsSync(path.join(HERE, 'node_modules', 'playwright-core', 'package.json')))
-    problems.push(`playwright-core missing: run "npm ci" in ${HERE}`);
+  for (const dep of ['playwright-core', 'ajv'])
+    if (!fs.existsSync(path.join(HERE, 'node_modules', dep, 'package.json'))) problems.push(`${dep} missing: run "npm ci" in ${HERE}`);
+  if (!fs.existsSync(opts.schemas)) problems.push(`no JSON Schemas in --schemas ${opts.schemas}`);
   for (const s of opts.suites) if (!SUITES.includes(s)) problems.push(`unknown suite ${s} (have ${SUITES.join(', ')})`);
   if (problems.length) die(problems);
   if (!opts.artifacts) opts.artifacts = path.join(process.cwd(), 'artifacts', 'web');
@@ -63,12 +65,14 @@ async function main() {
 
   const { launchBrowser, watchConsole } = await import('./lib/browser.mjs');
   const { startDaemon, apiClient } = await import('./lib/daemon.mjs');
+  const { ResponseValidator } = await import('./lib/schemas.mjs');
   const report = new Report();
 
   for (const suiteName of opts.suites) {
     const { default: suite } = await import(`./suites/${suiteName}.mjs`);
     let daemon = null;
     let browser = null;
+    let validator = null;
     try {
       daemon = await startDaemon({
         binary: path.resolve(opts.aalabd),
@@ -79,6 +83,8 @@ async function main() {
       browser = await launchBrowser();
       const page = await browser.context.newPage();
       const consoleProblems = watchConsole(page);
+      validator = new ResponseValidator(opts.schemas);
+      validator.watch(page);
       page.setDefaultTimeout(20000);
       // The token arrives in the fragment the way a user would paste the dashboard URL.
       await page.goto(`${daemon.base}/#token=${encodeURIComponent(daemon.token)}`);
@@ -107,10 +113,15 @@ async function main() {
           await page.screenshot({ path: path.join(opts.artifacts, `FAILED-${suiteName}.png`), fullPage: true }).catch(() => {});
         }
       };
-      await suite({ page, base: daemon.base, api: apiClient(daemon.base, daemon.token), step, shot, daemon, consoleProblems });
-      await page.waitForTimeout(300); // let late console messages arrive
+      const api = apiClient(daemon.base, daemon.token, (...a) => validator.check(...a));
+      await suite({ page, base: daemon.base, api, step, shot, daemon, consoleProblems });
+      await page.waitForTimeout(300); // let late console messages and answers arrive
       if (consoleProblems.length) report.fail(`${suiteName}: no console errors`, consoleProblems.join('\n'));
       else report.pass(`${suiteName}: no console errors`);
+      console.log(`#   ${validator.validated} answers validated against proto/schemas; without a schema: ${[...validator.unschemed].sort().join(', ') || 'none'}`);
+      if (validator.problems.length) report.fail(`${suiteName}: every API answer matches its JSON Schema`, validator.problems.join('\n'));
+      else if (!validator.validated) report.fail(`${suiteName}: every API answer matches its JSON Schema`, 'no answer was validated');
+      else report.pass(`${suiteName}: every API answer matches its JSON Schema`);
     } catch (e) {
       report.fail(`${suiteName}: set-up`, e);
     } finally {

@@ -1,4 +1,4 @@
-// Thin client for the aalabd JSON API (issue 4). Every request carries the bearer token when one
+// Thin client for the aalabd JSON API. Every request carries the bearer token when one
 // is known: on the TCP listener every API request needs one (issued per user on the Unix socket
 // with `aalab token`). A 401 raises the event 'aalab:need-token' so the page asks for it.
 

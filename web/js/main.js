@@ -91,7 +91,7 @@ function setupToken() {
     btn.setAttribute('aria-expanded', 'false');
     refresh();
     btn.focus();
-    route(); // redo what failed for want of the token
+    start(); // redo what failed (or waited) for want of the token
   });
   document.getElementById('token-clear').addEventListener('click', () => {
     setToken('');
@@ -106,9 +106,18 @@ function setupToken() {
     input.value = getToken();
     input.focus();
   };
-  // Every API request on the TCP listener needs a token: ask for it straight away, and again
-  // whenever the daemon refuses one (revoked, or from another daemon).
-  if (!getToken()) ask();
+  // Every API request on the TCP listener needs a token: without one the page sends none (each
+  // would be a 401) and asks for it; again whenever the daemon refuses one (revoked, or from
+  // another daemon).
+  if (!getToken()) {
+    ask();
+    document.getElementById('health').textContent = 'no API token yet: open the dashboard URL with #token=… that scripts/run.sh (or aalab token) prints, or paste the token';
+  }
+  window.addEventListener('aalab:token-given', () => {
+    form.hidden = true;
+    btn.setAttribute('aria-expanded', 'false');
+    refresh();
+  });
   window.addEventListener('aalab:need-token', () => {
     refresh();
     ask();
@@ -121,10 +130,8 @@ async function pollHealth() {
     const h = await apiGet('/v1/health');
     setHealth(h);
     setComputeShares(h.sharing);
-    const byState = h.jobs && typeof h.jobs === 'object' ? Object.entries(h.jobs).filter(([, n]) => n).map(([s, n]) => `${n} ${s}`).join(', ') : '';
-    const workers = typeof h.workers === 'object' && h.workers ? `${h.workers.busy ?? '?'}/${h.workers.count ?? '?'}` : h.workers ?? '?';
-    const queue = typeof h.queue === 'object' && h.queue ? h.queue.length : h.queue_length ?? h.queue ?? 0;
-    el.textContent = `aalabd ${h.version || ''} · workers busy ${workers} · queue ${queue}${byState ? ' · jobs ' + byState : ''}`;
+    const byState = Object.entries(h.jobs).filter(([, n]) => n).map(([s, n]) => `${n} ${s}`).join(', ');
+    el.textContent = `aalabd ${h.version} · workers busy ${h.workers.busy}/${h.workers.count} · queue ${h.queue.length}${byState ? ' · jobs ' + byState : ''}`;
     el.classList.remove('down');
   } catch (e) {
     el.textContent = `server unreachable: ${e.message}`;
@@ -132,10 +139,25 @@ async function pollHealth() {
   }
 }
 
+let healthTimer = null;
+
+/* Health polling and the current view, once there is a token to send. */
+function start() {
+  if (!getToken()) return;
+  if (!healthTimer) healthTimer = setInterval(pollHealth, 5000);
+  pollHealth();
+  route();
+}
+
 takeTokenFromFragment();
 setupTabs();
 setupToken();
-window.addEventListener('hashchange', route);
-pollHealth();
-setInterval(pollHealth, 5000);
-route();
+window.addEventListener('hashchange', () => {
+  // A dashboard URL with #token=… pasted into an open page changes the fragment only.
+  if (/(?:^#|&)token=/.test(location.hash)) {
+    takeTokenFromFragment();
+    window.dispatchEvent(new CustomEvent('aalab:token-given'));
+    start();
+  } else if (getToken()) route();
+});
+start();

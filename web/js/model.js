@@ -1,235 +1,264 @@
-// Normalises API answers into the shapes the views draw. The wire format of issue 4 fixes the
-// request side; for answers we accept the documented field names and a few natural variants so
-// the page keeps working while the service grows (every accessor below is small and pure).
-
-export function listFrom(resp, ...keys) {
-  if (Array.isArray(resp)) return resp;
-  if (resp && typeof resp === 'object') {
-    for (const k of keys) if (Array.isArray(resp[k])) return resp[k];
-    for (const v of Object.values(resp)) if (Array.isArray(v)) return v;
-  }
-  return [];
-}
+// Reads the daemon's answers into what the views draw. Every field name is the one the schemas
+// in proto/schemas/ give (the per-kind results in proto/schemas/kinds/<kind>.result.json); a
+// field the schema does not promise is never looked for under another name. Pure functions.
 
 export function num(v) {
   return typeof v === 'number' && Number.isFinite(v) ? v : null;
 }
 
-/* The pattern part of an object holding one ({kernels}, {mirrored}, {tile...}, {preset}). */
-export function patternOf(obj) {
-  if (!obj || typeof obj !== 'object') return null;
-  if (obj.pattern && typeof obj.pattern === 'object') return patternOf(obj.pattern) || obj.pattern;
-  if (Array.isArray(obj.kernels) && Array.isArray(obj.kernels[0])) return { kernels: obj.kernels };
-  if (Array.isArray(obj.mirrored)) return { mirrored: obj.mirrored };
-  if (obj.tile && typeof obj.tile === 'object')
-    return Array.isArray(obj.kernels_expanded) ? { tile: obj.tile, kernels_expanded: obj.kernels_expanded } : { tile: obj.tile };
-  if (typeof obj.preset === 'string') return { preset: obj.preset };
+function str(v) {
+  return typeof v === 'string' ? v : '';
+}
+
+function list(v) {
+  return Array.isArray(v) ? v : [];
+}
+
+/* A pattern object as the daemon encodes it (pattern.json: family, cost_spp, form and the
+ * form's own key, plus kernels_expanded) reduced to what the daemon takes back and the page
+ * draws: {mirrored} or {kernels}; a tile pattern is sent back whole and drawn from
+ * kernels_expanded, read-only. */
+export function wirePattern(p) {
+  if (!p || typeof p !== 'object') return null;
+  if (p.form === 'mirrored') return { mirrored: p.mirrored };
+  if (p.form === 'kernels') return { kernels: p.kernels };
+  if (p.form === 'tile') return { tile: p.tile, kernels_expanded: p.kernels_expanded };
   return null;
 }
 
+/* GET /v1/presets: {presets: [{name, family, cost_spp, source, note?, published_e2}]};
+ * GET /v1/presets/{name} adds the pattern. */
 export function normPreset(p) {
-  if (typeof p === 'string') return { name: p, family: '', cost_spp: null, pattern: { preset: p } };
   return {
     name: p.name,
-    family: p.family || '',
-    cost_spp: num(p.cost_spp) ?? num(p.cost),
-    source: p.source || '',
-    note: p.note || '',
-    // A number, or {source: value} in data/presets.json.
-    published: typeof p.published_e2 === 'number' ? p.published_e2 : p.published_e2 && typeof p.published_e2 === 'object' ? num(Object.values(p.published_e2)[0]) : null,
-    pattern: patternOf(p) || { preset: p.name },
+    family: str(p.family),
+    cost_spp: num(p.cost_spp),
+    source: str(p.source),
+    note: str(p.note),
+    published: num(p.published_e2),
+    pattern: p.pattern ? wirePattern(p.pattern) : null,
   };
 }
 
-function isAngleRow(o) {
-  return o && typeof o === 'object' && !Array.isArray(o) && 'angle_deg' in o && ('e1' in o || 'weighted' in o);
+export function presetsFrom(resp) {
+  return list(resp && resp.presets).map(normPreset);
 }
 
-/* Per-kernel per-angle rows, found wherever the detail lives in the answer. */
-export function perKernelRows(resp) {
-  const found = [];
-  const visit = (v, depth) => {
-    if (depth > 5 || v == null || typeof v !== 'object') return;
-    if (Array.isArray(v)) {
-      if (v.length && v.every(isAngleRow)) {
-        found.push(v);
-        return;
-      }
-      v.forEach((x) => visit(x, depth + 1));
-      return;
-    }
-    for (const [k, x] of Object.entries(v)) if (k !== 'pattern') visit(x, depth + 1);
-  };
-  visit(resp, 0);
-  if (found.length === 1 && found[0].some((r) => 'kernel' in r)) {
-    const byKernel = [];
-    for (const r of found[0]) (byKernel[r.kernel] ||= []).push(r);
-    return byKernel.filter(Boolean).map(rowsNormalised);
-  }
-  return found.map(rowsNormalised);
+/* GET /v1/filters: {filters: [{name, radius, B?, C?, sigma?, a?, cdf_error_bound?, default}]}.
+ * The parameters the filter decoder takes are B, C, sigma and a; radius is taken by gaussian
+ * only (the others have a fixed support). */
+const FILTER_PARAMS = { B: true, C: true, sigma: true, a: true };
+
+export function filtersFrom(resp) {
+  return list(resp && resp.filters).map((f) => {
+    const params = {};
+    for (const k of Object.keys(FILTER_PARAMS)) if (num(f[k]) != null) params[k] = f[k];
+    if (f.name === 'gaussian' && num(f.radius) != null) params.radius = f.radius;
+    return { name: f.name, params, isDefault: f.default === true };
+  });
 }
 
-function rowsNormalised(rows) {
-  return rows
-    .map((r) => {
-      const e1 = num(r.e1);
-      const w = num(r.weight) ?? num(r.w) ?? (e1 && num(r.weighted) != null ? r.weighted / e1 : null);
-      return { angle: r.angle_deg, weight: w, e1, weighted: num(r.weighted) ?? (w != null && e1 != null ? w * e1 : null) };
-    })
-    .sort((a, b) => a.angle - b.angle);
+/* GET /v1/acuity: {tables: [{name, folded, knots, ...}], default}. */
+export function acuityFrom(resp) {
+  return { names: list(resp && resp.tables).map((t) => t.name), default: str(resp && resp.default) };
 }
 
+/* POST /v1/evaluate: {e2, argmax: {kernel, angle_deg}, mean, kernel_count, angle_count, family,
+ * cost_spp, detail?: [{kernel, angles: [{angle_deg, weight, e1, weighted}]}]}. Kernels are
+ * numbered from 0, as on the wire. */
 export function normEvaluation(resp) {
-  const argmax = resp.argmax || {};
+  const detail = list(resp.detail)
+    .slice()
+    .sort((a, b) => a.kernel - b.kernel)
+    .map((k) => list(k.angles).map((r) => ({ angle: r.angle_deg, weight: num(r.weight), e1: num(r.e1), weighted: num(r.weighted) })));
   return {
     e2: num(resp.e2),
-    argmaxKernel: num(argmax.kernel) ?? 0,
-    argmaxAngle: num(argmax.angle_deg) ?? num(argmax.angle),
-    family: resp.family || '',
-    cost: num(resp.cost_spp) ?? num(resp.cost),
-    kernels: perKernelRows(resp),
-    raw: resp,
+    argmaxKernel: resp.argmax ? resp.argmax.kernel : null,
+    argmaxAngle: resp.argmax ? num(resp.argmax.angle_deg) : null,
+    family: str(resp.family),
+    cost: num(resp.cost_spp),
+    kernels: detail,
   };
 }
 
-const TRACE_ORDER = ['seconds', 'iterations', 'evaluations', 'best_e2'];
-
+/* A job's trace: [{seconds, iterations, evaluations, best_e2}], in the order recorded. */
 export function normTrace(trace) {
-  if (!Array.isArray(trace)) return [];
-  return trace
-    .map((p) => {
-      if (Array.isArray(p)) return Object.fromEntries(TRACE_ORDER.map((k, i) => [k, p[i]]));
-      return {
-        seconds: num(p.seconds) ?? num(p.t) ?? num(p.time),
-        iterations: num(p.iterations),
-        evaluations: num(p.evaluations),
-        best_e2: num(p.best_e2) ?? num(p.e2),
-      };
-    })
-    .filter((p) => p.seconds != null && p.best_e2 != null);
-}
-
-/* The best pattern a job has found: {e2, pattern, family, cost} or null. A finished job's result
- * is authoritative ({best: pattern, e2, ...}); "best" is the best-so-far posted while running. */
-export function jobBest(j) {
-  const specFamily = (j.spec && j.spec.family) || j.family || '';
-  const r = j.result;
-  if (r && typeof r === 'object' && r.best && typeof r.best === 'object') {
-    const pattern = patternOf(r.best);
-    if (pattern)
-      return {
-        e2: num(r.e2) ?? num(r.best.e2) ?? num(r.best_e2),
-        pattern,
-        family: r.family || r.best.family || (r.best.pattern && r.best.pattern.family) || specFamily,
-        cost: num(r.best.cost_spp) ?? num(r.cost_spp) ?? num(r.best.pattern && r.best.pattern.cost_spp),
-      };
-  }
-  for (const c of [j.best, j.best_so_far, r]) {
-    if (!c || typeof c !== 'object') continue;
-    const pattern = patternOf(c);
-    if (pattern || num(c.e2) != null)
-      return {
-        e2: num(c.e2) ?? num(c.best_e2),
-        pattern,
-        family: c.family || (c.pattern && c.pattern.family) || specFamily,
-        cost: num(c.cost_spp) ?? num(c.cost) ?? num(c.pattern && c.pattern.cost_spp),
-      };
-  }
-  return null;
+  return list(trace).map((p) => ({ seconds: p.seconds, iterations: p.iterations, evaluations: p.evaluations, best_e2: p.best_e2 }));
 }
 
 export const ACTIVE_STATES = new Set(['queued', 'running']);
 
-export function normJob(j) {
-  const spec = j.spec || {};
-  const trace = normTrace(j.trace || (j.result && j.result.trace) || []);
-  const best = jobBest(j);
-  let progress = num(j.progress);
-  if (progress == null) progress = j.state === 'done' ? 1 : 0;
+/* One summary of GET /v1/jobs (job.json without spec, best, trace and result). */
+export function jobSummary(j) {
   return {
     id: j.id,
-    kind: j.kind || spec.kind || '',
-    state: j.state || 'unknown',
-    progress: Math.max(0, Math.min(1, progress)),
-    best,
-    bestE2: best && best.e2 != null ? best.e2 : trace.length ? trace[trace.length - 1].best_e2 : null,
-    trace,
-    family: spec.family || j.family || (best && best.family) || '',
-    error: (j.error && (j.error.message || j.error)) || j.reason || '',
-    created: j.created || j.created_at || j.submitted || null,
-    result: j.result || null,
-    spec,
-    raw: j,
+    kind: j.kind,
+    state: j.state,
+    progress: Math.max(0, Math.min(1, j.progress)),
+    label: str(j.label),
+    family: str(j.family),
+    bestE2: num(j.best_e2),
+    created: num(j.created),
+    started: num(j.started),
+    finished: num(j.finished),
+    error: j.error ? j.error.message : str(j.reason),
   };
 }
 
-/* Tile image URLs of a render answer: pattern, reference, difference (and crop if any). */
+export function jobsFrom(resp) {
+  return list(resp && resp.jobs).map(jobSummary);
+}
+
+/* GET /v1/jobs/{id}: the summary plus spec, best ({pattern, e2}; {elapsed, pattern?} for sleep;
+ * animation's best pattern is only {family, samples_per_pixel}), trace and result. The result,
+ * once there, is authoritative for the best pattern: its own "best" (optimize, family-sweep,
+ * random-stats). */
+export function normJob(j) {
+  const s = jobSummary(j);
+  const best = j.best && typeof j.best === 'object' ? j.best : null;
+  const r = j.result && typeof j.result === 'object' ? j.result : null;
+  let bestPattern = null;
+  if (r && r.best) bestPattern = r.best;
+  else if (best && best.pattern && best.pattern.form) bestPattern = best.pattern;
+  const e2 = r && num(r.e2) != null ? r.e2 : best ? num(best.e2) : null;
+  return {
+    ...s,
+    bestE2: s.bestE2 ?? e2,
+    best: bestPattern ? { pattern: wirePattern(bestPattern), family: str(bestPattern.family), cost: num(bestPattern.cost_spp), e2 } : null,
+    trace: normTrace(j.trace),
+    spec: j.spec || {},
+    result: r,
+  };
+}
+
+/* Trace points to draw, sorted by time, and the curve's end: best-so-far stays constant after
+ * the last improvement, so the curve runs on to the job's end (finished - started; now for a
+ * running job). Points at t = 0 are kept for linear axes; log axes drop them. */
+export function traceCurve(job, now = Date.now() / 1000) {
+  const pts = job.trace.filter((p) => num(p.seconds) != null && num(p.best_e2) != null).sort((a, b) => a.seconds - b.seconds);
+  const end = job.started != null ? (job.finished ?? (ACTIVE_STATES.has(job.state) ? now : null)) : null;
+  const endSeconds = end != null ? end - job.started : null;
+  const xs = pts.map((p) => p.seconds);
+  const ys = pts.map((p) => p.best_e2);
+  if (pts.length && endSeconds != null && endSeconds > xs[xs.length - 1]) {
+    xs.push(endSeconds);
+    ys.push(ys[ys.length - 1]);
+  }
+  return { xs, ys, points: pts.length, endSeconds };
+}
+
+/* family-sweep result: {cost, configurations, seeds_per_config, ranked: [{rank, config:
+ * {corners[4], edges[4], interior}, cost, e2, best}], best, e2}. */
+export function sweepRows(result) {
+  return list(result && result.ranked).map((r) => ({
+    rank: r.rank,
+    config: configLabel(r.config),
+    corners: r.config.corners.reduce((a, b) => a + b, 0),
+    edges: r.config.edges.reduce((a, b) => a + b, 0),
+    interior: r.config.interior,
+    e2: num(r.e2),
+    family: r.best ? str(r.best.family) : '',
+    pattern: r.best ? wirePattern(r.best) : null,
+  }));
+}
+
+/* Corners then edges (counts per corner / edge site) and interior samples, e.g.
+ * "corners 0001 · edges 1100 · interior 0". */
+export function configLabel(c) {
+  return `corners ${c.corners.join('')} · edges ${c.edges.join('')} · interior ${c.interior}`;
+}
+
+/* random-stats result, as L&A Table 3: {family, distribution, count, random: {min, avg, max},
+ * best_random, opt_w: {e2, pattern, method}, opt_wp: {e2, pattern, method}, best, e2}. */
+export function randomStatsRow(result) {
+  const r = result || {};
+  const rnd = r.random || {};
+  return {
+    family: str(r.family),
+    distribution: str(r.distribution),
+    count: r.count,
+    min: num(rnd.min),
+    avg: num(rnd.avg),
+    max: num(rnd.max),
+    optW: r.opt_w ? num(r.opt_w.e2) : null,
+    optWMethod: r.opt_w ? str(r.opt_w.method) : '',
+    optWP: r.opt_wp ? num(r.opt_wp.e2) : null,
+    optWPMethod: r.opt_wp ? str(r.opt_wp.method) : '',
+    optWPattern: r.opt_w ? wirePattern(r.opt_w.pattern) : null,
+    optWPPattern: r.opt_wp ? wirePattern(r.opt_wp.pattern) : null,
+  };
+}
+
+/* compare result rows: [{name, family, samples_per_pixel, e2, rmse, max_dev, render_seconds,
+ * pixels_sampled, coverage_samples, stats, tiles}]. */
+export function comparisonRows(result) {
+  return list(result && result.rows).map((r) => ({
+    label: r.name,
+    family: str(r.family),
+    spp: num(r.samples_per_pixel),
+    e2: num(r.e2),
+    rmse: num(r.rmse),
+    maxDev: num(r.max_dev),
+    seconds: num(r.render_seconds),
+  }));
+}
+
+/* animation result: {scene, pattern: {family, samples_per_pixel}, e2, frames: [{frame, rmse,
+ * max_dev, pixels_recomputed, pattern_sampled, reference_supersampled, pattern_seconds,
+ * reference_seconds, tiles}], total: {rmse, max_dev, pixels, histogram, penalised_histogram},
+ * times: {pattern_seconds, reference_seconds}, pixels: {recomputed, all_frames}}. */
+export function animationTable(result) {
+  const r = result || {};
+  return {
+    family: r.pattern ? str(r.pattern.family) : '',
+    spp: r.pattern ? num(r.pattern.samples_per_pixel) : null,
+    e2: num(r.e2),
+    frames: list(r.frames).map((f) => ({
+      frame: f.frame,
+      rmse: num(f.rmse),
+      maxDev: num(f.max_dev),
+      recomputed: f.pixels_recomputed,
+      patternSeconds: num(f.pattern_seconds),
+      referenceSeconds: num(f.reference_seconds),
+    })),
+    total: r.total ? { rmse: num(r.total.rmse), maxDev: num(r.total.max_dev), pixels: r.total.pixels } : null,
+    recomputed: r.pixels ? r.pixels.recomputed : null,
+    allPixels: r.pixels ? r.pixels.all_frames : null,
+  };
+}
+
+/* reference-convergence result: {scene, output_offset, baseline: {spp, seconds, supersampled,
+ * samples}, rows: [{spp, rmse, max_dev, seconds, supersampled, samples}]}. */
+export function convergenceTable(result) {
+  const r = result || {};
+  return {
+    baselineSpp: r.baseline ? r.baseline.spp : null,
+    baselineSeconds: r.baseline ? num(r.baseline.seconds) : null,
+    rows: list(r.rows).map((x) => ({ spp: x.spp, rmse: num(x.rmse), maxDev: num(x.max_dev), seconds: num(x.seconds), samples: x.samples })),
+  };
+}
+
+/* POST /v1/render: tiles {pattern, reference, difference, crop?} each {id, url, width, height}. */
 export function renderImages(r) {
   const out = {};
-  const classify = (key) => {
-    const k = key.toLowerCase();
-    if (k.includes('ref')) return 'reference';
-    if (k.includes('diff')) return 'difference';
-    if (k.includes('crop') || k.includes('zoom') || k.includes('magn')) return 'crop';
-    if (k.includes('pattern') || k === 'image' || k === 'tile') return 'pattern';
-    return null;
-  };
-  const toUrl = (v) => {
-    if (typeof v === 'string') return v.includes('/') ? v : `/v1/tiles/${v.replace(/\.png$/, '')}.png`;
-    if (typeof v === 'number') return `/v1/tiles/${v}.png`;
-    if (v && typeof v === 'object') return toUrl(v.url || v.href || v.id || v.path);
-    return null;
-  };
-  // Inside a container named like "tiles"/"images"/"urls", a bare id or URL under "pattern",
-  // "reference", ... is an image; elsewhere the key must say so ("reference_url", "diff_id").
-  const scan = (obj, depth, container) => {
-    if (!obj || typeof obj !== 'object' || depth > 2) return;
-    for (const [k, v] of Object.entries(obj)) {
-      const cls = classify(k);
-      const lk = k.toLowerCase();
-      const scalar = typeof v === 'string' || typeof v === 'number';
-      const looksLikeImage =
-        (typeof v === 'string' && (/\.png$/.test(v) || /^\/v1\/tiles\//.test(v))) ||
-        (cls && scalar && (container || /(_url|_id|_tile|_png)$/.test(lk))) ||
-        (cls && v && typeof v === 'object' && !Array.isArray(v) && (v.url || v.id != null));
-      if (cls && looksLikeImage && !out[cls]) out[cls] = toUrl(v);
-      else if (v && typeof v === 'object' && !Array.isArray(v)) scan(v, depth + 1, /tile|image|png|url/.test(lk));
-    }
-  };
-  scan(r, 0, false);
+  for (const k of ['pattern', 'reference', 'difference', 'crop']) if (r.tiles && r.tiles[k]) out[k] = r.tiles[k].url;
   return out;
 }
 
+/* POST /v1/render: e2, stats {rmse, max_dev, pixels, histogram, penalised_histogram}, times
+ * {pattern_seconds, reference_seconds}, pixels {total, supersampled, ...}. */
 export function renderStats(r) {
-  const s = r.stats && typeof r.stats === 'object' ? { ...r, ...r.stats } : r;
-  const hist = s.penalised_histogram || s.penalized_histogram || s.histogram || null;
-  let histogram = null;
-  if (Array.isArray(hist)) histogram = hist.map((v) => (Array.isArray(v) ? v[1] : num(v) ?? num(v && v.value) ?? 0));
-  else if (hist && Array.isArray(hist.values)) histogram = hist.values;
-  else if (hist && Array.isArray(hist.bins)) histogram = hist.bins;
-  const t = s.times || s.timing || s;
+  const s = r.stats || {};
   return {
     rmse: num(s.rmse),
-    maxDev: num(s.max_deviation) ?? num(s.max_dev) ?? num(s.maxdev),
-    e2: num(s.e2),
-    patternSeconds: num(t.pattern_seconds) ?? num(t.pattern_s) ?? num(t.pattern_time) ?? num(t.pattern),
-    referenceSeconds: num(t.reference_seconds) ?? num(t.reference_s) ?? num(t.reference_time) ?? num(t.reference),
-    supersampled: num(r.pixels && r.pixels.supersampled) ?? num(s.supersampled_pixels) ?? num(s.supersampled),
-    totalPixels: num(r.pixels && r.pixels.total),
-    histogram,
-  };
-}
-
-/* Rows of a comparison job's result: {label, spp, e2, rmse, maxDev, seconds}. */
-export function comparisonRows(result) {
-  return listFrom(result, 'rows', 'table', 'patterns').map((r, i) => ({
-    label: r.name || r.label || (r.pattern && r.pattern.preset) || (r.job != null ? `job ${r.job}` : `#${i + 1}`),
-    spp: num(r.samples_per_pixel) ?? num(r.spp) ?? num(r.cost_spp),
+    maxDev: num(s.max_dev),
     e2: num(r.e2),
-    rmse: num(r.rmse),
-    maxDev: num(r.max_deviation) ?? num(r.max_dev),
-    seconds: num(r.render_seconds) ?? num(r.seconds) ?? num(r.time) ?? num(r.render_time),
-  }));
+    patternSeconds: r.times ? num(r.times.pattern_seconds) : null,
+    referenceSeconds: r.times ? num(r.times.reference_seconds) : null,
+    supersampled: r.pixels ? num(r.pixels.supersampled) : null,
+    totalPixels: r.pixels ? num(r.pixels.total) : null,
+    histogram: Array.isArray(s.penalised_histogram) ? s.penalised_histogram : null,
+  };
 }
 
 export function fmt(v, digits = 4) {
@@ -245,4 +274,16 @@ export function fmtSeconds(s) {
 export function familySeries(label) {
   const m = /^P\(([^,]+),([^,]+),[^)]*\)$/.exec((label || '').replace(/\s+/g, ''));
   return m ? `P(${m[1]},${m[2]},n)` : label || 'other';
+}
+
+/* The pattern a link into Evaluate names: a sweep row (rank), random-stats' opt_w or opt_wp
+ * (pick), else the job's best. Null when the job has none. */
+export function jobPattern(job, { rank, pick } = {}) {
+  const r = job.result;
+  if (rank != null && r && Array.isArray(r.ranked)) {
+    const row = r.ranked.find((x) => String(x.rank) === String(rank));
+    return row && row.best ? wirePattern(row.best) : null;
+  }
+  if ((pick === 'opt_w' || pick === 'opt_wp') && r && r[pick]) return wirePattern(r[pick].pattern);
+  return job.best ? job.best.pattern : null;
 }

@@ -1,4 +1,4 @@
-// What the page can draw and edit: explicit kernels and the mirrored P(4,1+,n) form (issue 2).
+// What the page can draw and edit: explicit kernels and the mirrored P(4,1+,n) form.
 // Coordinates are relative to the output pixel centre; the pixel is [-0.5, 0.5]^2.
 
 const EPS = 1e-9;
@@ -55,7 +55,7 @@ export function layoutDots(p, kernel) {
 }
 
 /* Moves one editable sample. With keepSites, a sample on a pixel edge stays on that edge and a
- * corner sample stays put, as the optimizer's family constraints do (issue 3). */
+ * corner sample stays put, as the optimizer's family constraints do. */
 export function moveSample(p, kernel, index, x, y, keepSites) {
   const s = editableSamples(p, kernel)[index];
   const limit = Array.isArray(p.mirrored) ? 0.5 : 1.5;

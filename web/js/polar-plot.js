@@ -21,7 +21,7 @@ export function drawPolar(container, { title, series, argmax, valueLabel }) {
     const rr = (r / rTop) * R;
     return [cx + rr * Math.cos(a), cy - rr * Math.sin(a)];
   };
-  svg.setAttribute('aria-label', `${title}; maximum ${argmax ? `${argmax.value.toFixed(4)} at ${argmax.angle}° in kernel ${argmax.kernel + 1}` : 'n/a'}`);
+  svg.setAttribute('aria-label', `${title}; maximum ${argmax ? `${argmax.value.toFixed(4)} at ${argmax.angle}° in kernel ${argmax.kernel}` : 'n/a'}`);
   text(svg, 6, 16, title, { class: 'plot-title' });
   for (const t of ticks) {
     el('circle', { cx, cy, r: (t / rTop) * R, class: 'polar-ring' }, svg);
@@ -51,7 +51,7 @@ export function drawPolar(container, { title, series, argmax, valueLabel }) {
     const [x, y] = toXY(argmax.angle, argmax.value);
     el('circle', { cx: x, cy: y, r: 7, class: 'polar-argmax' }, svg);
     el('circle', { cx: x, cy: y, r: 2.5, class: 'polar-argmax-dot' }, svg);
-    const label = `max ${argmax.value.toFixed(3)} @ ${argmax.angle}°${series.length > 1 ? `, k${argmax.kernel + 1}` : ''}`;
+    const label = `max ${argmax.value.toFixed(3)} @ ${argmax.angle}°${series.length > 1 ? `, kernel ${argmax.kernel}` : ''}`;
     text(svg, 6, SIZE + 18, label, { class: 'polar-argmax-label' });
   }
   if (valueLabel) text(svg, SIZE - 6, 16, valueLabel, { class: 'polar-tick', 'text-anchor': 'end' });
@@ -66,7 +66,7 @@ export function polarLegend(container, count) {
     item.className = 'legend-item';
     const svg = el('svg', { width: 36, height: 10, 'aria-hidden': 'true' }, item);
     el('line', { x1: 0, y1: 5, x2: 36, y2: 5, stroke: COLOURS[k % COLOURS.length], 'stroke-width': 2.5, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);
-    item.append(` kernel ${k + 1}`);
+    item.append(` kernel ${k}`);
     container.appendChild(item);
   }
 }

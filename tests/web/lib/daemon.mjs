@@ -113,7 +113,7 @@ export async function startDaemon({ binary, webDir, logFile, extraArgs = [] }) {
 }
 
 /* JSON API calls from the test itself, to compare what the page shows with what the API says. */
-export function apiClient(base, token) {
+export function apiClient(base, token, onAnswer = null) {
   return async function api(method, p, body) {
     const r = await fetch(base + p, {
       method,
@@ -127,6 +127,7 @@ export function apiClient(base, token) {
     } catch {
       /* not JSON */
     }
+    if (onAnswer && json !== null) onAnswer(method, new URL(base + p).pathname, r.status, json);
     if (!r.ok) throw new Error(`${method} ${p}: HTTP ${r.status} ${text.slice(0, 300)}`);
     return json;
   };

@@ -53,6 +53,25 @@ export default async function jobsSuite({ page, base, api, step, shot, daemon, c
     assert(/⊘\s*cancelled/.test(shown), `state cell "${shown}" should carry a symbol and the word`);
   });
 
+  await step('first visit without a token: the page asks for one and sends no request that would be refused', async () => {
+    const before = consoleProblems.length;
+    const apiCalls = [];
+    const onRequest = (req) => new URL(req.url()).pathname.startsWith('/v1/') && apiCalls.push(req.url());
+    await page.evaluate(() => localStorage.clear());
+    page.on('request', onRequest);
+    await page.goto(`${base}/`);
+    await page.waitForSelector('#token-form:not([hidden])', { timeout: 10000 });
+    await page.waitForTimeout(1500); // a health poll or a view would have asked by now
+    page.off('request', onRequest);
+    assert(apiCalls.length === 0, `the page sent ${apiCalls.length} API requests without a token: ${apiCalls.join(', ')}`);
+    assert(/no API token/.test(await page.textContent('#health')), 'the status line should say that a token is needed');
+    assert(consoleProblems.length === before, `console: ${consoleProblems.slice(before).join('; ')}`);
+    // The URL the daemon's start-up prints (scripts/run.sh, aalab token) carries the token.
+    await page.goto(`${base}/#token=${encodeURIComponent(daemon.token)}`);
+    await page.waitForFunction(() => localStorage.getItem('aalab.token') && !location.hash.includes('token='));
+    await eventually(async () => /aalabd/.test(await page.textContent('#health')), { timeout: 10000, message: 'health line with the token' });
+  });
+
   await step('without a valid token the API is refused (401) and the page asks for the token', async () => {
     const before = consoleProblems.length;
     for (const p of ['/v1/health', '/v1/jobs', '/v1/presets']) {

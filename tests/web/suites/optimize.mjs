@@ -17,6 +17,7 @@ export default async function optimizeSuite({ page, base, api, step, shot }) {
     await page.fill('#job-seconds', '2');
     await page.fill('#job-rng', '7');
     await page.selectOption('#job-method', 'minimax');
+    await page.fill('#job-label', 'from the form');
     await page.click('#job-submit');
     const status = await eventually(async () => {
       const t = await page.textContent('#job-form-status');
@@ -26,6 +27,9 @@ export default async function optimizeSuite({ page, base, api, step, shot }) {
     assert(m, `job not started: ${status}`);
     id = m[1];
     await page.waitForSelector(`#jobs-table tr[data-job-id="${id}"]`);
+    const label = await page.textContent(`#jobs-table tr[data-job-id="${id}"] td.label`);
+    const job = await api('GET', `/v1/jobs/${id}`);
+    assert(job.label === 'from the form' && label === job.label, `label in the list "${label}", API ${JSON.stringify(job.label)}`);
   });
 
   await step('optimize: progress reaches done and the E2-against-time curve appears', async () => {

@@ -1,104 +1,237 @@
-// Unit tests of the dashboard's pure modules (answer normalisation, pattern geometry): run with
-// `node --test`, no browser needed.
+// Unit tests of the dashboard's pure modules (answer reading, trace axes, pattern geometry):
+// run with `node --test`, no browser needed. The answers are real daemon answers saved by
+// tests/web/fixtures/capture.mjs (rerun it when a response shape changes).
 
 import test from 'node:test';
 import assert from 'node:assert/strict';
-import { normEvaluation, normJob, normTrace, renderImages, renderStats, comparisonRows, familySeries, patternOf, listFrom } from '../../../web/js/model.js';
+import fs from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import {
+  normEvaluation, normJob, jobsFrom, traceCurve, sweepRows, randomStatsRow, comparisonRows, animationTable, convergenceTable,
+  renderImages, renderStats, presetsFrom, normPreset, filtersFrom, acuityFrom, wirePattern, jobPattern, familySeries,
+} from '../../../web/js/model.js';
+import { traceAxes, tickLabels } from '../../../web/js/trace-axes.js';
 import { kernelsOf, layoutDots, moveSample, drawableOf } from '../../../web/js/pattern-geometry.js';
 
-test('evaluation detail in the codec shape: one row list per kernel, in kernel order', () => {
-  const ev = normEvaluation({
-    e2: 0.36,
-    argmax: { kernel: 2, angle_deg: 45 },
-    family: 'P(4,1+,2)',
-    cost_spp: 2,
-    detail: [
-      { kernel: 0, angles: [{ angle_deg: 5, weight: 3.55, e1: 0.1, weighted: 0.355 }, { angle_deg: 0, weight: 3.93, e1: 0.05, weighted: 0.1965 }] },
-      { kernel: 1, angles: [{ angle_deg: 0, weight: 3.93, e1: 0.02, weighted: 0.0786 }] },
-    ],
-  });
-  assert.equal(ev.e2, 0.36);
-  assert.equal(ev.argmaxKernel, 2);
-  assert.equal(ev.argmaxAngle, 45);
-  assert.equal(ev.kernels.length, 2);
-  assert.deepEqual(ev.kernels[0].map((r) => r.angle), [0, 5]); // sorted by angle
-  assert.equal(ev.kernels[1][0].weighted, 0.0786);
+const FIXTURES = path.join(path.dirname(fileURLToPath(import.meta.url)), '..', 'fixtures');
+const load = (name) => JSON.parse(fs.readFileSync(path.join(FIXTURES, `${name}.json`), 'utf8'));
+
+test('evaluation with detail: one row list per kernel, kernels numbered from 0', () => {
+  const raw = load('evaluate-flipquad-detail');
+  const ev = normEvaluation(raw);
+  assert.equal(ev.e2, raw.e2);
+  assert.equal(ev.argmaxKernel, raw.argmax.kernel);
+  assert.equal(ev.argmaxAngle, raw.argmax.angle_deg);
+  assert.equal(ev.family, raw.family);
+  assert.equal(ev.cost, raw.cost_spp);
+  assert.equal(ev.kernels.length, raw.kernel_count);
+  assert.equal(ev.kernels[0].length, raw.angle_count);
+  const k = raw.detail[1].kernel;
+  assert.deepEqual(ev.kernels[k][3], { angle: raw.detail[1].angles[3].angle_deg, weight: raw.detail[1].angles[3].weight, e1: raw.detail[1].angles[3].e1, weighted: raw.detail[1].angles[3].weighted });
+  // The maximum of the weighted error over kernels and angles is E2, at argmax.
+  const max = Math.max(...ev.kernels.flat().map((r) => r.weighted));
+  assert.equal(max, ev.e2);
+  assert.equal(ev.kernels[ev.argmaxKernel].find((r) => r.angle === ev.argmaxAngle).weighted, ev.e2);
 });
 
-test('evaluation detail as one flat list with a kernel index', () => {
-  const ev = normEvaluation({
-    e2: 1,
-    argmax: { kernel: 0, angle_deg: 0 },
-    per_angle: [
-      { kernel: 1, angle_deg: 0, e1: 0.2, weight: 2 },
-      { kernel: 0, angle_deg: 0, e1: 0.1, weight: 2 },
-    ],
-  });
-  assert.equal(ev.kernels.length, 2);
-  assert.equal(ev.kernels[0][0].e1, 0.1);
-  assert.equal(ev.kernels[1][0].weighted, 0.4); // derived from weight * e1
+test('evaluation without detail has no kernels rather than a crash', () => {
+  const raw = { ...load('evaluate-flipquad-detail') };
+  delete raw.detail;
+  assert.deepEqual(normEvaluation(raw).kernels, []);
 });
 
-test('no detail gives no kernels rather than a crash', () => {
-  assert.deepEqual(normEvaluation({ e2: 0.5 }).kernels, []);
+test('presets, filters and acuity tables', () => {
+  const presets = presetsFrom(load('presets'));
+  const raw = load('presets').presets;
+  assert.equal(presets.length, raw.length);
+  const rgss = presets.find((p) => p.name === 'rgss');
+  assert.equal(rgss.published, raw.find((p) => p.name === 'rgss').published_e2);
+  assert.equal(presets.find((p) => p.name === 'centroid').published, null);
+  const q = normPreset(load('preset-quincunx'));
+  assert.deepEqual(q.pattern, { kernels: load('preset-quincunx').pattern.kernels });
+  const filters = filtersFrom(load('filters'));
+  const mitchell = filters.find((f) => f.name === 'mitchell');
+  assert.deepEqual(Object.keys(mitchell.params).sort(), ['B', 'C']);
+  assert.equal(mitchell.isDefault, true);
+  assert.deepEqual(filters.find((f) => f.name === 'gaussian').params, { sigma: 0.5, radius: 2 });
+  const acuity = acuityFrom(load('acuity'));
+  assert.deepEqual(acuity.names, load('acuity').tables.map((t) => t.name));
+  assert.equal(acuity.default, 'naiman');
 });
 
-test('trace points as objects or as arrays in job_trace_point order', () => {
-  assert.deepEqual(normTrace([[0.5, 10, 40, 0.4]]), [{ seconds: 0.5, iterations: 10, evaluations: 40, best_e2: 0.4 }]);
-  assert.equal(normTrace([{ seconds: 1, best_e2: 0.3 }, { seconds: 2 }]).length, 1);
+test('job list: summaries carry kind, state, family and best E2; no detail needed', () => {
+  const raw = load('jobs-list');
+  const jobs = jobsFrom(raw);
+  assert.equal(jobs.length, raw.jobs.length);
+  for (const [i, j] of jobs.entries()) {
+    assert.equal(j.id, raw.jobs[i].id);
+    assert.equal(j.kind, raw.jobs[i].kind);
+    assert.equal(j.bestE2, raw.jobs[i].best_e2 ?? null);
+    assert.equal(j.family, raw.jobs[i].family ?? '');
+    assert.equal(j.label, raw.jobs[i].label ?? '');
+  }
+  const opt = jobs.find((j) => j.kind === 'optimize');
+  assert.equal(opt.bestE2, load('job-optimize').result.e2);
+  assert.equal(opt.label, load('job-optimize').label);
+  assert.ok(opt.label.length > 0, 'the fixture optimize job carries a label');
 });
 
-test('job: best pattern found under best_so_far or result.best; progress clamped', () => {
-  const j = normJob({ id: 3, kind: 'optimize', state: 'done', progress: 1.2, spec: { family: 'P(4,1+,2)' }, result: { best: { e2: 0.36, mirrored: [[0, 0, 1]] } }, trace: [] });
-  assert.equal(j.progress, 1);
-  assert.equal(j.bestE2, 0.36);
-  assert.deepEqual(j.best.pattern, { mirrored: [[0, 0, 1]] });
-  assert.equal(j.family, 'P(4,1+,2)');
-  const r = normJob({ id: 4, state: 'running', progress: 0.5, best_so_far: { e2: 0.4, pattern: { kernels: [[[0, 0, 1]]] } } });
-  assert.deepEqual(r.best.pattern, { kernels: [[[0, 0, 1]]] });
+test('optimize job: best pattern and E2 from the result; the trace curve runs to the end', () => {
+  const raw = load('job-optimize');
+  const j = normJob(raw);
+  assert.equal(j.bestE2, raw.result.e2);
+  assert.deepEqual(j.best.pattern, { mirrored: raw.result.best.mirrored });
+  assert.equal(j.best.family, raw.result.best.family);
+  assert.equal(j.family, raw.family);
+  assert.equal(j.trace.length, raw.trace.length);
+  const c = traceCurve(j);
+  assert.equal(c.points, raw.trace.length);
+  assert.equal(c.endSeconds, raw.finished - raw.started);
+  assert.ok(c.endSeconds > raw.trace[raw.trace.length - 1].seconds);
+  assert.equal(c.xs.length, raw.trace.length + 1);
+  assert.equal(c.xs[c.xs.length - 1], c.endSeconds);
+  assert.equal(c.ys[c.ys.length - 1], raw.trace[raw.trace.length - 1].best_e2);
 });
 
-test('patternOf keeps the server-expanded kernels of a tile pattern for drawing', () => {
-  const p = patternOf({ family: 'P(16,16,4)', form: 'tile', tile: { size: 4 }, kernels_expanded: [[[0, 0, 1]]] });
-  assert.deepEqual(p, { tile: { size: 4 }, kernels_expanded: [[[0, 0, 1]]] });
-  const d = drawableOf(p);
-  assert.equal(d.readOnly, true);
-  assert.deepEqual(d.pattern, { kernels: [[[0, 0, 1]]] });
+test('a running job: the trace curve runs to now; a job not started has no end', () => {
+  const raw = { ...load('job-optimize'), state: 'running', finished: null };
+  const now = raw.started + 5;
+  const c = traceCurve(normJob(raw), now);
+  assert.equal(c.endSeconds, 5);
+  assert.equal(c.xs[c.xs.length - 1], 5);
+  const queued = traceCurve(normJob({ ...raw, state: 'queued', started: null, trace: [] }), now);
+  assert.deepEqual([queued.xs, queued.endSeconds], [[], null]);
 });
 
-test('render answer: image URLs from ids, URLs or nested objects; stats', () => {
-  assert.deepEqual(renderImages({ tiles: { pattern: 'a1', reference: '/v1/tiles/b2.png', difference: { id: 'c3' } } }), {
-    pattern: '/v1/tiles/a1.png',
-    reference: '/v1/tiles/b2.png',
-    difference: '/v1/tiles/c3.png',
-  });
-  assert.deepEqual(renderImages({ pattern_tile: 7, reference_url: '/v1/tiles/8.png', difference_id: '9' }), {
-    pattern: '/v1/tiles/7.png',
-    reference: '/v1/tiles/8.png',
-    difference: '/v1/tiles/9.png',
-  });
-  const s = renderStats({ stats: { rmse: 3.5, max_deviation: 120 }, penalised_histogram: [0, 1, 4], pattern_seconds: 0.01 });
-  assert.equal(s.rmse, 3.5);
-  assert.equal(s.maxDev, 120);
-  assert.deepEqual(s.histogram, [0, 1, 4]);
-  assert.equal(s.patternSeconds, 0.01);
+test('sleep job with a pattern: best {elapsed, pattern}, trace from 1 down', () => {
+  const raw = load('job-sleep');
+  const j = normJob(raw);
+  assert.deepEqual(j.best.pattern, { kernels: raw.best.pattern.kernels });
+  assert.equal(j.best.e2, null);
+  assert.equal(jobPattern(j), j.best.pattern);
 });
 
-test('comparison rows', () => {
-  const rows = comparisonRows({ rows: [{ name: 'quincunx', samples_per_pixel: 2, e2: 0.518, rmse: 5, max_deviation: 90, render_seconds: 0.02 }] });
-  assert.deepEqual(rows, [{ label: 'quincunx', spp: 2, e2: 0.518, rmse: 5, maxDev: 90, seconds: 0.02 }]);
+test('family-sweep: ranked rows with their configuration, E2 and pattern', () => {
+  const raw = load('job-family-sweep');
+  const rows = sweepRows(raw.result);
+  assert.equal(rows.length, raw.result.configurations);
+  assert.deepEqual(rows.map((r) => r.rank), raw.result.ranked.map((r) => r.rank));
+  for (let i = 1; i < rows.length; i++) assert.ok(rows[i - 1].e2 <= rows[i].e2, 'ranked by E2');
+  const c = raw.result.ranked[0].config;
+  assert.equal(rows[0].config, `corners ${c.corners.join('')} · edges ${c.edges.join('')} · interior ${c.interior}`);
+  assert.deepEqual(rows[2].pattern, { mirrored: raw.result.ranked[2].best.mirrored });
+  const j = normJob(raw);
+  assert.deepEqual(jobPattern(j, { rank: 3 }), rows[2].pattern);
+  assert.equal(j.bestE2, raw.result.e2);
+});
+
+test('random-stats: the Table 3 row (min, avg, max, Opt W, Opt W+P)', () => {
+  const raw = load('job-random-stats');
+  const x = randomStatsRow(raw.result);
+  assert.deepEqual([x.min, x.avg, x.max], [raw.result.random.min, raw.result.random.avg, raw.result.random.max]);
+  assert.equal(x.optW, raw.result.opt_w.e2);
+  assert.equal(x.optWP, raw.result.opt_wp.e2);
+  assert.equal(x.family, raw.result.family);
+  assert.equal(x.count, raw.result.count);
+  assert.ok(x.min <= x.avg && x.avg <= x.max);
+  const j = normJob(raw);
+  // A tile pattern is sent back whole and drawn read-only from kernels_expanded.
+  assert.deepEqual(jobPattern(j, { pick: 'opt_w' }), { tile: raw.result.opt_w.pattern.tile, kernels_expanded: raw.result.opt_w.pattern.kernels_expanded });
+  assert.equal(drawableOf(j.best.pattern).readOnly, true);
+});
+
+test('compare: one row per pattern with samples per pixel, E2, RMSE, max deviation', () => {
+  const raw = load('job-compare');
+  const rows = comparisonRows(raw.result);
+  assert.equal(rows.length, raw.spec.patterns.length);
+  assert.deepEqual(rows.map((r) => r.label), raw.result.rows.map((r) => r.name));
+  const r = raw.result.rows[1];
+  assert.deepEqual(rows[1], { label: r.name, family: r.family, spp: r.samples_per_pixel, e2: r.e2, rmse: r.rmse, maxDev: r.max_dev, seconds: r.render_seconds });
+  assert.equal(normJob(raw).best, null);
+});
+
+test('animation: frames and the whole animation', () => {
+  const raw = load('job-animation');
+  const a = animationTable(raw.result);
+  assert.equal(a.frames.length, raw.spec.scene.frames);
+  assert.equal(a.frames[1].rmse, raw.result.frames[1].rmse);
+  assert.equal(a.frames[1].recomputed, raw.result.frames[1].pixels_recomputed);
+  assert.equal(a.total.rmse, raw.result.total.rmse);
+  assert.equal(a.e2, raw.result.e2);
+  assert.equal(a.family, raw.result.pattern.family);
+  // Animation's best names only the pattern's family and cost: nothing to draw or export.
+  assert.equal(normJob(raw).best, null);
+  assert.equal(normJob(raw).bestE2, raw.result.e2);
+});
+
+test('reference-convergence: one row per level against the baseline', () => {
+  const raw = load('job-reference-convergence');
+  const c = convergenceTable(raw.result);
+  assert.deepEqual(c.rows.map((r) => r.spp), raw.spec.levels);
+  assert.equal(c.baselineSpp, raw.spec.baseline_spp);
+  assert.equal(c.rows[0].rmse, raw.result.rows[0].rmse);
+  assert.ok(c.rows[1].rmse < c.rows[0].rmse, 'more samples, less error');
+});
+
+test('render answer: image URLs and statistics', () => {
+  const raw = load('render-quincunx');
+  assert.deepEqual(renderImages(raw), { pattern: raw.tiles.pattern.url, reference: raw.tiles.reference.url, difference: raw.tiles.difference.url });
+  const s = renderStats(raw);
+  assert.deepEqual(
+    [s.rmse, s.maxDev, s.e2, s.patternSeconds, s.referenceSeconds, s.supersampled, s.totalPixels],
+    [raw.stats.rmse, raw.stats.max_dev, raw.e2, raw.times.pattern_seconds, raw.times.reference_seconds, raw.pixels.supersampled, raw.pixels.total],
+  );
+  assert.deepEqual(s.histogram, raw.stats.penalised_histogram);
+});
+
+test('wire patterns by form', () => {
+  assert.deepEqual(wirePattern({ form: 'mirrored', mirrored: [[0, 0, 1]], kernels_expanded: [] }), { mirrored: [[0, 0, 1]] });
+  assert.deepEqual(wirePattern({ form: 'kernels', kernels: [[[0, 0, 1]]] }), { kernels: [[[0, 0, 1]]] });
+  assert.equal(wirePattern({ family: 'P(1,1+,2)', samples_per_pixel: 2 }), null); // animation's best
+});
+
+test('trace axes: a narrow E2 range gets several distinct ticks, on log and linear axes', () => {
+  const raw = load('job-random-stats'); // E2 improves by 1e-4 over most of its trace
+  const c = traceCurve(normJob(raw));
+  for (const mode of ['log', 'linear']) {
+    const a = traceAxes(c.xs, c.ys, mode);
+    assert.ok(a.y.ticks.length >= 3, `${mode}: ${a.y.ticks.length} y ticks`);
+    assert.equal(new Set(tickLabels(a.y.ticks)).size, a.y.ticks.length, `${mode}: labels tell ticks apart`);
+    assert.ok(a.x.ticks.length >= 3);
+    for (const t of [...a.x.ticks, ...a.y.ticks]) assert.ok(Number.isFinite(t));
+    assert.ok(a.y.range[0] < Math.min(...c.ys) && a.y.range[1] > Math.max(...c.ys));
+  }
+  const narrow = traceAxes([0.1, 1, 2], [0.30912, 0.30911, 0.309105], 'log');
+  assert.ok(narrow.y.ticks.length >= 3, String(narrow.y.ticks));
+});
+
+test('trace axes: log axes leave out t = 0 and never get an empty or non-positive range', () => {
+  const a = traceAxes([0, 0.5, 1], [1, 0.5, 0.5], 'log');
+  assert.deepEqual(a.xs, [0.5, 1]);
+  assert.ok(a.x.range[0] > 0 && a.x.range[1] > a.x.range[0]);
+  const one = traceAxes([0.2], [0.5], 'log');
+  assert.ok(one.x.range[1] > one.x.range[0] && one.y.range[1] > one.y.range[0] && one.y.range[0] > 0);
+  const none = traceAxes([0], [0.5], 'log');
+  assert.deepEqual(none.xs, []);
+  assert.ok(none.x.ticks.length > 0);
+  const lin = traceAxes([0, 0], [0.5, 0.5], 'linear');
+  assert.ok(lin.x.range[1] > lin.x.range[0] && lin.y.range[1] > lin.y.range[0]);
+});
+
+test('trace axes: a trace over many decades of time keeps its labels apart', () => {
+  const raw = load('job-sleep'); // first point after about 1e-7 s, last after 0.3 s
+  const c = traceCurve(normJob(raw));
+  const a = traceAxes(c.xs, c.ys, 'log');
+  assert.ok(a.x.range[1] / a.x.range[0] > 1e5, `x range ${a.x.range}`);
+  assert.ok(a.x.ticks.length >= 3 && a.x.ticks.length <= 9, String(a.x.ticks));
+  for (let i = 1; i < a.x.ticks.length; i++) assert.ok(a.x.ticks[i] / a.x.ticks[i - 1] >= 10 - 1e-9, String(a.x.ticks));
 });
 
 test('family series label', () => {
   assert.equal(familySeries('P(4,1+,1.25)'), 'P(4,1+,n)');
   assert.equal(familySeries('P(1, 1, 4)'), 'P(1,1,n)');
   assert.equal(familySeries(''), 'other');
-});
-
-test('listFrom finds the list in an envelope or takes a bare array', () => {
-  assert.deepEqual(listFrom({ presets: [1, 2] }, 'presets'), [1, 2]);
-  assert.deepEqual(listFrom([3]), [3]);
-  assert.deepEqual(listFrom({ items: [4] }, 'presets'), [4]);
 });
 
 test('mirrored pattern: four mirrored kernels; shared edge samples drawn once', () => {
@@ -108,10 +241,8 @@ test('mirrored pattern: four mirrored kernels; shared edge samples drawn once', 
   assert.deepEqual(k[1][0], [0.5, 1 / 6, 0.25]);
   const dots = layoutDots(p, 0);
   assert.equal(dots.filter((d) => d.primary).length, 4);
-  // No two dots at the same place: a shared sample is drawn once.
   const keys = dots.map((d) => `${d.x.toFixed(6)},${d.y.toFixed(6)}`);
   assert.equal(new Set(keys).size, keys.length);
-  // The left neighbour (mirrored in x) shares the sample on the common edge x = -0.5.
   assert.ok(!dots.some((d) => !d.primary && Math.abs(d.x + 0.5) < 1e-9 && Math.abs(d.y - 1 / 6) < 1e-9));
 });
 
@@ -123,60 +254,7 @@ test('moving samples: edge samples stay on their edge, mirrored samples stay in 
   assert.deepEqual(p.mirrored[1], [0.5, -0.1, 0.5]);
   const q = { kernels: [[[0, 0, 0.5], [-0.5, -0.5, 0.5]]] };
   moveSample(q, 0, 1, 0.1, 0.1, true);
-  assert.deepEqual(q.kernels[0][1], [-0.5, -0.5, 0.5]); // a corner stays put
+  assert.deepEqual(q.kernels[0][1], [-0.5, -0.5, 0.5]);
   moveSample(q, 0, 1, 0.1, 0.1, false);
   assert.deepEqual(q.kernels[0][1], [0.1, 0.1, 0.5]);
-});
-
-test('render answer in the renderer shape (server/tiles/tile_render.c)', () => {
-  const r = {
-    scene: { name: 'siemens-star', width: 64, height: 64 },
-    pattern: { family: 'P(1,1+,2)', samples_per_pixel: 2, kernels: 1, kernel_size: 1, border: true, wire: { kernels: [[[0, 0, 1]]] } },
-    reference: { spp: 256, seed: 1, filter: 'mitchell' },
-    e2: 0.518,
-    stats: { rmse: 9.5, max_dev: 140, pixels: 4096, histogram: [1, 2], penalised_histogram: [0, 0.5] },
-    times: { pattern_seconds: 0.002, reference_seconds: 0.05 },
-    pixels: { total: 4096, pattern_sampled: 900, supersampled: 800, reference_input_pixels_sampled: 1000, reference_samples: 5 },
-    tiles: {
-      pattern: { id: 'aa', url: '/v1/tiles/aa.png', width: 64, height: 64 },
-      reference: { id: 'bb', url: '/v1/tiles/bb.png', width: 64, height: 64 },
-      difference: { id: 'cc', url: '/v1/tiles/cc.png', width: 64, height: 64 },
-    },
-  };
-  assert.deepEqual(renderImages(r), { pattern: '/v1/tiles/aa.png', reference: '/v1/tiles/bb.png', difference: '/v1/tiles/cc.png' });
-  const s = renderStats(r);
-  assert.deepEqual([s.rmse, s.maxDev, s.e2, s.patternSeconds, s.referenceSeconds, s.supersampled, s.totalPixels], [9.5, 140, 0.518, 0.002, 0.05, 800, 4096]);
-  assert.deepEqual(s.histogram, [0, 0.5]);
-});
-
-test('job detail as the daemon sends it: best {elapsed, pattern:{family, form, ...}}', () => {
-  const j = normJob({
-    id: 1, kind: 'sleep', state: 'done', progress: 1,
-    best: { elapsed: 1, pattern: { family: 'P(1,1,4)', cost_spp: 4, form: 'kernels', kernels: [[[0, 0, 1]]], kernels_expanded: [[[0, 0, 1]]] } },
-    trace: [{ seconds: 5e-8, iterations: 0, evaluations: 0, best_e2: 1 }, { seconds: 0.1, iterations: 9, evaluations: 9, best_e2: 0.1 }],
-  });
-  assert.equal(j.family, 'P(1,1,4)');
-  assert.equal(j.best.cost, 4);
-  assert.deepEqual(j.best.pattern, { kernels: [[[0, 0, 1]]] });
-  assert.equal(j.bestE2, 0.1); // no e2 in best: the last trace point
-});
-
-test('published E2 as a number (API) or an object by source (data file)', async () => {
-  const { normPreset } = await import('../../../web/js/model.js');
-  assert.equal(normPreset({ name: 'a', published_e2: 0.698 }).published, 0.698);
-  assert.equal(normPreset({ name: 'b', published_e2: { 'laine-aila-table-2': 0.439 } }).published, 0.439);
-  assert.equal(normPreset({ name: 'c', published_e2: null }).published, null);
-});
-
-test('a finished optimize job: the result best wins over a stale best-so-far', () => {
-  const j = normJob({
-    id: 1, kind: 'optimize', state: 'done', progress: 1,
-    best: { pattern: { family: 'P(4,1+,2)', form: 'mirrored', mirrored: [[0.5, -0.5, 1]] }, e2: 0.94 },
-    result: { best: { family: 'P(4,1+,2)', cost_spp: 2, form: 'mirrored', mirrored: [[0.5, 0.5, 1]] }, e2: 0.538, family: 'P(4,1+,2)' },
-    trace: [{ seconds: 0.001, best_e2: 0.94 }, { seconds: 0.04, best_e2: 0.538 }],
-  });
-  assert.equal(j.bestE2, 0.538);
-  assert.deepEqual(j.best.pattern, { mirrored: [[0.5, 0.5, 1]] });
-  assert.equal(j.best.cost, 2);
-  assert.equal(j.family, 'P(4,1+,2)');
 });

@@ -2,7 +2,7 @@
 // error (POST /v1/evaluate with detail) update.
 
 import { apiPost } from '../api.js';
-import { normEvaluation, fmt } from '../model.js';
+import { normEvaluation, jobPattern, fmt } from '../model.js';
 import { loadPresets, findPreset, loadFilters, loadAcuity, loadJob } from '../store.js';
 import { PatternView } from '../pattern-view.js';
 import { drawableOf, kernelsOf, clonePattern } from '../pattern-geometry.js';
@@ -43,17 +43,19 @@ export async function init(context) {
   const [presets, filters, acuity] = await Promise.all([
     loadPresets(),
     loadFilters().catch((e) => (ctx.toast(`filters: ${e.message}`), [])),
-    loadAcuity().catch(() => ['naiman', 'uniform']),
+    loadAcuity().catch((e) => (ctx.toast(`acuity: ${e.message}`), { names: [], default: '' })),
   ]);
   fillPresets(presets);
   state.filters = filters;
   const fsel = $('ev-filter');
   fsel.replaceChildren(...filters.map((f) => new Option(f.name, f.name)));
-  const def = filters.find((f) => f.name === 'mitchell');
-  if (def) fsel.value = 'mitchell';
+  const def = filters.find((f) => f.isDefault);
+  if (def) fsel.value = def.name;
+  state.defaultFilter = def ? def.name : '';
   fillFilterParams();
-  $('ev-acuity').replaceChildren(...acuity.map((a) => new Option(a, a)));
-  $('ev-acuity').value = acuity.includes('naiman') ? 'naiman' : acuity[0];
+  $('ev-acuity').replaceChildren(...acuity.names.map((a) => new Option(a, a)));
+  $('ev-acuity').value = acuity.default || acuity.names[0] || '';
+  state.defaultAcuity = acuity.default;
 
   $('ev-preset').addEventListener('change', () => {
     if ($('ev-preset').value !== '__custom') ctx.navigate('evaluate', { preset: $('ev-preset').value });
@@ -74,7 +76,7 @@ export async function init(context) {
 
 export async function show(params) {
   if (params.preset) await usePreset(params.preset);
-  else if (params.job) await useJob(params.job);
+  else if (params.job) await useJob(params.job, params);
   else if (state.pattern && $('ev-status').classList.contains('error-text')) requestEvaluation();
   else if (!state.pattern) {
     const presets = await loadPresets();
@@ -139,17 +141,19 @@ async function usePreset(name) {
   requestEvaluation();
 }
 
-async function useJob(id) {
+async function useJob(id, { rank, pick } = {}) {
   const job = await loadJob(id);
-  if (!job.best || !job.best.pattern) {
-    ctx.toast(`job ${id} has no best pattern yet`);
+  const pattern = jobPattern(job, { rank, pick });
+  if (!pattern) {
+    ctx.toast(`job ${id} has no such pattern (yet)`);
     return;
   }
+  const what = rank != null ? `configuration ranked ${rank} of job ${id}` : pick === 'opt_w' ? `Opt W of job ${id}` : pick === 'opt_wp' ? `Opt W+P of job ${id}` : `best pattern of job ${id}`;
   state.presetName = null;
   state.edited = true;
-  state.pattern = clonePattern(job.best.pattern);
+  state.pattern = clonePattern(pattern);
   $('ev-preset').value = '__custom';
-  $('ev-preset-source').textContent = `best pattern of job ${id} (${job.family || job.kind})`;
+  $('ev-preset-source').textContent = `${what} (${job.family || job.kind})`;
   setPatternView();
   writeJson();
   requestEvaluation();
@@ -159,7 +163,7 @@ function setPatternView() {
   const d = drawableOf(state.pattern);
   $('ev-pattern').classList.toggle('undrawable', !d);
   const count = d ? kernelsOf(d.pattern).length : 1;
-  $('ev-kernel').replaceChildren(...Array.from({ length: count }, (_, k) => new Option(`kernel ${k + 1} of ${count}`, k)));
+  $('ev-kernel').replaceChildren(...Array.from({ length: count }, (_, k) => new Option(`kernel ${k} (of ${count})`, k)));
   $('ev-kernel').disabled = count < 2 || Array.isArray(state.pattern.mirrored);
   view.editable = !!d && !d.readOnly;
   if (d) view.setPattern(d.pattern, 0);
@@ -208,7 +212,7 @@ function currentFilter() {
   const name = $('ev-filter').value;
   if (!name) return null;
   const f = { name };
-  let changed = name !== 'mitchell';
+  let changed = name !== state.defaultFilter;
   for (const input of $('ev-filter-params').querySelectorAll('input')) {
     const v = Number(input.value);
     if (Number.isFinite(v)) f[input.dataset.param] = v;
@@ -225,7 +229,7 @@ function requestBody() {
   const f = currentFilter();
   if (f) body.filter = f;
   const a = $('ev-acuity').value;
-  if (a && a !== 'naiman') body.acuity = { name: a };
+  if (a && a !== state.defaultAcuity) body.acuity = { name: a };
   return body;
 }
 
@@ -264,7 +268,7 @@ function showEvaluation(ev) {
   out.textContent = fmt(ev.e2, 6);
   out.dataset.e2 = ev.e2 == null ? '' : String(ev.e2);
   out.title = ev.e2 == null ? '' : String(ev.e2);
-  $('ev-argmax').textContent = ev.argmaxAngle == null ? '—' : `kernel ${ev.argmaxKernel + 1}, θ = ${ev.argmaxAngle}°`;
+  $('ev-argmax').textContent = ev.argmaxAngle == null ? '—' : `kernel ${ev.argmaxKernel}, θ = ${ev.argmaxAngle}°`;
   $('ev-family').textContent = ev.family || '—';
   $('ev-cost').textContent = ev.cost == null ? '—' : String(ev.cost);
   const kernels = ev.kernels;

@@ -7,8 +7,8 @@ import { loadPresets, loadFinishedWithBest } from '../store.js';
 import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 const $ = (id) => document.getElementById(id);
-// Job kinds whose results are not optimized patterns (the rest: optimize, family sweeps, ...).
-const NOT_OPTIMIZER_KINDS = new Set(['sleep', 'compare', 'animation', 'reference-convergence']);
+// Job kinds whose results are optimized patterns.
+const OPTIMIZER_KINDS = new Set(['optimize', 'family-sweep', 'random-stats']);
 const cache = new Map(); // key -> evaluation, so revisits are instant
 let loading = null;
 
@@ -56,10 +56,10 @@ function load() {
 async function doLoad() {
   $('fam-status').textContent = 'evaluating presets…';
   const presets = await loadPresets();
-  const jobs = await loadFinishedWithBest({ exclude: NOT_OPTIMIZER_KINDS }).catch(() => []);
+  const jobs = await loadFinishedWithBest({ kinds: OPTIMIZER_KINDS }).catch(() => []);
   const items = [
     ...presets.map((p) => ({ key: `preset:${p.name}`, label: p.name, pattern: { preset: p.name }, href: `#/evaluate?preset=${encodeURIComponent(p.name)}`, preset: p, hollow: false })),
-    ...jobs.map((j) => ({ key: `job:${j.id}`, label: `job #${j.id}`, pattern: j.best.pattern, href: `#/evaluate?job=${encodeURIComponent(j.id)}`, hollow: true })),
+    ...jobs.map((j) => ({ key: `job:${j.id}`, label: `job #${j.id}`, pattern: { job: j.id }, href: `#/evaluate?job=${encodeURIComponent(j.id)}`, hollow: true })),
   ];
   const evals = await mapLimited(items, 3, (it) => evaluateOnce(it.key, it.pattern));
   const failed = evals.filter((e) => e && e.error).length;

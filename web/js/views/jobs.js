@@ -1,12 +1,15 @@
-// Jobs: start an optimization, list jobs with state and progress, cancel, and for one job the
-// best-E2-against-seconds trace (log–log, uPlot), the best pattern and its exports.
+// Jobs: start an optimization, list jobs (from GET /v1/jobs summaries alone) with state and
+// progress, cancel, and for one job: the best-E2-against-seconds trace (uPlot, log or linear
+// axes), the kind's own tables, the best pattern and its exports.
 
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
 import { apiPost, apiDelete, apiGetText } from '../api.js';
-import { ACTIVE_STATES, fmt } from '../model.js';
+import { ACTIVE_STATES, fmt, traceCurve } from '../model.js';
 import { loadJobs, loadJob, jobKinds } from '../store.js';
 import { PatternView } from '../pattern-view.js';
 import { drawableOf } from '../pattern-geometry.js';
+import { traceAxes, tickLabels } from '../trace-axes.js';
+import { renderKindDetail } from './kind-details.js';
 import { currentEvaluatePattern } from './evaluate-bridge.js';
 
 const $ = (id) => document.getElementById(id);
@@ -15,15 +18,12 @@ const STATE_MARK = { queued: '… ', running: '▶ ', done: '✓ ', failed: '✗
 let ctx = null;
 let timer = null;
 let visible = false;
-let selected = null;
+let selected = null; // id of the job whose detail is shown
+let shown = null; // id the detail panel currently holds (cleared when another job is chosen)
 let chart = null;
-let chartJob = null;
+let lastJob = null;
 let bestView = null;
 let lastJobs = [];
-// The list answer is a summary (no spec, best or trace); details of finished jobs never change,
-// so they are fetched once, those of active jobs on every refresh.
-const details = new Map();
-const DETAIL_LIMIT = 12;
 
 export async function init(context) {
   ctx = context;
@@ -35,6 +35,7 @@ export async function init(context) {
     const spec = { kind: 'optimize', seeds: +$('job-seeds').value, max_seconds: +$('job-seconds').value, rng_seed: +$('job-rng').value };
     if ($('job-mode').value) spec.mode = $('job-mode').value;
     if ($('job-method').value) spec.method = $('job-method').value;
+    if ($('job-label').value.trim()) spec.label = $('job-label').value.trim();
     if ($('job-start').value === 'pattern') {
       const p = currentEvaluatePattern();
       if (!p) {
@@ -47,7 +48,7 @@ export async function init(context) {
     try {
       const r = await apiPost('/v1/jobs', spec);
       $('job-form-status').textContent = `job ${r.id} submitted`;
-      selected = String(r.id);
+      select(String(r.id));
       await refresh();
     } catch (err) {
       $('job-form-status').textContent = `not started: ${err.message}`;
@@ -75,6 +76,11 @@ export async function init(context) {
     if (fmtName && selected) exportPattern(selected, fmtName);
   });
   $('jd-open').addEventListener('click', () => selected && ctx.navigate('evaluate', { job: selected }));
+  $('jd-axes').addEventListener('change', () => {
+    if (chart) chart.destroy();
+    chart = null;
+    if (lastJob) drawTrace(lastJob);
+  });
   window.addEventListener('resize', () => chart && chart.setSize(chartSize()));
 }
 
@@ -88,7 +94,7 @@ export async function show(params) {
   const missing = kinds && !kinds.includes('optimize');
   $('job-submit').disabled = !!missing;
   if (missing) $('job-form-status').textContent = `this daemon runs no optimize jobs (its job kinds: ${kinds.join(', ')})`;
-  if (params.job) selected = params.job;
+  if (params.job) select(String(params.job));
   await refresh();
 }
 
@@ -97,12 +103,44 @@ export function hide() {
   clearTimeout(timer);
 }
 
+function select(id) {
+  if (id === selected) return;
+  selected = id;
+  clearDetail();
+}
+
+/* Empties everything the detail panel shows of a job, so nothing of the previous job stays. */
+function clearDetail() {
+  shown = null;
+  lastJob = null;
+  if (chart) chart.destroy();
+  chart = null;
+  chartKey = '';
+  $('jd-trace').replaceChildren();
+  delete $('jd-trace').dataset.points;
+  for (const id of ['jd-state', 'jd-label', 'jd-e2', 'jd-family', 'jd-points']) $(id).textContent = '—';
+  $('jd-error').textContent = '';
+  $('jd-kind').replaceChildren();
+  delete $('jd-kind').dataset.kind;
+  delete $('jd-kind').dataset.job;
+  bestView.svg.replaceChildren();
+  $('jd-export-text').textContent = '';
+  const a = $('jd-download');
+  if (a.href) URL.revokeObjectURL(a.href);
+  a.removeAttribute('href');
+  a.removeAttribute('download');
+  a.textContent = 'Download';
+  a.hidden = true;
+  $('job-detail-title').textContent = 'Job detail';
+  $('job-detail-body').hidden = true;
+  $('job-detail-hint').hidden = false;
+}
+
 async function refresh() {
   clearTimeout(timer);
   try {
     lastJobs = await loadJobs();
-    await fillDetails(lastJobs);
-    renderTable(lastJobs.map((j) => merged(j)));
+    renderTable(lastJobs);
     if (selected) await renderDetail(selected);
   } catch (e) {
     $('job-form-status').textContent = `jobs: ${e.message}`;
@@ -111,68 +149,58 @@ async function refresh() {
   if (visible) timer = setTimeout(refresh, active ? 700 : 4000);
 }
 
-async function fillDetails(jobs) {
-  const recent = jobs
-    .slice()
-    .sort((a, b) => (b.created ?? 0) - (a.created ?? 0))
-    .slice(0, DETAIL_LIMIT)
-    .filter((j) => ACTIVE_STATES.has(j.state) || !details.has(String(j.id)) || details.get(String(j.id)).state !== j.state);
-  await Promise.all(
-    recent.map((j) =>
-      loadJob(j.id)
-        .then((d) => details.set(String(j.id), d))
-        .catch(() => {}),
-    ),
-  );
-}
-
-/* The list row with what the detail adds (family, best E2); state and progress from the list. */
-function merged(j) {
-  const d = details.get(String(j.id));
-  if (!d) return j;
-  return { ...d, state: j.state, progress: j.progress };
-}
-
 function renderTable(jobs) {
-  const rows = jobs
-    .slice()
-    .sort((a, b) => (b.created ?? 0) - (a.created ?? 0) || String(b.id).localeCompare(String(a.id), undefined, { numeric: true }))
-    .map((j) => {
-      const tr = document.createElement('tr');
-      tr.dataset.jobId = j.id;
-      tr.dataset.state = j.state;
-      if (String(j.id) === String(selected)) tr.classList.add('selected');
-      const pct = Math.round(j.progress * 100);
-      tr.innerHTML = `
+  const rows = jobs.map((j) => {
+    const tr = document.createElement('tr');
+    tr.dataset.jobId = j.id;
+    tr.dataset.state = j.state;
+    if (String(j.id) === String(selected)) tr.classList.add('selected');
+    const pct = Math.round(j.progress * 100);
+    tr.innerHTML = `
         <td>#${esc(j.id)}</td>
         <td>${esc(j.kind)}${j.family ? ` <span class="hint">${esc(j.family)}</span>` : ''}</td>
+        <td class="label">${esc(j.label)}</td>
         <td class="state state-${esc(j.state)}">${STATE_MARK[j.state] || ''}${esc(j.state)}</td>
         <td><progress max="1" value="${j.progress}" aria-label="job ${esc(j.id)} progress">${pct}%</progress> <span class="pct">${pct}%</span></td>
-        <td class="num">${fmt(j.bestE2, 4)}</td>
+        <td class="num best-e2">${fmt(j.bestE2, 4)}</td>
         <td class="actions"><button type="button" data-action="show">Show</button>
           <button type="button" data-action="cancel" ${ACTIVE_STATES.has(j.state) ? '' : 'disabled'} aria-label="Cancel job ${esc(j.id)}">Cancel</button></td>`;
-      return tr;
-    });
+    return tr;
+  });
   $('jobs-table').tBodies[0].replaceChildren(...rows);
-  if (!rows.length) $('jobs-table').tBodies[0].innerHTML = '<tr><td colspan="6" class="hint">no jobs yet</td></tr>';
+  if (!rows.length) $('jobs-table').tBodies[0].innerHTML = '<tr><td colspan="7" class="hint">no jobs yet</td></tr>';
 }
 
 async function renderDetail(id) {
   const j = await loadJob(id);
+  if (String(id) !== String(selected)) return; // another job was chosen meanwhile
+  if (shown !== String(j.id)) clearDetail();
+  shown = String(j.id);
+  lastJob = j;
   $('job-detail-hint').hidden = true;
   $('job-detail-body').hidden = false;
+  $('job-detail-body').dataset.job = String(j.id);
   $('job-detail-title').textContent = `Job #${j.id} (${j.kind})`;
   $('jd-state').textContent = `${STATE_MARK[j.state] || ''}${j.state} (${Math.round(j.progress * 100)}%)`;
   $('jd-state').dataset.state = j.state;
+  $('jd-label').textContent = j.label || '—';
   $('jd-e2').textContent = fmt(j.bestE2, 6);
   $('jd-family').textContent = j.family || '—';
   $('jd-points').textContent = String(j.trace.length);
   $('jd-error').textContent = j.error ? `error: ${j.error}` : '';
+  $('jd-trace-figure').hidden = !j.trace.length;
   drawTrace(j);
+  const holder = $('jd-kind');
+  const key = `${j.id}:${j.state}`;
+  if (holder.dataset.job !== key) {
+    holder.replaceChildren();
+    if (renderKindDetail(holder, j)) holder.dataset.job = key;
+  }
   const d = j.best && drawableOf(j.best.pattern);
+  $('jd-best').hidden = !j.best;
   if (d) bestView.setPattern(structuredClone(d.pattern), 0);
-  const hasBest = !!(j.best && j.best.pattern);
-  for (const b of $('jd-export').querySelectorAll('button')) b.disabled = !hasBest;
+  else bestView.svg.replaceChildren();
+  for (const b of $('jd-export').querySelectorAll('button')) b.disabled = !j.best;
 }
 
 function chartSize() {
@@ -180,60 +208,85 @@ function chartSize() {
   return { width: w, height: Math.round(Math.min(320, w * 0.55)) };
 }
 
+let axes = null; // the trace chart's ranges and ticks, read by its scale and axis callbacks
+let chartKey = '';
+let marked = 0; // points of the curve drawn with a marker (the trace's own, not the end)
+
 function drawTrace(j) {
-  // Log axes need positive values; the first point may be at t = 0. uPlot needs ascending x
-  // (jobs of mirrored families stored before the fix of 2026-11-25 have seconds that restart).
-  const points = j.trace.filter((p) => Number.isFinite(p.seconds)).sort((a, b) => a.seconds - b.seconds);
-  const xs = points.map((p) => Math.max(p.seconds, 1e-3));
-  const ys = points.map((p) => p.best_e2);
-  const data = [xs, ys];
-  $('jd-trace').dataset.points = String(xs.length);
-  if (chart && chartJob === j.id) {
+  const curve = traceCurve(j);
+  const mode = $('jd-axes').value;
+  axes = traceAxes(curve.xs, curve.ys, mode);
+  const holder = $('jd-trace');
+  holder.dataset.points = String(curve.points);
+  holder.dataset.end = curve.endSeconds == null ? '' : String(curve.endSeconds);
+  holder.dataset.yTicks = String(axes.y.ticks.length);
+  holder.setAttribute('aria-label', `Best E2 against run time, ${mode} axes`);
+  // The curve's last point is the job's end (no marker there) when it runs past the last
+  // improvement.
+  const endPoint = curve.xs.length > curve.points;
+  marked = axes.xs.length - (endPoint ? 1 : 0);
+  const data = [axes.xs, axes.ys];
+  const key = `${j.id}:${mode}`;
+  if (!axes.xs.length) {
+    if (chart) chart.destroy();
+    chart = null;
+    return;
+  }
+  if (chart && chartKey === key) {
     chart.setData(data);
+    chart.setLegend({ idx: null });
     return;
   }
   if (chart) chart.destroy();
-  chartJob = j.id;
+  chartKey = key;
+  // uPlot's own log splits loop until they pass the range: ranges and ticks come from
+  // traceAxes, which are finite, non-empty and positive on log axes.
+  const scale = (which) => ({ time: false, distr: mode === 'log' ? 3 : 1, range: () => axes[which].range });
+  const ticks = (which) => () => axes[which].ticks;
+  const labels = (which) => (u, splits) => {
+    const l = tickLabels(axes[which].ticks);
+    return splits.map((v) => l[axes[which].ticks.indexOf(v)] ?? '');
+  };
+  const lastOf = (arr) => arr[arr.length - 1];
   chart = new uPlot(
     {
       ...chartSize(),
-      // Log scales fitted to the data (uPlot's default snaps to whole decades, which squeezes a
-      // curve that spans 0.5..0.6 into a corner).
-      scales: {
-        x: { time: false, distr: 3, range: (u, lo, hi) => logRange(lo, hi, 1.5) },
-        y: { distr: 3, range: (u, lo, hi) => logRange(lo, hi, 1.08) },
-      },
+      scales: { x: scale('x'), y: scale('y') },
       axes: [
-        { label: 'seconds', values: (u, v) => v.map((x) => (x == null ? '' : String(+x.toPrecision(3)))) },
-        { label: 'best E2', size: 60, values: (u, v) => v.map((x) => (x == null ? '' : String(+x.toPrecision(3)))) },
+        // uPlot labels only some ticks of a log axis by default: label every one of ours.
+        { label: 'seconds', splits: ticks('x'), filter: (u, splits) => splits, values: labels('x') },
+        { label: 'best E2', size: 70, splits: ticks('y'), filter: (u, splits) => splits, values: labels('y') },
       ],
+      // Without the cursor over the plot, the legend shows the job's end and its best E2.
       series: [
-        { label: 's', value: (u, v) => (v == null ? '—' : v.toPrecision(3)) },
-        // Best-so-far is constant between improvements: a step after each point.
-        { label: 'best E2', stroke: '#1f5fbf', width: 2, paths: uPlot.paths.stepped({ align: 1 }), points: { show: true, size: 5 }, value: (u, v) => (v == null ? '—' : v.toFixed(5)) },
+        { label: 'seconds', value: (u, v, s, i) => `${+(i == null ? lastOf(axes.xs) : v).toPrecision(4)}` },
+        {
+          label: 'best E2',
+          stroke: '#1f5fbf',
+          width: 2,
+          // Best-so-far is constant between improvements: a step after each point.
+          paths: uPlot.paths.stepped({ align: 1 }),
+          points: { show: true, size: 5, filter: () => Array.from({ length: marked }, (_, i) => i) },
+          value: (u, v, s, i) => (i == null ? lastOf(axes.ys) : v).toFixed(6),
+        },
       ],
     },
     data,
-    $('jd-trace'),
+    holder,
   );
-}
-
-function logRange(lo, hi, pad) {
-  if (!(lo > 0) || !(hi > 0)) return [1e-3, 1];
-  if (hi / lo < 1.0001) return [lo / pad / 1.05, hi * pad * 1.05];
-  return [lo / pad, hi * pad];
 }
 
 async function exportPattern(id, format) {
   try {
     const { text, type } = await apiGetText(`/v1/patterns/${encodeURIComponent(id)}/export?format=${format}`);
-    let shown = text;
+    if (String(id) !== String(selected)) return; // another job is shown now
+    let out = text;
     try {
-      shown = JSON.stringify(JSON.parse(text), null, 1);
+      out = JSON.stringify(JSON.parse(text), null, 1);
     } catch {
       /* not JSON (UTK point set): show as it is */
     }
-    $('jd-export-text').textContent = shown;
+    $('jd-export-text').textContent = out;
     const a = $('jd-download');
     if (a.href) URL.revokeObjectURL(a.href);
     a.href = URL.createObjectURL(new Blob([text], { type }));
@@ -241,7 +294,7 @@ async function exportPattern(id, format) {
     a.textContent = `Download ${a.download}`;
     a.hidden = false;
   } catch (e) {
-    $('jd-export-text').textContent = `export failed: ${e.message}`;
+    if (String(id) === String(selected)) $('jd-export-text').textContent = `export failed: ${e.message}`;
   }
 }
 

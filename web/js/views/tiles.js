@@ -1,14 +1,15 @@
 // Tiles: render a scene with a pattern beside the reference and their difference, with zoom,
-// RMSE / max deviation / penalised histogram; and the comparison job as error against time.
+// RMSE / max deviation / penalised histogram; and the comparison job as RMSE and E2 against
+// samples per pixel.
 
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
 import { apiPost, apiImageUrl } from '../api.js';
 import { renderImages, renderStats, comparisonRows, fmt, fmtSeconds, ACTIVE_STATES } from '../model.js';
+import { drawComparison } from './kind-details.js';
 import { loadPresets, loadJob, jobKinds, loadFinishedWithBest } from '../store.js';
-import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 const $ = (id) => document.getElementById(id);
-// Scene names of the renderer (issue 5).
+// Scene names of the renderer.
 export const SCENES = ['siemens-star', 'checkerboard', 'rings', 'sliver', 'spiral', 'half-plane'];
 const CMP_DEFAULT = new Set(['centroid', 'quincunx', 'rgss', 'flipquad', 'fliptri', 'grid-2x2']);
 
@@ -61,7 +62,7 @@ export function hide() {
 
 async function fillPatterns() {
   const presets = await loadPresets();
-  const jobs = await loadFinishedWithBest({ exclude: new Set(['compare', 'animation', 'reference-convergence']) }).catch(() => []);
+  const jobs = await loadFinishedWithBest().catch(() => []);
   const prev = $('tile-pattern').value;
   patterns = new Map();
   const opts = [];
@@ -70,7 +71,7 @@ async function fillPatterns() {
     opts.push(new Option(`${p.name} (${p.family})`, `preset:${p.name}`));
   }
   for (const j of jobs) {
-    patterns.set(`job:${j.id}`, j.best.pattern); // the finished job's result pattern
+    patterns.set(`job:${j.id}`, { job: j.id }); // the finished job's best pattern, resolved by the daemon
     opts.push(new Option(`job #${j.id} best (${j.family || j.kind})`, `job:${j.id}`));
   }
   $('tile-pattern').replaceChildren(...opts);
@@ -208,7 +209,7 @@ async function pollComparison(id, keys) {
       return;
     }
     $('cmp-start').disabled = false;
-    if (j.state === 'done') showComparison(comparisonRows(j.result || {}), keys);
+    if (j.state === 'done') showComparison(comparisonRows(j.result));
     else if (j.error) $('cmp-status').textContent += `: ${j.error}`;
   } catch (e) {
     $('cmp-status').textContent = `comparison job ${id}: ${e.message}`;
@@ -216,30 +217,6 @@ async function pollComparison(id, keys) {
   }
 }
 
-function showComparison(rows, keys) {
-  rows.forEach((r, i) => {
-    if (/^#\d+$/.test(r.label) && keys[i]) r.label = keys[i].replace(/^preset:/, '').replace(/^job:/, 'job #');
-  });
-  drawScatter($('cmp-plot'), {
-    series: rows.map((r) => ({ label: r.label, points: [{ x: r.seconds, y: r.rmse, title: `${r.label}: RMSE ${fmt(r.rmse, 3)} in ${fmtSeconds(r.seconds)}` }] })),
-    xLabel: 'render time (s)',
-    yLabel: 'RMSE (0..255)',
-    xLog: true,
-    labels: true,
-    width: 760,
-    height: 360,
-  });
-  scatterLegend($('cmp-legend'), rows.map((r) => r.label));
-  $('cmp-table').tBodies[0].replaceChildren(
-    ...rows.map((r) => {
-      const tr = document.createElement('tr');
-      for (const [i, v] of [r.label, r.spp ?? '—', fmt(r.e2, 4), fmt(r.rmse, 3), fmt(r.maxDev, 1), fmtSeconds(r.seconds)].entries()) {
-        const td = document.createElement('td');
-        td.textContent = String(v);
-        if (i) td.className = 'num';
-        tr.appendChild(td);
-      }
-      return tr;
-    }),
-  );
+function showComparison(rows) {
+  drawComparison({ plot: $('cmp-plot'), plotE2: $('cmp-plot-e2'), legend: $('cmp-legend'), tableHolder: $('cmp-table-holder'), tableId: 'cmp-table', rows });
 }

@@ -1,0 +1,166 @@
+// Jobs view, one detail view per job kind (small budgets): family-sweep's ranked table whose
+// rows open in Evaluate, random-stats' Table 3 row, compare's error against samples per pixel,
+// animation's frames, reference-convergence's levels; the trace's axes and legend; and showing
+// another job leaves nothing of the previous one on screen.
+
+import { assert, eventually } from '../lib/check.mjs';
+
+const SPECS = {
+  'family-sweep': { kind: 'family-sweep', cost: 1.25, seeds_per_config: 1, max_seconds: 1, rng_seed: 3 },
+  'random-stats': { kind: 'random-stats', family: 'P(1,4,2)', count: 20, max_seconds: 1, rng_seed: 3 },
+  compare: { kind: 'compare', scene: { name: 'siemens-star', width: 32, height: 32 }, reference: { spp: 64 }, patterns: [{ preset: 'centroid' }, { preset: 'quincunx' }, { preset: 'rgss' }] },
+  animation: { kind: 'animation', scene: { name: 'rotating-triangle', frames: 3, width: 32, height: 32 }, reference: { spp: 64 }, pattern: { preset: 'rgss' } },
+  'reference-convergence': { kind: 'reference-convergence', scene: { name: 'siemens-star', width: 32, height: 32 }, levels: [16, 64], baseline_spp: 256 },
+};
+
+async function cells(page, selector) {
+  return page.$$eval(`${selector} tbody tr`, (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent.trim())));
+}
+
+export default async function kindsSuite({ page, base, api, step, shot }) {
+  const ids = {};
+  const jobs = {};
+  const open = async (kind) => {
+    await page.goto(`${base}/#/jobs?job=${ids[kind]}`);
+    await page.waitForFunction((id) => document.getElementById('job-detail-body').dataset.job === id && document.getElementById('jd-state').dataset.state === 'done', String(ids[kind]), { timeout: 20000 });
+  };
+
+  await step('a small job of every kind runs to done', async () => {
+    for (const [kind, spec] of Object.entries(SPECS)) ids[kind] = (await api('POST', '/v1/jobs', spec)).id;
+    for (const [kind, id] of Object.entries(ids)) {
+      jobs[kind] = await eventually(async () => {
+        const j = await api('GET', `/v1/jobs/${id}`);
+        return !['queued', 'running'].includes(j.state) && j;
+      }, { timeout: 60000, interval: 250, message: `${kind} job ${id} to finish` });
+      assert(jobs[kind].state === 'done', `${kind} job ${id} ended ${jobs[kind].state}: ${JSON.stringify(jobs[kind].error)}`);
+    }
+  });
+
+  await step("the job list shows each summary's best E2", async () => {
+    const list = await api('GET', '/v1/jobs');
+    await page.goto(`${base}/#/jobs`);
+    for (const s of list.jobs) {
+      const row = await page.waitForSelector(`#jobs-table tr[data-job-id="${s.id}"][data-state="${s.state}"]`, { timeout: 10000 });
+      const e2 = await row.$eval('td.best-e2', (td) => td.textContent);
+      assert(e2 === (typeof s.best_e2 === 'number' ? s.best_e2.toFixed(4) : '—'), `job ${s.id}: best E2 shown ${e2}, summary ${s.best_e2}`);
+    }
+  });
+
+  await step('family-sweep: ranked table; a row opens its configuration in Evaluate', async () => {
+    const r = jobs['family-sweep'].result;
+    await open('family-sweep');
+    const rows = await cells(page, '#jd-sweep-table');
+    assert(rows.length === r.ranked.length, `${rows.length} rows shown, ${r.ranked.length} configurations`);
+    r.ranked.forEach((x, i) => {
+      assert(rows[i][0] === String(x.rank), `row ${i}: rank ${rows[i][0]}`);
+      assert(rows[i][3] === x.e2.toFixed(6), `rank ${x.rank}: E2 shown ${rows[i][3]}, API ${x.e2}`);
+      assert(rows[i][1].includes(`corners ${x.config.corners.join('')}`) && rows[i][1].includes(`interior ${x.config.interior}`), `rank ${x.rank}: configuration "${rows[i][1]}"`);
+    });
+    await shot('jobs-family-sweep');
+    const pick = r.ranked[Math.min(2, r.ranked.length - 1)];
+    await page.click(`#jd-sweep-table tr[data-rank="${pick.rank}"] a`);
+    await page.waitForFunction((e2) => location.hash.startsWith('#/evaluate') && Math.abs(Number(document.getElementById('ev-e2').dataset.e2) - e2) < 1e-9, pick.e2, { timeout: 10000 });
+    const dots = await page.$$eval('#ev-pattern g.dot-primary', (g) => g.length);
+    assert(dots === pick.best.mirrored.length, `Evaluate draws ${dots} samples, configuration ${pick.rank} has ${pick.best.mirrored.length}`);
+  });
+
+  await step('trace: log/linear axes, several ticks, legend with values, curve to the job end', async () => {
+    const j = jobs['family-sweep'];
+    await open('family-sweep');
+    await page.waitForSelector('#jd-trace canvas');
+    const end = Number(await page.getAttribute('#jd-trace', 'data-end'));
+    assert(Math.abs(end - (j.finished - j.started)) < 1e-9, `curve ends at ${end} s, the job ran ${j.finished - j.started} s`);
+    assert(end >= j.trace[j.trace.length - 1].seconds, 'curve ends before the last trace point');
+    const legend = await page.$$eval('#jd-trace .u-legend .u-value', (v) => v.map((x) => x.textContent));
+    assert(legend.includes(j.result.e2.toFixed(6)), `legend values ${JSON.stringify(legend)} lack the best E2 ${j.result.e2.toFixed(6)}`);
+    for (const mode of ['linear', 'log']) {
+      await page.selectOption('#jd-axes', mode);
+      await page.waitForFunction((m) => document.getElementById('jd-trace').getAttribute('aria-label').includes(m), mode);
+      const ticks = Number(await page.getAttribute('#jd-trace', 'data-y-ticks'));
+      assert(ticks >= 3, `${mode}: ${ticks} E2 ticks`);
+      assert(await page.$('#jd-trace canvas'), `${mode}: no chart`);
+    }
+  });
+
+  await step('random-stats: Min, Avg, Max, Opt W, Opt W+P (Laine & Aila Table 3)', async () => {
+    const r = jobs['random-stats'].result;
+    await open('random-stats');
+    const head = await page.$$eval('#jd-stats-table thead th', (th) => th.map((x) => x.textContent));
+    assert(JSON.stringify(head.slice(2)) === JSON.stringify(['Min', 'Avg', 'Max', 'Opt W', 'Opt W+P']), `columns ${JSON.stringify(head)}`);
+    const [row] = await cells(page, '#jd-stats-table');
+    const want = [r.family, r.distribution, ...[r.random.min, r.random.avg, r.random.max, r.opt_w.e2, r.opt_wp.e2].map((v) => v.toFixed(4))];
+    assert(JSON.stringify(row) === JSON.stringify(want), `row ${JSON.stringify(row)}, API ${JSON.stringify(want)}`);
+    await shot('jobs-random-stats');
+  });
+
+  await step('compare: RMSE and E2 against samples per pixel, one row per pattern', async () => {
+    const r = jobs.compare.result;
+    await open('compare');
+    const rows = await cells(page, '#jd-cmp-table');
+    assert(rows.length === r.rows.length, `${rows.length} rows, API ${r.rows.length}`);
+    r.rows.forEach((x, i) => {
+      assert(rows[i][0] === x.name && rows[i][1] === String(x.samples_per_pixel) && rows[i][2] === x.e2.toFixed(4) && rows[i][3] === x.rmse.toFixed(3), `row ${JSON.stringify(rows[i])} vs API ${x.name} ${x.samples_per_pixel} ${x.e2} ${x.rmse}`);
+    });
+    for (const plot of ['#jd-cmp-plot', '#jd-cmp-plot-e2']) {
+      const n = await page.$$eval(`${plot} .point-marker`, (m) => m.length);
+      assert(n === r.rows.length, `${plot}: ${n} points`);
+      const svgText = await page.$eval(plot, (p) => p.textContent);
+      assert(svgText.includes('samples per pixel') && !/render time/.test(svgText), `${plot}: x axis is not samples per pixel`);
+    }
+    assert(await page.$eval('#jd-best', (e) => e.hidden), 'a comparison has no best pattern to show');
+    await shot('jobs-compare');
+  });
+
+  await step('animation: a row per frame and the whole animation', async () => {
+    const r = jobs.animation.result;
+    await open('animation');
+    const rows = await cells(page, '#jd-anim-table');
+    assert(rows.length === r.frames.length + 1, `${rows.length} rows for ${r.frames.length} frames`);
+    r.frames.forEach((f, i) => assert(rows[i][0] === String(f.frame) && rows[i][1] === f.rmse.toFixed(3) && rows[i][3] === String(f.pixels_recomputed), `frame ${f.frame}: ${JSON.stringify(rows[i])}`));
+    assert(rows[r.frames.length][1] === r.total.rmse.toFixed(3), `total RMSE ${rows[r.frames.length][1]}, API ${r.total.rmse}`);
+  });
+
+  await step('reference-convergence: RMSE per reference level', async () => {
+    const r = jobs['reference-convergence'].result;
+    await open('reference-convergence');
+    const rows = await cells(page, '#jd-conv-table');
+    assert(JSON.stringify(rows.map((x) => x[0])) === JSON.stringify(r.rows.map((x) => String(x.spp))), `levels ${JSON.stringify(rows.map((x) => x[0]))}`);
+    r.rows.forEach((x, i) => assert(rows[i][1] === x.rmse.toFixed(3), `${x.spp} spp: RMSE ${rows[i][1]}, API ${x.rmse}`));
+  });
+
+  await step("showing job B after job A's export leaves nothing of A", async () => {
+    const a = ids['family-sweep'];
+    await open('family-sweep');
+    await page.click('#jd-export button[data-format="json"]');
+    await page.waitForFunction(() => !document.getElementById('jd-download').hidden && document.getElementById('jd-export-text').textContent.length > 0);
+    const aDots = await page.$$eval('#jd-pattern g.dot-primary', (g) => g.length);
+    assert(aDots > 0, 'job A draws no pattern');
+    // B without a pattern: the whole best-pattern part goes away with A's export.
+    await page.click(`#jobs-table tr[data-job-id="${ids['reference-convergence']}"] button[data-action="show"]`);
+    await page.waitForFunction((id) => document.getElementById('job-detail-body').dataset.job === id, String(ids['reference-convergence']));
+    const after = await page.evaluate(() => ({
+      exportText: document.getElementById('jd-export-text').textContent,
+      download: !document.getElementById('jd-download').hidden || document.getElementById('jd-download').hasAttribute('href'),
+      dots: document.querySelectorAll('#jd-pattern g.dot-primary').length,
+      sweep: !!document.getElementById('jd-sweep-table'),
+      trace: document.querySelectorAll('#jd-trace canvas').length,
+      title: document.getElementById('job-detail-title').textContent,
+    }));
+    assert(after.exportText === '' && !after.download && after.dots === 0 && !after.sweep && after.trace === 0, `job ${a} left ${JSON.stringify(after)}`);
+    // B with a pattern of its own: B's drawing, no export until asked.
+    await open('family-sweep');
+    await page.click('#jd-export button[data-format="utk"]');
+    await page.waitForFunction(() => !document.getElementById('jd-download').hidden);
+    await page.click(`#jobs-table tr[data-job-id="${ids['random-stats']}"] button[data-action="show"]`);
+    await page.waitForFunction((id) => document.getElementById('job-detail-body').dataset.job === id, String(ids['random-stats']));
+    const b = await page.evaluate(() => ({
+      exportText: document.getElementById('jd-export-text').textContent,
+      download: !document.getElementById('jd-download').hidden,
+      sweep: !!document.getElementById('jd-sweep-table'),
+      stats: !!document.getElementById('jd-stats-table'),
+      dots: document.querySelectorAll('#jd-pattern g.dot-primary').length,
+    }));
+    const bKernel = jobs['random-stats'].result.best.kernels_expanded[0].length;
+    assert(b.exportText === '' && !b.download && !b.sweep && b.stats && b.dots === bKernel, `after job B: ${JSON.stringify(b)} (B's kernel has ${bKernel} samples)`);
+  });
+}

@@ -1,0 +1,133 @@
+// The part of a job's detail that depends on its kind: a family sweep's ranked table, the
+// random-stats row of Laine & Aila's Table 3, a comparison's error against samples per pixel,
+// an animation's frames and a reference's convergence. Each renders a finished job's result
+// into an empty container.
+
+import { sweepRows, randomStatsRow, comparisonRows, animationTable, convergenceTable, fmt, fmtSeconds } from '../model.js';
+import { drawScatter, scatterLegend } from '../scatter-plot.js';
+
+function node(tag, attrs = {}, children = []) {
+  const n = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (k === 'text') n.textContent = v;
+    else if (k === 'className') n.className = v;
+    else n.setAttribute(k, v);
+  }
+  for (const c of children) n.append(c);
+  return n;
+}
+
+function evaluateLink(href, text) {
+  return node('a', { href, text });
+}
+
+/* A table with a caption, a header row and body rows; cells are strings or nodes; columns from
+ * numeric onwards are right-aligned numbers. */
+export function table({ id, caption, head, rows, numericFrom = 1 }) {
+  const t = node('table', { className: 'data', ...(id ? { id } : {}) });
+  if (caption) t.append(node('caption', { text: caption }));
+  t.append(node('thead', {}, [node('tr', {}, head.map((h) => node('th', { scope: 'col', text: h })))]));
+  const body = node('tbody');
+  for (const r of rows) {
+    const tr = node('tr');
+    r.forEach((c, i) => {
+      const td = node('td', i >= numericFrom ? { className: 'num' } : {});
+      td.append(c == null ? '—' : c);
+      tr.append(td);
+    });
+    body.append(tr);
+  }
+  t.append(body);
+  return t;
+}
+
+function sweep(holder, job) {
+  const rows = sweepRows(job.result);
+  const r = job.result;
+  holder.append(
+    node('p', { className: 'hint', text: `${r.configurations} configurations of cost ${r.cost} samples/pixel, ${r.seeds_per_config} seeds each, ranked by E2. A row opens its best pattern in Evaluate.` }),
+    table({
+      id: 'jd-sweep-table',
+      caption: 'Configurations ranked by E2',
+      head: ['Rank', 'Configuration', 'Family', 'E2', 'Pattern'],
+      numericFrom: 3,
+      rows: rows.map((x) => [String(x.rank), x.config, x.family, fmt(x.e2, 6), evaluateLink(`#/evaluate?job=${encodeURIComponent(job.id)}&rank=${x.rank}`, 'Open in Evaluate')]),
+    }),
+  );
+  for (const [i, tr] of [...holder.querySelectorAll('#jd-sweep-table tbody tr')].entries()) tr.dataset.rank = String(rows[i].rank);
+}
+
+function randomStats(holder, job) {
+  const x = randomStatsRow(job.result);
+  const link = (pick, v) => (v == null ? '—' : evaluateLink(`#/evaluate?job=${encodeURIComponent(job.id)}&pick=${pick}`, fmt(v, 4)));
+  holder.append(
+    node('p', { className: 'hint', text: `E2 of ${x.count} random ${x.distribution} patterns of ${x.family} (weights from the filter), then the best of them optimized for weights only (Opt W, ${x.optWMethod}) and for weights and positions (Opt W+P, ${x.optWPMethod}), as in Laine & Aila Table 3.` }),
+    table({
+      id: 'jd-stats-table',
+      caption: 'Random patterns and their optimization (E2)',
+      head: ['Family', 'Distribution', 'Min', 'Avg', 'Max', 'Opt W', 'Opt W+P'],
+      numericFrom: 2,
+      rows: [[x.family, x.distribution, fmt(x.min, 4), fmt(x.avg, 4), fmt(x.max, 4), link('opt_w', x.optW), link('opt_wp', x.optWP)]],
+    }),
+  );
+}
+
+/* Comparison rows as RMSE and E2 against samples per pixel (a pattern's cost; its CPU render
+ * time here says nothing about a GPU) and a table. Shared with the Tiles view. */
+export function drawComparison({ plot, plotE2, legend, tableHolder, tableId, rows }) {
+  const series = rows.map((r) => ({ label: r.label, points: [{ x: r.spp, y: r.rmse, title: `${r.label}: RMSE ${fmt(r.rmse, 3)} at ${r.spp} samples/pixel` }] }));
+  drawScatter(plot, { series, xLabel: 'samples per pixel', yLabel: 'RMSE (0..255)', labels: true, width: 560, height: 300, title: 'RMSE against samples per pixel' });
+  const e2 = rows.map((r) => ({ label: r.label, points: [{ x: r.spp, y: r.e2, title: `${r.label}: E2 ${fmt(r.e2, 4)} at ${r.spp} samples/pixel` }] }));
+  drawScatter(plotE2, { series: e2, xLabel: 'samples per pixel', yLabel: 'E2', labels: true, width: 560, height: 300, title: 'E2 against samples per pixel' });
+  scatterLegend(legend, rows.map((r) => r.label));
+  const t = table({
+    id: tableId,
+    head: ['Pattern', 'Samples/pixel', 'E2', 'RMSE', 'Max dev.', 'Render time'],
+    rows: rows.map((r) => [r.label, r.spp == null ? '—' : String(r.spp), fmt(r.e2, 4), fmt(r.rmse, 3), fmt(r.maxDev, 1), fmtSeconds(r.seconds)]),
+  });
+  tableHolder.replaceChildren(t);
+}
+
+function compare(holder, job) {
+  const plot = node('div', { id: 'jd-cmp-plot', className: 'plot-holder' });
+  const plotE2 = node('div', { id: 'jd-cmp-plot-e2', className: 'plot-holder' });
+  const legend = node('p', { className: 'legend' });
+  const tableHolder = node('div');
+  const s = job.result.scene;
+  holder.append(node('p', { className: 'hint', text: `${s.name}, ${s.width}×${s.height}, reference ${job.result.reference.spp} spp.` }), node('div', { className: 'plots-2' }, [plot, plotE2]), legend, tableHolder);
+  drawComparison({ plot, plotE2, legend, tableHolder, tableId: 'jd-cmp-table', rows: comparisonRows(job.result) });
+}
+
+function animation(holder, job) {
+  const a = animationTable(job.result);
+  const rows = a.frames.map((f) => [String(f.frame), fmt(f.rmse, 3), fmt(f.maxDev, 1), String(f.recomputed), fmtSeconds(f.patternSeconds), fmtSeconds(f.referenceSeconds)]);
+  if (a.total) rows.push(['all frames', fmt(a.total.rmse, 3), fmt(a.total.maxDev, 1), `${a.recomputed} of ${a.allPixels}`, '', '']);
+  holder.append(
+    node('p', { className: 'hint', text: `${job.result.scene.name}, ${a.frames.length} frames, pattern ${a.family} (${a.spp} samples/pixel, E2 ${fmt(a.e2, 4)}); only pixels the moving content touches are recomputed.` }),
+    table({ id: 'jd-anim-table', caption: 'Error per frame (0..255)', head: ['Frame', 'RMSE', 'Max dev.', 'Pixels recomputed', 'Pattern time', 'Reference time'], rows }),
+  );
+}
+
+function convergence(holder, job) {
+  const c = convergenceTable(job.result);
+  holder.append(
+    node('p', { className: 'hint', text: `Each reference against one at ${c.baselineSpp} spp (rendered in ${fmtSeconds(c.baselineSeconds)}, independent seed).` }),
+    table({
+      id: 'jd-conv-table',
+      caption: 'Reference error against samples per pixel (0..255)',
+      head: ['Reference spp', 'RMSE', 'Max dev.', 'Render time', 'Samples'],
+      rows: c.rows.map((r) => [String(r.spp), fmt(r.rmse, 3), fmt(r.maxDev, 2), fmtSeconds(r.seconds), String(r.samples)]),
+    }),
+  );
+}
+
+const BY_KIND = { 'family-sweep': sweep, 'random-stats': randomStats, compare, animation, 'reference-convergence': convergence };
+
+/* Fills holder with the kind's view of a done job's result; false when the kind has none. */
+export function renderKindDetail(holder, job) {
+  const f = BY_KIND[job.kind];
+  if (!f || job.state !== 'done' || !job.result) return false;
+  holder.dataset.kind = job.kind;
+  f(holder, job);
+  return true;
+}
