@@ -1,4 +1,4 @@
-/* The family searches of issue 3 (L&A Table 3 / Hasselgren Fig. 3 figures): multi-start
+/* The family searches of L&A Table 3 and Hasselgren Fig. 3: multi-start
  * optimisation of positions and weights per family, printed beside the published best E2.
  * Flags: --family-seconds S (default 60), --p16-seconds S (default 600), --quick (8 s per family,
  * 30 s for P(16,16,4)), --workers W (default 2), --seed K, --only LABEL, --method

@@ -1,5 +1,5 @@
 /* One test tile: a scene rendered with a pattern beside the supersampled reference, with the
- * error statistics, the pattern's E2 and the wall time of each render (issue 5). Also the
+ * error statistics, the pattern's E2 and the wall time of each render. Also the
  * incremental animation renderer: frame by frame, only the pixels whose footprint meets the
  * moving content of this or the previous frame are recomputed. */
 #ifndef AA_RENDER_H

@@ -18,9 +18,7 @@
 #include "job_manager.h"
 #include "token_store.h"
 #include "job_retention.h"
-#ifdef AALAB_HAVE_TILES
 #include "tile_store.h"
-#endif
 
 struct api_context {
     aalab_config cfg;
@@ -76,8 +74,8 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
                      cfg->state_dir);
         goto fail;
     }
-    /* Earlier versions kept one daemon-wide token in <state-dir>/token; it admits nothing now,
-     * so its secret is not left lying around. */
+    /* <state-dir>/token, a daemon-wide token of older daemons, admits nothing: its secret is
+     * not left lying around. */
     char old_token[AALAB_PATH_MAX + 8];
     snprintf(old_token, sizeof old_token, "%s/token", cfg->state_dir);
     unlink(old_token);
@@ -85,11 +83,9 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
     if (!ctx->tokens)
         goto fail;
     ctx->cache = eval_cache_create(cfg->eval_cache);
-#ifdef AALAB_HAVE_TILES
     ctx->tiles = tile_store_create(cfg->state_dir, cfg->tile_bytes, err);
     if (!ctx->tiles)
         goto fail;
-#endif
     job_manager_config jc = {.workers = cfg->workers,
                              .queue_size = cfg->queue_size,
                              .user_quota = cfg->user_quota,
@@ -123,9 +119,7 @@ void api_context_destroy(api_context *ctx)
         return;
     job_retention_stop(ctx->retention);
     job_manager_destroy(ctx->jobs);
-#ifdef AALAB_HAVE_TILES
     tile_store_destroy(ctx->tiles);
-#endif
     eval_cache_destroy(ctx->cache);
     token_store_close(ctx->tokens);
     group_membership_destroy(ctx->group);

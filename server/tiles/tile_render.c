@@ -132,7 +132,7 @@ int tile_decode_scene(const json_t *j, aa_scene_params *out, const char *prefix,
 
 int tile_decode_scene_request(const json_t *request, aa_scene_params *out, aa_error *err)
 {
-    /* Issue 4's wire format: "scene" may be a plain name and "size":[w,h] sits beside it;
+    /* The short form: "scene" may be a plain name and "size":[w,h] sits beside it;
      * both fold into the object form {"name","width","height",...}. */
     json_t *scene = json_object_get(request, "scene");
     json_t *size = json_object_get(request, "size");

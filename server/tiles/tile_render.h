@@ -39,7 +39,7 @@ typedef struct tile_reference_spec {
  * Return AA_OK or AA_EINVAL with err->field = "<prefix>.<field>". */
 int tile_decode_scene(const json_t *j, aa_scene_params *out, const char *prefix, aa_error *err);
 /* The scene of a request object: "scene" as a name or object, and the optional top-level
- * "size":[w,h] (the issue-4 wire format). */
+ * "size":[w,h] (the short form). */
 int tile_decode_scene_request(const json_t *request, aa_scene_params *out, aa_error *err);
 int tile_decode_reference(const json_t *j, tile_reference_spec *out, const char *prefix,
                           aa_error *err);

@@ -619,7 +619,6 @@ static void test_private_job_restart(void **state)
     assert_int_equal(status_of(call(f, "GET", path, NULL, 1001, &st), &st), 404);
 }
 
-#ifdef AALAB_HAVE_RENDER
 static void test_private_tiles(void **state)
 {
     fixture *f = *state;
@@ -655,7 +654,6 @@ static void test_private_tiles(void **state)
     free(tok_alice);
     free(tok_bob);
 }
-#endif
 
 static void test_pattern_refs(void **state)
 {
@@ -708,9 +706,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_private_jobs, setup, teardown),
         cmocka_unit_test_setup_teardown(test_cancel_rights, setup, teardown),
         cmocka_unit_test_setup_teardown(test_private_job_restart, setup, teardown),
-#ifdef AALAB_HAVE_RENDER
         cmocka_unit_test_setup_teardown(test_private_tiles, setup, teardown),
-#endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
