@@ -8,10 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "acuity.h"
-#include "family.h"
-#include "filter.h"
-#include "optimizer.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
+#include "aa_optimizer.h"
 
 typedef struct bench_case {
     const char *label;

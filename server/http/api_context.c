@@ -9,7 +9,6 @@
 #include <string.h>
 #include <sys/file.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "eval_cache.h"
@@ -28,8 +27,8 @@ struct api_context {
     struct tile_store *tiles;
     token_store *tokens;
     group_membership *group; /* NULL: tokens are not tied to a group */
-    struct timespec started;
-    int lock_fd; /* flock on <state-dir>/lock: one daemon per state directory */
+    double started;          /* aa_monotonic_seconds */
+    int lock_fd;             /* flock on <state-dir>/lock: one daemon per state directory */
 };
 
 /* mkdir -p with mode for the last component. */
@@ -60,7 +59,7 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
     }
     ctx->cfg = *cfg;
     ctx->lock_fd = -1;
-    clock_gettime(CLOCK_MONOTONIC, &ctx->started);
+    ctx->started = aa_monotonic_seconds();
     if (make_dirs(cfg->state_dir, 0700)) {
         aa_error_set(err, AA_EINVAL, "state_dir", "cannot create %s: %s", cfg->state_dir,
                      strerror(errno));
@@ -167,9 +166,7 @@ bool api_context_token_owner_ok(api_context *ctx, long long uid)
 
 double api_context_uptime(const api_context *ctx)
 {
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    return (double)(now.tv_sec - ctx->started.tv_sec) + (now.tv_nsec - ctx->started.tv_nsec) * 1e-9;
+    return aa_monotonic_seconds() - ctx->started;
 }
 
 /* --- pattern references --------------------------------------------------------------------- */

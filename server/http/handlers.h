@@ -4,7 +4,7 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "api.h"
 #include "api_context.h"
 

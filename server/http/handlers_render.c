@@ -7,7 +7,7 @@
 #include "api_context.h"
 #include "codec.h"
 #include "job_access.h"
-#include "render.h"
+#include "aa_render.h"
 #include "tile_render.h"
 #include "tile_store.h"
 

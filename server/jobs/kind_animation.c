@@ -10,7 +10,7 @@
 
 #include "codec.h"
 #include "job_kind.h"
-#include "render.h"
+#include "aa_render.h"
 #include "tile_render.h"
 #include "tile_store.h"
 

@@ -9,7 +9,7 @@
 
 #include "codec.h"
 #include "job_kind.h"
-#include "render.h"
+#include "aa_render.h"
 #include "tile_parallel.h"
 #include "tile_render.h"
 #include "tile_store.h"

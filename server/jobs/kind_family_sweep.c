@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "codec.h"
-#include "enumerate.h"
+#include "aa_pattern.h"
 #include "kind_optimize_spec.h"
 
 typedef struct sweep_params {

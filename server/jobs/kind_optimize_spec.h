@@ -8,11 +8,10 @@
 
 #include <jansson.h>
 
-#include "acuity.h"
-#include "family.h"
-#include "filter.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
 #include "job_kind.h"
-#include "optimizer.h"
+#include "aa_optimizer.h"
 
 typedef struct opt_common_spec {
     aa_filter filter;

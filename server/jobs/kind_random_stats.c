@@ -13,7 +13,7 @@
 
 #include "codec.h"
 #include "kind_optimize_spec.h"
-#include "random_patterns.h"
+#include "aa_optimizer.h"
 
 typedef struct stats_params {
     opt_common_spec common;

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "png_encode.h"
-#include "presets.h"
+#include "aa_pattern.h"
 
 /* out = a "." b (or b when a is empty), truncated to cap. */
 static void join_path(char *out, size_t cap, const char *a, const char *b)

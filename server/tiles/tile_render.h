@@ -17,7 +17,7 @@
 
 #include <jansson.h>
 
-#include "render.h"
+#include "aa_render.h"
 #include "tile_store.h"
 
 #define TILE_MAX_CROP_SCALE 32

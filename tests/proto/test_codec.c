@@ -8,7 +8,7 @@
 #include <cmocka.h>
 
 #include "codec.h"
-#include "presets.h"
+#include "aa_pattern.h"
 
 static json_t *parse(const char *text)
 {

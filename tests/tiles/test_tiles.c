@@ -15,7 +15,7 @@
 #include <unistd.h>
 
 #include "png_encode.h"
-#include "presets.h"
+#include "aa_pattern.h"
 #include "tile_parallel.h"
 #include "tile_render.h"
 #include "tile_store.h"

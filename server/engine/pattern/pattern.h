@@ -30,7 +30,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "filter.h"
 
 #define AA_MAX_KERNEL_SAMPLES 4096 /* samples in one kernel */

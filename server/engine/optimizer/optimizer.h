@@ -32,13 +32,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "aa_error.h"
-#include "clock.h"
-#include "enumerate.h"
-#include "family.h"
-#include "metric.h"
-#include "pattern.h"
-#include "rng.h"
+#include "aa_core.h"
+#include "aa_pattern.h"
+#include "aa_metric.h"
 
 typedef enum aa_optimize_mode {
     AA_OPTIMIZE_WEIGHTS, /* L&A Table 3 "Opt W" */

@@ -22,7 +22,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 typedef enum aa_scene_kind {
     AA_SCENE_HALF_PLANE,

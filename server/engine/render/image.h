@@ -9,7 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 #define AA_IMAGE_MAX_SIDE 4096
 

@@ -17,9 +17,9 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "image.h"
-#include "pattern.h"
+#include "aa_pattern.h"
 #include "scene.h"
 
 typedef struct aa_raster_stats {

@@ -7,10 +7,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "filter.h"
 #include "pattern.h"
-#include "rng.h"
 
 typedef struct aa_family {
     int tile;        /* T: s = T^2 */

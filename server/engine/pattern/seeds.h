@@ -6,10 +6,9 @@
 
 #include <stddef.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "family.h"
 #include "pattern.h"
-#include "rng.h"
 
 /* Writes count points in [0, tile)^2 to out. Returns AA_OK, AA_EINVAL (count 0, tile < 1) or
  * AA_ENOMEM (Lloyd's scratch). Deterministic for the rng state. */

@@ -12,7 +12,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "gauss_legendre.h"
+#include "aa_core.h"
 
 #define PI 3.14159265358979323846
 

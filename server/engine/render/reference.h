@@ -23,8 +23,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "aa_error.h"
-#include "filter.h"
+#include "aa_core.h"
+#include "aa_pattern.h"
 #include "image.h"
 #include "scene.h"
 

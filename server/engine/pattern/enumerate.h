@@ -13,11 +13,10 @@
 
 #include <stddef.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "family.h"
 #include "filter.h"
 #include "pattern.h"
-#include "rng.h"
 
 typedef struct aa_mirrored_config {
     int corners[4];

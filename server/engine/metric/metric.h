@@ -24,9 +24,8 @@
 #include <stddef.h>
 
 #include "acuity.h"
-#include "aa_error.h"
-#include "filter.h"
-#include "pattern.h"
+#include "aa_core.h"
+#include "aa_pattern.h"
 
 /* Scratch memory for the per-angle computation; reuse it across calls to avoid allocation.
  * One workspace per thread. */

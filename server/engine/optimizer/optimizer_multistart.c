@@ -5,7 +5,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "enumerate.h"
+#include "aa_pattern.h"
 #include "optimizer.h"
 
 void aa_multistart_params_default(aa_multistart_params *p)

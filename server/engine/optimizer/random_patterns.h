@@ -6,8 +6,8 @@
 
 #include <stddef.h>
 
-#include "family.h"
-#include "metric.h"
+#include "aa_pattern.h"
+#include "aa_metric.h"
 
 typedef struct aa_random_stats {
     size_t count; /* patterns evaluated */

@@ -6,8 +6,8 @@
 
 #include <stddef.h>
 
-#include "aa_error.h"
-#include "pattern.h"
+#include "aa_core.h"
+#include "aa_pattern.h"
 
 typedef struct opt_point {
     double x, y;

@@ -14,7 +14,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 #define AA_ACUITY_MAX_KNOTS 361
 #define AA_MAX_ANGLES 4096

@@ -12,7 +12,7 @@
 
 #include <stddef.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 #define AA_FILTER_MAX_PIECES 192
 #define AA_FILTER_MAX_DEGREE 15

@@ -5,7 +5,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "metric.h"
+#include "aa_metric.h"
 
 aa_render_params aa_render_params_default(aa_scene_kind kind)
 {

@@ -8,11 +8,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "acuity.h"
-#include "aa_error.h"
-#include "filter.h"
+#include "aa_metric.h"
+#include "aa_core.h"
+#include "aa_pattern.h"
 #include "image.h"
-#include "pattern.h"
 #include "raster.h"
 #include "reference.h"
 #include "scene.h"

@@ -7,7 +7,7 @@
 
 #include <stdbool.h>
 
-#include "metric.h"
+#include "aa_metric.h"
 #include "optimizer.h"
 #include "optimizer_state.h"
 

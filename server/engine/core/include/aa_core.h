@@ -1,0 +1,11 @@
+/* aalab_core: error codes and aa_error, the random number generator, Gauss-Legendre quadrature
+ * and the one clock. The only header code outside server/engine/core includes. */
+#ifndef AA_CORE_H
+#define AA_CORE_H
+
+#include "../aa_error.h"
+#include "../clock.h"
+#include "../gauss_legendre.h"
+#include "../rng.h"
+
+#endif
