@@ -53,9 +53,8 @@ json_t *tile_encode_scene(const aa_scene_params *p);
 /* {"rmse", "max_dev", "pixels", "histogram": [256], "penalised_histogram": [256]} */
 json_t *tile_encode_diff(const aa_diff_stats *d);
 
-/* Stores PNGs and returns {"id", "url", "width", "height"}; NULL with err on failure. */
-json_t *tile_put_gray8(tile_store *ts, const uint8_t *px, int width, int height, aa_error *err);
-/* The same, stored with an access (NULL = team; the plain functions store team tiles). */
+/* Stores PNGs with an access (NULL = team) and returns {"id", "url", "width", "height",
+ * "bytes"}; NULL with err on failure. */
 json_t *tile_put_gray8_as(tile_store *ts, const tile_access *access, const uint8_t *px, int width,
                           int height, aa_error *err);
 json_t *tile_put_image(tile_store *ts, const tile_access *access, const aa_image *img,
@@ -63,8 +62,6 @@ json_t *tile_put_image(tile_store *ts, const tile_access *access, const aa_image
 json_t *tile_put_difference(tile_store *ts, const tile_access *access, const aa_image *a,
                             const aa_image *ref, aa_error *err);
 /* {"pattern", "reference", "difference"} (and "crop": {...} of the three when enabled). */
-json_t *tile_put_render_images(tile_store *ts, const aa_image *pattern, const aa_image *reference,
-                               const tile_crop *crop, aa_error *err);
 json_t *tile_put_render_images_as(tile_store *ts, const tile_access *access,
                                   const aa_image *pattern, const aa_image *reference,
                                   const tile_crop *crop, aa_error *err);

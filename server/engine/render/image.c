@@ -20,15 +20,6 @@ int aa_image_init(aa_image *img, int width, int height, aa_error *err)
     return AA_OK;
 }
 
-int aa_image_copy(aa_image *dst, const aa_image *src)
-{
-    int rc = aa_image_init(dst, src->width, src->height, NULL);
-    if (rc)
-        return rc;
-    memcpy(dst->px, src->px, (size_t)src->width * (size_t)src->height * sizeof *src->px);
-    return AA_OK;
-}
-
 void aa_image_free(aa_image *img)
 {
     if (!img)

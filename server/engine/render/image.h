@@ -25,7 +25,6 @@ typedef struct aa_rect {
 
 /* Allocates a zeroed image. Errors: AA_EINVAL (size out of 1..AA_IMAGE_MAX_SIDE), AA_ENOMEM. */
 int aa_image_init(aa_image *img, int width, int height, aa_error *err);
-int aa_image_copy(aa_image *dst, const aa_image *src);
 void aa_image_free(aa_image *img);
 aa_rect aa_image_rect(const aa_image *img);
 /* Intersection; an empty result has x0 >= x1 or y0 >= y1. */
