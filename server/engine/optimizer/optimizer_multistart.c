@@ -160,7 +160,7 @@ static int make_seed(const aa_multistart_params *p, const aa_metric_params *metr
     return aa_family_seed(p->family, *kind, metric->filter, &rng, out, err);
 }
 
-static void *worker_main(void *arg)
+static void worker_main(void *arg)
 {
     worker *w = arg;
     shared_run *sh = w->sh;
@@ -233,7 +233,6 @@ static void *worker_main(void *arg)
             break;
         }
     }
-    return NULL;
 }
 
 static int multistart_once(const aa_multistart_params *p, const aa_metric_params *metric,
@@ -422,11 +421,9 @@ static int multistart_once(const aa_multistart_params *p, const aa_metric_params
     sh.snapshot_e2 = INFINITY;
     sh.per_seed = calloc(p->seed_count, sizeof *sh.per_seed);
     worker *ws = calloc((size_t)p->workers, sizeof *ws);
-    pthread_t *th = calloc((size_t)p->workers, sizeof *th);
-    if (!sh.per_seed || !ws || !th) {
+    if (!sh.per_seed || !ws) {
         free(sh.per_seed);
         free(ws);
-        free(th);
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
     for (size_t i = 0; i < p->seed_count; i++) {
@@ -434,22 +431,14 @@ static int multistart_once(const aa_multistart_params *p, const aa_metric_params
         sh.per_seed[i].initial_e2 = sh.per_seed[i].e2 = NAN;
     }
     pthread_mutex_init(&sh.lock, NULL);
-    int started = 0;
     for (int k = 0; k < p->workers; k++) {
         ws[k].sh = &sh;
         ws[k].index = k;
-        if (k == 0 || pthread_create(&th[k], NULL, worker_main, &ws[k]) == 0)
-            started = k + 1;
-        else
-            break;
     }
-    /* Worker 0 runs on the calling thread; a failed pthread_create leaves its seeds unrun. */
-    worker_main(&ws[0]);
-    for (int k = 1; k < started; k++)
-        pthread_join(th[k], NULL);
+    aa_fork_join(ws, sizeof *ws, p->workers, worker_main);
     int rc = AA_OK;
     int winner = -1;
-    for (int k = 0; k < started; k++) {
+    for (int k = 0; k < p->workers; k++) {
         if (ws[k].status && !rc) {
             rc = ws[k].status;
             if (err)
@@ -492,7 +481,6 @@ static int multistart_once(const aa_multistart_params *p, const aa_metric_params
     aa_pattern_free(&sh.snapshot);
     pthread_mutex_destroy(&sh.lock);
     free(ws);
-    free(th);
     if (rc)
         return rc;
     if (cancelled)
