@@ -1,4 +1,4 @@
-/* The family searches of issue 3 (L&A Table 3 / Hasselgren Fig. 3 figures): multi-start
+/* The family searches of L&A Table 3 and Hasselgren Fig. 3: multi-start
  * optimisation of positions and weights per family, printed beside the published best E2.
  * Flags: --family-seconds S (default 60), --p16-seconds S (default 600), --quick (8 s per family,
  * 30 s for P(16,16,4)), --workers W (default 2), --seed K, --only LABEL, --method
@@ -8,10 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "acuity.h"
-#include "family.h"
-#include "filter.h"
-#include "optimizer.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
+#include "aa_optimizer.h"
 
 typedef struct bench_case {
     const char *label;

@@ -11,9 +11,9 @@
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/un.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "aa_core.h"
 #include "api_context.h"
 #include "compute_pool.h"
 #include "mhd_adapter.h"
@@ -31,13 +31,6 @@ typedef struct client {
     double *lat; /* microseconds */
     long n, errors;
 } client;
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + t.tv_nsec * 1e-9;
-}
 
 /* One answer: headers, then Content-Length bytes. 0 on a 2xx. */
 static int read_answer(int fd, char *buf, size_t cap)
@@ -75,9 +68,9 @@ static void *client_main(void *arg)
     }
     static _Thread_local char buf[65536];
     size_t len = strlen(c->request);
-    double end = now_s() + c->seconds;
+    double end = aa_monotonic_seconds() + c->seconds;
     while (c->n < MAX_LAT) {
-        double t0 = now_s();
+        double t0 = aa_monotonic_seconds();
         if (t0 > end)
             break;
         if (send(fd, c->request, len, MSG_NOSIGNAL) != (ssize_t)len ||
@@ -85,7 +78,7 @@ static void *client_main(void *arg)
             c->errors++;
             break;
         }
-        c->lat[c->n++] = (now_s() - t0) * 1e6;
+        c->lat[c->n++] = (aa_monotonic_seconds() - t0) * 1e6;
     }
     close(fd);
     return NULL;
@@ -116,7 +109,7 @@ static result run_case(api_context *ctx, const aalab_config *cfg, compute_pool *
     }
     client c[16];
     pthread_t t[16];
-    double t0 = now_s();
+    double t0 = aa_monotonic_seconds();
     for (int i = 0; i < conns; i++) {
         c[i] = (client){.path = sock, .request = request, .seconds = seconds};
         c[i].lat = malloc(MAX_LAT * sizeof(double));
@@ -128,7 +121,7 @@ static result run_case(api_context *ctx, const aalab_config *cfg, compute_pool *
         total += c[i].n;
         res.errors += c[i].errors;
     }
-    double elapsed = now_s() - t0;
+    double elapsed = aa_monotonic_seconds() - t0;
     double *all = malloc((size_t)(total ? total : 1) * sizeof(double));
     long k = 0;
     for (int i = 0; i < conns; i++) {

@@ -8,25 +8,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <jansson.h>
 #include <sqlite3.h>
 
+#include "aa_core.h"
 #include "job_store.h"
 
 #define JOBS 10000
 #define LIMIT 500
 #define RUNS 60
 #define BEST_SAMPLES 64
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -163,7 +156,7 @@ int main(void)
     job_store_close(st);
     char path[128];
     snprintf(path, sizeof path, "%s/jobs.db", dir);
-    double t0 = now_s();
+    double t0 = aa_monotonic_seconds();
     if (fill(path)) {
         fprintf(stderr, "fill failed\n");
         return 1;
@@ -172,15 +165,15 @@ int main(void)
     sqlite3 *db;
     sqlite3_open_v2(path, &db, SQLITE_OPEN_READONLY, NULL);
     printf("bench_job_store: %d jobs written in %.1f s; list of the %d newest, %d runs each\n",
-           JOBS, now_s() - t0, LIMIT, RUNS);
+           JOBS, aa_monotonic_seconds() - t0, LIMIT, RUNS);
     static double t_old[RUNS], t_new[RUNS];
     size_t n_old = 0, n_new = 0;
     for (int r = 0; r < RUNS; r++) {
-        double a = now_s();
+        double a = aa_monotonic_seconds();
         n_old = old_list(db);
-        double b = now_s();
+        double b = aa_monotonic_seconds();
         n_new = new_list(st);
-        double c = now_s();
+        double c = aa_monotonic_seconds();
         t_old[r] = b - a;
         t_new[r] = c - b;
     }

@@ -14,8 +14,8 @@
 #include <string.h>
 #include <time.h>
 
-#include "metric.h"
-#include "presets.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
 
 #define PI_D 3.14159265358979323846
 #define KERNELS 64

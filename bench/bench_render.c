@@ -5,8 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "presets.h"
-#include "render.h"
+#include "aa_pattern.h"
+#include "aa_render.h"
 
 typedef struct timing {
     double seconds;

@@ -10,11 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "acuity.h"
-#include "family.h"
-#include "filter.h"
-#include "optimizer.h"
-#include "random_patterns.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
+#include "aa_optimizer.h"
 
 static const aa_optimize_method rules[] = {AA_METHOD_LAINE_AILA, AA_METHOD_MINIMAX,
                                            AA_METHOD_SMOOTH};

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Generates server/engine/presets_data.inc from data/presets.json (run from the repo root).
+"""Generates server/engine/pattern/presets_data.inc from data/presets.json (run from the repo root).
 The engine has no I/O, so the presets are compiled in; this keeps them one source of truth."""
 import json, math
 
@@ -30,4 +30,4 @@ for p in data['presets']:
         c_str(p.get('note')), 'NAN' if e2 is None else num(e2), form,
         1 if 'kernels' in p else 0, len(pts), ident))
 out.append('};')
-open('server/engine/presets_data.inc', 'w').write('\n'.join(out) + '\n')
+open('server/engine/pattern/presets_data.inc', 'w').write('\n'.join(out) + '\n')

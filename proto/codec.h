@@ -10,11 +10,9 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
-#include "acuity.h"
-#include "filter.h"
-#include "metric.h"
-#include "pattern.h"
+#include "aa_core.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
 
 /* Limits of the wire format beyond the engine's (documented in proto/schemas). */
 #define PROTO_MAX_ANGLES AA_MAX_ANGLES

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "presets.h"
+#include "aa_pattern.h"
 
 /* Finite number without building a field path (the fast path of decode_triple). */
 static bool finite_number(const json_t *j, double *out)

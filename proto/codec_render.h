@@ -12,7 +12,7 @@
 
 #include <jansson.h>
 
-#include "acuity.h"
+#include "aa_metric.h"
 #include "codec_scene.h"
 
 /* Holds pointers into itself once decoded (reference.params.filter): do not copy it. */

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "codec_internal.h"
-#include "presets.h"
+#include "aa_pattern.h"
 
 static int expect_object(const json_t *j, const char *prefix, aa_error *err)
 {

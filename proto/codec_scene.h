@@ -17,13 +17,9 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
-#include "filter.h"
-#include "image.h"
-#include "pattern.h"
-#include "reference.h"
-#include "render.h"
-#include "scene.h"
+#include "aa_core.h"
+#include "aa_pattern.h"
+#include "aa_render.h"
 
 #define PROTO_MAX_CROP_SCALE 32
 #define PROTO_MAX_CROP_PIXELS (1024 * 1024) /* magnified crop size */

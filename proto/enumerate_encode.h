@@ -6,7 +6,7 @@
 
 #include <jansson.h>
 
-#include "enumerate.h"
+#include "aa_pattern.h"
 
 /* {"family":"P(4,1+,n)","cost":c,"count":N,"configurations":[{"corners":[4],"edges":[4],
  * "interior":k,"samples":m,"label":"..."}...]}; NULL on allocation failure. */

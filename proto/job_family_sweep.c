@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "codec_internal.h"
-#include "enumerate.h"
+#include "aa_pattern.h"
 #include "job_result_util.h"
 
 static const char *const kind_keys[] = {"family", "cost", "seeds_per_config", "distributions",

@@ -4,9 +4,8 @@
 #ifndef AALAB_PROTO_JOB_FAMILY_SWEEP_H
 #define AALAB_PROTO_JOB_FAMILY_SWEEP_H
 
-#include "enumerate.h"
+#include "aa_pattern.h"
 #include "job_optimizer_spec.h"
-#include "pattern.h"
 
 typedef struct proto_family_sweep_spec {
     proto_optimizer_spec common; /* max_seconds default 60, split evenly over configurations */

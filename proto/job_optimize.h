@@ -5,7 +5,7 @@
 #define AALAB_PROTO_JOB_OPTIMIZE_H
 
 #include "job_optimizer_spec.h"
-#include "pattern.h"
+#include "aa_pattern.h"
 
 typedef struct proto_optimize_spec {
     proto_optimizer_spec common; /* max_seconds default 30 */

@@ -10,12 +10,10 @@
 
 #include <jansson.h>
 
-#include "acuity.h"
-#include "aa_error.h"
-#include "family.h"
-#include "filter.h"
-#include "metric.h"
-#include "optimizer.h"
+#include "aa_metric.h"
+#include "aa_core.h"
+#include "aa_pattern.h"
+#include "aa_optimizer.h"
 
 #define PROTO_MAX_DISTRIBUTIONS 5
 

@@ -4,7 +4,7 @@
 #define AALAB_PROTO_JOB_RANDOM_STATS_H
 
 #include "job_optimizer_spec.h"
-#include "pattern.h"
+#include "aa_pattern.h"
 
 typedef struct proto_random_stats_spec {
     proto_optimizer_spec common; /* max_seconds default 30: half for Opt W, half for Opt W+P */

@@ -5,9 +5,9 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
-#include "optimizer.h"
-#include "pattern.h"
+#include "aa_core.h"
+#include "aa_optimizer.h"
+#include "aa_pattern.h"
 
 /* A number, or null for NaN (proto_real writes non-finite values as null). */
 int proto_result_real(const json_t *obj, const char *key, double *out, aa_error *err);

@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "presets.h"
+#include "aa_pattern.h"
 
 #define NAME_MAX_LEN 64
 

@@ -5,7 +5,7 @@
 
 #include <stddef.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 #define PROTO_SUGGEST_MAX 3
 

@@ -11,7 +11,7 @@
 
 #include <stddef.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 /* X(name, HTTP status, wire code, Retry-After seconds or 0) */
 #define PROTO_WIRE_ERRORS(X)                                                                       \

@@ -1,6 +1,6 @@
 #define _GNU_SOURCE
 #include "accept_loop.h"
-#include "clock.h"
+#include "aa_core.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -9,7 +9,6 @@
 #include <string.h>
 #include <sys/file.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "eval_cache.h"
@@ -19,9 +18,7 @@
 #include "kind_schemas.h"
 #include "token_store.h"
 #include "job_retention.h"
-#ifdef AALAB_HAVE_TILES
 #include "tile_store.h"
-#endif
 
 struct api_context {
     aalab_config cfg;
@@ -31,8 +28,8 @@ struct api_context {
     struct tile_store *tiles;
     token_store *tokens;
     group_membership *group; /* NULL: tokens are not tied to a group */
-    struct timespec started;
-    int lock_fd; /* flock on <state-dir>/lock: one daemon per state directory */
+    double started;          /* aa_monotonic_seconds */
+    int lock_fd;             /* flock on <state-dir>/lock: one daemon per state directory */
 };
 
 /* mkdir -p with mode for the last component. */
@@ -63,7 +60,7 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
     }
     ctx->cfg = *cfg;
     ctx->lock_fd = -1;
-    clock_gettime(CLOCK_MONOTONIC, &ctx->started);
+    ctx->started = aa_monotonic_seconds();
     /* GET /v1/kinds serves every kind's schemas: a build without them must not start. */
     if (kind_schemas_check(err))
         goto fail;
@@ -80,8 +77,8 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
                      cfg->state_dir);
         goto fail;
     }
-    /* Earlier versions kept one daemon-wide token in <state-dir>/token; it admits nothing now,
-     * so its secret is not left lying around. */
+    /* <state-dir>/token, a daemon-wide token of older daemons, admits nothing: its secret is
+     * not left lying around. */
     char old_token[AALAB_PATH_MAX + 8];
     snprintf(old_token, sizeof old_token, "%s/token", cfg->state_dir);
     unlink(old_token);
@@ -89,11 +86,9 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
     if (!ctx->tokens)
         goto fail;
     ctx->cache = eval_cache_create(cfg->eval_cache);
-#ifdef AALAB_HAVE_TILES
     ctx->tiles = tile_store_create(cfg->state_dir, cfg->tile_bytes, err);
     if (!ctx->tiles)
         goto fail;
-#endif
     job_manager_config jc = {.workers = cfg->workers,
                              .queue_size = cfg->queue_size,
                              .user_quota = cfg->user_quota,
@@ -127,9 +122,7 @@ void api_context_destroy(api_context *ctx)
         return;
     job_retention_stop(ctx->retention);
     job_manager_destroy(ctx->jobs);
-#ifdef AALAB_HAVE_TILES
     tile_store_destroy(ctx->tiles);
-#endif
     eval_cache_destroy(ctx->cache);
     token_store_close(ctx->tokens);
     group_membership_destroy(ctx->group);
@@ -177,9 +170,7 @@ bool api_context_token_owner_ok(api_context *ctx, long long uid)
 
 double api_context_uptime(const api_context *ctx)
 {
-    struct timespec now;
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    return (double)(now.tv_sec - ctx->started.tv_sec) + (now.tv_nsec - ctx->started.tv_nsec) * 1e-9;
+    return aa_monotonic_seconds() - ctx->started;
 }
 
 /* --- pattern references --------------------------------------------------------------------- */

@@ -8,7 +8,7 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "api.h"
 #include "config.h"
 

@@ -1,6 +1,6 @@
 #define _GNU_SOURCE
 #include "conn_admission.h"
-#include "clock.h"
+#include "aa_core.h"
 
 #include <pthread.h>
 #include <stdint.h>

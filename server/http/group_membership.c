@@ -1,7 +1,7 @@
 /* Cached socket-group membership (group_membership.h). */
 #define _GNU_SOURCE
 #include "group_membership.h"
-#include "clock.h"
+#include "aa_core.h"
 
 #include <grp.h>
 #include <pthread.h>

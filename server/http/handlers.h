@@ -4,7 +4,7 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "api.h"
 #include "api_context.h"
 
@@ -48,7 +48,7 @@ void handle_token_delete(api_context *ctx, const api_request *req, api_response 
                          const char *id);
 void handle_static(api_context *ctx, const api_request *req, api_response *resp);
 /* POST /v1/render and GET /v1/tiles/{id}.png: resolve pattern refs, then the renderer's
- * handlers (501 when they are not built in). */
+ * handlers. */
 void route_render(api_context *ctx, const api_request *req, api_response *resp);
 void route_tile(api_context *ctx, const api_request *req, api_response *resp, const char *id);
 

@@ -4,7 +4,7 @@
 
 #include "codec.h"
 #include "handlers.h"
-#include "presets.h"
+#include "aa_pattern.h"
 
 static json_t *preset_json(const aa_preset *pr, bool full)
 {

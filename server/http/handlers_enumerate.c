@@ -1,5 +1,5 @@
 /* POST /v1/families/enumerate {"family":"P(4,1+,n)","cost":1.25}: the mirrored configurations
- * of a cost (the optimizer's aa_enumerate_mirrored, server/engine/enumerate.h). The request is
+ * of a cost (the optimizer's aa_enumerate_mirrored, server/engine/pattern/enumerate.h). The request is
  * validated here. */
 #include <math.h>
 #include <stdio.h>
@@ -8,7 +8,7 @@
 
 #include "handlers.h"
 
-#include "enumerate.h"
+#include "aa_pattern.h"
 #include "eval_cache.h"
 #include "enumerate_encode.h"
 

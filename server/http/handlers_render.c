@@ -6,9 +6,10 @@
 
 #include "api_context.h"
 #include "codec.h"
+#include "aa_render.h"
 #include "codec_render.h"
 #include "handlers.h"
-#include "render.h"
+#include "job_access.h"
 #include "tile_render.h"
 #include "tile_store.h"
 

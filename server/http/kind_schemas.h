@@ -6,7 +6,7 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "job_kind.h"
 
 /* Every kind that is not test-only has both schemas, the envelope schema exists and all of

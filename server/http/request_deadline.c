@@ -1,6 +1,6 @@
 #define _GNU_SOURCE
 #include "request_deadline.h"
-#include "clock.h"
+#include "aa_core.h"
 
 #include <pthread.h>
 #include <stdbool.h>

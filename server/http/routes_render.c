@@ -1,17 +1,13 @@
 /* POST /v1/render and GET /v1/tiles/{id}.png: pattern references {"job": ID} are resolved
- * here, then the renderer's handlers (handlers_render.c) run. Without them the daemon answers
- * 501. */
+ * here, then the renderer's handlers (handlers_render.c) run. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "handlers.h"
-#ifdef AALAB_HAVE_RENDER
 #include "handlers_render.h"
-#endif
 
 void route_render(api_context *ctx, const api_request *req, api_response *resp)
 {
-#ifdef AALAB_HAVE_RENDER
     /* Rewrite the body only when it holds a reference; otherwise pass it through untouched so
      * the renderer reports its own parse errors. */
     json_t *body =
@@ -38,16 +34,9 @@ void route_render(api_context *ctx, const api_request *req, api_response *resp)
     }
     free(before);
     free(after);
-#else
-    api_reply_wire(resp, WIRE_NOT_IMPLEMENTED, "", "rendering is not built into this daemon");
-#endif
 }
 
 void route_tile(api_context *ctx, const api_request *req, api_response *resp, const char *id)
 {
-#ifdef AALAB_HAVE_RENDER
     handle_tile(ctx, req, resp, id);
-#else
-    api_reply_wire(resp, WIRE_NOT_IMPLEMENTED, "", "rendering is not built into this daemon");
-#endif
 }

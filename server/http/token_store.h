@@ -10,7 +10,7 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 #define TOKEN_LABEL_MAX 100
 enum { TOKEN_ENOENT = -2001, TOKEN_EFORBIDDEN = -2002, TOKEN_ESTORE = -2003 };

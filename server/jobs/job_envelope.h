@@ -14,7 +14,7 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 #define JOB_PRIORITY_MIN (-10)
 #define JOB_PRIORITY_MAX 10

@@ -11,8 +11,7 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
-#include "clock.h"
+#include "aa_core.h"
 
 typedef struct job_ctx job_ctx;
 

@@ -32,7 +32,7 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "job_kind.h"
 #include "job_store.h"
 

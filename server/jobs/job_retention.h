@@ -3,7 +3,7 @@
 #ifndef AALAB_JOB_RETENTION_H
 #define AALAB_JOB_RETENTION_H
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "job_store.h"
 
 typedef struct job_retention job_retention;

@@ -19,7 +19,7 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 typedef struct job_store job_store;
 

@@ -12,7 +12,7 @@
 #include "kinds.h"
 #include "render_pattern.h"
 #include "render_spec.h"
-#include "render.h"
+#include "aa_render.h"
 #include "tile_render.h"
 #include "tile_store.h"
 

@@ -11,7 +11,7 @@
 #include "kinds.h"
 #include "render_pattern.h"
 #include "render_spec.h"
-#include "render.h"
+#include "aa_render.h"
 #include "tile_parallel.h"
 #include "tile_render.h"
 #include "tile_store.h"

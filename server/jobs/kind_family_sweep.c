@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "codec.h"
-#include "enumerate.h"
+#include "aa_pattern.h"
 #include "job_family_sweep.h"
 #include "kinds.h"
 #include "optimizer_bridge.h"

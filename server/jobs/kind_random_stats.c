@@ -14,7 +14,7 @@
 #include "job_random_stats.h"
 #include "kinds.h"
 #include "optimizer_bridge.h"
-#include "random_patterns.h"
+#include "aa_optimizer.h"
 
 JOB_KIND_SPEC_PARAMS(kind_random_stats, proto_random_stats_spec, proto_decode_random_stats_spec,
                      proto_random_stats_spec_free)

@@ -10,8 +10,7 @@
 #include "codec.h"
 #include "kinds.h"
 #include "render_spec.h"
-#include "raster.h"
-#include "render.h"
+#include "aa_render.h"
 #include "tile_parallel.h"
 #include "tile_render.h"
 

@@ -7,7 +7,7 @@
 #include <jansson.h>
 
 #include "job_kind.h"
-#include "optimizer.h"
+#include "aa_optimizer.h"
 
 /* Engine progress -> job_ctx. base/span map the run's 0..1 onto the job's progress. */
 typedef struct opt_job_bridge {

@@ -3,7 +3,7 @@
 
 #include "codec.h"
 #include "preset_suggest.h"
-#include "presets.h"
+#include "aa_pattern.h"
 #include "tile_render.h"
 
 int render_pattern_decode(const json_t *j, aa_pattern *out, const char *field, aa_error *err)

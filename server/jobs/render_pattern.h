@@ -5,8 +5,8 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
-#include "pattern.h"
+#include "aa_core.h"
+#include "aa_pattern.h"
 
 int render_pattern_decode(const json_t *j, aa_pattern *out, const char *field, aa_error *err);
 

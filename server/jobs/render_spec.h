@@ -10,8 +10,8 @@
 
 #include <jansson.h>
 
-#include "aa_error.h"
-#include "acuity.h"
+#include "aa_core.h"
+#include "aa_metric.h"
 #include "tile_render.h"
 
 enum {

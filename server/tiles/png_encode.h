@@ -5,7 +5,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 /* px: width * height bytes, top row first. On success *out is malloc'd (caller frees). */
 int tile_png_encode_gray(const uint8_t *px, int width, int height, void **out, size_t *len,

@@ -2,7 +2,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include "tile_parallel.h"
 
-#include <pthread.h>
 #include <stdatomic.h>
 #include <string.h>
 
@@ -27,13 +26,12 @@ static int band_progress(void *user, double fraction)
     return atomic_load(b->stop);
 }
 
-static void *band_main(void *arg)
+static void band_main(void *arg)
 {
     band *b = arg;
     b->rc = aa_render_reference(b->scene, &b->rp, b->offset, b->out, &b->rect, &b->st, &b->err);
     if (b->rc && b->rc != AA_ECANCELED)
         atomic_store(b->stop, 1);
-    return NULL;
 }
 
 int tile_reference_parallel(const aa_scene *s, const aa_reference_params *rp, double out_offset,
@@ -47,8 +45,6 @@ int tile_reference_parallel(const aa_scene *s, const aa_reference_params *rp, do
         return aa_render_reference(s, rp, out_offset, out, NULL, st, err);
     atomic_int stop = 0;
     band bands[TILE_MAX_THREADS];
-    pthread_t tid[TILE_MAX_THREADS];
-    bool started[TILE_MAX_THREADS] = {false};
     for (int k = 0; k < threads; k++) {
         band *b = &bands[k];
         memset(b, 0, sizeof *b);
@@ -63,15 +59,7 @@ int tile_reference_parallel(const aa_scene *s, const aa_reference_params *rp, do
         b->stop = &stop;
         b->caller = k == 0 ? rp : NULL;
     }
-    for (int k = 1; k < threads; k++)
-        started[k] = pthread_create(&tid[k], NULL, band_main, &bands[k]) == 0;
-    band_main(&bands[0]);
-    /* A band whose thread could not start runs here, after the first. */
-    for (int k = 1; k < threads; k++)
-        if (!started[k])
-            band_main(&bands[k]);
-        else
-            pthread_join(tid[k], NULL);
+    aa_fork_join(bands, sizeof *bands, threads, band_main);
     int rc = AA_OK;
     if (st)
         memset(st, 0, sizeof *st);

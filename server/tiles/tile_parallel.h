@@ -6,7 +6,7 @@
 #ifndef AALAB_TILE_PARALLEL_H
 #define AALAB_TILE_PARALLEL_H
 
-#include "reference.h"
+#include "aa_render.h"
 
 #define TILE_MAX_THREADS 16
 

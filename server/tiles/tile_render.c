@@ -6,11 +6,6 @@
 
 #include "png_encode.h"
 
-json_t *tile_put_gray8(tile_store *ts, const uint8_t *px, int width, int height, aa_error *err)
-{
-    return tile_put_gray8_as(ts, NULL, px, width, height, err);
-}
-
 json_t *tile_put_gray8_as(tile_store *ts, const tile_access *access, const uint8_t *px, int width,
                           int height, aa_error *err)
 {
@@ -70,12 +65,6 @@ static json_t *put_crop(tile_store *ts, const tile_access *access, const uint8_t
     json_t *o = tile_put_gray8_as(ts, access, px, w, h, err);
     free(px);
     return o;
-}
-
-json_t *tile_put_render_images(tile_store *ts, const aa_image *pattern, const aa_image *reference,
-                               const proto_crop *crop, aa_error *err)
-{
-    return tile_put_render_images_as(ts, NULL, pattern, reference, crop, err);
 }
 
 json_t *tile_put_render_images_as(tile_store *ts, const tile_access *access,

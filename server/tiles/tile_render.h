@@ -8,13 +8,12 @@
 
 #include <jansson.h>
 
+#include "aa_render.h"
 #include "codec_scene.h"
-#include "render.h"
 #include "tile_store.h"
 
-/* Stores a PNG and returns its reference; NULL with err on failure. */
-json_t *tile_put_gray8(tile_store *ts, const uint8_t *px, int width, int height, aa_error *err);
-/* The same, stored with an access (NULL = team; the plain functions store team tiles). */
+/* Stores PNGs with an access (NULL = team) and returns {"id", "url", "width", "height",
+ * "bytes"}; NULL with err on failure. */
 json_t *tile_put_gray8_as(tile_store *ts, const tile_access *access, const uint8_t *px, int width,
                           int height, aa_error *err);
 json_t *tile_put_image(tile_store *ts, const tile_access *access, const aa_image *img,
@@ -22,8 +21,6 @@ json_t *tile_put_image(tile_store *ts, const tile_access *access, const aa_image
 json_t *tile_put_difference(tile_store *ts, const tile_access *access, const aa_image *a,
                             const aa_image *ref, aa_error *err);
 /* {"pattern", "reference", "difference"} (and "crop": {...} of the three when enabled). */
-json_t *tile_put_render_images(tile_store *ts, const aa_image *pattern, const aa_image *reference,
-                               const proto_crop *crop, aa_error *err);
 json_t *tile_put_render_images_as(tile_store *ts, const tile_access *access,
                                   const aa_image *pattern, const aa_image *reference,
                                   const proto_crop *crop, aa_error *err);

@@ -15,7 +15,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 
 #define TILE_ID_LEN 32
 #define TILE_ENOENT (-2) /* no such tile */

@@ -19,10 +19,6 @@ def case(name, status, field=None, method="POST", path=EV, body=None, body_json=
     if forbid_body: c["forbid_body"] = forbid_body
     c["status"] = status
     c["field"] = field
-    # Cases about a job kind run only when the daemon has that kind (GET /v1/health job_kinds).
-    kind = body_json.get("kind") if isinstance(body_json, dict) else None
-    if setup == "optimize_job" or kind == "optimize":
-        c["needs_kind"] = "optimize"
     assert name not in [x["name"] for x in C], name
     C.append(c)
 

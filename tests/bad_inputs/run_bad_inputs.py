@@ -9,7 +9,7 @@ check that the daemon is still alive and that a valid evaluate still succeeds.
 Case keys: name, method, path, headers, body (text) | body_json | body_hex | gen (generated body) |
 raw (hand-built request: content_length lie, header_bytes, header_count, path_bytes), via
 ("unix" default, "tcp"), setup ("done_job", "cancelled_job", "pattern_job", "optimize_job": "{job}" in the path
-is replaced by its id), needs_kind (skipped when GET /v1/health does not list that job kind), status (int or list), field (string, null = absent or empty, list of
+is replaced by its id), status (int or list), field (string, null = absent or empty, list of
 acceptable values, "*" = not checked, e.g. for answers libmicrohttpd produces itself),
 check ({"e2_finite": true}, {"state": "done"}, {"content_type_prefix": ...}), forbid_body
 (strings that must not appear in the answer).
@@ -224,18 +224,10 @@ def main():
     d.web_dir = make_web_dir(d.root)
     d.start()
     print("aalabd pid %d, socket %s, tcp %d, %d cases" % (d.pid(), d.socket_path, d.port, len(cases)))
-    health = d.request("GET", "/v1/health").json()
-    kinds = health.get("job_kinds")
     failed = []
-    skipped = []
     cache = {}
     t0 = time.time()
     for c in cases:
-        if c.get("needs_kind") and isinstance(kinds, list) and c["needs_kind"] not in kinds:
-            skipped.append(c["name"])
-            if a.verbose:
-                print("skip %-40s job kind %r not built into this daemon" % (c["name"], c["needs_kind"]))
-            continue
         try:
             resp, problems = run_case(d, c, cache)
             got = "%d %s" % (resp.status, resp.body[:160].decode("utf-8", "replace"))
@@ -257,8 +249,8 @@ def main():
             break
     rc = d.stop() if d.alive() else d.proc.returncode
     san = d.sanitizer_reports()
-    print("%d cases in %.1f s, %d failed, %d skipped (job kinds not built in: %s); aalabd exit status %s"
-          % (len(cases), time.time() - t0, len(failed), len(skipped), " ".join(skipped) or "-", rc))
+    print("%d cases in %.1f s, %d failed; aalabd exit status %s"
+          % (len(cases), time.time() - t0, len(failed), rc))
     if san:
         print("sanitizer reports in the daemon log: %s\n%s" % (san, d.log_text()))
     if rc != 0:

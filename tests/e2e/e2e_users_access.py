@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Access on a shared daemon, with real Unix users (tests/e2e/unix_users.py): a daemon account,
-alice and bob in the socket group, eve outside it. Shows each access item of issue 16 refused:
+alice and bob in the socket group, eve outside it. Shows each access rule refused:
 
 - over TCP every API request needs a token, reads included; eve (no socket access, so no token)
   reads nothing of the API but gets the dashboard page;

@@ -1,4 +1,4 @@
-"""Fair share between real Unix users on one daemon (issue 16): alice fills the queue with long
+"""Fair share between real Unix users on one daemon: alice fills the queue with long
 jobs, bob's 2 s job must finish within 70 s with the default 60 s slice; alice's paused job
 resumes and runs its full time; priorities and --max-job-seconds are checked at submission; the
 test kind is absent unless the daemon is started with --enable-test-kinds.

@@ -1,4 +1,4 @@
-"""The job store on a shared daemon, with real Unix users (issue 16, items 7 and 8):
+"""The job store on a shared daemon, with real Unix users:
 
 1. alice's flood of 1.9 MB specs ends refused with 403 quota_exceeded while jobs.db stays
    within her quota plus a stated overhead, and bob can still submit;

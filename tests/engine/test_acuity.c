@@ -12,7 +12,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "acuity.h"
+#include "aa_metric.h"
 #include "reference_e2.h"
 
 static void test_naiman_pinned_and_knots(void **state)

@@ -9,7 +9,7 @@
 
 #include <cmocka.h>
 
-#include "enumerate.h"
+#include "aa_pattern.h"
 
 /* Slots 0..3 corners, 4..7 edges, in enumerate.h's order. */
 static const double slot_x[8] = {-0.5, 0.5, 0.5, -0.5, 0, 0.5, 0, -0.5};

@@ -7,8 +7,7 @@
 
 #include <cmocka.h>
 
-#include "family.h"
-#include "seeds.h"
+#include "aa_pattern.h"
 
 static void parses_the_families_of_issue_3(void **state)
 {

@@ -12,7 +12,7 @@
 #include <stdbool.h>
 #include <string.h>
 
-#include "filter.h"
+#include "aa_pattern.h"
 #include "reference_metric.h"
 
 typedef struct named {

@@ -11,8 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "metric.h"
-#include "presets.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
 #include "reference_e2.h"
 
 static aa_filter filter;

@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "metric.h"
+#include "aa_metric.h"
 #include "reference_metric.h"
 
 #define REL_TOL 1e-12

@@ -18,7 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "metric.h"
+#include "aa_metric.h"
 #include "reference_metric.h"
 
 #define PI_D 3.14159265358979323846

@@ -16,8 +16,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "metric.h"
-#include "presets.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
 #include "reference_e2.h"
 
 typedef struct table2_row {

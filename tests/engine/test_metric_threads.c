@@ -13,8 +13,8 @@
 #include <string.h>
 #include <pthread.h>
 
-#include "metric.h"
-#include "presets.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
 
 #define THREADS 4
 #define ROUNDS 20

@@ -11,9 +11,9 @@
 
 #include <cmocka.h>
 
-#include "enumerate.h"
-#include "family.h"
-#include "optimizer.h"
+#include "aa_core.h"
+#include "aa_pattern.h"
+#include "aa_optimizer.h"
 
 static aa_filter filter;
 static aa_acuity acuity;
@@ -31,13 +31,6 @@ static int setup(void **state)
 static const aa_optimize_method methods[] = {AA_METHOD_LAINE_AILA, AA_METHOD_MINIMAX,
                                              AA_METHOD_SMOOTH};
 #define METHOD_COUNT (sizeof methods / sizeof methods[0])
-
-static double mono(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
 static void seed_of(const char *label, uint64_t s, aa_pattern *p)
 {
@@ -411,8 +404,8 @@ static int cancel_after_50ms(void *user, const aa_optimize_progress *p)
     if (p->best_e2 > c->last_e2 + 1e-15)
         c->nonmonotone++;
     c->last_e2 = p->best_e2;
-    if (mono() - c->start >= 0.05) {
-        c->cancelled_at = mono();
+    if (aa_monotonic_seconds() - c->start >= 0.05) {
+        c->cancelled_at = aa_monotonic_seconds();
         return 1;
     }
     return 0;
@@ -431,10 +424,10 @@ static void cancel_stops_within_100ms(void **state)
         op.method = methods[m];
         op.max_iterations = 1000000;
         op.max_seconds = 60;
-        cancel_probe c = {mono(), 0, 0, INFINITY, 0, 0};
+        cancel_probe c = {aa_monotonic_seconds(), 0, 0, INFINITY, 0, 0};
         aa_optimize_result r;
         rc = aa_optimize(&seed, &metric, &op, cancel_after_50ms, &c, &best, &r, NULL);
-        stopped = mono();
+        stopped = aa_monotonic_seconds();
         assert_int_equal(rc, AA_ECANCELED);
         assert_true(c.cancelled_at > 0);
         assert_true(stopped - c.cancelled_at < 0.1);
@@ -452,10 +445,10 @@ static void cancel_stops_within_100ms(void **state)
     mp.workers = 2;
     mp.max_seconds = 60;
     mp.local.max_iterations = 1000000;
-    cancel_probe c2 = {mono(), 0, 0, INFINITY, 0, 0};
+    cancel_probe c2 = {aa_monotonic_seconds(), 0, 0, INFINITY, 0, 0};
     aa_multistart_result mr;
     rc = aa_multistart(&mp, &metric, cancel_after_50ms, &c2, &best, &mr, NULL);
-    stopped = mono();
+    stopped = aa_monotonic_seconds();
     assert_int_equal(rc, AA_ECANCELED);
     assert_true(stopped - c2.cancelled_at < 0.1);
     aa_pattern_free(&best);

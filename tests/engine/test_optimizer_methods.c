@@ -11,9 +11,8 @@
 
 #include <cmocka.h>
 
-#include "enumerate.h"
-#include "family.h"
-#include "optimizer.h"
+#include "aa_pattern.h"
+#include "aa_optimizer.h"
 #include "reference_e2.h"
 
 static aa_filter filter;

@@ -13,8 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "metric.h"
-#include "pattern.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
 #include "reference_metric.h"
 
 static int kernels1(aa_pattern *p, const aa_sample *s, size_t n, unsigned flags, aa_error *err)

@@ -17,8 +17,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "metric.h"
-#include "presets.h"
+#include "aa_metric.h"
+#include "aa_pattern.h"
 
 typedef struct expected_preset {
     const char *name;

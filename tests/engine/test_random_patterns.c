@@ -10,7 +10,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "random_patterns.h"
+#include "aa_optimizer.h"
 #include "reference_e2.h"
 
 static aa_filter filter;

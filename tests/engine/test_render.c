@@ -10,8 +10,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "presets.h"
-#include "render.h"
+#include "aa_pattern.h"
+#include "aa_render.h"
 
 #define PI 3.14159265358979323846
 

@@ -8,7 +8,7 @@
 
 #include <math.h>
 
-#include "scene.h"
+#include "aa_render.h"
 
 static double lcg01(uint64_t *s)
 {

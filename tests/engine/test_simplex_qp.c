@@ -9,7 +9,7 @@
 
 #include <cmocka.h>
 
-#include "rng.h"
+#include "aa_core.h"
 #include "simplex_qp.h"
 
 /* Q = A A^T (PSD, rank <= cols) and f of random entries. */

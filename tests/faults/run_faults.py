@@ -126,18 +126,9 @@ def test_kill9(binary):
         ids[submit(d, {"kind": "sleep", "seconds": 0})] = "sleep0"
     for i in range(2):
         ids[submit(d, {"kind": "sleep", "seconds": 0, "fail": True})] = "failed"
-    # Real results: short optimizations when the optimizer is built in, else sleep jobs (their
-    # result carries a pattern and a trace too).
     opt = {"kind": "optimize", "family": "P(4,1+,1.25)", "seeds": 2, "max_seconds": 1}
-    probe = d.request("POST", "/v1/jobs", dict(opt, rng_seed=100))
-    if probe.status == 202:
-        ids[probe.json()["id"]] = "optimize"
-        for i in range(1, 4):
-            ids[submit(d, dict(opt, rng_seed=100 + i))] = "optimize"
-    else:
-        print("optimize kind not available (%d): using sleep jobs instead" % probe.status)
-        for i in range(4):
-            ids[submit(d, {"kind": "sleep", "seconds": 0.2})] = "sleep0.2"
+    for i in range(4):
+        ids[submit(d, dict(opt, rng_seed=100 + i))] = "optimize"
     wait_states(d, list(ids), FINISHED, 60)
     # ... one cancelled, and 50 two-second ones that are running or queued when the daemon dies.
     jc = submit(d, {"kind": "sleep", "seconds": 60})

@@ -9,7 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "aa_error.h"
+#include "aa_core.h"
 #include "api_context.h"
 #include "token_store.h"
 #include "config.h"

@@ -10,11 +10,9 @@
 
 #include <jansson.h>
 
-#include "acuity.h"
+#include "aa_metric.h"
 #include "codec.h"
-#include "filter.h"
-#include "metric.h"
-#include "pattern.h"
+#include "aa_pattern.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -16,7 +16,7 @@
 
 #include "codec_render.h"
 #include "png_encode.h"
-#include "presets.h"
+#include "aa_pattern.h"
 #include "tile_parallel.h"
 #include "tile_render.h"
 #include "tile_store.h"

@@ -1,0 +1,91 @@
+/* The E1 / E2 error metric of Laine & Aila (2005), section 4, computed exactly.
+ *
+ * For a kernel of samples (x_i, y_i, w_i) and an edge-normal angle theta, the projections are
+ * p_i = x_i cos(theta) + y_i sin(theta), the pattern's step response is
+ * ghat(a) = sum_{p_i <= a} w_i and the reference's is the filter CDF g(a). Then
+ *   E1(theta) = sqrt( integral (ghat(a) - g(a))^2 da ),
+ *   E2 = max over kernels and angles of W(theta) E1(theta).
+ * Between consecutive breakpoints (sorted projections and filter knots) ghat is constant and g
+ * a polynomial of degree d, so each piece is integrated with (d+1)-point Gauss-Legendre, exact
+ * for the degree-2d integrand; every term is >= 0, so the sum has relative error of a few ulp
+ * times the number of pieces (measured in tests/engine: <= 1e-12 against long-double adaptive
+ * quadrature), plus the filter table's stated CDF error for tabulated filters.
+ *
+ * Gradients (derived in docs/metric.md; L&A eq. 6 writes sqrt(E1) for E1):
+ *   dE1/dp_i = w_i (2 g(p_i) - 2 S_i - w_i) / (2 E1),  S_i = sum of w_j sorted before i,
+ *   dx_i = cos(theta) dE1/dp_i, dy_i = sin(theta) dE1/dp_i,
+ *   dE1/dw_i (raw) = (1/E1) integral_{p_i}^{inf} (ghat - g) da, and the returned dw is the raw
+ *   gradient projected onto sum(w) = 1 (minus its mean), the direction that keeps E1 finite.
+ * At coincident projections the position derivative is one-sided (ties keep input order). */
+#ifndef AA_METRIC_H
+#define AA_METRIC_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "acuity.h"
+#include "aa_core.h"
+#include "aa_pattern.h"
+
+/* Scratch memory for the per-angle computation; reuse it across calls to avoid allocation.
+ * One workspace per thread. */
+typedef struct aa_metric_workspace {
+    size_t capacity;
+    struct aa_projection *proj;
+    double *tail; /* suffix integrals for the weight gradient */
+} aa_metric_workspace;
+
+void aa_metric_workspace_init(aa_metric_workspace *ws);
+void aa_metric_workspace_free(aa_metric_workspace *ws);
+
+/* E1 at one angle (radians). Returns AA_OK, AA_EINVAL (no samples, non-finite angle) or
+ * AA_ENOMEM. Precondition: the weights sum to 1 (otherwise E1 is infinite; not checked). */
+int aa_e1_at_angle(const aa_filter *f, const aa_sample *s, size_t n, double theta,
+                   aa_metric_workspace *ws, double *e1);
+/* E1 and its gradient. dx, dy, dw may each be NULL; arrays of n. */
+int aa_e1_gradient_at_angle(const aa_filter *f, const aa_sample *s, size_t n, double theta,
+                            aa_metric_workspace *ws, double *e1, double *dx, double *dy,
+                            double *dw);
+
+typedef struct aa_metric_params {
+    const aa_filter *filter;
+    const aa_acuity *acuity;
+    const double *angles_deg; /* NULL: the acuity table's default angle set */
+    size_t angle_count;
+    double lp; /* 0: no Lp norm; otherwise p >= 1 (L&A sec. 7 suggests 2 < p < inf) */
+} aa_metric_params;
+
+typedef struct aa_evaluation {
+    double e2;
+    size_t argmax_kernel;
+    double argmax_angle_deg;
+    double mean;    /* mean of W E1 over kernels x angles */
+    double lp_norm; /* (mean of (W E1)^p)^(1/p), NaN if lp == 0 */
+    size_t kernel_count;
+    size_t angle_count;
+    double *angles_deg; /* [angle_count] */
+    double *weight;     /* [angle_count]: W(theta) */
+    double *e1;         /* [kernel_count * angle_count], unweighted, kernel-major */
+} aa_evaluation;
+
+/* Validates params (angles finite, count <= AA_MAX_ANGLES, lp), evaluates every kernel at every
+ * angle. Errors name "angles[i]" or "lp". */
+int aa_evaluate(const aa_pattern *p, const aa_metric_params *params, aa_evaluation *out,
+                aa_error *err);
+void aa_evaluation_free(aa_evaluation *e);
+
+/* Dense angle check: W(theta) E1(theta) on a grid of step_deg over [0, 180), W interpolated as
+ * the table says. between_table_angles is true if the dense maximum exceeds the maximum over
+ * the table angles by more than 1e-9 relative. */
+typedef struct aa_dense_check {
+    double step_deg;
+    double max_weighted;
+    size_t argmax_kernel;
+    double argmax_angle_deg;
+    double table_max; /* E2 over params' angle set */
+    bool between_table_angles;
+} aa_dense_check;
+int aa_evaluate_dense(const aa_pattern *p, const aa_metric_params *params, double step_deg,
+                      aa_dense_check *out, aa_error *err);
+
+#endif

@@ -1,0 +1,276 @@
+/* The job kinds' spec and result codecs (proto/job_*.h): defaults, one unknown-key check naming
+ * the key, ranges and invalid families naming the field, result round trips (decode(encode(x))
+ * encodes to the same JSON), and nearest-name suggestions for unknown presets. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <string.h>
+
+#include "codec.h"
+#include "job_family_sweep.h"
+#include "job_optimize.h"
+#include "job_random_stats.h"
+#include "preset_suggest.h"
+#include "aa_pattern.h"
+
+static json_t *parse(const char *text)
+{
+    json_error_t e;
+    json_t *j = json_loads(text, JSON_REJECT_DUPLICATES, &e);
+    if (!j)
+        fail_msg("bad test JSON: %s", e.text);
+    return j;
+}
+
+static void preset_pattern(const char *name, aa_pattern *p)
+{
+    aa_error err = {0};
+    const aa_preset *pr = aa_preset_find(name);
+    assert_non_null(pr);
+    assert_int_equal(aa_pattern_from_preset(p, pr, &err), AA_OK);
+}
+
+/* Decoding text fails with code naming field. */
+#define OPT_FAILS(text, want)                                                                      \
+    do {                                                                                           \
+        json_t *j_ = parse(text);                                                                  \
+        proto_optimize_spec s_;                                                                    \
+        aa_error e_ = {0};                                                                         \
+        assert_int_not_equal(proto_decode_optimize_spec(j_, &s_, &e_), AA_OK);                     \
+        assert_string_equal(e_.field, want);                                                       \
+        json_decref(j_);                                                                           \
+    } while (0)
+
+static void test_optimize_spec(void **state)
+{
+    (void)state;
+    json_t *j = parse("{\"family\":\"P(4,1+,2)\"}");
+    proto_optimize_spec s;
+    aa_error err = {0};
+    assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
+    assert_true(s.have_family);
+    assert_int_equal(s.seeds, 64);
+    assert_true(s.common.max_seconds == 30);
+    assert_int_equal(s.common.rng_seed, 1);
+    assert_int_equal(s.common.mode, AA_OPTIMIZE_BOTH);
+    assert_true(s.common.method_auto);
+    assert_int_equal(s.common.grid_bits, 0);
+    assert_int_equal(s.kind_count, 0);
+    proto_optimize_spec_free(&s);
+    json_decref(j);
+
+    j = parse("{\"pattern\":{\"preset\":\"rgss\"},\"mode\":\"weights\",\"method\":\"minimax\","
+              "\"grid\":{\"bits\":3,\"d3d12\":true},\"rng_seed\":9,\"max_seconds\":2}");
+    assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
+    assert_false(s.have_family);
+    assert_int_equal(s.seeds, 1);
+    assert_int_equal(s.common.mode, AA_OPTIMIZE_WEIGHTS);
+    assert_false(s.common.method_auto);
+    assert_int_equal(s.common.method, AA_METHOD_MINIMAX);
+    assert_int_equal(s.common.grid_bits, 3);
+    assert_true(s.common.d3d12);
+    assert_int_equal(s.common.rng_seed, 9);
+    proto_optimize_spec_free(&s);
+    json_decref(j);
+
+    /* The envelope is the job manager's: a kind's decoder rejects it as unknown. */
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"label\":\"x\"}", "label");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"kind\":\"optimize\"}", "kind");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"seedz\":3}", "seedz");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"seeds\":0}", "seeds");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"seeds\":2.5}", "seeds");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"max_seconds\":0}", "max_seconds");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"grid\":{\"bits\":13}}", "grid.bits");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"mode\":\"all\"}", "mode");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"distributions\":[\"gauss\"]}", "distributions[0]");
+    OPT_FAILS("{\"family\":\"Q(4,1,2)\"}", "family");
+    OPT_FAILS("{}", "family");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"pattern\":{\"preset\":\"rgss\"}}", "family");
+    OPT_FAILS("{\"pattern\":{\"preset\":\"rgss\"},\"seeds\":2}", "seeds");
+    OPT_FAILS("{\"pattern\":{\"preset\":\"flipqaud\"}}", "pattern.preset");
+}
+
+static void test_sweep_and_stats_spec(void **state)
+{
+    (void)state;
+    aa_error err = {0};
+    json_t *j = parse("{\"family\":\"P(4,1+,1.25)\",\"seeds_per_config\":2}");
+    proto_family_sweep_spec s;
+    assert_int_equal(proto_decode_family_sweep_spec(j, &s, &err), AA_OK);
+    assert_true(s.cost == 1.25);
+    assert_string_equal(s.family, "P(4,1+,1.25)");
+    assert_int_equal(s.per_config, 2);
+    assert_true(s.common.max_seconds == 60);
+    proto_family_sweep_spec_free(&s);
+    json_decref(j);
+
+    const char *bad[][2] = {{"{\"family\":\"P(16,16,4)\"}", "family"},
+                            {"{\"cost\":0.1}", "cost"},
+                            {"{}", "family"},
+                            {"{\"cost\":1,\"seeds\":3}", "seeds"}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        j = parse(bad[i][0]);
+        assert_int_not_equal(proto_decode_family_sweep_spec(j, &s, &err), AA_OK);
+        assert_string_equal(err.field, bad[i][1]);
+        json_decref(j);
+    }
+
+    proto_random_stats_spec r;
+    j = parse("{\"family\":\"P(1,4,2)\",\"distribution\":\"poisson\"}");
+    assert_int_equal(proto_decode_random_stats_spec(j, &r, &err), AA_OK);
+    assert_int_equal(r.count, 1000);
+    assert_int_equal(r.kind, AA_SEED_POISSON);
+    proto_random_stats_spec_free(&r);
+    json_decref(j);
+    /* Random patterns of P(4,1,2) can leave a pixel without samples: refused at submit. */
+    const char *bad_stats[][2] = {
+        {"{\"family\":\"P(4,1,2)\"}", "family"},
+        {"{\"family\":\"P(1,4,2)\",\"distribution\":\"x\"}", "distribution"},
+        {"{\"family\":\"P(1,4,2)\",\"mode\":\"both\"}", "mode"},
+        {"{\"family\":\"P(1,4,2)\",\"count\":0}", "count"}};
+    for (size_t i = 0; i < sizeof bad_stats / sizeof bad_stats[0]; i++) {
+        j = parse(bad_stats[i][0]);
+        assert_int_not_equal(proto_decode_random_stats_spec(j, &r, &err), AA_OK);
+        assert_string_equal(err.field, bad_stats[i][1]);
+        json_decref(j);
+    }
+}
+
+/* encode(decode(encode(x))) == encode(x), and the decoder refuses an unknown key. */
+#define ROUND_TRIP(type, encode, decode, release, value)                                           \
+    do {                                                                                           \
+        json_t *a_ = encode(value);                                                                \
+        assert_non_null(a_);                                                                       \
+        type back_;                                                                                \
+        aa_error e_ = {0};                                                                         \
+        assert_int_equal(decode(a_, &back_, &e_), AA_OK);                                          \
+        json_t *b_ = encode(&back_);                                                               \
+        release(&back_);                                                                           \
+        assert_true(json_equal(a_, b_));                                                           \
+        char *ta_ = json_dumps(a_, JSON_PRESERVE_ORDER),                                           \
+             *tb_ = json_dumps(b_, JSON_PRESERVE_ORDER);                                           \
+        assert_string_equal(ta_, tb_);                                                             \
+        free(ta_);                                                                                 \
+        free(tb_);                                                                                 \
+        json_object_set_new(a_, "surprise", json_true());                                          \
+        assert_int_not_equal(decode(a_, &back_, &e_), AA_OK);                                      \
+        assert_string_equal(e_.field, "surprise");                                                 \
+        json_decref(a_);                                                                           \
+        json_decref(b_);                                                                           \
+    } while (0)
+
+static void test_optimize_result(void **state)
+{
+    (void)state;
+    proto_seed_summary seeds[2] = {{0, AA_SEED_UNIFORM, 0.9, 0.5, 120},
+                                   {3, AA_SEED_POISSON, 0.8, 0.45, 80}};
+    proto_optimize_result r = {.e2 = 0.45,
+                               .argmax_kernel = 0,
+                               .argmax_angle_deg = 12.5,
+                               .seeds_run = 4,
+                               .iterations = 200,
+                               .evaluations = 900,
+                               .seconds = 1.5,
+                               .method = AA_METHOD_LAINE_AILA,
+                               .per_seed = seeds,
+                               .per_seed_count = 2};
+    preset_pattern("rgss", &r.best);
+    json_t *j = proto_encode_optimize_result(&r);
+    const char *order[] = {"best",        "e2",      "argmax", "seeds_run", "iterations",
+                           "evaluations", "seconds", "family", "method",    "per_seed"};
+    const char *key;
+    json_t *v;
+    size_t i = 0;
+    json_object_foreach(j, key, v) assert_string_equal(key, order[i++]);
+    assert_int_equal(i, 10);
+    assert_string_equal(json_string_value(json_object_get(j, "family")), r.best.family);
+    json_decref(j);
+    ROUND_TRIP(proto_optimize_result, proto_encode_optimize_result, proto_decode_optimize_result,
+               proto_optimize_result_free, &r);
+    r.have_grid = true;
+    r.grid_bits = 4;
+    r.e2_before_snap = 0.44;
+    j = proto_encode_optimize_result(&r);
+    assert_true(
+        fabs(json_number_value(json_object_get(json_object_get(j, "grid"), "quantisation_cost")) -
+             0.01) < 1e-12);
+    json_decref(j);
+    ROUND_TRIP(proto_optimize_result, proto_encode_optimize_result, proto_decode_optimize_result,
+               proto_optimize_result_free, &r);
+    r.e2 = NAN; /* null on the wire, NaN back */
+    ROUND_TRIP(proto_optimize_result, proto_encode_optimize_result, proto_decode_optimize_result,
+               proto_optimize_result_free, &r);
+    aa_pattern_free(&r.best);
+}
+
+static void test_sweep_and_stats_result(void **state)
+{
+    (void)state;
+    proto_sweep_row rows[2] = {
+        {1, {{1, 0, 0, 0}, {0, 1, 0, 0}, 0}, 0.75, 0.5, true, {0}},
+        {2, {{1, 1, 0, 0}, {0, 0, 0, 0}, 0}, 0.5, INFINITY, false, {0}},
+    };
+    preset_pattern("rgss", &rows[0].best);
+    proto_family_sweep_result s = {0.75, 2, 1, rows, 2};
+    json_t *j = proto_encode_family_sweep_result(&s);
+    assert_true(
+        json_is_null(json_object_get(json_array_get(json_object_get(j, "ranked"), 1), "best")));
+    assert_true(
+        json_equal(json_object_get(j, "best"),
+                   json_object_get(json_array_get(json_object_get(j, "ranked"), 0), "best")));
+    json_decref(j);
+    ROUND_TRIP(proto_family_sweep_result, proto_encode_family_sweep_result,
+               proto_decode_family_sweep_result, proto_family_sweep_result_free, &s);
+    aa_pattern_free(&rows[0].best);
+
+    proto_random_stats_result r = {.distribution = AA_SEED_JITTERED,
+                                   .count = 50,
+                                   .min = 0.3,
+                                   .avg = 0.4,
+                                   .max = 0.6,
+                                   .opt_w = {0.28, {0}, AA_METHOD_LAINE_AILA},
+                                   .opt_wp = {0.25, {0}, AA_METHOD_SMOOTH}};
+    snprintf(r.family, sizeof r.family, "P(1,4,1)");
+    preset_pattern("rgss", &r.best_random);
+    preset_pattern("rgss", &r.opt_w.pattern);
+    preset_pattern("flipquad", &r.opt_wp.pattern);
+    j = proto_encode_random_stats_result(&r);
+    assert_true(json_number_value(json_object_get(j, "e2")) == 0.25);
+    assert_true(json_equal(json_object_get(j, "best"),
+                           json_object_get(json_object_get(j, "opt_wp"), "pattern")));
+    json_decref(j);
+    ROUND_TRIP(proto_random_stats_result, proto_encode_random_stats_result,
+               proto_decode_random_stats_result, proto_random_stats_result_free, &r);
+    proto_random_stats_result_free(&r);
+}
+
+static void test_preset_suggestions(void **state)
+{
+    (void)state;
+    const char *near[PROTO_SUGGEST_MAX];
+    size_t n = proto_preset_nearest("flipqaud", near);
+    assert_true(n >= 1 && n <= PROTO_SUGGEST_MAX);
+    assert_string_equal(near[0], "flipquad");
+    n = proto_preset_nearest("RGSS", near); /* case does not count */
+    assert_string_equal(near[0], "rgss");
+    aa_error err = {0};
+    assert_int_equal(proto_unknown_preset(&err, "patterns[1]", "flipqaud"), AA_EINVAL);
+    assert_string_equal(err.field, "patterns[1]");
+    assert_non_null(strstr(err.message, "unknown preset \"flipqaud\"; did you mean \"flipquad\""));
+    assert_int_equal(err.message[strlen(err.message) - 1], '?');
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_optimize_spec),      cmocka_unit_test(test_sweep_and_stats_spec),
+        cmocka_unit_test(test_optimize_result),    cmocka_unit_test(test_sweep_and_stats_result),
+        cmocka_unit_test(test_preset_suggestions),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
