@@ -15,8 +15,8 @@ int render_request(const cli_args *a, json_t **req, char *err, size_t errcap)
     json_t *pattern;
     if (pattern_argument_load(a->pattern, &pattern, NULL, err, errcap))
         return -1;
-    /* Issue 4's wire form: "scene" by name and "size":[w,h] beside it (the renderer also takes
-     * a scene object with more parameters; see server/tiles/tile_render.h). */
+    /* The short wire form: "scene" by name and "size":[w,h] beside it (the renderer also takes
+     * a scene object with more parameters; see proto/codec_scene.h). */
     json_t *r = json_object();
     json_object_set_new(r, "pattern", pattern);
     json_object_set_new(r, "scene", json_string(a->scene ? a->scene : "siemens-star"));

@@ -1,4 +1,4 @@
-/* Request bodies built from the command line: the wire format of issue 4, exactly. */
+/* Request bodies built from the command line: the wire format, exactly. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
