@@ -213,7 +213,10 @@ def test_render_flood(users, d):
     check(p99 < P99_LIMIT_MS, "(a) bob's p99 %.2f ms < %.0f ms under alice's render flood"
           % (p99, P99_LIMIT_MS))
     # (c) the renders beyond alice's share were refused with 429 + Retry-After naming the flag.
-    check(counts.get("200", 0) >= 1, "(c) alice's renders ran one at a time: %r" % counts)
+    # Admitted renders answer 200, or 422 when the reference outran --render-seconds (a
+    # sanitizer build on a loaded machine): either way the render ran.
+    ran = counts.get("200", 0) + counts.get("422", 0)
+    check(ran >= 1, "(c) alice's renders ran one at a time: %r" % counts)
     check(counts.get("429", 0) >= 1, "(c) alice's extra renders got 429: %r" % counts)
     first = next(r["first429"] for r in results if r["first429"])
     resp = parse_response(first.encode("latin-1"))
