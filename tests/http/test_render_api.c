@@ -75,6 +75,17 @@ static const char *error_field(json_t *j)
     return json_string_value(json_object_get(json_object_get(j, "error"), "field"));
 }
 
+/* A POST that must fail with status, naming field. */
+static void expect_error(const char *path, const char *body, int status, const char *field)
+{
+    api_response r = call("POST", path, body);
+    assert_int_equal(r.status, status);
+    json_t *j = json_of(&r);
+    assert_string_equal(error_field(j), field);
+    json_decref(j);
+    api_response_free(&r);
+}
+
 static void test_render_and_fetch_tiles(void **state)
 {
     (void)state;
@@ -123,12 +134,7 @@ static void test_render_errors_name_fields(void **state)
         {"{\"scene\":{}}", "pattern", 400},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
-        api_response r = call("POST", "/v1/render", cases[k].body);
-        assert_int_equal(r.status, cases[k].status);
-        json_t *j = json_of(&r);
-        assert_string_equal(error_field(j), cases[k].field);
-        json_decref(j);
-        api_response_free(&r);
+        expect_error("/v1/render", cases[k].body, cases[k].status, cases[k].field);
     }
 }
 
@@ -170,14 +176,9 @@ static void test_compare_job_through_the_pool(void **state)
     json_t *rows = json_object_get(json_object_get(done, "result"), "rows");
     assert_int_equal(json_array_size(rows), 2);
     json_decref(done);
-    r = call("POST", "/v1/jobs",
-             "{\"kind\":\"animation\",\"scene\":{\"name\":\"rings\"},"
-             "\"pattern\":\"rgss\"}");
-    assert_int_equal(r.status, 400);
-    j = json_of(&r);
-    assert_string_equal(error_field(j), "scene.name");
-    json_decref(j);
-    api_response_free(&r);
+    expect_error("/v1/jobs",
+                 "{\"kind\":\"animation\",\"scene\":{\"name\":\"rings\"},\"pattern\":\"rgss\"}",
+                 400, "scene.name");
 }
 
 int main(void)
