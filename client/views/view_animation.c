@@ -13,10 +13,9 @@ void view_animation(FILE *out, const json_t *result, bool csv)
         const json_t *total = json_object_get(result, "total");
         const json_t *times = json_object_get(result, "times");
         const json_t *pixels = json_object_get(result, "pixels");
-        char scene[128], spp[32];
+        char spp[32];
         view_kv kv = {0};
-        view_kv_add(&kv, "scene", "%s",
-                    view_scene_label(scene, sizeof scene, json_object_get(result, "scene")));
+        view_kv_scene(&kv, json_object_get(result, "scene"));
         view_kv_add(&kv, "pattern", "%s, %s spp", view_str(json_object_get(pattern, "family")),
                     fmt_number(spp, sizeof spp, json_object_get(pattern, "samples_per_pixel"),
                                fmt_decimals(csv, 2)));

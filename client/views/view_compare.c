@@ -11,10 +11,8 @@ void view_compare(FILE *out, const json_t *result, bool csv)
 {
     if (!csv) {
         const json_t *ref = json_object_get(result, "reference");
-        char scene[128];
         view_kv kv = {0};
-        view_kv_add(&kv, "scene", "%s",
-                    view_scene_label(scene, sizeof scene, json_object_get(result, "scene")));
+        view_kv_scene(&kv, json_object_get(result, "scene"));
         view_kv_number(&kv, "reference spp", json_object_get(ref, "spp"), 0);
         view_kv_number(&kv, "reference seed", json_object_get(ref, "seed"), 0);
         view_kv_add(&kv, "reference filter", "%s", view_str(json_object_get(ref, "filter")));

@@ -11,10 +11,8 @@ void view_reference_convergence(FILE *out, const json_t *result, bool csv)
 {
     if (!csv) {
         const json_t *base = json_object_get(result, "baseline");
-        char scene[128];
         view_kv kv = {0};
-        view_kv_add(&kv, "scene", "%s",
-                    view_scene_label(scene, sizeof scene, json_object_get(result, "scene")));
+        view_kv_scene(&kv, json_object_get(result, "scene"));
         view_kv_number(&kv, "output_offset", json_object_get(result, "output_offset"), 2);
         view_kv_number(&kv, "baseline spp", json_object_get(base, "spp"), 0);
         view_kv_number(&kv, "baseline seconds", json_object_get(base, "seconds"), 4);
