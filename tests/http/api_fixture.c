@@ -11,8 +11,6 @@
 
 #include <cmocka.h>
 
-#include "api.h"
-
 api_fixture *api_fixture_open(const char *name, void (*configure)(aalab_config *cfg))
 {
     api_fixture *f = calloc(1, sizeof *f);
@@ -50,8 +48,8 @@ void api_fixture_restart(api_fixture *f)
         fail_msg("context: %s", err.message);
 }
 
-json_t *api_call(api_fixture *f, const char *method, const char *path, const char *body, uid_t uid,
-                 int *status)
+void api_request_raw(api_fixture *f, const char *method, const char *path, const char *body,
+                     uid_t uid, api_response *resp)
 {
     api_request req = {.method = method,
                        .path = path,
@@ -68,8 +66,15 @@ json_t *api_call(api_fixture *f, const char *method, const char *path, const cha
         req.path = p;
         req.query = q;
     }
+    memset(resp, 0, sizeof *resp);
+    api_handle(f->ctx, &req, resp);
+}
+
+json_t *api_call(api_fixture *f, const char *method, const char *path, const char *body, uid_t uid,
+                 int *status)
+{
     api_response resp;
-    api_handle(f->ctx, &req, &resp);
+    api_request_raw(f, method, path, body, uid, &resp);
     *status = resp.status;
     json_t *j = json_loadb(resp.body, resp.body_len, 0, NULL);
     api_response_free(&resp);

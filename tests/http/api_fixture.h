@@ -7,6 +7,7 @@
 
 #include <jansson.h>
 
+#include "api.h"
 #include "api_context.h"
 #include "config.h"
 
@@ -26,8 +27,12 @@ int api_fixture_close(api_fixture *f);
 /* Destroys and re-creates the context on the same state dir and cfg (a daemon restart). */
 void api_fixture_restart(api_fixture *f);
 
-/* One request over the "Unix socket" as uid; path may carry a ?query. Returns the parsed body
- * (NULL if there is none) and sets *status. */
+/* One request over the "Unix socket" as uid; path may carry a ?query. The answer as it is, in
+ * *resp (free with api_response_free): for bodies that are not JSON (PNG tiles). */
+void api_request_raw(api_fixture *f, const char *method, const char *path, const char *body,
+                     uid_t uid, api_response *resp);
+
+/* api_request_raw, returning the parsed body (NULL if there is none) and setting *status. */
 json_t *api_call(api_fixture *f, const char *method, const char *path, const char *body, uid_t uid,
                  int *status);
 

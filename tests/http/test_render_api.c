@@ -14,52 +14,34 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "api.h"
-#include "api_context.h"
-#include "config.h"
+#include "api_fixture.h"
 #include "png_encode.h"
 
-static api_context *ctx;
-static char state_dir[] = "/tmp/aalab-render-api-XXXXXX";
+static api_fixture *fx;
+
+static void configure(aalab_config *cfg)
+{
+    cfg->workers = 1;
+    cfg->test_kinds = true;
+}
 
 static int setup(void **state)
 {
     (void)state;
-    if (!mkdtemp(state_dir))
-        return -1;
-    aalab_config cfg;
-    config_defaults(&cfg);
-    snprintf(cfg.state_dir, sizeof cfg.state_dir, "%s", state_dir);
-    cfg.workers = 1;
-    cfg.test_kinds = true;
-    aa_error err = {0};
-    ctx = api_context_create(&cfg, &err);
-    return ctx ? 0 : -1;
+    fx = api_fixture_open("render-api", configure);
+    return 0;
 }
 
 static int teardown(void **state)
 {
     (void)state;
-    api_context_destroy(ctx);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", state_dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return api_fixture_close(fx);
 }
 
 static api_response call(const char *method, const char *path, const char *body)
 {
-    api_request req;
-    memset(&req, 0, sizeof req);
-    req.method = method;
-    req.path = path;
-    req.content_type = body ? "application/json" : NULL;
-    req.body = body;
-    req.body_len = body ? strlen(body) : 0;
-    req.peer_known = true;
-    req.peer_uid = getuid();
     api_response resp;
-    memset(&resp, 0, sizeof resp);
-    api_handle(ctx, &req, &resp);
+    api_request_raw(fx, method, path, body, getuid(), &resp);
     return resp;
 }
 
