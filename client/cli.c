@@ -12,6 +12,21 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+int cli_show(cli_session *s, const char *method, const char *path, const json_t *body,
+             cli_view view)
+{
+    json_t *resp;
+    int code = cli_call(s, method, path, body, &resp);
+    if (code != EXIT_OK)
+        return code;
+    if (s->args->json)
+        cli_print_json(s->out, resp);
+    else
+        view(s->out, resp, s->args->csv);
+    json_decref(resp);
+    return EXIT_OK;
+}
+
 void cli_print_json(FILE *out, const json_t *doc)
 {
     json_dumpf(doc, out, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17));

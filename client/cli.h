@@ -23,6 +23,12 @@ typedef struct cli_session {
  * JSON to out with --json) and returns the exit code: 2 for 4xx, 3 for 5xx, 4 for no connection. */
 int cli_call(cli_session *s, const char *method, const char *path, const json_t *body,
              json_t **result);
+/* What a command prints of an answer without --json: a table, or text lines. */
+typedef void (*cli_view)(FILE *out, const json_t *resp, bool csv);
+/* cli_call, then the answer as JSON with --json, else through view (with --csv). Returns the
+ * exit code. */
+int cli_show(cli_session *s, const char *method, const char *path, const json_t *body,
+             cli_view view);
 /* Same, but keeps the raw 2xx body (PNG, export text) in *resp. */
 int cli_call_raw(cli_session *s, const char *method, const char *path, http_response *resp);
 

@@ -119,44 +119,22 @@ void enumerate_print(FILE *out, const json_t *resp, bool csv)
     }
 }
 
-static int get_and_print(cli_session *s, const char *path,
-                         void (*print)(FILE *, const json_t *, bool))
-{
-    json_t *resp;
-    int code = cli_call(s, "GET", path, NULL, &resp);
-    if (code != EXIT_OK)
-        return code;
-    if (s->args->json)
-        cli_print_json(s->out, resp);
-    else
-        print(s->out, resp, s->args->csv);
-    json_decref(resp);
-    return EXIT_OK;
-}
-
 int cmd_filters(cli_session *s)
 {
-    return get_and_print(s, "/v1/filters", filters_print);
+    return cli_show(s, "GET", "/v1/filters", NULL, filters_print);
 }
 
 int cmd_acuity(cli_session *s)
 {
-    return get_and_print(s, "/v1/acuity", acuity_print);
+    return cli_show(s, "GET", "/v1/acuity", NULL, acuity_print);
 }
 
 int cmd_enumerate(cli_session *s)
 {
-    json_t *req = json_pack("{s:s}", "family", s->args->family), *resp;
+    json_t *req = json_pack("{s:s}", "family", s->args->family);
     if (s->args->has_cost)
         json_object_set_new(req, "cost", json_real(s->args->cost));
-    int code = cli_call(s, "POST", "/v1/families/enumerate", req, &resp);
+    int code = cli_show(s, "POST", "/v1/families/enumerate", req, enumerate_print);
     json_decref(req);
-    if (code != EXIT_OK)
-        return code;
-    if (s->args->json)
-        cli_print_json(s->out, resp);
-    else
-        enumerate_print(s->out, resp, s->args->csv);
-    json_decref(resp);
-    return EXIT_OK;
+    return code;
 }

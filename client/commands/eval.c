@@ -8,6 +8,7 @@
 #include "../exit_codes.h"
 #include "../pattern_source.h"
 #include "../table.h"
+#include "../views/view_rows.h"
 
 static json_t *parse_json_argument(const char *what, const char *text, char *err, size_t cap)
 {
@@ -160,11 +161,21 @@ static const char *detail_kernel(char *buf, size_t cap, size_t index, const json
     return buf;
 }
 
+/* One row of the detail: an angle of a kernel; the same places in text and CSV. */
+static const view_column detail_cols[] = {
+    {"angle_deg", "angle_deg", VIEW_FIXED, 1},
+    {"weight", "weight", VIEW_FIXED, 4},
+    {"e1", "e1", VIEW_FIXED, 6},
+    {"weighted", "weighted", VIEW_FIXED, 6},
+};
+enum { DETAIL_COLS = sizeof detail_cols / sizeof detail_cols[0] };
+
 /* The detail as one CSV table, a row per kernel and angle. */
 static void print_detail_csv(FILE *out, const json_t *blocks)
 {
-    const char *headers[] = {"kernel", "angle_deg", "weight", "e1", "weighted"};
-    table *t = table_new(5, headers);
+    view_column cols[1 + DETAIL_COLS] = {{"kernel", NULL, VIEW_STRING, 0}};
+    memcpy(cols + 1, detail_cols, sizeof detail_cols);
+    table *t = view_rows_new(cols, 1 + DETAIL_COLS);
     if (!t)
         return;
     size_t b, i;
@@ -176,12 +187,9 @@ static void print_detail_csv(FILE *out, const json_t *blocks)
         const json_t *angles = json_is_array(block) ? block : json_object_get(block, "angles");
         json_array_foreach(angles, i, row)
         {
-            char c[4][32];
-            const char *cells[5] = {kbuf,
-                                    fmt_number(c[0], 32, json_object_get(row, "angle_deg"), 1),
-                                    fmt_number(c[1], 32, json_object_get(row, "weight"), 4),
-                                    fmt_number(c[2], 32, json_object_get(row, "e1"), 6),
-                                    fmt_number(c[3], 32, json_object_get(row, "weighted"), 6)};
+            char c[DETAIL_COLS][32];
+            const char *cells[1 + DETAIL_COLS] = {kbuf};
+            view_rows_cells(cells + 1, c, row, detail_cols, DETAIL_COLS, true);
             table_add_row(t, cells);
         }
     }
@@ -196,23 +204,7 @@ static void print_detail_kernel(FILE *out, size_t index, const json_t *block)
     char kbuf[32];
     detail_kernel(kbuf, sizeof kbuf, index, block);
     fprintf(out, "\nkernel %s\n", kbuf);
-    const char *headers[] = {"angle_deg", "weight", "e1", "weighted"};
-    table *t = table_new(4, headers);
-    if (!t)
-        return;
-    size_t i;
-    json_t *row;
-    json_array_foreach(angles, i, row)
-    {
-        char c[4][32];
-        const char *cells[4] = {fmt_number(c[0], 32, json_object_get(row, "angle_deg"), 1),
-                                fmt_number(c[1], 32, json_object_get(row, "weight"), 4),
-                                fmt_number(c[2], 32, json_object_get(row, "e1"), 6),
-                                fmt_number(c[3], 32, json_object_get(row, "weighted"), 6)};
-        table_add_row(t, cells);
-    }
-    table_print(t, out);
-    table_free(t);
+    view_rows_write(out, angles, detail_cols, DETAIL_COLS, false);
 }
 
 void eval_print(FILE *out, const json_t *resp, bool detail, bool csv)

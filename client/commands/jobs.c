@@ -126,16 +126,7 @@ int cmd_jobs(cli_session *s)
         return EXIT_USAGE;
     }
     snprintf(path, sizeof path, "/v1/jobs%s", query);
-    json_t *resp;
-    int code = cli_call(s, "GET", path, NULL, &resp);
-    if (code != EXIT_OK)
-        return code;
-    if (s->args->json)
-        cli_print_json(s->out, resp);
-    else
-        jobs_print(s->out, resp, s->args->csv);
-    json_decref(resp);
-    return EXIT_OK;
+    return cli_show(s, "GET", path, NULL, jobs_print);
 }
 
 void cancel_print(FILE *out, const char *id, const json_t *resp)
@@ -150,22 +141,17 @@ void cancel_print(FILE *out, const char *id, const json_t *resp)
         fprintf(out, "job %s: %s\n", id, state ? state : "-");
 }
 
+/* aalab job ID --trace: the job's trace alone. */
+static void job_trace_print(FILE *out, const json_t *job, bool csv)
+{
+    view_trace(out, json_object_get(job, "trace"), csv);
+}
+
 int cmd_job(cli_session *s)
 {
     char path[128];
     snprintf(path, sizeof path, "/v1/jobs/%s", s->args->target); /* [A-Za-z0-9_-] (args.c) */
-    json_t *resp;
-    int code = cli_call(s, "GET", path, NULL, &resp);
-    if (code != EXIT_OK)
-        return code;
-    if (s->args->json)
-        cli_print_json(s->out, resp);
-    else if (s->args->trace)
-        view_trace(s->out, json_object_get(resp, "trace"), s->args->csv);
-    else
-        job_print(s->out, resp, s->args->csv);
-    json_decref(resp);
-    return EXIT_OK;
+    return cli_show(s, "GET", path, NULL, s->args->trace ? job_trace_print : job_print);
 }
 
 int cmd_cancel(cli_session *s)

@@ -61,16 +61,5 @@ int cmd_presets(cli_session *s)
     } else {
         snprintf(path, sizeof path, "/v1/presets");
     }
-    json_t *resp;
-    int code = cli_call(s, "GET", path, NULL, &resp);
-    if (code != EXIT_OK)
-        return code;
-    if (s->args->json)
-        cli_print_json(s->out, resp);
-    else if (name)
-        print_flat_as(s->out, resp, s->args->csv);
-    else
-        presets_print(s->out, resp, s->args->csv);
-    json_decref(resp);
-    return EXIT_OK;
+    return cli_show(s, "GET", path, NULL, name ? print_flat_as : presets_print);
 }

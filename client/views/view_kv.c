@@ -30,13 +30,12 @@ void view_kv_print(FILE *out, const view_kv *kv)
     print_key_values(out, kv->keys, values, kv->n);
 }
 
-const char *view_scene_label(char *buf, size_t cap, const json_t *scene)
+void view_kv_scene(view_kv *kv, const json_t *scene)
 {
     const char *name = json_string_value(json_object_get(scene, "name"));
-    snprintf(buf, cap, "%s %lldx%lld", name ? name : "-",
-             (long long)json_integer_value(json_object_get(scene, "width")),
-             (long long)json_integer_value(json_object_get(scene, "height")));
-    return buf;
+    view_kv_add(kv, "scene", "%s %lldx%lld", name ? name : "-",
+                (long long)json_integer_value(json_object_get(scene, "width")),
+                (long long)json_integer_value(json_object_get(scene, "height")));
 }
 
 const char *view_str(const json_t *v)

@@ -25,7 +25,7 @@ void view_kv_print(FILE *out, const view_kv *kv);
 
 /* The string, or "-" when v is not one. */
 const char *view_str(const json_t *v);
-/* "siemens-star 64x64" from a scene object. */
-const char *view_scene_label(char *buf, size_t cap, const json_t *scene);
+/* Adds the "scene" line, "siemens-star 64x64", of a scene object. */
+void view_kv_scene(view_kv *kv, const json_t *scene);
 
 #endif

@@ -4,28 +4,18 @@
 #include "../cli.h"
 #include "../table.h"
 #include "view_kv.h"
+#include "view_rows.h"
 
 static void per_seed_table(FILE *out, const json_t *per_seed, bool csv)
 {
-    const char *headers[] = {"seed", "distribution", "initial_e2", "e2", "iterations"};
-    table *t = table_new(5, headers);
-    if (!t)
-        return;
-    size_t i;
-    json_t *s;
-    json_array_foreach(per_seed, i, s)
-    {
-        char seed[32], e0[32], e2[32], it[32];
-        const char *cells[] = {
-            fmt_number(seed, sizeof seed, json_object_get(s, "seed"), 0),
-            fmt_string(json_object_get(s, "distribution")),
-            fmt_number(e0, sizeof e0, json_object_get(s, "initial_e2"), fmt_decimals(csv, 6)),
-            fmt_number(e2, sizeof e2, json_object_get(s, "e2"), fmt_decimals(csv, 6)),
-            fmt_number(it, sizeof it, json_object_get(s, "iterations"), 0)};
-        table_add_row(t, cells);
-    }
-    table_write(t, out, csv);
-    table_free(t);
+    static const view_column cols[] = {
+        {"seed", "seed", VIEW_FIXED, 0},
+        {"distribution", "distribution", VIEW_STRING, 0},
+        {"initial_e2", "initial_e2", VIEW_MEASURE, 6},
+        {"e2", "e2", VIEW_MEASURE, 6},
+        {"iterations", "iterations", VIEW_FIXED, 0},
+    };
+    view_rows_write(out, per_seed, cols, sizeof cols / sizeof cols[0], csv);
 }
 
 void view_optimize(FILE *out, const json_t *result, bool csv)

@@ -131,6 +131,35 @@ static void assert_same_number(const char *field, const json_t *v)
         fail_msg("CSV field '%s' is not %.17g", field, json_number_value(v));
 }
 
+/* The CSV view prints of v, parsed into d: rectangular, a header and `records` rows. */
+static void view_csv(csv_doc *d, cli_view view, const json_t *v, size_t records)
+{
+    capture c;
+    view(capture_begin(&c), v, true);
+    csv_parse(capture_end(&c), d);
+    capture_free(&c);
+    csv_rectangular(d);
+    assert_int_equal(d->rows, records + 1);
+}
+
+/* Column col of each CSV row reads back as the same number as member of that row's object. */
+static void csv_numbers_are(const csv_doc *d, const char *col, const json_t *rows,
+                            const char *member)
+{
+    for (size_t i = 0; i < json_array_size(rows); i++)
+        assert_same_number(csv_get(d, i + 1, col),
+                           json_object_get(json_array_get(rows, i), member));
+}
+
+/* Column col of each CSV row is member's string of that row's object. */
+static void csv_strings_are(const csv_doc *d, const char *col, const json_t *rows,
+                            const char *member)
+{
+    for (size_t i = 0; i < json_array_size(rows); i++)
+        assert_string_equal(csv_get(d, i + 1, col),
+                            json_string_value(json_object_get(json_array_get(rows, i), member)));
+}
+
 static const char *fixed(char *buf, size_t cap, const json_t *v, int decimals)
 {
     snprintf(buf, cap, "%.*f", decimals, json_number_value(v));
@@ -171,20 +200,12 @@ static void optimize_view(void **state)
     capture_free(&c);
 
     csv_doc d;
-    job_print(capture_begin(&c), job, true);
-    csv_parse(capture_end(&c), &d);
-    csv_rectangular(&d);
     const json_t *per_seed = json_object_get(r, "per_seed");
-    assert_int_equal(d.rows, json_array_size(per_seed) + 1);
-    for (size_t i = 0; i < json_array_size(per_seed); i++) {
-        const json_t *ps = json_array_get(per_seed, i);
-        assert_same_number(csv_get(&d, i + 1, "e2"), json_object_get(ps, "e2"));
-        assert_same_number(csv_get(&d, i + 1, "initial_e2"), json_object_get(ps, "initial_e2"));
-        assert_string_equal(csv_get(&d, i + 1, "distribution"),
-                            json_string_value(json_object_get(ps, "distribution")));
-    }
+    view_csv(&d, job_print, job, json_array_size(per_seed));
+    csv_numbers_are(&d, "e2", per_seed, "e2");
+    csv_numbers_are(&d, "initial_e2", per_seed, "initial_e2");
+    csv_strings_are(&d, "distribution", per_seed, "distribution");
     csv_free(&d);
-    capture_free(&c);
     json_decref(job);
 }
 
@@ -224,20 +245,15 @@ static void family_sweep_view(void **state)
     capture_free(&c);
 
     csv_doc d;
-    job_print(capture_begin(&c), job, true);
-    csv_parse(capture_end(&c), &d);
-    csv_rectangular(&d);
-    assert_int_equal(d.rows, json_array_size(ranked) + 1);
+    view_csv(&d, job_print, job, json_array_size(ranked));
     for (size_t i = 0; i < json_array_size(ranked); i++) {
-        const json_t *row = json_array_get(ranked, i);
         char label[64];
-        sweep_label(label, sizeof label, json_object_get(row, "config"));
+        sweep_label(label, sizeof label, json_object_get(json_array_get(ranked, i), "config"));
         assert_string_equal(csv_get(&d, i + 1, "configuration"), label);
-        assert_same_number(csv_get(&d, i + 1, "e2"), json_object_get(row, "e2"));
-        assert_same_number(csv_get(&d, i + 1, "rank"), json_object_get(row, "rank"));
     }
+    csv_numbers_are(&d, "e2", ranked, "e2");
+    csv_numbers_are(&d, "rank", ranked, "rank");
     csv_free(&d);
-    capture_free(&c);
     json_decref(job);
 }
 
@@ -265,15 +281,11 @@ static void random_stats_view(void **state)
     capture_free(&c);
 
     csv_doc d;
-    job_print(capture_begin(&c), job, true);
-    csv_parse(capture_end(&c), &d);
-    csv_rectangular(&d);
-    assert_int_equal(d.rows, 2);
+    view_csv(&d, job_print, job, 1);
     assert_string_equal(csv_get(&d, 1, "family"), "P(1,4,2)");
     for (int i = 0; i < 5; i++)
         assert_same_number(csv_get(&d, 1, columns[i]), values[i]);
     csv_free(&d);
-    capture_free(&c);
     json_decref(job);
 }
 
@@ -294,20 +306,12 @@ static void compare_view(void **state)
     capture_free(&c);
 
     csv_doc d;
-    job_print(capture_begin(&c), job, true);
-    csv_parse(capture_end(&c), &d);
-    csv_rectangular(&d);
-    assert_int_equal(d.rows, json_array_size(rows) + 1);
-    for (size_t i = 0; i < json_array_size(rows); i++) {
-        const json_t *row = json_array_get(rows, i);
-        assert_string_equal(csv_get(&d, i + 1, "family"),
-                            json_string_value(json_object_get(row, "family")));
-        assert_same_number(csv_get(&d, i + 1, "rmse"), json_object_get(row, "rmse"));
-        assert_same_number(csv_get(&d, i + 1, "e2"), json_object_get(row, "e2"));
-        assert_same_number(csv_get(&d, i + 1, "spp"), json_object_get(row, "samples_per_pixel"));
-    }
+    view_csv(&d, job_print, job, json_array_size(rows));
+    csv_strings_are(&d, "family", rows, "family");
+    csv_numbers_are(&d, "rmse", rows, "rmse");
+    csv_numbers_are(&d, "e2", rows, "e2");
+    csv_numbers_are(&d, "spp", rows, "samples_per_pixel");
     csv_free(&d);
-    capture_free(&c);
     json_decref(job);
 }
 
@@ -331,16 +335,12 @@ static void animation_view(void **state)
     capture_free(&c);
 
     csv_doc d;
-    job_print(capture_begin(&c), job, true);
-    csv_parse(capture_end(&c), &d);
-    csv_rectangular(&d);
-    assert_int_equal(d.rows, json_array_size(frames) + 1);
+    view_csv(&d, job_print, job, json_array_size(frames));
     const json_t *last = json_array_get(frames, json_array_size(frames) - 1);
     assert_same_number(csv_get(&d, d.rows - 1, "max_dev"), json_object_get(last, "max_dev"));
     assert_same_number(csv_get(&d, d.rows - 1, "pixels_recomputed"),
                        json_object_get(last, "pixels_recomputed"));
     csv_free(&d);
-    capture_free(&c);
     json_decref(job);
 }
 
@@ -361,15 +361,11 @@ static void reference_convergence_view(void **state)
     capture_free(&c);
 
     csv_doc d;
-    job_print(capture_begin(&c), job, true);
-    csv_parse(capture_end(&c), &d);
-    csv_rectangular(&d);
-    assert_int_equal(d.rows, json_array_size(rows) + 1);
+    view_csv(&d, job_print, job, json_array_size(rows));
     assert_string_equal(csv_get(&d, 1, "spp"), "16");
     assert_string_equal(csv_get(&d, 2, "spp"), "64");
     assert_same_number(csv_get(&d, 2, "rmse"), json_object_get(json_array_get(rows, 1), "rmse"));
     csv_free(&d);
-    capture_free(&c);
     json_decref(job);
 }
 
@@ -395,21 +391,13 @@ static void trace_points(void **state)
     view_trace(capture_begin(&c), trace, false);
     const char *text = capture_end(&c);
     contains(text, "seconds  iterations  evaluations   best_e2\n");
+    capture_free(&c);
     csv_doc d;
-    capture_free(&c);
-    view_trace(capture_begin(&c), trace, true);
-    csv_parse(capture_end(&c), &d);
-    csv_rectangular(&d);
-    assert_int_equal(d.rows, json_array_size(trace) + 1);
-    for (size_t i = 0; i < json_array_size(trace); i++) {
-        const json_t *p = json_array_get(trace, i);
-        assert_same_number(csv_get(&d, i + 1, "seconds"), json_object_get(p, "seconds"));
-        assert_same_number(csv_get(&d, i + 1, "iterations"), json_object_get(p, "iterations"));
-        assert_same_number(csv_get(&d, i + 1, "evaluations"), json_object_get(p, "evaluations"));
-        assert_same_number(csv_get(&d, i + 1, "best_e2"), json_object_get(p, "best_e2"));
-    }
+    view_csv(&d, view_trace, trace, json_array_size(trace));
+    const char *columns[] = {"seconds", "iterations", "evaluations", "best_e2"};
+    for (size_t i = 0; i < 4; i++)
+        csv_numbers_are(&d, columns[i], trace, columns[i]);
     csv_free(&d);
-    capture_free(&c);
     json_decref(job);
 }
 
@@ -421,12 +409,8 @@ static void pattern_csv(void **state)
     size_t samples = 0;
     for (size_t k = 0; k < json_array_size(kernels); k++)
         samples += json_array_size(json_array_get(kernels, k));
-    capture c;
     csv_doc d;
-    view_pattern(capture_begin(&c), p, true);
-    csv_parse(capture_end(&c), &d);
-    csv_rectangular(&d);
-    assert_int_equal(d.rows, samples + 1);
+    view_csv(&d, view_pattern, p, samples);
     assert_string_equal(csv_get(&d, 1, "kernel"), "0");
     assert_string_equal(csv_get(&d, 1, "sample"), "0");
     const json_t *s0 = json_array_get(json_array_get(kernels, 0), 0);
@@ -434,7 +418,6 @@ static void pattern_csv(void **state)
     assert_same_number(csv_get(&d, 1, "y"), json_array_get(s0, 1));
     assert_same_number(csv_get(&d, 1, "weight"), json_array_get(s0, 2));
     csv_free(&d);
-    capture_free(&c);
     json_decref(job);
 }
 

@@ -13,73 +13,28 @@
 #include <cmocka.h>
 
 #include "api.h"
-#include "api_context.h"
-#include "config.h"
+#include "api_fixture.h"
 
-typedef struct fixture {
-    char dir[64];
-    aalab_config cfg;
-    api_context *ctx;
-} fixture;
+typedef api_fixture fixture;
+
+static void configure(aalab_config *cfg)
+{
+    cfg->workers = 1;
+    cfg->queue_size = 2;
+    cfg->user_quota = 2;
+    cfg->max_body = 4096;
+    cfg->test_kinds = true;
+}
 
 static int setup(void **state)
 {
-    fixture *f = calloc(1, sizeof *f);
-    snprintf(f->dir, sizeof f->dir, "/tmp/aalab-test-api-XXXXXX");
-    assert_non_null(mkdtemp(f->dir));
-    config_defaults(&f->cfg);
-    snprintf(f->cfg.state_dir, sizeof f->cfg.state_dir, "%s/state", f->dir);
-    f->cfg.workers = 1;
-    f->cfg.queue_size = 2;
-    f->cfg.user_quota = 2;
-    f->cfg.max_body = 4096;
-    f->cfg.test_kinds = true;
-    aa_error err = {0};
-    f->ctx = api_context_create(&f->cfg, &err);
-    if (!f->ctx)
-        fail_msg("context: %s", err.message);
-    *state = f;
+    *state = api_fixture_open("api", configure);
     return 0;
 }
 
 static int teardown(void **state)
 {
-    fixture *f = *state;
-    api_context_destroy(f->ctx);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", f->dir);
-    if (system(cmd) != 0)
-        return -1;
-    free(f);
-    return 0;
-}
-
-/* One request over the "Unix socket" as uid. */
-static json_t *call(fixture *f, const char *method, const char *path, const char *body, uid_t uid,
-                    int *status)
-{
-    api_request req = {.method = method,
-                       .path = path,
-                       .content_type = body ? "application/json" : NULL,
-                       .body = body,
-                       .body_len = body ? strlen(body) : 0,
-                       .peer_known = true,
-                       .peer_uid = uid};
-    char q[64];
-    const char *qm = strchr(path, '?');
-    char p[256];
-    if (qm) {
-        snprintf(p, sizeof p, "%.*s", (int)(qm - path), path);
-        snprintf(q, sizeof q, "%s", qm + 1);
-        req.path = p;
-        req.query = q;
-    }
-    api_response resp;
-    api_handle(f->ctx, &req, &resp);
-    *status = resp.status;
-    json_t *j = json_loadb(resp.body, resp.body_len, 0, NULL);
-    api_response_free(&resp);
-    return j;
+    return api_fixture_close(*state);
 }
 
 static const char *error_field(json_t *j)
@@ -91,61 +46,61 @@ static const char *error_field(json_t *j)
     return json_string_value(json_object_get(e, "field"));
 }
 
+/* A request that must fail with status, naming field. */
+static void expect_error(fixture *f, const char *method, const char *path, const char *body,
+                         uid_t uid, int status, const char *field)
+{
+    int st;
+    json_t *j = api_call(f, method, path, body, uid, &st);
+    assert_int_equal(st, status);
+    assert_string_equal(error_field(j), field);
+    json_decref(j);
+}
+
 static void test_routes_and_errors(void **state)
 {
     fixture *f = *state;
     int st;
-    json_t *j = call(f, "GET", "/v1/health", NULL, 1000, &st);
+    json_t *j = api_call(f, "GET", "/v1/health", NULL, 1000, &st);
     assert_int_equal(st, 200);
     assert_string_equal(json_string_value(json_object_get(j, "status")), "ok");
     json_decref(j);
-    j = call(f, "HEAD", "/v1/presets", NULL, 1000, &st);
+    j = api_call(f, "HEAD", "/v1/presets", NULL, 1000, &st);
     assert_int_equal(st, 200);
     json_decref(j);
-    j = call(f, "POST", "/v1/health", "{}", 1000, &st);
+    j = api_call(f, "POST", "/v1/health", "{}", 1000, &st);
     assert_int_equal(st, 405);
     json_decref(j);
-    j = call(f, "GET", "/v1/nothing", NULL, 1000, &st);
+    j = api_call(f, "GET", "/v1/nothing", NULL, 1000, &st);
     assert_int_equal(st, 404);
     json_decref(j);
-    j = call(f, "GET", "/index.html", NULL, 1000, &st); /* static only on TCP */
+    j = api_call(f, "GET", "/index.html", NULL, 1000, &st); /* static only on TCP */
     assert_int_equal(st, 404);
     json_decref(j);
-    j = call(f, "GET", "/v1/presets/rgss", NULL, 1000, &st);
+    j = api_call(f, "GET", "/v1/presets/rgss", NULL, 1000, &st);
     assert_int_equal(st, 200);
     json_decref(j);
-    j = call(f, "GET", "/v1/presets/..", NULL, 1000, &st);
-    assert_int_equal(st, 404);
-    assert_string_equal(error_field(j), "name");
-    json_decref(j);
-    j = call(f, "GET", "/v1/jobs/00", NULL, 1000, &st);
+    expect_error(f, "GET", "/v1/presets/..", NULL, 1000, 404, "name");
+    j = api_call(f, "GET", "/v1/jobs/00", NULL, 1000, &st);
     assert_int_equal(st, 404);
     json_decref(j);
 
-    j = call(f, "POST", "/v1/evaluate", "{\"pattern\":{\"preset\":\"rgss\"}}", 1000, &st);
+    j = api_call(f, "POST", "/v1/evaluate", "{\"pattern\":{\"preset\":\"rgss\"}}", 1000, &st);
     assert_int_equal(st, 200);
     assert_true(json_real_value(json_object_get(j, "e2")) > 0.43);
     json_decref(j);
-    j = call(f, "POST", "/v1/evaluate", "{\"pattern\":{\"kernels\":[[[0,0,1],[0,[],0]]]}}", 1000,
-             &st);
-    assert_int_equal(st, 400);
-    assert_string_equal(error_field(j), "pattern.kernels[0][1][1]");
-    json_decref(j);
-    j = call(f, "POST", "/v1/evaluate", "{\"pattern\":{\"preset\":\"rgss\"},\"angles\":[1e999]}",
-             1000, &st);
+    expect_error(f, "POST", "/v1/evaluate", "{\"pattern\":{\"kernels\":[[[0,0,1],[0,[],0]]]}}",
+                 1000, 400, "pattern.kernels[0][1][1]");
+    j = api_call(f, "POST", "/v1/evaluate",
+                 "{\"pattern\":{\"preset\":\"rgss\"},\"angles\":[1e999]}", 1000, &st);
     assert_int_equal(st, 400);
     json_decref(j);
-    j = call(f, "POST", "/v1/evaluate", "{\"pattern\":{\"preset\":\"rgss\"},\"angles\":[0,\"x\"]}",
-             1000, &st);
-    assert_int_equal(st, 400);
-    assert_string_equal(error_field(j), "angles[1]");
-    json_decref(j);
-    j = call(f, "POST", "/v1/evaluate", "{\"pattern\":{\"preset\":\"rgss\"},\"detail\":1}", 1000,
-             &st);
-    assert_int_equal(st, 400);
-    assert_string_equal(error_field(j), "detail");
-    json_decref(j);
-    j = call(f, "POST", "/v1/evaluate", "{\"a\":1,\"a\":2}", 1000, &st);
+    expect_error(f, "POST", "/v1/evaluate",
+                 "{\"pattern\":{\"preset\":\"rgss\"},\"angles\":[0,\"x\"]}", 1000, 400,
+                 "angles[1]");
+    expect_error(f, "POST", "/v1/evaluate", "{\"pattern\":{\"preset\":\"rgss\"},\"detail\":1}",
+                 1000, 400, "detail");
+    j = api_call(f, "POST", "/v1/evaluate", "{\"a\":1,\"a\":2}", 1000, &st);
     assert_int_equal(st, 400);
     json_decref(j);
 }
@@ -159,7 +114,7 @@ static void test_limits(void **state)
     big[0] = '{';
     big[8190] = '}';
     int st;
-    json_t *j = call(f, "POST", "/v1/evaluate", big, 1000, &st);
+    json_t *j = api_call(f, "POST", "/v1/evaluate", big, 1000, &st);
     assert_int_equal(st, 413);
     json_decref(j);
     free(big);
@@ -180,18 +135,18 @@ static void test_enumerate_cached(void **state)
 {
     fixture *f = *state;
     int st;
-    json_t *a = call(f, "POST", "/v1/families/enumerate", "{\"family\":\"P(4,1+,n)\",\"cost\":2}",
-                     1000, &st);
+    json_t *a = api_call(f, "POST", "/v1/families/enumerate",
+                         "{\"family\":\"P(4,1+,n)\",\"cost\":2}", 1000, &st);
     assert_int_equal(st, 200);
-    json_t *b = call(f, "POST", "/v1/families/enumerate", "{\"cost\":2.0,\"family\":\"P(4,1+,2)\"}",
-                     1000, &st);
+    json_t *b = api_call(f, "POST", "/v1/families/enumerate",
+                         "{\"cost\":2.0,\"family\":\"P(4,1+,2)\"}", 1000, &st);
     assert_int_equal(st, 200);
     assert_int_equal(json_integer_value(json_object_get(a, "count")), 38);
     assert_true(json_equal(a, b));
-    json_t *c = call(f, "POST", "/v1/families/enumerate",
-                     "{\"family\":\"P(4,1+,n)\",\"cost\":1.75}", 1000, &st);
+    json_t *c = api_call(f, "POST", "/v1/families/enumerate",
+                         "{\"family\":\"P(4,1+,n)\",\"cost\":1.75}", 1000, &st);
     assert_int_equal(json_integer_value(json_object_get(c, "count")), 19);
-    json_t *h = call(f, "GET", "/v1/health", NULL, 1000, &st);
+    json_t *h = api_call(f, "GET", "/v1/health", NULL, 1000, &st);
     json_t *cache = json_object_get(h, "eval_cache");
     assert_int_equal(json_integer_value(json_object_get(cache, "hits")), 1);
     assert_int_equal(json_integer_value(json_object_get(cache, "entries")), 2);
@@ -215,15 +170,8 @@ static void test_evaluate_work_limit(void **state)
         n += (size_t)snprintf(body + n, cap - n, "%s%g", i ? "," : "", i * 180.0 / 4096);
     snprintf(body + n, cap - n, "]}");
     f->cfg.max_body = cap;
-    int st;
-    api_context_destroy(f->ctx);
-    aa_error err = {0};
-    f->ctx = api_context_create(&f->cfg, &err);
-    assert_non_null(f->ctx);
-    json_t *j = call(f, "POST", "/v1/evaluate", body, 1000, &st);
-    assert_int_equal(st, 400);
-    assert_string_equal(error_field(j), "angles");
-    json_decref(j);
+    api_fixture_restart(f);
+    expect_error(f, "POST", "/v1/evaluate", body, 1000, 400, "angles");
     free(body);
 }
 
@@ -253,7 +201,7 @@ static json_t *call_tcp(fixture *f, const char *method, const char *path, const 
 static char *issue_token(fixture *f, uid_t uid, long long *id)
 {
     int st;
-    json_t *j = call(f, "POST", "/v1/tokens", "{\"label\":\"test\"}", uid, &st);
+    json_t *j = api_call(f, "POST", "/v1/tokens", "{\"label\":\"test\"}", uid, &st);
     assert_int_equal(st, 201);
     assert_int_equal(json_integer_value(json_object_get(j, "uid")), uid);
     const char *t = json_string_value(json_object_get(j, "token"));
@@ -350,7 +298,7 @@ static void test_tokens(void **state)
     long long id = 0, other = 0;
     char *tok = issue_token(f, 1000, &id);
     free(issue_token(f, 1001, &other));
-    json_t *j = call(f, "GET", "/v1/tokens", NULL, 1000, &st);
+    json_t *j = api_call(f, "GET", "/v1/tokens", NULL, 1000, &st);
     assert_int_equal(st, 200);
     assert_true(list_has_id(j, "tokens", id));
     assert_false(list_has_id(j, "tokens", other));
@@ -361,7 +309,7 @@ static void test_tokens(void **state)
     assert_null(json_object_get(first, "token"));
     assert_string_equal(json_string_value(json_object_get(first, "label")), "test");
     json_decref(j);
-    j = call(f, "GET", "/v1/tokens", NULL, 0, &st); /* root sees all */
+    j = api_call(f, "GET", "/v1/tokens", NULL, 0, &st); /* root sees all */
     assert_true(list_has_id(j, "tokens", id) && list_has_id(j, "tokens", other));
     json_decref(j);
     j = call_tcp(f, "GET", "/v1/tokens", NULL, tok, &st); /* over TCP: the token's uid */
@@ -370,34 +318,28 @@ static void test_tokens(void **state)
     assert_false(list_has_id(j, "tokens", other));
     json_decref(j);
 
-    j = call(f, "POST", "/v1/tokens", "{\"label\":7}", 1000, &st);
-    assert_int_equal(st, 400);
-    assert_string_equal(error_field(j), "label");
-    json_decref(j);
-    j = call(f, "POST", "/v1/tokens", "{\"uid\":0}", 1000, &st);
-    assert_int_equal(st, 400);
-    assert_string_equal(error_field(j), "uid");
-    json_decref(j);
+    expect_error(f, "POST", "/v1/tokens", "{\"label\":7}", 1000, 400, "label");
+    expect_error(f, "POST", "/v1/tokens", "{\"uid\":0}", 1000, 400, "uid");
 
     char path[64];
     snprintf(path, sizeof path, "/v1/tokens/%lld", id);
-    j = call(f, "DELETE", path, NULL, 1001, &st); /* not the owner */
+    j = api_call(f, "DELETE", path, NULL, 1001, &st); /* not the owner */
     assert_int_equal(st, 403);
     json_decref(j);
     j = call_tcp(f, "GET", "/v1/health", NULL, tok, &st);
     assert_int_equal(st, 200);
     json_decref(j);
-    j = call(f, "DELETE", path, NULL, 1000, &st);
+    j = api_call(f, "DELETE", path, NULL, 1000, &st);
     assert_int_equal(st, 200);
     json_decref(j);
     j = call_tcp(f, "GET", "/v1/health", NULL, tok, &st); /* revoked at once */
     assert_int_equal(st, 401);
     json_decref(j);
-    j = call(f, "DELETE", path, NULL, 1000, &st);
+    j = api_call(f, "DELETE", path, NULL, 1000, &st);
     assert_int_equal(st, 404);
     json_decref(j);
     snprintf(path, sizeof path, "/v1/tokens/%lld", other);
-    j = call(f, "DELETE", path, NULL, 0, &st); /* root may revoke anyone's */
+    j = api_call(f, "DELETE", path, NULL, 0, &st); /* root may revoke anyone's */
     assert_int_equal(st, 200);
     json_decref(j);
     free(tok);
@@ -419,7 +361,7 @@ static json_t *wait_state(fixture *f, long long id, const char *want)
     snprintf(path, sizeof path, "/v1/jobs/%lld", id);
     for (int i = 0; i < 500; i++) {
         int st;
-        json_t *j = call(f, "GET", path, NULL, 1000, &st);
+        json_t *j = api_call(f, "GET", path, NULL, 1000, &st);
         assert_int_equal(st, 200);
         if (!strcmp(json_string_value(json_object_get(j, "state")), want))
             return j;
@@ -435,77 +377,67 @@ static void test_jobs_owner_quota_queue(void **state)
 {
     fixture *f = *state;
     int st;
-    json_t *j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":30}", 1000, &st);
+    json_t *j = api_call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":30}", 1000, &st);
     assert_int_equal(st, 202);
     long long a = json_integer_value(json_object_get(j, "id"));
     json_decref(j);
     json_decref(wait_state(f, a, "running"));
-    j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":30}", 1000, &st);
+    j = api_call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":30}", 1000, &st);
     assert_int_equal(st, 202);
     long long b = json_integer_value(json_object_get(j, "id"));
     json_decref(j);
     /* quota 2 for uid 1000 */
-    j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":30}", 1000, &st);
+    j = api_call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":30}", 1000, &st);
     assert_int_equal(st, 429);
     json_decref(j);
     /* another user: queue holds 1 of 2 */
-    j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":30}", 1001, &st);
+    j = api_call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":30}", 1001, &st);
     assert_int_equal(st, 202);
     long long c = json_integer_value(json_object_get(j, "id"));
     json_decref(j);
     /* queue full (2 queued) */
-    j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":30}", 1002, &st);
+    j = api_call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":30}", 1002, &st);
     assert_int_equal(st, 429);
     json_decref(j);
 
     char path[64];
     snprintf(path, sizeof path, "/v1/jobs/%lld", a);
-    j = call(f, "DELETE", path, NULL, 1001, &st); /* not the owner */
+    j = api_call(f, "DELETE", path, NULL, 1001, &st); /* not the owner */
     assert_int_equal(st, 403);
     json_decref(j);
-    j = call(f, "DELETE", path, NULL, 0, &st); /* root may */
+    j = api_call(f, "DELETE", path, NULL, 0, &st); /* root may */
     assert_int_equal(st, 202);
     json_decref(j);
     json_decref(wait_state(f, a, "cancelled"));
-    j = call(f, "DELETE", path, NULL, 0, &st);
+    j = api_call(f, "DELETE", path, NULL, 0, &st);
     assert_int_equal(st, 409);
     json_decref(j);
     snprintf(path, sizeof path, "/v1/jobs/%lld", b);
-    j = call(f, "DELETE", path, NULL, 1000, &st);
+    j = api_call(f, "DELETE", path, NULL, 1000, &st);
     assert_int_equal(st, 202);
     json_decref(j);
     snprintf(path, sizeof path, "/v1/jobs/%lld", c);
-    j = call(f, "DELETE", path, NULL, 1001, &st);
+    j = api_call(f, "DELETE", path, NULL, 1001, &st);
     assert_int_equal(st, 202);
     json_decref(j);
     json_decref(wait_state(f, c, "cancelled"));
 
-    j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":0,\"bogus\":1}", 1000, &st);
+    j = api_call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":0,\"bogus\":1}", 1000,
+                 &st);
     assert_int_equal(st, 400);
     assert_string_equal(error_field(j), "bogus");
     json_decref(j);
-}
-
-static long long submit(fixture *f, const char *spec, uid_t uid)
-{
-    int st;
-    json_t *j = call(f, "POST", "/v1/jobs", spec, uid, &st);
-    if (st != 202)
-        fail_msg("submit %s: %d", spec, st);
-    long long id = json_integer_value(json_object_get(j, "id"));
-    json_decref(j);
-    return id;
 }
 
 static void test_private_jobs(void **state)
 {
     fixture *f = *state;
     int st;
-    long long priv = submit(f,
-                            "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"private\","
-                            "\"pattern\":{\"preset\":\"quincunx\"}}",
-                            1000);
-    long long team = submit(f, "{\"kind\":\"sleep\",\"seconds\":0}", 1000);
+    long long priv = api_submit(f,
+                                "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"private\","
+                                "\"pattern\":{\"preset\":\"quincunx\"}}",
+                                1000);
+    long long team = api_submit(f, "{\"kind\":\"sleep\",\"seconds\":0}", 1000);
     json_t *j = wait_state(f, priv, "done");
     assert_string_equal(json_string_value(json_object_get(j, "visibility")), "private");
     json_decref(j);
@@ -516,20 +448,20 @@ static void test_private_jobs(void **state)
     char job[64], export[80];
     snprintf(job, sizeof job, "/v1/jobs/%lld", priv);
     snprintf(export, sizeof export, "/v1/patterns/%lld/export", priv);
-    assert_int_equal(status_of(call(f, "GET", job, NULL, 1001, &st), &st), 404);
+    assert_int_equal(status_of(api_call(f, "GET", job, NULL, 1001, &st), &st), 404);
     assert_int_equal(status_of(call_tcp(f, "GET", job, NULL, tok_bob, &st), &st), 404);
-    assert_int_equal(status_of(call(f, "GET", job, NULL, 1000, &st), &st), 200);
+    assert_int_equal(status_of(api_call(f, "GET", job, NULL, 1000, &st), &st), 200);
     assert_int_equal(status_of(call_tcp(f, "GET", job, NULL, tok_alice, &st), &st), 200);
-    assert_int_equal(status_of(call(f, "GET", job, NULL, 0, &st), &st), 200); /* root, socket */
+    assert_int_equal(status_of(api_call(f, "GET", job, NULL, 0, &st), &st), 200); /* root, socket */
     /* a token issued to root acts for uid 0 without root's powers */
     assert_int_equal(status_of(call_tcp(f, "GET", job, NULL, tok_root, &st), &st), 404);
-    assert_int_equal(status_of(call(f, "GET", export, NULL, 1001, &st), &st), 404);
+    assert_int_equal(status_of(api_call(f, "GET", export, NULL, 1001, &st), &st), 404);
     assert_int_equal(status_of(call_tcp(f, "GET", export, NULL, tok_root, &st), &st), 404);
-    assert_int_equal(status_of(call(f, "GET", export, NULL, 1000, &st), &st), 200);
-    assert_int_equal(status_of(call(f, "GET", export, NULL, 0, &st), &st), 200);
+    assert_int_equal(status_of(api_call(f, "GET", export, NULL, 1000, &st), &st), 200);
+    assert_int_equal(status_of(api_call(f, "GET", export, NULL, 0, &st), &st), 200);
 
     /* the list: filtered for bob, complete for alice */
-    j = call(f, "GET", "/v1/jobs", NULL, 1001, &st);
+    j = api_call(f, "GET", "/v1/jobs", NULL, 1001, &st);
     assert_int_equal(st, 200);
     assert_false(list_has_id(j, "jobs", priv));
     assert_true(list_has_id(j, "jobs", team));
@@ -541,17 +473,11 @@ static void test_private_jobs(void **state)
     /* {"job": ID} references: someone else's private job reads as no job */
     char body[128];
     snprintf(body, sizeof body, "{\"pattern\":{\"job\":%lld}}", priv);
-    j = call(f, "POST", "/v1/evaluate", body, 1001, &st);
-    assert_int_equal(st, 400);
-    assert_string_equal(error_field(j), "pattern.job");
-    json_decref(j);
-    assert_int_equal(status_of(call(f, "POST", "/v1/evaluate", body, 1000, &st), &st), 200);
+    expect_error(f, "POST", "/v1/evaluate", body, 1001, 400, "pattern.job");
+    assert_int_equal(status_of(api_call(f, "POST", "/v1/evaluate", body, 1000, &st), &st), 200);
     snprintf(body, sizeof body, "{\"kind\":\"sleep\",\"seconds\":0,\"pattern\":{\"job\":%lld}}",
              priv);
-    j = call(f, "POST", "/v1/jobs", body, 1001, &st);
-    assert_int_equal(st, 400);
-    assert_string_equal(error_field(j), "pattern.job");
-    json_decref(j);
+    expect_error(f, "POST", "/v1/jobs", body, 1001, 400, "pattern.job");
     api_caller bob = {.uid = 1001}, root_tcp = {.uid = 0, .via_tcp = true}, root = {.admin = true};
     snprintf(body, sizeof body, "{\"patterns\":[{\"job\":%lld}]}", priv);
     json_t *doc = json_loads(body, 0, NULL);
@@ -562,11 +488,9 @@ static void test_private_jobs(void **state)
     assert_int_equal(api_resolve_pattern_refs(f->ctx, &root, doc, &err), AA_OK);
     json_decref(doc);
 
-    j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"secret\"}",
-             1000, &st);
-    assert_int_equal(st, 400);
-    assert_string_equal(error_field(j), "visibility");
-    json_decref(j);
+    expect_error(f, "POST", "/v1/jobs",
+                 "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"secret\"}", 1000, 400,
+                 "visibility");
     free(tok_root);
     free(tok_alice);
     free(tok_bob);
@@ -576,20 +500,20 @@ static void test_cancel_rights(void **state)
 {
     fixture *f = *state;
     int st;
-    long long team = submit(f, "{\"kind\":\"sleep\",\"seconds\":30}", 1000);
+    long long team = api_submit(f, "{\"kind\":\"sleep\",\"seconds\":30}", 1000);
     long long priv =
-        submit(f, "{\"kind\":\"sleep\",\"seconds\":30,\"visibility\":\"private\"}", 1000);
+        api_submit(f, "{\"kind\":\"sleep\",\"seconds\":30,\"visibility\":\"private\"}", 1000);
     char *tok_root = issue_token(f, 0, NULL), *tok_bob = issue_token(f, 1001, NULL);
     char a[64], b[64];
     snprintf(a, sizeof a, "/v1/jobs/%lld", team);
     snprintf(b, sizeof b, "/v1/jobs/%lld", priv);
-    assert_int_equal(status_of(call(f, "DELETE", a, NULL, 1001, &st), &st), 403);
+    assert_int_equal(status_of(api_call(f, "DELETE", a, NULL, 1001, &st), &st), 403);
     assert_int_equal(status_of(call_tcp(f, "DELETE", a, NULL, tok_bob, &st), &st), 403);
     assert_int_equal(status_of(call_tcp(f, "DELETE", a, NULL, tok_root, &st), &st), 403);
-    assert_int_equal(status_of(call(f, "DELETE", b, NULL, 1001, &st), &st), 404);
+    assert_int_equal(status_of(api_call(f, "DELETE", b, NULL, 1001, &st), &st), 404);
     assert_int_equal(status_of(call_tcp(f, "DELETE", b, NULL, tok_root, &st), &st), 404);
-    assert_int_equal(status_of(call(f, "DELETE", b, NULL, 0, &st), &st), 202);
-    assert_int_equal(status_of(call(f, "DELETE", a, NULL, 1000, &st), &st), 202);
+    assert_int_equal(status_of(api_call(f, "DELETE", b, NULL, 0, &st), &st), 202);
+    assert_int_equal(status_of(api_call(f, "DELETE", a, NULL, 1000, &st), &st), 202);
     json_decref(wait_state(f, team, "cancelled"));
     free(tok_root);
     free(tok_bob);
@@ -601,22 +525,19 @@ static void test_private_job_restart(void **state)
 {
     fixture *f = *state;
     int st;
-    long long run = submit(f, "{\"kind\":\"sleep\",\"seconds\":30}", 1000);
+    long long run = api_submit(f, "{\"kind\":\"sleep\",\"seconds\":30}", 1000);
     json_decref(wait_state(f, run, "running"));
     long long priv =
-        submit(f, "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"private\"}", 1000);
-    api_context_destroy(f->ctx);
-    aa_error err = {0};
-    f->ctx = api_context_create(&f->cfg, &err);
-    assert_non_null(f->ctx);
+        api_submit(f, "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"private\"}", 1000);
+    api_fixture_restart(f);
     char path[64];
     snprintf(path, sizeof path, "/v1/jobs/%lld", run); /* re-queued first: out of the way */
-    assert_int_equal(status_of(call(f, "DELETE", path, NULL, 1000, &st), &st), 202);
+    assert_int_equal(status_of(api_call(f, "DELETE", path, NULL, 1000, &st), &st), 202);
     json_t *j = wait_state(f, priv, "done"); /* not "interrupted": the spec still parses */
     assert_string_equal(json_string_value(json_object_get(j, "visibility")), "private");
     json_decref(j);
     snprintf(path, sizeof path, "/v1/jobs/%lld", priv);
-    assert_int_equal(status_of(call(f, "GET", path, NULL, 1001, &st), &st), 404);
+    assert_int_equal(status_of(api_call(f, "GET", path, NULL, 1001, &st), &st), 404);
 }
 
 static void test_private_tiles(void **state)
@@ -624,9 +545,9 @@ static void test_private_tiles(void **state)
     fixture *f = *state;
     int st;
     json_t *j =
-        call(f, "POST", "/v1/render",
-             "{\"pattern\":{\"preset\":\"rgss\"},\"size\":[16,16],\"visibility\":\"private\"}",
-             1000, &st);
+        api_call(f, "POST", "/v1/render",
+                 "{\"pattern\":{\"preset\":\"rgss\"},\"size\":[16,16],\"visibility\":\"private\"}",
+                 1000, &st);
     assert_int_equal(st, 200);
     char url[128];
     snprintf(url, sizeof url, "%s",
@@ -634,23 +555,20 @@ static void test_private_tiles(void **state)
                  json_object_get(json_object_get(json_object_get(j, "tiles"), "pattern"), "url")));
     json_decref(j);
     char *tok_alice = issue_token(f, 1000, NULL), *tok_bob = issue_token(f, 1001, NULL);
-    assert_int_equal(status_of(call(f, "GET", url, NULL, 1001, &st), &st), 404);
+    assert_int_equal(status_of(api_call(f, "GET", url, NULL, 1001, &st), &st), 404);
     assert_int_equal(status_of(call_tcp(f, "GET", url, NULL, tok_bob, &st), &st), 404);
-    assert_int_equal(status_of(call(f, "GET", url, NULL, 1000, &st), &st), 200);
+    assert_int_equal(status_of(api_call(f, "GET", url, NULL, 1000, &st), &st), 200);
     assert_int_equal(status_of(call_tcp(f, "GET", url, NULL, tok_alice, &st), &st), 200);
-    assert_int_equal(status_of(call(f, "GET", url, NULL, 0, &st), &st), 200);
+    assert_int_equal(status_of(api_call(f, "GET", url, NULL, 0, &st), &st), 200);
     /* the same tile rendered for the team is the team's */
-    j = call(f, "POST", "/v1/render", "{\"pattern\":{\"preset\":\"rgss\"},\"size\":[16,16]}", 1001,
-             &st);
+    j = api_call(f, "POST", "/v1/render", "{\"pattern\":{\"preset\":\"rgss\"},\"size\":[16,16]}",
+                 1001, &st);
     assert_int_equal(st, 200);
     json_decref(j);
     assert_int_equal(status_of(call_tcp(f, "GET", url, NULL, tok_bob, &st), &st), 200);
-    j = call(f, "POST", "/v1/render",
-             "{\"pattern\":{\"preset\":\"rgss\"},\"size\":[16,16],\"visibility\":\"all\"}", 1001,
-             &st);
-    assert_int_equal(st, 400);
-    assert_string_equal(error_field(j), "visibility");
-    json_decref(j);
+    expect_error(f, "POST", "/v1/render",
+                 "{\"pattern\":{\"preset\":\"rgss\"},\"size\":[16,16],\"visibility\":\"all\"}",
+                 1001, 400, "visibility");
     free(tok_alice);
     free(tok_bob);
 }
@@ -659,9 +577,9 @@ static void test_pattern_refs(void **state)
 {
     fixture *f = *state;
     int st;
-    json_t *j =
-        call(f, "POST", "/v1/jobs",
-             "{\"kind\":\"sleep\",\"seconds\":0,\"pattern\":{\"preset\":\"quincunx\"}}", 1000, &st);
+    json_t *j = api_call(f, "POST", "/v1/jobs",
+                         "{\"kind\":\"sleep\",\"seconds\":0,\"pattern\":{\"preset\":\"quincunx\"}}",
+                         1000, &st);
     assert_int_equal(st, 202);
     long long id = json_integer_value(json_object_get(j, "id"));
     json_decref(j);
@@ -687,7 +605,7 @@ static void test_pattern_refs(void **state)
 
     char path[80];
     snprintf(path, sizeof path, "/v1/patterns/%lld/export?format=d3d12", id);
-    j = call(f, "GET", path, NULL, 1000, &st);
+    j = api_call(f, "GET", path, NULL, 1000, &st);
     assert_int_equal(st, 200);
     json_decref(j);
 }

@@ -15,68 +15,32 @@
 
 #include <cmocka.h>
 
-#include "api.h"
-#include "api_context.h"
-#include "config.h"
+#include "api_fixture.h"
 
-typedef struct fixture {
-    char dir[64];
-    aalab_config cfg;
-    api_context *ctx;
-} fixture;
+typedef api_fixture fixture;
+
+static void configure(aalab_config *cfg)
+{
+    cfg->workers = 2;
+    cfg->test_kinds = true;
+    cfg->max_job_seconds = 50;
+}
 
 static int setup(void **state)
 {
-    fixture *f = calloc(1, sizeof *f);
-    snprintf(f->dir, sizeof f->dir, "/tmp/aalab-test-kinds-XXXXXX");
-    assert_non_null(mkdtemp(f->dir));
-    config_defaults(&f->cfg);
-    snprintf(f->cfg.state_dir, sizeof f->cfg.state_dir, "%s/state", f->dir);
-    f->cfg.workers = 2;
-    f->cfg.test_kinds = true;
-    f->cfg.max_job_seconds = 50;
-    aa_error err = {0};
-    f->ctx = api_context_create(&f->cfg, &err);
-    if (!f->ctx)
-        fail_msg("context: %s", err.message);
-    *state = f;
+    *state = api_fixture_open("kinds", configure);
     return 0;
 }
 
 static int teardown(void **state)
 {
-    fixture *f = *state;
-    api_context_destroy(f->ctx);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", f->dir);
-    if (system(cmd) != 0)
-        return -1;
-    free(f);
-    return 0;
+    return api_fixture_close(*state);
 }
 
+/* Every request here is made as uid 1000, and every answer has a JSON body. */
 static json_t *call(fixture *f, const char *method, const char *path, const char *body, int *status)
 {
-    api_request req = {.method = method,
-                       .path = path,
-                       .content_type = body ? "application/json" : NULL,
-                       .body = body,
-                       .body_len = body ? strlen(body) : 0,
-                       .peer_known = true,
-                       .peer_uid = 1000};
-    char p[256], q[64];
-    const char *qm = strchr(path, '?');
-    if (qm) {
-        snprintf(p, sizeof p, "%.*s", (int)(qm - path), path);
-        snprintf(q, sizeof q, "%s", qm + 1);
-        req.path = p;
-        req.query = q;
-    }
-    api_response resp;
-    api_handle(f->ctx, &req, &resp);
-    *status = resp.status;
-    json_t *j = json_loadb(resp.body, resp.body_len, 0, NULL);
-    api_response_free(&resp);
+    json_t *j = api_call(f, method, path, body, 1000, status);
     assert_non_null(j);
     return j;
 }
@@ -118,13 +82,7 @@ static json_t *wait_done(fixture *f, long long id)
 
 static long long submit(fixture *f, const char *body)
 {
-    int st;
-    json_t *j = call(f, "POST", "/v1/jobs", body, &st);
-    if (st != 202)
-        fail_msg("submit %s: %d %s", body, st, json_dumps(j, 0));
-    long long id = json_integer_value(json_object_get(j, "id"));
-    json_decref(j);
-    return id;
+    return api_submit(f, body, 1000);
 }
 
 static void test_kinds_listing(void **state)

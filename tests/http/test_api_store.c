@@ -13,72 +13,28 @@
 
 #include <cmocka.h>
 
-#include "api.h"
-#include "api_context.h"
-#include "config.h"
+#include "api_fixture.h"
 
-typedef struct fixture {
-    char dir[64];
-    aalab_config cfg;
-    api_context *ctx;
-} fixture;
+typedef api_fixture fixture;
+
+static void configure(aalab_config *cfg)
+{
+    cfg->workers = 1;
+    cfg->test_kinds = true;
+    cfg->max_spec_bytes = 2048;
+    /* Room for two unfinished jobs' reserves (each 2 x spec + 256 KiB), not three. */
+    cfg->user_store_bytes = 600 * 1024;
+}
 
 static int setup(void **state)
 {
-    fixture *f = calloc(1, sizeof *f);
-    snprintf(f->dir, sizeof f->dir, "/tmp/aalab-test-api-store-XXXXXX");
-    assert_non_null(mkdtemp(f->dir));
-    config_defaults(&f->cfg);
-    snprintf(f->cfg.state_dir, sizeof f->cfg.state_dir, "%s/state", f->dir);
-    f->cfg.workers = 1;
-    f->cfg.test_kinds = true;
-    f->cfg.max_spec_bytes = 2048;
-    /* Room for two unfinished jobs' reserves (each 2 x spec + 256 KiB), not three. */
-    f->cfg.user_store_bytes = 600 * 1024;
-    aa_error err = {0};
-    f->ctx = api_context_create(&f->cfg, &err);
-    if (!f->ctx)
-        fail_msg("context: %s", err.message);
-    *state = f;
+    *state = api_fixture_open("api-store", configure);
     return 0;
 }
 
 static int teardown(void **state)
 {
-    fixture *f = *state;
-    api_context_destroy(f->ctx);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", f->dir);
-    if (system(cmd) != 0)
-        return -1;
-    free(f);
-    return 0;
-}
-
-static json_t *call(fixture *f, const char *method, const char *path, const char *body, uid_t uid,
-                    int *status)
-{
-    api_request req = {.method = method,
-                       .path = path,
-                       .content_type = body ? "application/json" : NULL,
-                       .body = body,
-                       .body_len = body ? strlen(body) : 0,
-                       .peer_known = true,
-                       .peer_uid = uid};
-    char q[64], p[256];
-    const char *qm = strchr(path, '?');
-    if (qm) {
-        snprintf(p, sizeof p, "%.*s", (int)(qm - path), path);
-        snprintf(q, sizeof q, "%s", qm + 1);
-        req.path = p;
-        req.query = q;
-    }
-    api_response resp;
-    api_handle(f->ctx, &req, &resp);
-    *status = resp.status;
-    json_t *j = json_loadb(resp.body, resp.body_len, 0, NULL);
-    api_response_free(&resp);
-    return j;
+    return api_fixture_close(*state);
 }
 
 static const char *error_code(json_t *j)
@@ -89,22 +45,12 @@ static const char *error_code(json_t *j)
     return json_string_value(json_object_get(e, "code"));
 }
 
-static long long submit(fixture *f, const char *body, uid_t uid)
-{
-    int st;
-    json_t *j = call(f, "POST", "/v1/jobs", body, uid, &st);
-    assert_int_equal(st, 202);
-    long long id = json_integer_value(json_object_get(j, "id"));
-    json_decref(j);
-    return id;
-}
-
 static const char *state_of(fixture *f, long long id, char *buf, size_t cap)
 {
     char path[64];
     snprintf(path, sizeof path, "/v1/jobs/%lld", id);
     int st;
-    json_t *j = call(f, "GET", path, NULL, 0, &st);
+    json_t *j = api_call(f, "GET", path, NULL, 0, &st);
     snprintf(buf, cap, "%s", st == 200 ? json_string_value(json_object_get(j, "state")) : "gone");
     json_decref(j);
     return buf;
@@ -130,32 +76,33 @@ static void test_spec_limit_and_envelope(void **state)
     memset(big, ' ', sizeof big - 1);
     big[sizeof big - 1] = 0;
     memcpy(big, "{\"kind\":\"sleep\",\"seconds\":0}", 28);
-    json_t *j = call(f, "POST", "/v1/jobs", big, 1000, &st);
+    json_t *j = api_call(f, "POST", "/v1/jobs", big, 1000, &st);
     assert_int_equal(st, 413);
     assert_string_equal(error_code(j), "payload_too_large");
     json_decref(j);
-    j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"all\"}",
-             1000, &st);
+    j = api_call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"all\"}",
+                 1000, &st);
     assert_int_equal(st, 400);
     assert_string_equal(json_string_value(json_object_get(json_object_get(j, "error"), "field")),
                         "visibility");
     json_decref(j);
-    j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":0,\"pinned\":1}", 1000, &st);
+    j = api_call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":0,\"pinned\":1}", 1000,
+                 &st);
     assert_int_equal(st, 400);
     json_decref(j);
-    j = call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":0,\"priority\":-11}", 1000,
-             &st);
+    j = api_call(f, "POST", "/v1/jobs", "{\"kind\":\"sleep\",\"seconds\":0,\"priority\":-11}", 1000,
+                 &st);
     assert_int_equal(st, 400);
     json_decref(j);
     /* Accepted: the envelope is stored in its columns, not in the kind's spec. */
     long long id =
-        submit(f,
-               "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"private\",\"pinned\":true,"
-               "\"priority\":3}",
-               1000);
+        api_submit(f,
+                   "{\"kind\":\"sleep\",\"seconds\":0,\"visibility\":\"private\",\"pinned\":true,"
+                   "\"priority\":3}",
+                   1000);
     char path[64];
     snprintf(path, sizeof path, "/v1/jobs/%lld", id);
-    j = call(f, "GET", path, NULL, 1000, &st);
+    j = api_call(f, "GET", path, NULL, 1000, &st);
     assert_int_equal(st, 200);
     assert_string_equal(json_string_value(json_object_get(j, "visibility")), "private");
     assert_true(json_is_true(json_object_get(j, "pinned")));
@@ -164,15 +111,15 @@ static void test_spec_limit_and_envelope(void **state)
     /* The list: the private job is hidden from others, shown to its owner and root. */
     for (uid_t uid = 0; uid < 3; uid++) {
         uid_t who = uid == 0 ? 0 : uid == 1 ? 1000 : 1001;
-        j = call(f, "GET", "/v1/jobs?kind=sleep", NULL, who, &st);
+        j = api_call(f, "GET", "/v1/jobs?kind=sleep", NULL, who, &st);
         assert_int_equal(st, 200);
         assert_int_equal(json_array_size(json_object_get(j, "jobs")), who == 1001 ? 0 : 1);
         json_decref(j);
     }
-    j = call(f, "GET", "/v1/jobs?kind=optimize", NULL, 0, &st);
+    j = api_call(f, "GET", "/v1/jobs?kind=optimize", NULL, 0, &st);
     assert_int_equal(json_array_size(json_object_get(j, "jobs")), 0);
     json_decref(j);
-    j = call(f, "GET", "/v1/jobs?kind=nonsense", NULL, 0, &st);
+    j = api_call(f, "GET", "/v1/jobs?kind=nonsense", NULL, 0, &st);
     assert_int_equal(st, 400);
     json_decref(j);
 }
@@ -182,18 +129,18 @@ static void test_quota_pin_purge_usage(void **state)
     fixture *f = *state;
     int st;
     const char *running = "{\"kind\":\"sleep\",\"seconds\":30}";
-    long long a = submit(f, running, 1000);
-    long long b = submit(f, running, 1000);
+    long long a = api_submit(f, running, 1000);
+    long long b = api_submit(f, running, 1000);
     /* A third unfinished job would not fit: refused, naming the limit. */
-    json_t *j = call(f, "POST", "/v1/jobs", running, 1000, &st);
+    json_t *j = api_call(f, "POST", "/v1/jobs", running, 1000, &st);
     assert_int_equal(st, 403);
     assert_string_equal(error_code(j), "quota_exceeded");
     assert_non_null(strstr(
         json_string_value(json_object_get(json_object_get(j, "error"), "message")), "614400"));
     json_decref(j);
-    long long other = submit(f, "{\"kind\":\"sleep\",\"seconds\":0}", 1001);
+    long long other = api_submit(f, "{\"kind\":\"sleep\",\"seconds\":0}", 1001);
 
-    j = call(f, "GET", "/v1/usage", NULL, 1000, &st);
+    j = api_call(f, "GET", "/v1/usage", NULL, 1000, &st);
     assert_int_equal(st, 200);
     assert_int_equal(json_integer_value(json_object_get(j, "store_limit")), 600 * 1024);
     long long used = json_integer_value(json_object_get(j, "store_bytes"));
@@ -201,7 +148,7 @@ static void test_quota_pin_purge_usage(void **state)
     assert_int_equal(json_integer_value(json_object_get(j, "jobs")), 2);
     assert_null(json_object_get(j, "users"));
     json_decref(j);
-    j = call(f, "GET", "/v1/usage", NULL, 0, &st);
+    j = api_call(f, "GET", "/v1/usage", NULL, 0, &st);
     assert_int_equal(json_array_size(json_object_get(j, "users")), 2);
     json_decref(j);
 
@@ -210,64 +157,64 @@ static void test_quota_pin_purge_usage(void **state)
     snprintf(pa, sizeof pa, "/v1/jobs/%lld?purge=1", a);
     snprintf(pb, sizeof pb, "/v1/jobs/%lld?purge=1", b);
     snprintf(po, sizeof po, "/v1/jobs/%lld?purge=1", other);
-    j = call(f, "DELETE", pa, NULL, 1001, &st);
+    j = api_call(f, "DELETE", pa, NULL, 1001, &st);
     assert_int_equal(st, 403);
     json_decref(j);
     char buf[32];
     for (int i = 0; i < 500 && strcmp(state_of(f, a, buf, sizeof buf), "running"); i++)
         usleep(10000);
-    j = call(f, "DELETE", pa, NULL, 1000, &st);
+    j = api_call(f, "DELETE", pa, NULL, 1000, &st);
     assert_int_equal(st, 409);
     json_decref(j);
     assert_string_equal(state_of(f, b, buf, sizeof buf), "queued"); /* one worker */
-    j = call(f, "DELETE", pb, NULL, 1000, &st);
+    j = api_call(f, "DELETE", pb, NULL, 1000, &st);
     assert_int_equal(st, 200);
     assert_true(json_is_true(json_object_get(j, "purged")));
     json_decref(j);
     assert_string_equal(state_of(f, b, buf, sizeof buf), "gone");
-    j = call(f, "DELETE", pb, NULL, 1000, &st);
+    j = api_call(f, "DELETE", pb, NULL, 1000, &st);
     assert_int_equal(st, 404);
     json_decref(j);
-    j = call(f, "DELETE", "/v1/jobs/1?purge=yes", NULL, 1000, &st);
+    j = api_call(f, "DELETE", "/v1/jobs/1?purge=yes", NULL, 1000, &st);
     assert_int_equal(st, 400);
     json_decref(j);
 
     /* Plain DELETE still cancels; then the owner may purge. */
     snprintf(pa, sizeof pa, "/v1/jobs/%lld", a);
-    j = call(f, "DELETE", pa, NULL, 1000, &st);
+    j = api_call(f, "DELETE", pa, NULL, 1000, &st);
     assert_int_equal(st, 202);
     json_decref(j);
     wait_final(f, a);
     assert_string_equal(state_of(f, a, buf, sizeof buf), "cancelled");
 
     /* PATCH pinned: owner yes, others no, bad bodies 400. */
-    j = call(f, "PATCH", pa, "{\"pinned\":true}", 1001, &st);
+    j = api_call(f, "PATCH", pa, "{\"pinned\":true}", 1001, &st);
     assert_int_equal(st, 403);
     json_decref(j);
-    j = call(f, "PATCH", pa, "{\"pinned\":\"yes\"}", 1000, &st);
+    j = api_call(f, "PATCH", pa, "{\"pinned\":\"yes\"}", 1000, &st);
     assert_int_equal(st, 400);
     json_decref(j);
-    j = call(f, "PATCH", pa, "{\"pinned\":true,\"x\":1}", 1000, &st);
+    j = api_call(f, "PATCH", pa, "{\"pinned\":true,\"x\":1}", 1000, &st);
     assert_int_equal(st, 400);
     json_decref(j);
-    j = call(f, "PATCH", "/v1/jobs/99999", "{\"pinned\":true}", 1000, &st);
+    j = api_call(f, "PATCH", "/v1/jobs/99999", "{\"pinned\":true}", 1000, &st);
     assert_int_equal(st, 404);
     json_decref(j);
-    j = call(f, "PATCH", pa, "{\"pinned\":true}", 1000, &st);
+    j = api_call(f, "PATCH", pa, "{\"pinned\":true}", 1000, &st);
     assert_int_equal(st, 200);
     assert_true(json_is_true(json_object_get(j, "pinned")));
     json_decref(j);
 
     snprintf(pa, sizeof pa, "/v1/jobs/%lld?purge=1", a);
-    j = call(f, "DELETE", pa, NULL, 1000, &st);
+    j = api_call(f, "DELETE", pa, NULL, 1000, &st);
     assert_int_equal(st, 200);
     json_decref(j);
-    j = call(f, "GET", "/v1/usage", NULL, 1000, &st);
+    j = api_call(f, "GET", "/v1/usage", NULL, 1000, &st);
     assert_int_equal(json_integer_value(json_object_get(j, "store_bytes")), 0);
     json_decref(j);
     /* Root may purge anyone's finished job. */
     wait_final(f, other);
-    j = call(f, "DELETE", po, NULL, 0, &st);
+    j = api_call(f, "DELETE", po, NULL, 0, &st);
     assert_int_equal(st, 200);
     json_decref(j);
 }

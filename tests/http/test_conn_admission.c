@@ -31,6 +31,16 @@ static conn_admit_result admit(conn_admission *ca, int fd, conn_peer *peer)
     return conn_admission_admit(ca, fd, &sa, sizeof sa, peer);
 }
 
+/* Releases the admitted end of each pair and closes both ends. */
+static void release_and_close(conn_admission *ca, pair *p, int n)
+{
+    for (int i = 0; i < n; i++) {
+        conn_admission_release(ca, p[i].a);
+        close(p[i].a);
+        close(p[i].b);
+    }
+}
+
 static void test_user_limit_and_release(void **state)
 {
     (void)state;
@@ -52,11 +62,7 @@ static void test_user_limit_and_release(void **state)
     conn_admission_release(ca, p[0].a); /* twice: no effect */
     assert_int_equal(conn_admission_open(ca), 1);
     assert_int_equal(admit(ca, p[2].a, &peer), ADMIT_OK);
-    for (int i = 0; i < 3; i++) {
-        conn_admission_release(ca, p[i].a);
-        close(p[i].a);
-        close(p[i].b);
-    }
+    release_and_close(ca, p, 3);
     assert_int_equal(conn_admission_open(ca), 0);
     conn_admission_destroy(ca);
 }
@@ -70,11 +76,7 @@ static void test_total_limit(void **state)
     assert_int_equal(admit(ca, p[0].a, &peer), ADMIT_OK);
     assert_int_equal(admit(ca, p[1].a, &peer), ADMIT_OK);
     assert_int_equal(admit(ca, p[2].a, &peer), ADMIT_TOTAL_LIMIT);
-    for (int i = 0; i < 3; i++) {
-        conn_admission_release(ca, p[i].a);
-        close(p[i].a);
-        close(p[i].b);
-    }
+    release_and_close(ca, p, 3);
     conn_admission_destroy(ca);
 }
 
@@ -93,11 +95,7 @@ static void test_token_limit(void **state)
     assert_true(conn_admission_token(ca, p[2].a, NULL));
     conn_admission_release(ca, p[0].a);
     assert_true(conn_admission_token(ca, p[2].a, "Bearer one"));
-    for (int i = 0; i < 3; i++) {
-        conn_admission_release(ca, p[i].a);
-        close(p[i].a);
-        close(p[i].b);
-    }
+    release_and_close(ca, p, 3);
     conn_admission_destroy(ca);
 }
 

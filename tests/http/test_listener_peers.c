@@ -17,7 +17,7 @@
 
 #include <cmocka.h>
 
-#include "api_context.h"
+#include "api_fixture.h"
 #include "mhd_adapter.h"
 
 /* The listener's log: written by its accept thread, read after the listener has stopped. */
@@ -78,14 +78,7 @@ static void test_only_loopback_peers_served(void **state)
     struct in_addr outside, lo = {.s_addr = htonl(INADDR_LOOPBACK)};
     if (!non_loopback_ipv4(&outside))
         fail_msg("this host has no non-loopback IPv4 address to connect from");
-    char dir[] = "/tmp/aalab-test-peers-XXXXXX";
-    assert_non_null(mkdtemp(dir));
-    aalab_config cfg;
-    config_defaults(&cfg);
-    snprintf(cfg.state_dir, sizeof cfg.state_dir, "%s/state", dir);
-    aa_error err = {0};
-    api_context *ctx = api_context_create(&cfg, &err);
-    assert_non_null(ctx);
+    api_fixture *f = api_fixture_open("peers", NULL);
 
     int fd = socket(AF_INET, SOCK_STREAM, 0);
     struct sockaddr_in any = {.sin_family = AF_INET, .sin_addr.s_addr = htonl(INADDR_ANY)};
@@ -95,7 +88,8 @@ static void test_only_loopback_peers_served(void **state)
     assert_int_equal(getsockname(fd, (struct sockaddr *)&any, &len), 0);
     int port = ntohs(any.sin_port);
     char msg[256];
-    http_listener *l = http_listener_start(ctx, &cfg, fd, false, NULL, capture, msg, sizeof msg);
+    http_listener *l =
+        http_listener_start(f->ctx, &f->cfg, fd, false, NULL, capture, msg, sizeof msg);
     assert_non_null(l);
 
     char buf[8192];
@@ -114,10 +108,7 @@ static void test_only_loopback_peers_served(void **state)
     snprintf(expect, sizeof expect, "refused a TCP connection from %s: not a loopback address\n",
              ip);
     assert_string_equal(logged, expect); /* one line, for the one refused connection */
-    api_context_destroy(ctx);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    assert_int_equal(api_fixture_close(f), 0);
 }
 
 int main(void)

@@ -14,52 +14,34 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "api.h"
-#include "api_context.h"
-#include "config.h"
+#include "api_fixture.h"
 #include "png_encode.h"
 
-static api_context *ctx;
-static char state_dir[] = "/tmp/aalab-render-api-XXXXXX";
+static api_fixture *fx;
+
+static void configure(aalab_config *cfg)
+{
+    cfg->workers = 1;
+    cfg->test_kinds = true;
+}
 
 static int setup(void **state)
 {
     (void)state;
-    if (!mkdtemp(state_dir))
-        return -1;
-    aalab_config cfg;
-    config_defaults(&cfg);
-    snprintf(cfg.state_dir, sizeof cfg.state_dir, "%s", state_dir);
-    cfg.workers = 1;
-    cfg.test_kinds = true;
-    aa_error err = {0};
-    ctx = api_context_create(&cfg, &err);
-    return ctx ? 0 : -1;
+    fx = api_fixture_open("render-api", configure);
+    return 0;
 }
 
 static int teardown(void **state)
 {
     (void)state;
-    api_context_destroy(ctx);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", state_dir);
-    return system(cmd) == 0 ? 0 : -1;
+    return api_fixture_close(fx);
 }
 
 static api_response call(const char *method, const char *path, const char *body)
 {
-    api_request req;
-    memset(&req, 0, sizeof req);
-    req.method = method;
-    req.path = path;
-    req.content_type = body ? "application/json" : NULL;
-    req.body = body;
-    req.body_len = body ? strlen(body) : 0;
-    req.peer_known = true;
-    req.peer_uid = getuid();
     api_response resp;
-    memset(&resp, 0, sizeof resp);
-    api_handle(ctx, &req, &resp);
+    api_request_raw(fx, method, path, body, getuid(), &resp);
     return resp;
 }
 
@@ -73,6 +55,17 @@ static json_t *json_of(const api_response *r)
 static const char *error_field(json_t *j)
 {
     return json_string_value(json_object_get(json_object_get(j, "error"), "field"));
+}
+
+/* A POST that must fail with status, naming field. */
+static void expect_error(const char *path, const char *body, int status, const char *field)
+{
+    api_response r = call("POST", path, body);
+    assert_int_equal(r.status, status);
+    json_t *j = json_of(&r);
+    assert_string_equal(error_field(j), field);
+    json_decref(j);
+    api_response_free(&r);
 }
 
 static void test_render_and_fetch_tiles(void **state)
@@ -123,12 +116,7 @@ static void test_render_errors_name_fields(void **state)
         {"{\"scene\":{}}", "pattern", 400},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
-        api_response r = call("POST", "/v1/render", cases[k].body);
-        assert_int_equal(r.status, cases[k].status);
-        json_t *j = json_of(&r);
-        assert_string_equal(error_field(j), cases[k].field);
-        json_decref(j);
-        api_response_free(&r);
+        expect_error("/v1/render", cases[k].body, cases[k].status, cases[k].field);
     }
 }
 
@@ -170,14 +158,9 @@ static void test_compare_job_through_the_pool(void **state)
     json_t *rows = json_object_get(json_object_get(done, "result"), "rows");
     assert_int_equal(json_array_size(rows), 2);
     json_decref(done);
-    r = call("POST", "/v1/jobs",
-             "{\"kind\":\"animation\",\"scene\":{\"name\":\"rings\"},"
-             "\"pattern\":\"rgss\"}");
-    assert_int_equal(r.status, 400);
-    j = json_of(&r);
-    assert_string_equal(error_field(j), "scene.name");
-    json_decref(j);
-    api_response_free(&r);
+    expect_error("/v1/jobs",
+                 "{\"kind\":\"animation\",\"scene\":{\"name\":\"rings\"},\"pattern\":\"rgss\"}",
+                 400, "scene.name");
 }
 
 int main(void)

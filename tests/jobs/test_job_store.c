@@ -43,6 +43,28 @@ static void make_dir(char *dir)
     assert_non_null(mkdtemp(dir));
 }
 
+/* A store in a new directory made from the template dir. */
+static job_store *open_new_store(char *dir)
+{
+    make_dir(dir);
+    aa_error err = {0};
+    job_store *st = job_store_open(dir, &err);
+    if (!st)
+        fail_msg("job_store_open: %s", err.message);
+    return st;
+}
+
+/* sql prepared on the store's database file in dir, opened on its own connection *db. */
+static sqlite3_stmt *query_store_file(const char *dir, const char *sql, sqlite3 **db)
+{
+    char path[128];
+    snprintf(path, sizeof path, "%s/jobs.db", dir);
+    assert_int_equal(sqlite3_open(path, db), SQLITE_OK);
+    sqlite3_stmt *q;
+    assert_int_equal(sqlite3_prepare_v2(*db, sql, -1, &q, NULL), SQLITE_OK);
+    return q;
+}
+
 static void remove_dir(const char *dir)
 {
     char cmd[128];
@@ -78,10 +100,8 @@ static void test_persistence(void **state)
 {
     (void)state;
     char dir[] = "/tmp/aalab-test-store-XXXXXX";
-    make_dir(dir);
+    job_store *st = open_new_store(dir);
     aa_error err = {0};
-    job_store *st = job_store_open(dir, &err);
-    assert_non_null(st);
     json_t *spec = json_pack("{s:s,s:f}", "kind", "sleep", "seconds", 1.0);
     long long a, b, c;
     assert_int_equal(insert(st, spec, 1000, 1.0, &a), AA_OK);
@@ -173,12 +193,8 @@ static long long usage(job_store *st, long long owner)
 
 static long long count_rows(const char *dir, const char *sql)
 {
-    char path[128];
-    snprintf(path, sizeof path, "%s/jobs.db", dir);
     sqlite3 *db;
-    assert_int_equal(sqlite3_open(path, &db), SQLITE_OK);
-    sqlite3_stmt *q;
-    assert_int_equal(sqlite3_prepare_v2(db, sql, -1, &q, NULL), SQLITE_OK);
+    sqlite3_stmt *q = query_store_file(dir, sql, &db);
     assert_int_equal(sqlite3_step(q), SQLITE_ROW);
     long long n = sqlite3_column_int64(q, 0);
     sqlite3_finalize(q);
@@ -190,10 +206,8 @@ static void test_quota_accounting(void **state)
 {
     (void)state;
     char dir[] = "/tmp/aalab-test-store-XXXXXX";
-    make_dir(dir);
+    job_store *st = open_new_store(dir);
     aa_error err = {0};
-    job_store *st = job_store_open(dir, &err);
-    assert_non_null(st);
     const long long quota = 1 << 20;
     job_store_set_user_quota(st, quota);
     json_t *spec = spec_of_size(100000);
@@ -274,10 +288,8 @@ static void test_retention_keeps_pinned(void **state)
 {
     (void)state;
     char dir[] = "/tmp/aalab-test-store-XXXXXX";
-    make_dir(dir);
+    job_store *st = open_new_store(dir);
     aa_error err = {0};
-    job_store *st = job_store_open(dir, &err);
-    assert_non_null(st);
     json_t *spec = json_pack("{s:s,s:f}", "kind", "sleep", "seconds", 1.0);
     long long old_plain, old_pinned, recent, queued;
     assert_int_equal(insert(st, spec, 1000, 1.0, &old_plain), AA_OK);
@@ -389,10 +401,8 @@ static void test_list_filter_by_viewer(void **state)
 {
     (void)state;
     char dir[] = "/tmp/aalab-test-store-XXXXXX";
-    make_dir(dir);
+    job_store *st = open_new_store(dir);
     aa_error err = {0};
-    job_store *st = job_store_open(dir, &err);
-    assert_non_null(st);
     json_t *spec = json_pack("{s:s,s:f}", "kind", "sleep", "seconds", 1.0);
     long long id;
     job_store_new n = {.kind = "sleep", .spec = spec, .owner = 1000, .visibility = "private"};
@@ -438,13 +448,10 @@ static json_t *encoded_pattern(const char *text)
 
 static bool column_mentions(const char *dir, const char *column, const char *needle)
 {
-    char path[128], sql[128];
-    snprintf(path, sizeof path, "%s/jobs.db", dir);
+    char sql[128];
     snprintf(sql, sizeof sql, "SELECT %s FROM jobs", column);
     sqlite3 *db;
-    assert_int_equal(sqlite3_open(path, &db), SQLITE_OK);
-    sqlite3_stmt *q;
-    assert_int_equal(sqlite3_prepare_v2(db, sql, -1, &q, NULL), SQLITE_OK);
+    sqlite3_stmt *q = query_store_file(dir, sql, &db);
     bool found = false;
     while (sqlite3_step(q) == SQLITE_ROW) {
         const unsigned char *t = sqlite3_column_text(q, 0);
@@ -459,10 +466,7 @@ static void test_derived_keys_not_stored(void **state)
 {
     (void)state;
     char dir[] = "/tmp/aalab-test-store-XXXXXX";
-    make_dir(dir);
-    aa_error err = {0};
-    job_store *st = job_store_open(dir, &err);
-    assert_non_null(st);
+    job_store *st = open_new_store(dir);
     json_t *mirrored = encoded_pattern("{\"mirrored\":[[-0.5,0.1667,0.25],[0.5,-0.1667,0.25],"
                                        "[0.1667,0.5,0.25],[-0.1667,-0.5,0.25]]}");
     json_t *kernels = encoded_pattern("{\"kernels\":[[[-0.125,-0.375,0.25],[0.375,-0.125,0.25],"
