@@ -390,13 +390,13 @@ static void *job_thread(void *arg)
                           .busy = &jm->busy,
                           .started = j->started,
                           .started_mono = aa_monotonic_seconds()};
+    void *typed = NULL;
     json_t *result = NULL;
     aa_error err = {0};
-    int rc = j->kind->run(j->params, &ctx, &result, &err);
-    if (rc != AA_OK) {
-        json_decref(result);
-        result = NULL;
-    }
+    int rc = j->kind->run(j->params, &ctx, &typed, &err);
+    if (rc == AA_OK && !(result = j->kind->encode_result(typed)))
+        rc = aa_error_set(&err, AA_ENOMEM, "", "out of memory");
+    j->kind->free_result(typed);
     finish_job(jm, j, rc, result, &err);
     pthread_mutex_lock(&jm->lock);
     if (--jm->threads == 0)

@@ -51,7 +51,9 @@ static int animation_spec_decode(const json_t *spec, animation_spec *ap, aa_erro
 
 JOB_KIND_SPEC_PARAMS(kind_animation, animation_spec, animation_spec_decode, animation_spec_free)
 
-int kind_animation_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+JOB_KIND_JSON_RESULT(kind_animation)
+
+int kind_animation_run(void *params, job_ctx *ctx, void **result, aa_error *err)
 {
     animation_spec *ap = params;
     tile_store *ts = job_ctx_tiles(ctx);

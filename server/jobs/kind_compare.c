@@ -88,7 +88,9 @@ typedef struct reference_slot {
     json_t *tile;
 } reference_slot;
 
-int kind_compare_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+JOB_KIND_JSON_RESULT(kind_compare)
+
+int kind_compare_run(void *params, job_ctx *ctx, void **result, aa_error *err)
 {
     compare_spec *cp = params;
     tile_store *ts = job_ctx_tiles(ctx);

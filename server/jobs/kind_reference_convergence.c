@@ -103,7 +103,9 @@ static int render_level(const aa_scene *scene, const convergence_spec *cp, int s
     return rc;
 }
 
-int kind_reference_convergence_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+JOB_KIND_JSON_RESULT(kind_reference_convergence)
+
+int kind_reference_convergence_run(void *params, job_ctx *ctx, void **result, aa_error *err)
 {
     convergence_spec *cp = params;
     aa_scene scene;

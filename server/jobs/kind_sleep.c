@@ -61,7 +61,9 @@ int kind_sleep_decode(const json_t *spec, void **params, aa_error *err)
     return AA_OK;
 }
 
-int kind_sleep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+JOB_KIND_JSON_RESULT(kind_sleep)
+
+int kind_sleep_run(void *params, job_ctx *ctx, void **result, aa_error *err)
 {
     const sleep_params *p = params;
     /* The job's clock: time paused for another user's job does not count as sleeping. */

@@ -17,16 +17,22 @@
 static const job_kind job_kind_compare = {.name = "compare",
                                           .decode = kind_compare_decode,
                                           .free_params = kind_compare_free,
-                                          .run = kind_compare_run};
+                                          .run = kind_compare_run,
+                                          .encode_result = kind_compare_encode_result,
+                                          .free_result = kind_compare_free_result};
 static const job_kind job_kind_animation = {.name = "animation",
                                             .decode = kind_animation_decode,
                                             .free_params = kind_animation_free,
-                                            .run = kind_animation_run};
-static const job_kind job_kind_reference_convergence = {.name = "reference-convergence",
-                                                        .decode = kind_reference_convergence_decode,
-                                                        .free_params =
-                                                            kind_reference_convergence_free,
-                                                        .run = kind_reference_convergence_run};
+                                            .run = kind_animation_run,
+                                            .encode_result = kind_animation_encode_result,
+                                            .free_result = kind_animation_free_result};
+static const job_kind job_kind_reference_convergence = {
+    .name = "reference-convergence",
+    .decode = kind_reference_convergence_decode,
+    .free_params = kind_reference_convergence_free,
+    .run = kind_reference_convergence_run,
+    .encode_result = kind_reference_convergence_encode_result,
+    .free_result = kind_reference_convergence_free_result};
 
 /* Stub context: the worker pool is not part of this test. */
 struct job_ctx {
@@ -96,7 +102,14 @@ static int run(const job_kind *k, const char *spec, job_ctx *ctx, json_t **resul
     json_decref(s);
     if (rc)
         return rc;
-    rc = k->run(params, ctx, result, err);
+    void *typed = NULL;
+    *result = NULL;
+    rc = k->run(params, ctx, &typed, err);
+    if (rc == AA_OK) {
+        *result = k->encode_result(typed);
+        assert_non_null(*result);
+    }
+    k->free_result(typed);
     k->free_params(params);
     return rc;
 }
