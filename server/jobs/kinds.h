@@ -76,17 +76,6 @@ JOB_KIND_FUNCTIONS(kind_sleep);
         free(result);                                                                              \
     }
 
-/* A kind whose run still builds its result JSON itself: the typed result is that json_t. */
-#define JOB_KIND_JSON_RESULT(prefix)                                                               \
-    json_t *prefix##_encode_result(const void *result)                                             \
-    {                                                                                              \
-        return json_incref((json_t *)result);                                                      \
-    }                                                                                              \
-    void prefix##_free_result(void *result)                                                        \
-    {                                                                                              \
-        json_decref(result);                                                                       \
-    }
-
 const char *kind_optimize_family(const void *params);
 const char *kind_family_sweep_family(const void *params);
 const char *kind_random_stats_family(const void *params);
