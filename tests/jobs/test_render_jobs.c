@@ -11,6 +11,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "job_animation.h"
+#include "job_compare.h"
+#include "job_reference_convergence.h"
 #include "kinds.h"
 #include "tile_store.h"
 
@@ -93,6 +96,35 @@ static json_t *parse(const char *text)
     return j;
 }
 
+/* A result the kind made decodes with its strict proto decoder and encodes to the same bytes. */
+#define ROUND_TRIP(T, decode, encode, free_fn, j)                                                  \
+    do {                                                                                           \
+        T r_;                                                                                      \
+        aa_error e_ = {0};                                                                         \
+        assert_int_equal(decode(j, &r_, &e_), AA_OK);                                              \
+        json_t *again_ = encode(&r_);                                                              \
+        char *a_ = json_dumps(j, JSON_COMPACT), *b_ = json_dumps(again_, JSON_COMPACT);            \
+        assert_string_equal(a_, b_);                                                               \
+        free(a_);                                                                                  \
+        free(b_);                                                                                  \
+        json_decref(again_);                                                                       \
+        free_fn(&r_);                                                                              \
+    } while (0)
+
+static void strict_round_trip(const job_kind *k, const json_t *j)
+{
+    if (!strcmp(k->name, "compare"))
+        ROUND_TRIP(proto_compare_result, proto_decode_compare_result, proto_encode_compare_result,
+                   proto_compare_result_free, j);
+    else if (!strcmp(k->name, "animation"))
+        ROUND_TRIP(proto_animation_result, proto_decode_animation_result,
+                   proto_encode_animation_result, proto_animation_result_free, j);
+    else
+        ROUND_TRIP(proto_reference_convergence_result, proto_decode_reference_convergence_result,
+                   proto_encode_reference_convergence_result,
+                   proto_reference_convergence_result_free, j);
+}
+
 static int run(const job_kind *k, const char *spec, job_ctx *ctx, json_t **result, aa_error *err)
 {
     json_t *s = parse(spec);
@@ -108,6 +140,7 @@ static int run(const job_kind *k, const char *spec, job_ctx *ctx, json_t **resul
     if (rc == AA_OK) {
         *result = k->encode_result(typed);
         assert_non_null(*result);
+        strict_round_trip(k, *result);
     }
     k->free_result(typed);
     k->free_params(params);
