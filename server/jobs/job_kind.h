@@ -72,9 +72,14 @@ typedef struct job_kind {
     /* The time budget the spec asks for (the daemon refuses one above --max-job-seconds);
      * NULL for kinds without one. */
     double (*max_seconds)(const void *params);
-    /* Runs on a worker. On success *result is the encoded job result (stolen). Return AA_OK,
-     * AA_ECANCELED when cancelled, or another negative code with err filled. */
-    int (*run)(void *params, job_ctx *ctx, json_t **result, aa_error *err);
+    /* Runs on a worker. On success *result is the kind's typed result (its proto result
+     * struct, owned by the caller: free it with free_result). Return AA_OK, AA_ECANCELED when
+     * cancelled, or another negative code with err filled (and *result left NULL). */
+    int (*run)(void *params, job_ctx *ctx, void **result, aa_error *err);
+    /* The wire form of a typed result run made (the kind's proto encoder); NULL when out of
+     * memory. */
+    json_t *(*encode_result)(const void *result);
+    void (*free_result)(void *result);
     /* The best pattern (encoded, new reference; NULL: none) and its E2 (NaN when the kind
      * gives none) of a result this kind made, read through the kind's result decoder; NULL for
      * kinds whose results hold no best pattern. */

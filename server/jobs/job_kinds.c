@@ -13,6 +13,8 @@ static const job_kind table[] = {
      .spec_family = kind_optimize_family,
      .max_seconds = kind_optimize_max_seconds,
      .run = kind_optimize_run,
+     .encode_result = kind_optimize_encode_result,
+     .free_result = kind_optimize_free_result,
      .best_of = kind_optimize_best_of},
     {.name = "family-sweep",
      .summary = "Optimises every mirrored P(4,1+,n) placement configuration of one cost and "
@@ -22,6 +24,8 @@ static const job_kind table[] = {
      .spec_family = kind_family_sweep_family,
      .max_seconds = kind_family_sweep_max_seconds,
      .run = kind_family_sweep_run,
+     .encode_result = kind_family_sweep_encode_result,
+     .free_result = kind_family_sweep_free_result,
      .best_of = kind_family_sweep_best_of},
     {.name = "random-stats",
      .summary = "Min, average and max E2 of random patterns of a family, and the best of them "
@@ -31,25 +35,33 @@ static const job_kind table[] = {
      .spec_family = kind_random_stats_family,
      .max_seconds = kind_random_stats_max_seconds,
      .run = kind_random_stats_run,
+     .encode_result = kind_random_stats_encode_result,
+     .free_result = kind_random_stats_free_result,
      .best_of = kind_random_stats_best_of},
     {.name = "compare",
      .summary = "Renders one scene with several patterns and tabulates samples per pixel, E2, "
                 "RMSE and max deviation against a supersampled reference.",
      .decode = kind_compare_decode,
      .free_params = kind_compare_free,
-     .run = kind_compare_run},
+     .run = kind_compare_run,
+     .encode_result = kind_compare_encode_result,
+     .free_result = kind_compare_free_result},
     {.name = "animation",
      .summary = "Renders a moving scene frame by frame with a pattern beside the reference and "
                 "reports the error of each frame and of the whole animation.",
      .decode = kind_animation_decode,
      .free_params = kind_animation_free,
-     .run = kind_animation_run},
+     .run = kind_animation_run,
+     .encode_result = kind_animation_encode_result,
+     .free_result = kind_animation_free_result},
     {.name = "reference-convergence",
      .summary = "Measures how the reference render's error falls with its samples per pixel, "
                 "against a high-sample baseline.",
      .decode = kind_reference_convergence_decode,
      .free_params = kind_reference_convergence_free,
-     .run = kind_reference_convergence_run},
+     .run = kind_reference_convergence_run,
+     .encode_result = kind_reference_convergence_encode_result,
+     .free_result = kind_reference_convergence_free_result},
     {.name = "sleep",
      .summary = "Test kind: waits a given time, reporting progress, and returns an optional "
                 "pattern.",
@@ -57,6 +69,8 @@ static const job_kind table[] = {
      .decode = kind_sleep_decode,
      .free_params = kind_sleep_free,
      .run = kind_sleep_run,
+     .encode_result = kind_sleep_encode_result,
+     .free_result = kind_sleep_free_result,
      .best_of = kind_sleep_best_of},
 };
 

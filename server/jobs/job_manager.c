@@ -12,6 +12,7 @@
 #include "fair_share.h"
 #include "job_ctx_impl.h"
 #include "job_envelope.h"
+#include "wire_error.h"
 
 #define COUNTS_MAX_AGE 0.25    /* seconds */
 #define JOB_MAX_CRASHES 3      /* abnormal daemon exits while running one job before giving up */
@@ -322,8 +323,8 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
                  "far is kept",
                  jm->cfg.max_job_seconds);
         reason = why;
-        error = json_pack("{s:s,s:s,s:s}", "code", "time_limit", "message", why, "field",
-                          "max_seconds");
+        error = json_pack("{s:s,s:s,s:s}", "code", proto_wire_row_of(WIRE_TIME_LIMIT)->code,
+                          "message", why, "field", "max_seconds");
     } else if (rc == AA_OK) {
         st = JOB_DONE;
         progress = 1;
@@ -332,9 +333,11 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
         reason = "cancelled by request";
     } else {
         st = JOB_FAILED;
-        error = json_pack("{s:s,s:s,s:s}", "code", aa_strerror(rc), "message",
-                          err && err->message[0] ? err->message : aa_strerror(rc), "field",
-                          err ? err->field : "");
+        /* The wire code of the engine error, as an HTTP answer would carry it. */
+        error =
+            json_pack("{s:s,s:s,s:s}", "code", proto_wire_row_of(proto_wire_error_of_aa(rc))->code,
+                      "message", err && err->message[0] ? err->message : aa_strerror(rc), "field",
+                      err ? err->field : "");
     }
     /* The live best is posted at most 10 times a second, so the last improvement may be
      * missing from it: a finished job's best is its result's. */
@@ -390,13 +393,13 @@ static void *job_thread(void *arg)
                           .busy = &jm->busy,
                           .started = j->started,
                           .started_mono = aa_monotonic_seconds()};
+    void *typed = NULL;
     json_t *result = NULL;
     aa_error err = {0};
-    int rc = j->kind->run(j->params, &ctx, &result, &err);
-    if (rc != AA_OK) {
-        json_decref(result);
-        result = NULL;
-    }
+    int rc = j->kind->run(j->params, &ctx, &typed, &err);
+    if (rc == AA_OK && !(result = j->kind->encode_result(typed)))
+        rc = aa_error_set(&err, AA_ENOMEM, "", "out of memory");
+    j->kind->free_result(typed);
     finish_job(jm, j, rc, result, &err);
     pthread_mutex_lock(&jm->lock);
     if (--jm->threads == 0)

@@ -9,6 +9,7 @@
 
 #include "job_derived.h"
 #include "job_store_impl.h"
+#include "wire_error.h"
 
 /* A JSON value encoded for a column, derived keys stripped; text NULL = SQL NULL. */
 typedef struct encoded {
@@ -318,8 +319,9 @@ int job_store_finish(job_store *st, long long id, job_state state, double progre
             free(r.text);
             free(e.text);
             b = t = r = (encoded){0};
-            json_t *ej = json_pack("{s:s,s:s,s:s}", "code", "quota_exceeded", "message",
-                                   quota_reason, "field", "");
+            json_t *ej =
+                json_pack("{s:s,s:s,s:s}", "code", proto_wire_row_of(WIRE_QUOTA_EXCEEDED)->code,
+                          "message", quota_reason, "field", "");
             e = encode(ej, false);
             json_decref(ej);
             if (state == JOB_DONE)

@@ -48,7 +48,8 @@ static int row_cmp(const void *a, const void *b)
     return (x->e2 > y->e2) - (x->e2 < y->e2);
 }
 
-int kind_family_sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+static int family_sweep_run(void *params, job_ctx *ctx, proto_family_sweep_result *out,
+                            aa_error *err)
 {
     proto_family_sweep_spec *sp = params;
     aa_metric_params metric = proto_optimizer_spec_metric(&sp->common);
@@ -123,15 +124,15 @@ int kind_family_sweep_run(void *params, job_ctx *ctx, json_t **result, aa_error 
             rows[c].cost = aa_mirrored_config_cost(&rows[c].config);
         }
     }
-    proto_family_sweep_result out = {.cost = sp->cost,
-                                     .configurations = (long)count,
-                                     .seeds_per_config = (long)sp->per_config,
-                                     .ranked = rows,
-                                     .ranked_count = count};
-    if (!rc && !(*result = proto_encode_family_sweep_result(&out)))
-        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    proto_family_sweep_result_free(&out); /* frees rows */
+    *out = (proto_family_sweep_result){.cost = sp->cost,
+                                       .configurations = (long)count,
+                                       .seeds_per_config = (long)sp->per_config,
+                                       .ranked = rows,
+                                       .ranked_count = count}; /* frees rows */
     free(seeds);
     free(configs);
     return rc;
 }
+
+JOB_KIND_RESULT(kind_family_sweep, proto_family_sweep_result, family_sweep_run,
+                proto_encode_family_sweep_result, proto_family_sweep_result_free)

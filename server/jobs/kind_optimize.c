@@ -53,7 +53,7 @@ static proto_seed_summary *seed_summaries(const aa_multistart_result *r, size_t 
     return s;
 }
 
-int kind_optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+static int optimize_run(void *params, job_ctx *ctx, proto_optimize_result *out, aa_error *err)
 {
     proto_optimize_spec *op = params;
     aa_metric_params metric = proto_optimizer_spec_metric(&op->common);
@@ -99,25 +99,25 @@ int kind_optimize_run(void *params, job_ctx *ctx, json_t **result, aa_error *err
         aa_multistart_result_free(&r);
         return rc;
     }
-    proto_optimize_result out = {.best = best,
-                                 .e2 = r.e2,
-                                 .argmax_kernel = (int)r.argmax_kernel,
-                                 .argmax_angle_deg = r.argmax_angle_deg,
-                                 .seeds_run = (long)r.seeds_run,
-                                 .iterations = r.iterations,
-                                 .evaluations = r.evaluations,
-                                 .seconds = r.seconds,
-                                 .method = mp.local.method,
-                                 .have_grid = op->common.grid_bits != 0,
-                                 .grid_bits = op->common.grid_bits,
-                                 .d3d12 = op->common.d3d12,
-                                 .e2_before_snap = r.e2_before_snap};
-    out.per_seed = seed_summaries(&r, &out.per_seed_count);
-    json_t *res = out.per_seed ? proto_encode_optimize_result(&out) : NULL;
-    proto_optimize_result_free(&out); /* frees best */
+    *out = (proto_optimize_result){.best = best,
+                                   .e2 = r.e2,
+                                   .argmax_kernel = (int)r.argmax_kernel,
+                                   .argmax_angle_deg = r.argmax_angle_deg,
+                                   .seeds_run = (long)r.seeds_run,
+                                   .iterations = r.iterations,
+                                   .evaluations = r.evaluations,
+                                   .seconds = r.seconds,
+                                   .method = mp.local.method,
+                                   .have_grid = op->common.grid_bits != 0,
+                                   .grid_bits = op->common.grid_bits,
+                                   .d3d12 = op->common.d3d12,
+                                   .e2_before_snap = r.e2_before_snap};
+    out->per_seed = seed_summaries(&r, &out->per_seed_count);
     aa_multistart_result_free(&r);
-    if (!res)
+    if (!out->per_seed)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    *result = res;
     return AA_OK;
 }
+
+JOB_KIND_RESULT(kind_optimize, proto_optimize_result, optimize_run, proto_encode_optimize_result,
+                proto_optimize_result_free)

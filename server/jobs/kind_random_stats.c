@@ -98,7 +98,8 @@ static int random_patterns_progress(void *user, size_t i)
     return job_ctx_progress(rp->ctx, 0.2 * (double)i / (double)rp->count, NULL);
 }
 
-int kind_random_stats_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+static int random_stats_run(void *params, job_ctx *ctx, proto_random_stats_result *out,
+                            aa_error *err)
 {
     proto_random_stats_spec *sp = params;
     aa_metric_params metric = proto_optimizer_spec_metric(&sp->common);
@@ -129,21 +130,23 @@ int kind_random_stats_run(void *params, job_ctx *ctx, json_t **result, aa_error 
         rc = optimize_stage(&best, &metric, AA_OPTIMIZE_BOTH, mwp, sp->common.max_seconds / 2,
                             sp->common.rng_seed, &b, &optwp, &rwp, err);
     if (!rc) {
-        proto_random_stats_result out = {.distribution = sp->kind,
-                                         .count = (long)rs.count,
-                                         .min = rs.min,
-                                         .avg = rs.avg,
-                                         .max = rs.max,
-                                         .best_random = best,
-                                         .opt_w = {rw.e2, optw, mw},
-                                         .opt_wp = {rwp.e2, optwp, mwp}};
-        snprintf(out.family, sizeof out.family, "%s", sp->family.label);
-        *result = proto_encode_random_stats_result(&out);
-        if (!*result)
-            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        /* The result owns the patterns now. */
+        *out = (proto_random_stats_result){.distribution = sp->kind,
+                                           .count = (long)rs.count,
+                                           .min = rs.min,
+                                           .avg = rs.avg,
+                                           .max = rs.max,
+                                           .best_random = best,
+                                           .opt_w = {rw.e2, optw, mw},
+                                           .opt_wp = {rwp.e2, optwp, mwp}};
+        snprintf(out->family, sizeof out->family, "%s", sp->family.label);
+        return AA_OK;
     }
     aa_pattern_free(&best);
     aa_pattern_free(&optw);
     aa_pattern_free(&optwp);
     return rc;
 }
+
+JOB_KIND_RESULT(kind_random_stats, proto_random_stats_result, random_stats_run,
+                proto_encode_random_stats_result, proto_random_stats_result_free)

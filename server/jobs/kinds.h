@@ -10,7 +10,9 @@
 #define JOB_KIND_FUNCTIONS(prefix)                                                                 \
     int prefix##_decode(const json_t *spec, void **params, aa_error *err);                         \
     void prefix##_free(void *params);                                                              \
-    int prefix##_run(void *params, job_ctx *ctx, json_t **result, aa_error *err)
+    int prefix##_run(void *params, job_ctx *ctx, void **result, aa_error *err);                    \
+    json_t *prefix##_encode_result(const void *result);                                            \
+    void prefix##_free_result(void *result)
 
 JOB_KIND_FUNCTIONS(kind_optimize);
 JOB_KIND_FUNCTIONS(kind_family_sweep);
@@ -42,6 +44,36 @@ JOB_KIND_FUNCTIONS(kind_sleep);
         if (params)                                                                                \
             free_fn(params);                                                                       \
         free(params);                                                                              \
+    }
+
+/* encode_result and free_result of a kind whose result is a proto struct `type` with a proto
+ * encoder and free; run_fn(params, ctx, type *out, err) fills a zeroed struct, and
+ * prefix##_run hands it over on success. */
+#define JOB_KIND_RESULT(prefix, type, run_fn, encode_fn, free_fn)                                  \
+    int prefix##_run(void *params, job_ctx *ctx, void **result, aa_error *err)                     \
+    {                                                                                              \
+        *result = NULL;                                                                            \
+        type *r = calloc(1, sizeof *r);                                                            \
+        if (!r)                                                                                    \
+            return aa_error_set(err, AA_ENOMEM, "", "out of memory");                              \
+        int rc = run_fn(params, ctx, r, err);                                                      \
+        if (rc) {                                                                                  \
+            free_fn(r);                                                                            \
+            free(r);                                                                               \
+            return rc;                                                                             \
+        }                                                                                          \
+        *result = r;                                                                               \
+        return AA_OK;                                                                              \
+    }                                                                                              \
+    json_t *prefix##_encode_result(const void *result)                                             \
+    {                                                                                              \
+        return encode_fn(result);                                                                  \
+    }                                                                                              \
+    void prefix##_free_result(void *result)                                                        \
+    {                                                                                              \
+        if (result)                                                                                \
+            free_fn(result);                                                                       \
+        free(result);                                                                              \
     }
 
 const char *kind_optimize_family(const void *params);

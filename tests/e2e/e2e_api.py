@@ -144,7 +144,8 @@ def test_jobs(d):
     # failing job, bad specs
     r = d.post("/v1/jobs", {"kind": "sleep", "seconds": 0, "fail": True})
     j = d.wait_job(r.json()["id"])
-    check(j["state"] == "failed" and j["error"]["field"] == "fail", j)
+    check(j["state"] == "failed" and j["error"]["field"] == "fail" and
+          j["error"]["code"] == "invalid_field", j)
     expect_error(d.post("/v1/jobs", {"kind": "nope"}), 400, "kind")
     expect_error(d.post("/v1/jobs", {"seconds": 1}), 400, "kind")
     expect_error(d.post("/v1/jobs", {"kind": "sleep", "seconds": -1}), 400, "seconds")

@@ -11,22 +11,31 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "job_animation.h"
+#include "job_compare.h"
+#include "job_reference_convergence.h"
 #include "kinds.h"
 #include "tile_store.h"
 
 static const job_kind job_kind_compare = {.name = "compare",
                                           .decode = kind_compare_decode,
                                           .free_params = kind_compare_free,
-                                          .run = kind_compare_run};
+                                          .run = kind_compare_run,
+                                          .encode_result = kind_compare_encode_result,
+                                          .free_result = kind_compare_free_result};
 static const job_kind job_kind_animation = {.name = "animation",
                                             .decode = kind_animation_decode,
                                             .free_params = kind_animation_free,
-                                            .run = kind_animation_run};
-static const job_kind job_kind_reference_convergence = {.name = "reference-convergence",
-                                                        .decode = kind_reference_convergence_decode,
-                                                        .free_params =
-                                                            kind_reference_convergence_free,
-                                                        .run = kind_reference_convergence_run};
+                                            .run = kind_animation_run,
+                                            .encode_result = kind_animation_encode_result,
+                                            .free_result = kind_animation_free_result};
+static const job_kind job_kind_reference_convergence = {
+    .name = "reference-convergence",
+    .decode = kind_reference_convergence_decode,
+    .free_params = kind_reference_convergence_free,
+    .run = kind_reference_convergence_run,
+    .encode_result = kind_reference_convergence_encode_result,
+    .free_result = kind_reference_convergence_free_result};
 
 /* Stub context: the worker pool is not part of this test. */
 struct job_ctx {
@@ -87,6 +96,35 @@ static json_t *parse(const char *text)
     return j;
 }
 
+/* A result the kind made decodes with its strict proto decoder and encodes to the same bytes. */
+#define ROUND_TRIP(T, decode, encode, free_fn, j)                                                  \
+    do {                                                                                           \
+        T r_;                                                                                      \
+        aa_error e_ = {0};                                                                         \
+        assert_int_equal(decode(j, &r_, &e_), AA_OK);                                              \
+        json_t *again_ = encode(&r_);                                                              \
+        char *a_ = json_dumps(j, JSON_COMPACT), *b_ = json_dumps(again_, JSON_COMPACT);            \
+        assert_string_equal(a_, b_);                                                               \
+        free(a_);                                                                                  \
+        free(b_);                                                                                  \
+        json_decref(again_);                                                                       \
+        free_fn(&r_);                                                                              \
+    } while (0)
+
+static void strict_round_trip(const job_kind *k, const json_t *j)
+{
+    if (!strcmp(k->name, "compare"))
+        ROUND_TRIP(proto_compare_result, proto_decode_compare_result, proto_encode_compare_result,
+                   proto_compare_result_free, j);
+    else if (!strcmp(k->name, "animation"))
+        ROUND_TRIP(proto_animation_result, proto_decode_animation_result,
+                   proto_encode_animation_result, proto_animation_result_free, j);
+    else
+        ROUND_TRIP(proto_reference_convergence_result, proto_decode_reference_convergence_result,
+                   proto_encode_reference_convergence_result,
+                   proto_reference_convergence_result_free, j);
+}
+
 static int run(const job_kind *k, const char *spec, job_ctx *ctx, json_t **result, aa_error *err)
 {
     json_t *s = parse(spec);
@@ -96,7 +134,15 @@ static int run(const job_kind *k, const char *spec, job_ctx *ctx, json_t **resul
     json_decref(s);
     if (rc)
         return rc;
-    rc = k->run(params, ctx, result, err);
+    void *typed = NULL;
+    *result = NULL;
+    rc = k->run(params, ctx, &typed, err);
+    if (rc == AA_OK) {
+        *result = k->encode_result(typed);
+        assert_non_null(*result);
+        strict_round_trip(k, *result);
+    }
+    k->free_result(typed);
     k->free_params(params);
     return rc;
 }

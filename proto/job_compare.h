@@ -1,0 +1,58 @@
+/* Spec and result of the "compare" job kind: one scene rendered with several patterns, each
+ * row against a supersampled reference (one per output grid: odd / even kernel size).
+ * Spec: {"scene", "size", "reference", "acuity", "tiles", "patterns": [1..64 preset names or
+ * pattern objects]} (job_render_spec.h for the shared fields). */
+#ifndef AALAB_PROTO_JOB_COMPARE_H
+#define AALAB_PROTO_JOB_COMPARE_H
+
+#include "job_render_spec.h"
+
+#define PROTO_COMPARE_MAX_PATTERNS 64
+
+typedef struct proto_compare_spec {
+    proto_render_spec common;
+    size_t count;
+    aa_pattern *patterns;
+    char (*names)[64]; /* the preset's name, the pattern's "name", or its family */
+} proto_compare_spec;
+
+int proto_decode_compare_spec(const json_t *spec, proto_compare_spec *out, aa_error *err);
+void proto_compare_spec_free(proto_compare_spec *s);
+
+/* One reference render (output grid offset 0.5 or 1). */
+typedef struct proto_compare_render {
+    double output_offset, seconds;
+    long long supersampled, input_pixels_sampled, samples;
+    json_t *tile; /* tile reference, or NULL */
+} proto_compare_render;
+
+typedef struct proto_compare_row {
+    char name[64];
+    char family[48];
+    double samples_per_pixel, e2, rmse, max_dev, render_seconds;
+    long long pixels_sampled, coverage_samples;
+    aa_diff_stats stats;
+    bool have_tiles;                        /* "tiles" present (the images were stored) */
+    json_t *tile_pattern, *tile_difference; /* each may be NULL */
+} proto_compare_row;
+
+typedef struct proto_compare_result {
+    aa_scene_params scene;
+    long long reference_spp, reference_seed;
+    char filter[24];
+    proto_compare_render renders[2];
+    size_t render_count;
+    proto_compare_row *rows;
+    size_t row_count;
+} proto_compare_result;
+
+/* {"scene", "reference": {"spp", "seed", "filter", "renders": [{"output_offset", "seconds",
+ * "supersampled", "input_pixels_sampled", "samples", "tile"?}]}, "rows": [{"name", "family",
+ * "samples_per_pixel", "e2", "rmse", "max_dev", "render_seconds", "pixels_sampled",
+ * "coverage_samples", "stats", "tiles"?: {"pattern"?, "difference"?}}]}; NULL when out of
+ * memory. */
+json_t *proto_encode_compare_result(const proto_compare_result *r);
+int proto_decode_compare_result(const json_t *j, proto_compare_result *out, aa_error *err);
+void proto_compare_result_free(proto_compare_result *r);
+
+#endif

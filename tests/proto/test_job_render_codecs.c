@@ -1,0 +1,350 @@
+/* The render job kinds' and the sleep kind's codecs (proto/job_compare.h, job_animation.h,
+ * job_reference_convergence.h, job_sleep.h): spec defaults, the one unknown-key check naming
+ * the key, ranges naming the field, and result round trips: decode(encode(x)) encodes to the
+ * same bytes, and a result with an unknown key or a bad value is refused naming the field. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "codec.h"
+#include "job_animation.h"
+#include "job_compare.h"
+#include "job_reference_convergence.h"
+#include "job_sleep.h"
+
+static json_t *parse(const char *text)
+{
+    json_error_t e;
+    json_t *j = json_loads(text, JSON_REJECT_DUPLICATES, &e);
+    if (!j)
+        fail_msg("bad test JSON: %s", e.text);
+    return j;
+}
+
+static void assert_same_bytes(const json_t *a, const json_t *b)
+{
+    char *x = json_dumps(a, JSON_COMPACT), *y = json_dumps(b, JSON_COMPACT);
+    assert_non_null(x);
+    assert_non_null(y);
+    assert_string_equal(x, y);
+    free(x);
+    free(y);
+}
+
+/* Decoding text with decode into a zeroed T fails with code, naming field. */
+#define DECODE_FAILS(T, decode, text, code, want)                                                  \
+    do {                                                                                           \
+        json_t *j_ = parse(text);                                                                  \
+        T s_;                                                                                      \
+        aa_error e_ = {0};                                                                         \
+        assert_int_equal(decode(j_, &s_, &e_), code);                                              \
+        assert_string_equal(e_.field, want);                                                       \
+        json_decref(j_);                                                                           \
+    } while (0)
+
+/* Encodes r, decodes it into a fresh T, re-encodes: the same bytes. Returns the first encoding. */
+#define ROUND_TRIP(T, encode, decode, free_fn, r, out)                                             \
+    do {                                                                                           \
+        json_t *a_ = encode(r);                                                                    \
+        assert_non_null(a_);                                                                       \
+        T d_;                                                                                      \
+        aa_error e_ = {0};                                                                         \
+        assert_int_equal(decode(a_, &d_, &e_), AA_OK);                                             \
+        json_t *b_ = encode(&d_);                                                                  \
+        assert_non_null(b_);                                                                       \
+        assert_same_bytes(a_, b_);                                                                 \
+        json_decref(b_);                                                                           \
+        free_fn(&d_);                                                                              \
+        (out) = a_;                                                                                \
+    } while (0)
+
+/* A changed copy of j (path set to value, or deleted when value is NULL) fails to decode with
+ * field want. */
+static json_t *with(const json_t *j, const char *key, json_t *value)
+{
+    json_t *c = json_deep_copy(j);
+    if (value)
+        json_object_set_new(c, key, value);
+    else
+        json_object_del(c, key);
+    return c;
+}
+
+#define RESULT_FAILS(T, decode, free_fn, j, want)                                                  \
+    do {                                                                                           \
+        T r_;                                                                                      \
+        aa_error e_ = {0};                                                                         \
+        json_t *j_ = (j);                                                                          \
+        assert_int_not_equal(decode(j_, &r_, &e_), AA_OK);                                         \
+        assert_string_equal(e_.field, want);                                                       \
+        json_decref(j_);                                                                           \
+    } while (0)
+
+static void some_diff(aa_diff_stats *d)
+{
+    aa_diff_init(d);
+    d->pixels = 4;
+    d->histogram[0] = 2;
+    d->histogram[10] = 2;
+    d->sum_sq = 2 * 9.8 * 9.8;
+    d->max_dev = 10.2;
+    aa_diff_finish(d);
+}
+
+static void test_compare_spec(void **state)
+{
+    (void)state;
+    json_t *j = parse("{\"patterns\":[\"flipquad\",{\"preset\":\"rgss\"},{\"name\":\"mine\","
+                      "\"kernels\":[[[0,0,1]]]}],\"size\":[32,24]}");
+    proto_compare_spec s;
+    aa_error err = {0};
+    assert_int_equal(proto_decode_compare_spec(j, &s, &err), AA_OK);
+    assert_int_equal(s.count, 3);
+    assert_string_equal(s.names[0], "flipquad");
+    assert_string_equal(s.names[1], "rgss");
+    assert_string_equal(s.names[2], "mine");
+    assert_int_equal(s.common.scene.width, 32);
+    assert_int_equal(s.common.scene.height, 24);
+    assert_true(s.common.tiles);
+    assert_string_equal(s.common.acuity.name, "naiman");
+    proto_compare_spec_free(&s);
+    json_decref(j);
+    DECODE_FAILS(proto_compare_spec, proto_decode_compare_spec,
+                 "{\"patterns\":[\"flipquad\"],\"levels\":[16]}", AA_EINVAL, "levels");
+    DECODE_FAILS(proto_compare_spec, proto_decode_compare_spec, "{\"patterns\":[]}", AA_EINVAL,
+                 "patterns");
+    DECODE_FAILS(proto_compare_spec, proto_decode_compare_spec,
+                 "{\"patterns\":[\"flipquad\",\"flipqaud\"]}", AA_EINVAL, "patterns[1]");
+    DECODE_FAILS(proto_compare_spec, proto_decode_compare_spec,
+                 "{\"patterns\":[\"flipquad\"],\"tiles\":1}", AA_EINVAL, "tiles");
+}
+
+static void test_compare_result(void **state)
+{
+    (void)state;
+    proto_compare_result r;
+    memset(&r, 0, sizeof r);
+    aa_error err = {0};
+    assert_int_equal(proto_decode_scene(NULL, &r.scene, "scene", &err), AA_OK);
+    r.reference_spp = 1024;
+    r.reference_seed = 3;
+    strcpy(r.filter, "mitchell");
+    r.render_count = 2;
+    r.renders[0] = (proto_compare_render){0.5, 0.25, 100, 4000, 90000, parse("{\"id\":\"a1\"}")};
+    r.renders[1] = (proto_compare_render){1, 0.5, 120, 4100, 91000, NULL};
+    proto_compare_row rows[2];
+    memset(rows, 0, sizeof rows);
+    strcpy(rows[0].name, "flipquad");
+    strcpy(rows[0].family, "P(2,1,1)");
+    rows[0].samples_per_pixel = 2;
+    rows[0].e2 = 0.364;
+    some_diff(&rows[0].stats);
+    rows[0].rmse = rows[0].stats.rmse;
+    rows[0].max_dev = rows[0].stats.max_dev;
+    rows[0].render_seconds = 0.01;
+    rows[0].pixels_sampled = 7;
+    rows[0].coverage_samples = 14;
+    rows[0].have_tiles = true;
+    rows[0].tile_pattern = parse("{\"id\":\"p\"}");
+    rows[1] = rows[0];
+    strcpy(rows[1].name, "second");
+    rows[1].have_tiles = false;
+    rows[1].tile_pattern = NULL;
+    r.rows = rows;
+    r.row_count = 2;
+    json_t *j;
+    ROUND_TRIP(proto_compare_result, proto_encode_compare_result, proto_decode_compare_result,
+               proto_compare_result_free, &r, j);
+    json_t *row0 = json_array_get(json_object_get(j, "rows"), 0);
+    assert_non_null(json_object_get(json_object_get(row0, "tiles"), "pattern"));
+    assert_null(json_object_get(json_object_get(row0, "tiles"), "difference"));
+    assert_null(json_object_get(json_array_get(json_object_get(j, "rows"), 1), "tiles"));
+    assert_int_equal(json_array_size(json_object_get(json_object_get(j, "reference"), "renders")),
+                     2);
+
+    RESULT_FAILS(proto_compare_result, proto_decode_compare_result, proto_compare_result_free,
+                 with(j, "extra", json_true()), "extra");
+    RESULT_FAILS(proto_compare_result, proto_decode_compare_result, proto_compare_result_free,
+                 with(j, "rows", NULL), "rows");
+    json_t *bad = json_deep_copy(j);
+    json_object_set_new(json_array_get(json_object_get(bad, "rows"), 1), "rmse", json_string("x"));
+    RESULT_FAILS(proto_compare_result, proto_decode_compare_result, proto_compare_result_free, bad,
+                 "rows[1].rmse");
+    bad = json_deep_copy(j);
+    json_t *hist =
+        json_object_get(json_object_get(json_array_get(json_object_get(bad, "rows"), 0), "stats"),
+                        "penalised_histogram");
+    json_array_set_new(hist, 10, json_real(1.0));
+    RESULT_FAILS(proto_compare_result, proto_decode_compare_result, proto_compare_result_free, bad,
+                 "rows[0].stats.penalised_histogram[10]");
+    bad = json_deep_copy(j);
+    json_object_set_new(
+        json_array_get(json_object_get(json_object_get(bad, "reference"), "renders"), 0), "tile",
+        json_string("a1"));
+    RESULT_FAILS(proto_compare_result, proto_decode_compare_result, proto_compare_result_free, bad,
+                 "reference.renders[0].tile");
+    json_decref(j);
+    json_decref(r.renders[0].tile);
+    json_decref(rows[0].tile_pattern);
+}
+
+static void test_animation(void **state)
+{
+    (void)state;
+    DECODE_FAILS(proto_animation_spec, proto_decode_animation_spec, "{\"pattern\":\"flipquad\"}",
+                 AA_EINVAL, "scene.name");
+    DECODE_FAILS(proto_animation_spec, proto_decode_animation_spec,
+                 "{\"scene\":\"siemens-star\",\"pattern\":\"flipquad\"}", AA_EINVAL, "scene.name");
+    DECODE_FAILS(proto_animation_spec, proto_decode_animation_spec,
+                 "{\"scene\":\"rotating-triangle\"}", AA_EINVAL, "pattern");
+    DECODE_FAILS(proto_animation_spec, proto_decode_animation_spec,
+                 "{\"scene\":\"rotating-triangle\",\"pattern\":\"flipquad\",\"patterns\":[]}",
+                 AA_EINVAL, "patterns");
+    json_t *j = parse("{\"scene\":{\"name\":\"translating-circle\",\"frames\":3},"
+                      "\"pattern\":{\"preset\":\"rgss\"},\"tiles\":false}");
+    proto_animation_spec s;
+    aa_error err = {0};
+    assert_int_equal(proto_decode_animation_spec(j, &s, &err), AA_OK);
+    assert_int_equal(s.common.scene.frames, 3);
+    assert_false(s.common.tiles);
+    json_decref(j);
+
+    proto_animation_result r;
+    memset(&r, 0, sizeof r);
+    r.scene = s.common.scene;
+    snprintf(r.family, sizeof r.family, "%s", s.pattern.family);
+    r.samples_per_pixel = s.pattern.cost_spp;
+    r.e2 = 0.3;
+    proto_animation_frame frames[2] = {
+        {0, 1.5, 20, 100, 90, 30, 0.01, 0.02, NULL},
+        {1, 1.25, 18, 50, 45, 20, 0.01, 0.02, parse("{\"pattern\":{\"id\":\"x\"}}")}};
+    r.frames = frames;
+    r.frame_count = 2;
+    some_diff(&r.total);
+    r.pattern_seconds = 0.02;
+    r.reference_seconds = 0.04;
+    r.pixels_recomputed = 150;
+    r.pixels_all_frames = 600;
+    ROUND_TRIP(proto_animation_result, proto_encode_animation_result, proto_decode_animation_result,
+               proto_animation_result_free, &r, j);
+    assert_string_equal(json_string_value(json_object_get(json_object_get(j, "scene"), "name")),
+                        "translating-circle");
+    RESULT_FAILS(proto_animation_result, proto_decode_animation_result, proto_animation_result_free,
+                 with(j, "frame", json_integer(1)), "frame");
+    json_t *bad = json_deep_copy(j);
+    json_object_set_new(json_object_get(bad, "pixels"), "recomputed", json_integer(-1));
+    RESULT_FAILS(proto_animation_result, proto_decode_animation_result, proto_animation_result_free,
+                 bad, "pixels.recomputed");
+    bad = json_deep_copy(j);
+    /* a pixel counted twice */
+    json_array_set_new(json_object_get(json_object_get(bad, "total"), "histogram"), 0,
+                       json_integer(3));
+    RESULT_FAILS(proto_animation_result, proto_decode_animation_result, proto_animation_result_free,
+                 bad, "total.histogram");
+    json_decref(j);
+    json_decref(frames[1].tiles);
+    proto_animation_spec_free(&s);
+}
+
+static void test_reference_convergence(void **state)
+{
+    (void)state;
+    json_t *j = parse("{}");
+    proto_reference_convergence_spec s;
+    aa_error err = {0};
+    assert_int_equal(proto_decode_reference_convergence_spec(j, &s, &err), AA_OK);
+    assert_int_equal(s.level_count, 4);
+    assert_int_equal(s.levels[3], 1024);
+    assert_int_equal(s.baseline_spp, 4096);
+    assert_int_equal(s.kernel_size, 1);
+    json_decref(j);
+    DECODE_FAILS(proto_reference_convergence_spec, proto_decode_reference_convergence_spec,
+                 "{\"levels\":[16,50]}", AA_EINVAL, "levels[1]");
+    DECODE_FAILS(proto_reference_convergence_spec, proto_decode_reference_convergence_spec,
+                 "{\"levels\":[1,4,9,16,25,36,49,64,81]}", AA_EINVAL, "levels");
+    DECODE_FAILS(proto_reference_convergence_spec, proto_decode_reference_convergence_spec,
+                 "{\"baseline_spp\":4095}", AA_EINVAL, "baseline_spp");
+    DECODE_FAILS(proto_reference_convergence_spec, proto_decode_reference_convergence_spec,
+                 "{\"kernel_size\":0}", AA_EINVAL, "kernel_size");
+    /* acuity and tiles belong to the other render kinds only */
+    DECODE_FAILS(proto_reference_convergence_spec, proto_decode_reference_convergence_spec,
+                 "{\"tiles\":false}", AA_EINVAL, "tiles");
+
+    proto_reference_convergence_result r;
+    memset(&r, 0, sizeof r);
+    r.scene = s.common.scene;
+    r.output_offset = 0.5;
+    r.baseline = (proto_convergence_level){4096, 0, 0, 1.5, 300, 9000000};
+    r.rows[0] = (proto_convergence_level){16, 3.25, 40, 0.01, 300, 40000};
+    r.rows[1] = (proto_convergence_level){64, 1.5, 20, 0.02, 300, 160000};
+    r.row_count = 2;
+    ROUND_TRIP(proto_reference_convergence_result, proto_encode_reference_convergence_result,
+               proto_decode_reference_convergence_result, proto_reference_convergence_result_free,
+               &r, j);
+    assert_null(json_object_get(json_object_get(j, "baseline"), "rmse"));
+    json_t *bad = json_deep_copy(j);
+    json_object_set_new(json_object_get(bad, "baseline"), "rmse", json_real(0));
+    RESULT_FAILS(proto_reference_convergence_result, proto_decode_reference_convergence_result,
+                 proto_reference_convergence_result_free, bad, "baseline.rmse");
+    bad = json_deep_copy(j);
+    json_object_set_new(json_array_get(json_object_get(bad, "rows"), 1), "spp", json_integer(0));
+    RESULT_FAILS(proto_reference_convergence_result, proto_decode_reference_convergence_result,
+                 proto_reference_convergence_result_free, bad, "rows[1].spp");
+    RESULT_FAILS(proto_reference_convergence_result, proto_decode_reference_convergence_result,
+                 proto_reference_convergence_result_free, with(j, "output_offset", json_real(0.75)),
+                 "output_offset");
+    json_decref(j);
+    proto_reference_convergence_spec_free(&s);
+}
+
+static void test_sleep(void **state)
+{
+    (void)state;
+    DECODE_FAILS(proto_sleep_spec, proto_decode_sleep_spec, "{}", AA_EINVAL, "seconds");
+    DECODE_FAILS(proto_sleep_spec, proto_decode_sleep_spec, "{\"seconds\":3601}", AA_ERANGE,
+                 "seconds");
+    DECODE_FAILS(proto_sleep_spec, proto_decode_sleep_spec, "{\"seconds\":1,\"fail\":\"yes\"}",
+                 AA_EINVAL, "fail");
+    DECODE_FAILS(proto_sleep_spec, proto_decode_sleep_spec, "{\"seconds\":1,\"nap\":true}",
+                 AA_EINVAL, "nap");
+    json_t *j = parse("{\"seconds\":0.5,\"fail\":true,\"pattern\":{\"preset\":\"flipquad\"}}");
+    proto_sleep_spec s;
+    aa_error err = {0};
+    assert_int_equal(proto_decode_sleep_spec(j, &s, &err), AA_OK);
+    assert_true(s.fail);
+    assert_true(s.have_pattern);
+    json_decref(j);
+
+    proto_sleep_result r = {.slept_seconds = 0.5, .steps = 40};
+    ROUND_TRIP(proto_sleep_result, proto_encode_sleep_result, proto_decode_sleep_result,
+               proto_sleep_result_free, &r, j);
+    assert_null(json_object_get(j, "pattern"));
+    json_decref(j);
+    r.have_pattern = true;
+    r.pattern = s.pattern;
+    ROUND_TRIP(proto_sleep_result, proto_encode_sleep_result, proto_decode_sleep_result,
+               proto_sleep_result_free, &r, j);
+    assert_non_null(json_object_get(j, "pattern"));
+    RESULT_FAILS(proto_sleep_result, proto_decode_sleep_result, proto_sleep_result_free,
+                 with(j, "steps", json_integer(-1)), "steps");
+    RESULT_FAILS(proto_sleep_result, proto_decode_sleep_result, proto_sleep_result_free,
+                 with(j, "woke", json_true()), "woke");
+    json_decref(j);
+    proto_sleep_spec_free(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_compare_spec), cmocka_unit_test(test_compare_result),
+        cmocka_unit_test(test_animation),    cmocka_unit_test(test_reference_convergence),
+        cmocka_unit_test(test_sleep),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
