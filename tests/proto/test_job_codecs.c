@@ -12,20 +12,12 @@
 #include <string.h>
 
 #include "codec.h"
+#include "codec_check.h"
 #include "job_family_sweep.h"
 #include "job_optimize.h"
 #include "job_random_stats.h"
 #include "preset_suggest.h"
 #include "aa_pattern.h"
-
-static json_t *parse(const char *text)
-{
-    json_error_t e;
-    json_t *j = json_loads(text, JSON_REJECT_DUPLICATES, &e);
-    if (!j)
-        fail_msg("bad test JSON: %s", e.text);
-    return j;
-}
 
 static void preset_pattern(const char *name, aa_pattern *p)
 {
@@ -141,27 +133,12 @@ static void test_sweep_and_stats_spec(void **state)
     }
 }
 
-/* encode(decode(encode(x))) == encode(x), and the decoder refuses an unknown key. */
-#define ROUND_TRIP(type, encode, decode, release, value)                                           \
+/* The shared round trip, its encoding dropped. */
+#define ROUND_TRIP_ONLY(type, encode, decode, release, value)                                      \
     do {                                                                                           \
-        json_t *a_ = encode(value);                                                                \
-        assert_non_null(a_);                                                                       \
-        type back_;                                                                                \
-        aa_error e_ = {0};                                                                         \
-        assert_int_equal(decode(a_, &back_, &e_), AA_OK);                                          \
-        json_t *b_ = encode(&back_);                                                               \
-        release(&back_);                                                                           \
-        assert_true(json_equal(a_, b_));                                                           \
-        char *ta_ = json_dumps(a_, JSON_PRESERVE_ORDER),                                           \
-             *tb_ = json_dumps(b_, JSON_PRESERVE_ORDER);                                           \
-        assert_string_equal(ta_, tb_);                                                             \
-        free(ta_);                                                                                 \
-        free(tb_);                                                                                 \
-        json_object_set_new(a_, "surprise", json_true());                                          \
-        assert_int_not_equal(decode(a_, &back_, &e_), AA_OK);                                      \
-        assert_string_equal(e_.field, "surprise");                                                 \
-        json_decref(a_);                                                                           \
-        json_decref(b_);                                                                           \
+        json_t *enc_;                                                                              \
+        ROUND_TRIP(type, encode, decode, release, value, enc_);                                    \
+        json_decref(enc_);                                                                         \
     } while (0)
 
 static void test_optimize_result(void **state)
@@ -190,8 +167,8 @@ static void test_optimize_result(void **state)
     assert_int_equal(i, 10);
     assert_string_equal(json_string_value(json_object_get(j, "family")), r.best.family);
     json_decref(j);
-    ROUND_TRIP(proto_optimize_result, proto_encode_optimize_result, proto_decode_optimize_result,
-               proto_optimize_result_free, &r);
+    ROUND_TRIP_ONLY(proto_optimize_result, proto_encode_optimize_result,
+                    proto_decode_optimize_result, proto_optimize_result_free, &r);
     r.have_grid = true;
     r.grid_bits = 4;
     r.e2_before_snap = 0.44;
@@ -200,11 +177,11 @@ static void test_optimize_result(void **state)
         fabs(json_number_value(json_object_get(json_object_get(j, "grid"), "quantisation_cost")) -
              0.01) < 1e-12);
     json_decref(j);
-    ROUND_TRIP(proto_optimize_result, proto_encode_optimize_result, proto_decode_optimize_result,
-               proto_optimize_result_free, &r);
+    ROUND_TRIP_ONLY(proto_optimize_result, proto_encode_optimize_result,
+                    proto_decode_optimize_result, proto_optimize_result_free, &r);
     r.e2 = NAN; /* null on the wire, NaN back */
-    ROUND_TRIP(proto_optimize_result, proto_encode_optimize_result, proto_decode_optimize_result,
-               proto_optimize_result_free, &r);
+    ROUND_TRIP_ONLY(proto_optimize_result, proto_encode_optimize_result,
+                    proto_decode_optimize_result, proto_optimize_result_free, &r);
     aa_pattern_free(&r.best);
 }
 
@@ -224,8 +201,8 @@ static void test_sweep_and_stats_result(void **state)
         json_equal(json_object_get(j, "best"),
                    json_object_get(json_array_get(json_object_get(j, "ranked"), 0), "best")));
     json_decref(j);
-    ROUND_TRIP(proto_family_sweep_result, proto_encode_family_sweep_result,
-               proto_decode_family_sweep_result, proto_family_sweep_result_free, &s);
+    ROUND_TRIP_ONLY(proto_family_sweep_result, proto_encode_family_sweep_result,
+                    proto_decode_family_sweep_result, proto_family_sweep_result_free, &s);
     aa_pattern_free(&rows[0].best);
 
     proto_random_stats_result r = {.distribution = AA_SEED_JITTERED,
@@ -244,8 +221,8 @@ static void test_sweep_and_stats_result(void **state)
     assert_true(json_equal(json_object_get(j, "best"),
                            json_object_get(json_object_get(j, "opt_wp"), "pattern")));
     json_decref(j);
-    ROUND_TRIP(proto_random_stats_result, proto_encode_random_stats_result,
-               proto_decode_random_stats_result, proto_random_stats_result_free, &r);
+    ROUND_TRIP_ONLY(proto_random_stats_result, proto_encode_random_stats_result,
+                    proto_decode_random_stats_result, proto_random_stats_result_free, &r);
     proto_random_stats_result_free(&r);
 }
 

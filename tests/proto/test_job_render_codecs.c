@@ -13,56 +13,11 @@
 #include <string.h>
 
 #include "codec.h"
+#include "codec_check.h"
 #include "job_animation.h"
 #include "job_compare.h"
 #include "job_reference_convergence.h"
 #include "job_sleep.h"
-
-static json_t *parse(const char *text)
-{
-    json_error_t e;
-    json_t *j = json_loads(text, JSON_REJECT_DUPLICATES, &e);
-    if (!j)
-        fail_msg("bad test JSON: %s", e.text);
-    return j;
-}
-
-static void assert_same_bytes(const json_t *a, const json_t *b)
-{
-    char *x = json_dumps(a, JSON_COMPACT), *y = json_dumps(b, JSON_COMPACT);
-    assert_non_null(x);
-    assert_non_null(y);
-    assert_string_equal(x, y);
-    free(x);
-    free(y);
-}
-
-/* Decoding text with decode into a zeroed T fails with code, naming field. */
-#define DECODE_FAILS(T, decode, text, code, want)                                                  \
-    do {                                                                                           \
-        json_t *j_ = parse(text);                                                                  \
-        T s_;                                                                                      \
-        aa_error e_ = {0};                                                                         \
-        assert_int_equal(decode(j_, &s_, &e_), code);                                              \
-        assert_string_equal(e_.field, want);                                                       \
-        json_decref(j_);                                                                           \
-    } while (0)
-
-/* Encodes r, decodes it into a fresh T, re-encodes: the same bytes. Returns the first encoding. */
-#define ROUND_TRIP(T, encode, decode, free_fn, r, out)                                             \
-    do {                                                                                           \
-        json_t *a_ = encode(r);                                                                    \
-        assert_non_null(a_);                                                                       \
-        T d_;                                                                                      \
-        aa_error e_ = {0};                                                                         \
-        assert_int_equal(decode(a_, &d_, &e_), AA_OK);                                             \
-        json_t *b_ = encode(&d_);                                                                  \
-        assert_non_null(b_);                                                                       \
-        assert_same_bytes(a_, b_);                                                                 \
-        json_decref(b_);                                                                           \
-        free_fn(&d_);                                                                              \
-        (out) = a_;                                                                                \
-    } while (0)
 
 /* A changed copy of j (path set to value, or deleted when value is NULL) fails to decode with
  * field want. */
