@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "codec_internal.h"
+#include "preset_suggest.h"
 #include "aa_pattern.h"
 
 static int expect_object(const json_t *j, const char *prefix, aa_error *err)
@@ -255,7 +256,7 @@ int proto_pattern_from_preset_name(const json_t *j, aa_pattern *p, const char *f
         return 1;
     const aa_preset *pr = aa_preset_find(json_string_value(j));
     if (!pr)
-        return aa_error_set(err, AA_EINVAL, field, "unknown preset '%s'", json_string_value(j));
+        return proto_unknown_preset(err, field, json_string_value(j));
     int rc = aa_pattern_from_preset(p, pr, err);
     return rc ? proto_prefix_error(err, field) : AA_OK;
 }

@@ -199,6 +199,7 @@ static void test_preset_names(void **state)
     j = json_string("flopquad");
     assert_int_equal(proto_pattern_from_preset_name(j, &p, "patterns[2]", &err), AA_EINVAL);
     assert_string_equal(err.field, "patterns[2]");
+    assert_non_null(strstr(err.message, "did you mean \"flipquad\""));
     json_decref(j);
     j = parse("{\"preset\":\"flipquad\"}");
     assert_int_equal(proto_pattern_from_preset_name(j, &p, "pattern", &err), 1);
