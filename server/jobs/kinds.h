@@ -58,8 +58,7 @@ JOB_KIND_FUNCTIONS(kind_sleep);
             return aa_error_set(err, AA_ENOMEM, "", "out of memory");                              \
         int rc = run_fn(params, ctx, r, err);                                                      \
         if (rc) {                                                                                  \
-            free_fn(r);                                                                            \
-            free(r);                                                                               \
+            prefix##_free_result(r);                                                               \
             return rc;                                                                             \
         }                                                                                          \
         *result = r;                                                                               \
