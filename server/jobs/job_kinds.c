@@ -84,7 +84,8 @@ const job_kind *job_kinds_table(size_t *count)
 
 const job_kind *job_kind_find(const char *name)
 {
-    for (size_t i = 0; i < KIND_COUNT; i++)
+    /* NULL: a stored row or a spec without a kind string is no kind, not a crash. */
+    for (size_t i = 0; name && i < KIND_COUNT; i++)
         if (!strcmp(table[i].name, name))
             return &table[i];
     return NULL;
