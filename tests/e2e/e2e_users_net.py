@@ -32,20 +32,21 @@ REPO = os.path.dirname(os.path.dirname(HERE))
 P99_LIMIT_MS = 50.0  # set by main(): 5x under sanitizers (TSan alone costs 5-15x)
 EVALUATES = 150
 
-# Bob's client: N evaluates of RGSS over the Unix socket, each with its own angle list (the
-# evaluate cache must not answer), one connection each; prints the latencies in ms as JSON.
-BOB_EVALUATES = r"""
-import json, socket, sys, time
-path, n, seed = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-lat, statuses = [], {}
-for i in range(n):
-    angles = [((seed * 1000 + i) * 0.001 + k * 5.0) % 90.0 for k in range(8)]
-    body = json.dumps({"pattern": {"preset": "rgss"}, "angles": angles}).encode()
-    req = (b"POST /v1/evaluate HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n"
-           b"Content-Type: application/json\r\nContent-Length: %d\r\n\r\n" % len(body)) + body
-    t0 = time.monotonic()
+# What the two looping clients below share: one POST over the Unix socket on its own
+# connection (Connection: close), read to EOF, and the status code of the answer.
+POST_UNIX = r"""
+import socket
+
+
+def post_request(route, body):
+    return (b"POST %s HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n"
+            b"Content-Type: application/json\r\nContent-Length: %d\r\n\r\n"
+            % (route, len(body))) + body
+
+
+def exchange(path, req, timeout):
     s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    s.settimeout(30)
+    s.settimeout(timeout)
     s.connect(path)
     s.sendall(req)
     raw = b""
@@ -55,8 +56,27 @@ for i in range(n):
             break
         raw += c
     s.close()
+    return raw
+
+
+def status(raw):
+    return raw.split(b" ", 2)[1].decode() if raw.startswith(b"HTTP/") else "none"
+"""
+
+# Bob's client: N evaluates of RGSS over the Unix socket, each with its own angle list (the
+# evaluate cache must not answer), one connection each; prints the latencies in ms as JSON.
+BOB_EVALUATES = POST_UNIX + r"""
+import json, sys, time
+path, n, seed = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+lat, statuses = [], {}
+for i in range(n):
+    angles = [((seed * 1000 + i) * 0.001 + k * 5.0) % 90.0 for k in range(8)]
+    body = json.dumps({"pattern": {"preset": "rgss"}, "angles": angles}).encode()
+    req = post_request(b"/v1/evaluate", body)
+    t0 = time.monotonic()
+    raw = exchange(path, req, 30)
     lat.append((time.monotonic() - t0) * 1000.0)
-    st = raw.split(b" ", 2)[1].decode() if raw.startswith(b"HTTP/") else "none"
+    st = status(raw)
     statuses[st] = statuses.get(st, 0) + 1
 print(json.dumps({"lat": lat, "statuses": statuses}))
 """
@@ -64,8 +84,8 @@ print(json.dumps({"lat": lat, "statuses": statuses}))
 # Alice's render flooder: loops renders of 512x512 (a new scene angle each, so no tile is
 # reused) for a given time; on 429 it honours a short pause (50 ms, less than Retry-After: a
 # pushy client) and records the first 429 it saw.
-ALICE_RENDERS = r"""
-import json, random, socket, sys, time
+ALICE_RENDERS = POST_UNIX + r"""
+import json, random, sys, time
 path, seconds = sys.argv[1], float(sys.argv[2])
 end = time.monotonic() + seconds
 counts, first429 = {}, None
@@ -74,25 +94,13 @@ while time.monotonic() < end:
                        "scene": {"name": "siemens-star", "width": 512, "height": 512,
                                  "angle": random.uniform(0, 90)},
                        "reference": {"spp": 4096}}).encode()
-    req = (b"POST /v1/render HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n"
-           b"Content-Type: application/json\r\nContent-Length: %d\r\n\r\n" % len(body)) + body
     try:
-        s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-        s.settimeout(60)
-        s.connect(path)
-        s.sendall(req)
-        raw = b""
-        while True:
-            c = s.recv(65536)
-            if not c:
-                break
-            raw += c
-        s.close()
-    except OSError as e:
+        raw = exchange(path, post_request(b"/v1/render", body), 60)
+    except OSError:
         counts["error"] = counts.get("error", 0) + 1
         time.sleep(0.05)
         continue
-    st = raw.split(b" ", 2)[1].decode() if raw.startswith(b"HTTP/") else "none"
+    st = status(raw)
     counts[st] = counts.get(st, 0) + 1
     if st == "429":
         if first429 is None:

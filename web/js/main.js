@@ -76,6 +76,11 @@ function setupToken() {
   const refresh = () => {
     btn.textContent = getToken() ? 'Token ✓' : 'Token (none)';
   };
+  const hideForm = () => {
+    form.hidden = true;
+    btn.setAttribute('aria-expanded', 'false');
+    refresh();
+  };
   btn.addEventListener('click', () => {
     form.hidden = !form.hidden;
     btn.setAttribute('aria-expanded', String(!form.hidden));
@@ -87,9 +92,7 @@ function setupToken() {
   form.addEventListener('submit', (e) => {
     e.preventDefault();
     setToken(input.value.trim());
-    form.hidden = true;
-    btn.setAttribute('aria-expanded', 'false');
-    refresh();
+    hideForm();
     btn.focus();
     start(); // redo what failed (or waited) for want of the token
   });
@@ -113,11 +116,7 @@ function setupToken() {
     ask();
     document.getElementById('health').textContent = 'no API token yet: open the dashboard URL with #token=… that scripts/run.sh (or aalab token) prints, or paste the token';
   }
-  window.addEventListener('aalab:token-given', () => {
-    form.hidden = true;
-    btn.setAttribute('aria-expanded', 'false');
-    refresh();
-  });
+  window.addEventListener('aalab:token-given', hideForm);
   window.addEventListener('aalab:need-token', () => {
     refresh();
     ask();
