@@ -28,6 +28,7 @@ struct api_context {
     struct tile_store *tiles;
     token_store *tokens;
     group_membership *group; /* NULL: tokens are not tied to a group */
+    char *kinds_body;        /* GET /v1/kinds, encoded once: the schemas are embedded */
     double started;          /* aa_monotonic_seconds */
     int lock_fd;             /* flock on <state-dir>/lock: one daemon per state directory */
 };
@@ -101,6 +102,11 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
     ctx->jobs = job_manager_create(cfg->state_dir, &jc, err);
     if (!ctx->jobs)
         goto fail;
+    ctx->kinds_body = kind_schemas_document(ctx->jobs);
+    if (!ctx->kinds_body) {
+        aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        goto fail;
+    }
     ctx->retention = job_retention_start(job_manager_store(ctx->jobs), cfg->keep_days, err);
     if (!ctx->retention)
         goto fail;
@@ -126,6 +132,7 @@ void api_context_destroy(api_context *ctx)
     eval_cache_destroy(ctx->cache);
     token_store_close(ctx->tokens);
     group_membership_destroy(ctx->group);
+    free(ctx->kinds_body);
     if (ctx->lock_fd >= 0)
         close(ctx->lock_fd);
     free(ctx);
@@ -134,6 +141,11 @@ void api_context_destroy(api_context *ctx)
 const aalab_config *api_context_config(const api_context *ctx)
 {
     return &ctx->cfg;
+}
+
+const char *api_context_kinds_body(const api_context *ctx)
+{
+    return ctx->kinds_body;
 }
 
 struct tile_store *api_context_tiles(api_context *ctx)

@@ -26,6 +26,8 @@ void api_context_destroy(api_context *ctx);
 void api_context_shutdown(api_context *ctx);
 
 const aalab_config *api_context_config(const api_context *ctx);
+/* The GET /v1/kinds body, encoded at api_context_create (kind_schemas_document). */
+const char *api_context_kinds_body(const api_context *ctx);
 struct tile_store *api_context_tiles(api_context *ctx);
 struct job_manager *api_context_jobs(api_context *ctx);
 struct eval_cache *api_context_eval_cache(api_context *ctx);

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "job_manager.h"
 #include "schemas_embedded.h"
 
 static const char *schema_text(const char *path)
@@ -13,7 +14,7 @@ static const char *schema_text(const char *path)
     return NULL;
 }
 
-json_t *kind_schema_load(const char *path)
+static json_t *kind_schema_load(const char *path)
 {
     const char *text = schema_text(path);
     return text ? json_loads(text, JSON_REJECT_DUPLICATES, NULL) : NULL;
@@ -59,7 +60,7 @@ int kind_schemas_check(aa_error *err)
     return rc;
 }
 
-json_t *kind_schemas_describe(const job_kind *kind)
+static json_t *kind_schemas_describe(const job_kind *kind)
 {
     char path[128];
     kind_schema_path(path, sizeof path, kind, "spec");
@@ -71,4 +72,20 @@ json_t *kind_schemas_describe(const job_kind *kind)
                      "spec_schema", spec ? spec : json_null(), "result_schema",
                      result ? result : json_null(), "examples",
                      json_is_array(examples) ? json_incref(examples) : json_array());
+}
+
+char *kind_schemas_document(struct job_manager *jobs)
+{
+    json_t *kinds = json_array();
+    size_t count;
+    const job_kind *table = job_kinds_table(&count);
+    for (size_t k = 0; k < count; k++)
+        if (job_manager_kind(jobs, table[k].name))
+            json_array_append_new(kinds, kind_schemas_describe(&table[k]));
+    json_t *envelope = kind_schema_load("job_envelope.json");
+    json_t *doc = json_pack("{s:o,s:o}", "envelope_schema", envelope ? envelope : json_null(),
+                            "kinds", kinds);
+    char *text = doc ? json_dumps(doc, JSON_COMPACT) : NULL;
+    json_decref(doc);
+    return text;
 }

@@ -12,11 +12,11 @@
 /* Every kind that is not test-only has both schemas, the envelope schema exists and all of
  * them parse; else AA_EINVAL with a message naming the missing or broken file. */
 int kind_schemas_check(aa_error *err);
-/* The parsed schema at path (relative to proto/schemas), or NULL if there is none. New
- * reference. */
-json_t *kind_schema_load(const char *path);
-/* {"name","summary","spec_schema","result_schema","examples"} of a kind (schemas null when the
- * kind has none: only test-only kinds may lack them). */
-json_t *kind_schemas_describe(const job_kind *kind);
+struct job_manager;
+/* The GET /v1/kinds body, encoded: {"envelope_schema", "kinds": [{"name", "summary",
+ * "spec_schema", "result_schema", "examples"}, ...]} for every kind jobs runs (schemas null
+ * when a kind has none: only test-only kinds may lack them). malloc'd; NULL when out of memory.
+ * The schemas are embedded, so the daemon builds this once at start. */
+char *kind_schemas_document(struct job_manager *jobs);
 
 #endif
