@@ -84,6 +84,9 @@ typedef struct job_kind {
      * gives none) of a result this kind made, read through the kind's result decoder; NULL for
      * kinds whose results hold no best pattern. */
     json_t *(*best_of)(const json_t *result, double *e2);
+    /* How the kind splits into shards (job_split.h), or NULL: only kinds with a split run with
+     * "executor": "slurm". */
+    const struct job_split *split;
 } job_kind;
 
 const job_kind *job_kind_find(const char *name);
