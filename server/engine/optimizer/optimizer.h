@@ -152,6 +152,12 @@ int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metri
 typedef struct aa_multistart_params {
     aa_optimize_params local; /* per seed (its max_seconds is capped by the call's budget) */
     size_t seed_count;
+    /* Global index of the call's first seed (default 0): the call runs seeds first_seed ..
+     * first_seed + seed_count - 1, each exactly as a call from 0 would (its stream, distribution,
+     * configuration and perturbation stream follow the global index), so contiguous ranges
+     * split over calls (shards of a job) reproduce one call. Given seeds[] are the range's own
+     * (seeds[0] is seed first_seed). */
+    size_t first_seed;
     uint64_t rng_seed;
     int workers;             /* 1..64 threads */
     double max_seconds;      /* whole call; <= 0: none */
@@ -167,7 +173,10 @@ typedef struct aa_multistart_params {
     size_t config_count;
     /* Mirrored families only, 0 = off: first run every configuration once for
      * screen_iterations steps (within a quarter of max_seconds), then spend the rest on the
-     * screen_top configurations with the lowest E2 (per_seed then describes the second phase). */
+     * screen_top configurations with the lowest E2 (per_seed then describes the second phase).
+     * The screening always covers every configuration whatever first_seed is (it is
+     * deterministic, so every shard of a split run screens alike); the focus phase runs the
+     * seed range. */
     long screen_iterations;
     size_t screen_top;
     /* After each seed's descent, iterated local search (aa_optimize_perturbed) on its result
@@ -188,7 +197,7 @@ typedef struct aa_multistart_seed {
 
 typedef struct aa_multistart_result {
     double e2;
-    size_t best_seed; /* SIZE_MAX: the best came from the screening phase */
+    size_t best_seed; /* global index; SIZE_MAX: the best came from the screening phase */
     size_t seeds_run;
     long iterations;
     long evaluations;
@@ -196,7 +205,7 @@ typedef struct aa_multistart_result {
     size_t argmax_kernel;
     double argmax_angle_deg;
     double e2_before_snap;
-    aa_multistart_seed *per_seed; /* [seed_count] */
+    aa_multistart_seed *per_seed; /* [seed_count], local: per_seed[i] is seed first_seed + i */
     size_t seed_count;
 } aa_multistart_result;
 

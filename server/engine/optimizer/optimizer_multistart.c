@@ -135,6 +135,7 @@ static int make_seed(const aa_multistart_params *p, const aa_metric_params *metr
     bool use_tiled = aa_family_perturbable(p->family);
     const aa_seed_kind *kinds = p->kinds ? p->kinds : use_tiled ? tiled : all;
     size_t kc = p->kinds ? p->kind_count : use_tiled ? 2 : 5;
+    i += p->first_seed; /* everything below follows the global index */
     *kind = kinds[i % kc];
     aa_rng rng;
     aa_rng_seed(&rng, p->rng_seed, (uint64_t)i);
@@ -186,7 +187,7 @@ static void worker_main(void *arg)
             if (rc == AA_OK && p->perturb.rounds > 0 && aa_perturbable(&out)) {
                 /* Stream 2^32 + i: seed i's perturbations, apart from every seed's stream. */
                 aa_rng rng;
-                aa_rng_seed(&rng, p->rng_seed, (UINT64_C(1) << 32) + (uint64_t)i);
+                aa_rng_seed(&rng, p->rng_seed, (UINT64_C(1) << 32) + (uint64_t)(p->first_seed + i));
                 aa_pattern refined;
                 aa_optimize_result rr;
                 ic.iterations_before = r.iterations;
@@ -305,6 +306,7 @@ static int multistart_screened(const aa_multistart_params *p, const aa_metric_pa
     aa_optimize_progress_fn relay_fn = progress ? relay_progress : NULL;
     aa_multistart_params screen = *p;
     screen.screen_top = 0;
+    screen.first_seed = 0; /* every configuration, whatever range the call runs */
     screen.configs = all;
     screen.config_count = count;
     screen.seed_count = count;
@@ -463,7 +465,7 @@ static int multistart_once(const aa_multistart_params *p, const aa_metric_params
         ws[winner].best.kernels = NULL;
         memset(&ws[winner].best, 0, sizeof ws[winner].best);
         result->e2 = ws[winner].best_e2;
-        result->best_seed = ws[winner].best_seed;
+        result->best_seed = p->first_seed + ws[winner].best_seed;
         result->argmax_kernel = ws[winner].best_result.argmax_kernel;
         result->argmax_angle_deg = ws[winner].best_result.argmax_angle_deg;
         result->e2_before_snap = ws[winner].best_result.e2_before_snap;

@@ -5,6 +5,7 @@
 #define AA_RANDOM_PATTERNS_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "aa_pattern.h"
 #include "aa_metric.h"
@@ -23,5 +24,20 @@ typedef int (*aa_random_progress_fn)(void *user, size_t i);
 int aa_random_patterns(const aa_family *family, aa_seed_kind kind, const aa_metric_params *metric,
                        aa_rng *rng, size_t count, aa_random_progress_fn progress, void *user,
                        aa_pattern *best, aa_random_stats *stats, aa_error *err);
+
+/* Patterns first .. first + count - 1 of a numbered sequence: pattern i draws from its own
+ * PCG32 stream (rng_seed, i), so contiguous ranges evaluated apart (shards of a job) give the
+ * patterns and E2 values of one run over the whole sequence. e2 (optional, count entries)
+ * receives each pattern's E2 in order (to merge ranges exactly: min / avg / max recomputed over
+ * the concatenated lists equal one run's); *best_index the global index of *best (the first of
+ * equals). progress as above, with the local index. */
+int aa_random_patterns_range(const aa_family *family, aa_seed_kind kind,
+                             const aa_metric_params *metric, uint64_t rng_seed, size_t first,
+                             size_t count, aa_random_progress_fn progress, void *user, double *e2,
+                             aa_pattern *best, size_t *best_index, aa_random_stats *stats,
+                             aa_error *err);
+/* min / avg / max of E2 values in order (avg as a running sum divided by the count, the way
+ * aa_random_patterns_range computes it). */
+aa_random_stats aa_random_stats_of(const double *e2, size_t count);
 
 #endif
