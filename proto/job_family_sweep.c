@@ -84,6 +84,10 @@ json_t *proto_encode_family_sweep_result(const proto_family_sweep_result *r)
         json_object_set_new(o, "best", proto_encode_pattern(&r->ranked[0].best));
         json_object_set_new(o, "e2", proto_real(r->ranked[0].e2));
     }
+    if (o && !proto_run_info_encode(o, &r->run)) {
+        json_decref(o);
+        o = NULL;
+    }
     return o;
 }
 
@@ -134,7 +138,8 @@ static int decode_row(const json_t *j, proto_sweep_row *row, aa_error *err)
 int proto_decode_family_sweep_result(const json_t *j, proto_family_sweep_result *r, aa_error *err)
 {
     static const char *const keys[] = {
-        "cost", "configurations", "seeds_per_config", "ranked", "best", "e2", NULL};
+        "cost", "configurations", "seeds_per_config", "ranked",       "best",
+        "e2",   "executor",       "shards",           "reproducible", NULL};
     memset(r, 0, sizeof *r);
     long long configurations = 0, per_config = 0;
     const json_t *ranked = json_object_get(j, "ranked");
@@ -161,6 +166,8 @@ int proto_decode_family_sweep_result(const json_t *j, proto_family_sweep_result 
             proto_prefix_error(err, at);
         }
     }
+    if (!rc)
+        rc = proto_run_info_decode(j, &r->run, err);
     if (rc)
         proto_family_sweep_result_free(r);
     return rc;

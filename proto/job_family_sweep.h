@@ -6,6 +6,7 @@
 
 #include "aa_pattern.h"
 #include "job_optimizer_spec.h"
+#include "job_result_util.h"
 
 typedef struct proto_family_sweep_spec {
     proto_optimizer_spec common; /* max_seconds default 60, split evenly over configurations */
@@ -34,11 +35,12 @@ typedef struct proto_family_sweep_result {
     long configurations, seeds_per_config;
     proto_sweep_row *ranked;
     size_t ranked_count;
+    proto_run_info run;
 } proto_family_sweep_result;
 
 /* {"cost","configurations","seeds_per_config","ranked":[{"rank","config":{"corners","edges",
- * "interior"},"cost","e2","best"}],"best"?,"e2"?}: the first row's pattern and E2 are also the
- * result's "best" and "e2". NULL when out of memory. */
+ * "interior"},"cost","e2","best"}],"best"?,"e2"?,"executor","shards","reproducible"}: the first
+ * row's pattern and E2 are also the result's "best" and "e2". NULL when out of memory. */
 json_t *proto_encode_family_sweep_result(const proto_family_sweep_result *r);
 int proto_decode_family_sweep_result(const json_t *j, proto_family_sweep_result *out,
                                      aa_error *err);

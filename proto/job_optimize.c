@@ -69,12 +69,16 @@ json_t *proto_encode_optimize_result(const proto_optimize_result *r)
                                       "d3d12", r->d3d12, "e2_before_snap",
                                       proto_real(r->e2_before_snap), "quantisation_cost",
                                       proto_real(r->e2 - r->e2_before_snap)));
+    if (o && !proto_run_info_encode(o, &r->run)) {
+        json_decref(o);
+        o = NULL;
+    }
     return o;
 }
 
-static const char *const result_keys[] = {"best",       "e2",          "argmax",  "seeds_run",
-                                          "iterations", "evaluations", "seconds", "family",
-                                          "method",     "per_seed",    "grid",    NULL};
+static const char *const result_keys[] = {
+    "best",   "e2",       "argmax", "seeds_run", "iterations", "evaluations",  "seconds", "family",
+    "method", "per_seed", "grid",   "executor",  "shards",     "reproducible", NULL};
 static const char *const seed_keys[] = {"seed", "distribution", "initial_e2",
                                         "e2",   "iterations",   NULL};
 
@@ -165,6 +169,8 @@ int proto_decode_optimize_result(const json_t *j, proto_optimize_result *r, aa_e
     const json_t *grid = json_object_get(j, "grid");
     if (!rc && grid)
         rc = decode_grid_result(grid, r, err);
+    if (!rc)
+        rc = proto_run_info_decode(j, &r->run, err);
     if (rc)
         proto_optimize_result_free(r);
     return rc;

@@ -5,6 +5,7 @@
 #define AALAB_PROTO_JOB_OPTIMIZE_H
 
 #include "job_optimizer_spec.h"
+#include "job_result_util.h"
 #include "aa_pattern.h"
 
 typedef struct proto_optimize_spec {
@@ -42,12 +43,13 @@ typedef struct proto_optimize_result {
     int grid_bits;
     bool d3d12;
     double e2_before_snap; /* quantisation_cost = e2 - e2_before_snap */
+    proto_run_info run;
 } proto_optimize_result;
 
 /* {"best","e2","argmax":{"kernel","angle_deg"},"seeds_run","iterations","evaluations",
  * "seconds","family","method","per_seed":[{"seed","distribution","initial_e2","e2",
- * "iterations"}],"grid"?:{"bits","d3d12","e2_before_snap","quantisation_cost"}}; NULL when out
- * of memory. */
+ * "iterations"}],"grid"?:{"bits","d3d12","e2_before_snap","quantisation_cost"},"executor",
+ * "shards","reproducible"}; NULL when out of memory. */
 json_t *proto_encode_optimize_result(const proto_optimize_result *r);
 int proto_decode_optimize_result(const json_t *j, proto_optimize_result *out, aa_error *err);
 void proto_optimize_result_free(proto_optimize_result *r);

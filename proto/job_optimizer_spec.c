@@ -8,8 +8,8 @@
 
 #include "codec.h"
 
-static const char *const shared_keys[] = {"filter",   "acuity", "angles", "max_seconds",
-                                          "rng_seed", "method", NULL};
+static const char *const shared_keys[] = {"filter",         "acuity",   "angles", "max_seconds",
+                                          "max_iterations", "rng_seed", "method", NULL};
 
 int proto_spec_number(const json_t *spec, const char *key, double lo, double hi, double *out,
                       aa_error *err)
@@ -169,6 +169,15 @@ int proto_optimizer_spec_decode(const json_t *spec, const char *const *kind_keys
                                  "angles", err);
     if (!rc)
         rc = proto_spec_number(spec, "max_seconds", 0.01, 86400, &s->max_seconds, err);
+    json_int_t iterations = 0;
+    if (!rc)
+        rc = proto_spec_integer(spec, "max_iterations", 1, 10000000, &iterations, err);
+    s->max_iterations = (long)iterations;
+    /* An iteration budget alone does not depend on the clock: no time budget at all, and the
+     * result is reproducible. Any time budget stops seeds at clock-dependent points. */
+    s->reproducible = iterations > 0 && !json_object_get(spec, "max_seconds");
+    if (s->reproducible)
+        s->max_seconds = 0;
     json_int_t seed = 1;
     if (!rc)
         rc = proto_spec_integer(spec, "rng_seed", 0, (json_int_t)1 << 53, &seed, err);
@@ -200,4 +209,9 @@ aa_optimize_method proto_optimizer_spec_method(const proto_optimizer_spec *s,
                                                bool tiled_without_border, aa_optimize_mode mode)
 {
     return s->method_auto ? aa_auto_method(tiled_without_border, mode) : s->method;
+}
+
+long proto_optimizer_spec_iterations(const proto_optimizer_spec *s, long def)
+{
+    return s->max_iterations > 0 ? s->max_iterations : def;
 }

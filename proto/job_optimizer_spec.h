@@ -1,5 +1,6 @@
 /* The spec fields the optimizer job kinds (optimize, family-sweep, random-stats) share, decoded
- * in one place: filter, acuity, angles, max_seconds, rng_seed, mode, method, grid. Each kind's
+ * in one place: filter, acuity, angles, max_seconds, max_iterations, rng_seed, mode, method,
+ * grid. Each kind's
  * decoder (proto/job_<kind>.c) names its own keys; proto_optimizer_spec_decode checks the spec
  * against the shared keys plus those (one unknown-key check) and decodes the shared ones. */
 #ifndef AALAB_PROTO_JOB_OPTIMIZER_SPEC_H
@@ -28,7 +29,12 @@ typedef struct proto_optimizer_spec {
     aa_acuity acuity;
     double *angles; /* NULL: the acuity's default set */
     size_t angle_count;
+    /* The budget. "max_iterations" without "max_seconds": no time budget (max_seconds 0) and a
+     * reproducible result (the same for any number of shards or workers); any max_seconds
+     * (given, or the kind's default when neither is given) makes the result best effort. */
     double max_seconds;
+    long max_iterations; /* per seed (per optimised stage for random-stats); 0: kind default */
+    bool reproducible;
     uint64_t rng_seed; /* default 1 */
     aa_optimize_mode mode;
     bool method_auto; /* "method" absent or "auto": the engine's choice (aa_auto_method) */
@@ -44,6 +50,8 @@ int proto_optimizer_spec_decode(const json_t *spec, const char *const *kind_keys
                                 double def_seconds, proto_optimizer_spec *out, aa_error *err);
 void proto_optimizer_spec_free(proto_optimizer_spec *s);
 aa_metric_params proto_optimizer_spec_metric(const proto_optimizer_spec *s);
+/* The spec's max_iterations, or def when it gave none. */
+long proto_optimizer_spec_iterations(const proto_optimizer_spec *s, long def);
 /* The step rule for a run of mode on patterns that are (or not) tiled without border samples:
  * the spec's "method", or the engine's choice for "auto". */
 aa_optimize_method proto_optimizer_spec_method(const proto_optimizer_spec *s,

@@ -52,13 +52,18 @@ static json_t *encode_stage(const proto_stats_stage *s)
 
 json_t *proto_encode_random_stats_result(const proto_random_stats_result *r)
 {
-    return json_pack("{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:o,s:o,s:o,s:o}", "family", r->family,
-                     "distribution", aa_seed_kind_name(r->distribution), "count",
-                     (json_int_t)r->count, "random", "min", proto_real(r->min), "avg",
-                     proto_real(r->avg), "max", proto_real(r->max), "best_random",
-                     proto_encode_pattern(&r->best_random), "opt_w", encode_stage(&r->opt_w),
-                     "opt_wp", encode_stage(&r->opt_wp), "best",
-                     proto_encode_pattern(&r->opt_wp.pattern), "e2", proto_real(r->opt_wp.e2));
+    json_t *o =
+        json_pack("{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:o,s:o,s:o,s:o}", "family", r->family,
+                  "distribution", aa_seed_kind_name(r->distribution), "count", (json_int_t)r->count,
+                  "random", "min", proto_real(r->min), "avg", proto_real(r->avg), "max",
+                  proto_real(r->max), "best_random", proto_encode_pattern(&r->best_random), "opt_w",
+                  encode_stage(&r->opt_w), "opt_wp", encode_stage(&r->opt_wp), "best",
+                  proto_encode_pattern(&r->opt_wp.pattern), "e2", proto_real(r->opt_wp.e2));
+    if (o && !proto_run_info_encode(o, &r->run)) {
+        json_decref(o);
+        o = NULL;
+    }
+    return o;
 }
 
 static int decode_stage(const json_t *j, const char *field, proto_stats_stage *s, aa_error *err)
@@ -79,7 +84,8 @@ static int decode_stage(const json_t *j, const char *field, proto_stats_stage *s
 int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result *r, aa_error *err)
 {
     static const char *const keys[] = {"family", "distribution", "count", "random", "best_random",
-                                       "opt_w",  "opt_wp",       "best",  "e2",     NULL};
+                                       "opt_w",  "opt_wp",       "best",  "e2",     "executor",
+                                       "shards", "reproducible", NULL};
     static const char *const random_keys[] = {"min", "avg", "max", NULL};
     memset(r, 0, sizeof *r);
     const json_t *random = json_object_get(j, "random");
@@ -109,6 +115,8 @@ int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result 
         rc = decode_stage(json_object_get(j, "opt_w"), "opt_w", &r->opt_w, err);
     if (!rc)
         rc = decode_stage(json_object_get(j, "opt_wp"), "opt_wp", &r->opt_wp, err);
+    if (!rc)
+        rc = proto_run_info_decode(j, &r->run, err);
     if (family)
         snprintf(r->family, sizeof r->family, "%s", family);
     r->count = (long)count;

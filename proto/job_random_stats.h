@@ -4,6 +4,7 @@
 #define AALAB_PROTO_JOB_RANDOM_STATS_H
 
 #include "job_optimizer_spec.h"
+#include "job_result_util.h"
 #include "aa_pattern.h"
 
 typedef struct proto_random_stats_spec {
@@ -30,11 +31,12 @@ typedef struct proto_random_stats_result {
     double min, avg, max; /* E2 of the random patterns */
     aa_pattern best_random;
     proto_stats_stage opt_w, opt_wp; /* weights only; weights and positions */
+    proto_run_info run;
 } proto_random_stats_result;
 
 /* {"family","distribution","count","random":{"min","avg","max"},"best_random","opt_w":{"e2",
- * "pattern","method"},"opt_wp":{...},"best","e2"}: Opt W+P is also the result's "best" and
- * "e2". NULL when out of memory. */
+ * "pattern","method"},"opt_wp":{...},"best","e2","executor","shards","reproducible"}: Opt W+P is
+ * also the result's "best" and "e2". NULL when out of memory. */
 json_t *proto_encode_random_stats_result(const proto_random_stats_result *r);
 int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result *out,
                                      aa_error *err);

@@ -1,6 +1,7 @@
 #include "job_result_util.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "codec.h"
@@ -47,5 +48,39 @@ int proto_result_method(const json_t *obj, const char *key, aa_optimize_method *
     const char *name = json_string_value(json_object_get(obj, key));
     if (!name || aa_optimize_method_parse(name, out))
         return aa_error_set(err, AA_EINVAL, key, "must be laine-aila, minimax or smooth");
+    return AA_OK;
+}
+
+bool proto_run_info_encode(json_t *o, const proto_run_info *ri)
+{
+    return o &&
+           !json_object_set_new(o, "executor",
+                                json_string(ri->executor[0] ? ri->executor : "local")) &&
+           !json_object_set_new(o, "shards", json_integer(ri->shards > 0 ? ri->shards : 1)) &&
+           !json_object_set_new(o, "reproducible", json_boolean(ri->reproducible));
+}
+
+int proto_run_info_decode(const json_t *obj, proto_run_info *out, aa_error *err)
+{
+    *out = (proto_run_info){"local", 1, false};
+    const json_t *executor = json_object_get(obj, "executor");
+    const json_t *shards = json_object_get(obj, "shards");
+    const json_t *reproducible = json_object_get(obj, "reproducible");
+    if (executor) {
+        const char *e = json_string_value(executor);
+        if (!e || (strcmp(e, "local") && strcmp(e, "slurm")))
+            return aa_error_set(err, AA_EINVAL, "executor", "must be local or slurm");
+        snprintf(out->executor, sizeof out->executor, "%s", e);
+    }
+    if (shards) {
+        if (!json_is_integer(shards) || json_integer_value(shards) < 1)
+            return aa_error_set(err, AA_EINVAL, "shards", "must be a positive integer");
+        out->shards = (long)json_integer_value(shards);
+    }
+    if (reproducible) {
+        if (!json_is_boolean(reproducible))
+            return aa_error_set(err, AA_EINVAL, "reproducible", "must be true or false");
+        out->reproducible = json_is_true(reproducible);
+    }
     return AA_OK;
 }

@@ -18,4 +18,18 @@ int proto_result_pattern(const json_t *obj, const char *key, bool optional, aa_p
                          bool *present, aa_error *err);
 int proto_result_method(const json_t *obj, const char *key, aa_optimize_method *out, aa_error *err);
 
+/* How an optimizer job ran (optimize, family-sweep, random-stats results): "executor" ("local"
+ * or "slurm"), "shards" (the most shards a stage had) and "reproducible" (the budget did not
+ * depend on the clock, so the result is the same for any number of shards or workers). */
+typedef struct proto_run_info {
+    char executor[8]; /* "" encodes as "local" */
+    long shards;      /* 0 encodes as 1 */
+    bool reproducible;
+} proto_run_info;
+/* Adds the three keys to o (false when out of memory). */
+bool proto_run_info_encode(json_t *o, const proto_run_info *ri);
+/* The three keys of a result; results stored before they existed lack them: local, 1 shard, not
+ * reproducible. */
+int proto_run_info_decode(const json_t *obj, proto_run_info *out, aa_error *err);
+
 #endif

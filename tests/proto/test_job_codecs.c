@@ -77,6 +77,9 @@ static void test_optimize_spec(void **state)
     OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"seeds\":0}", "seeds");
     OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"seeds\":2.5}", "seeds");
     OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"max_seconds\":0}", "max_seconds");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"max_iterations\":0}", "max_iterations");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"max_iterations\":10000001}", "max_iterations");
+    OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"max_iterations\":1.5}", "max_iterations");
     OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"grid\":{\"bits\":13}}", "grid.bits");
     OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"mode\":\"all\"}", "mode");
     OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"distributions\":[\"gauss\"]}", "distributions[0]");
@@ -85,6 +88,46 @@ static void test_optimize_spec(void **state)
     OPT_FAILS("{\"family\":\"P(4,1+,2)\",\"pattern\":{\"preset\":\"rgss\"}}", "family");
     OPT_FAILS("{\"pattern\":{\"preset\":\"rgss\"},\"seeds\":2}", "seeds");
     OPT_FAILS("{\"pattern\":{\"preset\":\"flipqaud\"}}", "pattern.preset");
+}
+
+/* max_iterations alone: no time budget and a reproducible result; with max_seconds, or with
+ * neither, best effort. The same rule for the three optimizer kinds (shared decoder). */
+static void test_budget_and_reproducibility(void **state)
+{
+    (void)state;
+    aa_error err = {0};
+    proto_optimize_spec s;
+    json_t *j = parse("{\"family\":\"P(4,1+,2)\",\"max_iterations\":300}");
+    assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
+    assert_true(s.common.reproducible);
+    assert_true(s.common.max_seconds == 0);
+    assert_int_equal(proto_optimizer_spec_iterations(&s.common, 20000), 300);
+    proto_optimize_spec_free(&s);
+    json_decref(j);
+    j = parse("{\"family\":\"P(4,1+,2)\",\"max_iterations\":300,\"max_seconds\":5}");
+    assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
+    assert_false(s.common.reproducible);
+    assert_true(s.common.max_seconds == 5);
+    proto_optimize_spec_free(&s);
+    json_decref(j);
+    j = parse("{\"family\":\"P(4,1+,2)\"}");
+    assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
+    assert_false(s.common.reproducible);
+    assert_int_equal(proto_optimizer_spec_iterations(&s.common, 20000), 20000);
+    proto_optimize_spec_free(&s);
+    json_decref(j);
+    proto_family_sweep_spec f;
+    j = parse("{\"cost\":1.25,\"max_iterations\":50}");
+    assert_int_equal(proto_decode_family_sweep_spec(j, &f, &err), AA_OK);
+    assert_true(f.common.reproducible && f.common.max_seconds == 0);
+    proto_family_sweep_spec_free(&f);
+    json_decref(j);
+    proto_random_stats_spec r;
+    j = parse("{\"family\":\"P(1,4,2)\",\"max_iterations\":50}");
+    assert_int_equal(proto_decode_random_stats_spec(j, &r, &err), AA_OK);
+    assert_true(r.common.reproducible && r.common.max_seconds == 0);
+    proto_random_stats_spec_free(&r);
+    json_decref(j);
 }
 
 static void test_sweep_and_stats_spec(void **state)
@@ -158,15 +201,22 @@ static void test_optimize_result(void **state)
                                .per_seed_count = 2};
     preset_pattern("rgss", &r.best);
     json_t *j = proto_encode_optimize_result(&r);
-    const char *order[] = {"best",        "e2",      "argmax", "seeds_run", "iterations",
-                           "evaluations", "seconds", "family", "method",    "per_seed"};
+    const char *order[] = {"best",        "e2",      "argmax",      "seeds_run", "iterations",
+                           "evaluations", "seconds", "family",      "method",    "per_seed",
+                           "executor",    "shards",  "reproducible"};
     const char *key;
     json_t *v;
     size_t i = 0;
     json_object_foreach(j, key, v) assert_string_equal(key, order[i++]);
-    assert_int_equal(i, 10);
+    assert_int_equal(i, 13);
     assert_string_equal(json_string_value(json_object_get(j, "family")), r.best.family);
+    assert_string_equal(json_string_value(json_object_get(j, "executor")), "local");
+    assert_int_equal(json_integer_value(json_object_get(j, "shards")), 1);
+    assert_true(json_is_false(json_object_get(j, "reproducible")));
     json_decref(j);
+    ROUND_TRIP_ONLY(proto_optimize_result, proto_encode_optimize_result,
+                    proto_decode_optimize_result, proto_optimize_result_free, &r);
+    r.run = (proto_run_info){"slurm", 7, true};
     ROUND_TRIP_ONLY(proto_optimize_result, proto_encode_optimize_result,
                     proto_decode_optimize_result, proto_optimize_result_free, &r);
     r.have_grid = true;
@@ -193,7 +243,7 @@ static void test_sweep_and_stats_result(void **state)
         {2, {{1, 1, 0, 0}, {0, 0, 0, 0}, 0}, 0.5, INFINITY, false, {0}},
     };
     preset_pattern("rgss", &rows[0].best);
-    proto_family_sweep_result s = {0.75, 2, 1, rows, 2};
+    proto_family_sweep_result s = {0.75, 2, 1, rows, 2, {"slurm", 3, true}};
     json_t *j = proto_encode_family_sweep_result(&s);
     assert_true(
         json_is_null(json_object_get(json_array_get(json_object_get(j, "ranked"), 1), "best")));
@@ -245,9 +295,12 @@ static void test_preset_suggestions(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_optimize_spec),      cmocka_unit_test(test_sweep_and_stats_spec),
-        cmocka_unit_test(test_optimize_result),    cmocka_unit_test(test_sweep_and_stats_result),
+        cmocka_unit_test(test_optimize_spec),
+        cmocka_unit_test(test_sweep_and_stats_spec),
+        cmocka_unit_test(test_optimize_result),
+        cmocka_unit_test(test_sweep_and_stats_result),
         cmocka_unit_test(test_preset_suggestions),
+        cmocka_unit_test(test_budget_and_reproducibility),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
