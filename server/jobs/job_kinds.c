@@ -15,7 +15,8 @@ static const job_kind table[] = {
      .run = kind_optimize_run,
      .encode_result = kind_optimize_encode_result,
      .free_result = kind_optimize_free_result,
-     .best_of = kind_optimize_best_of},
+     .best_of = kind_optimize_best_of,
+     .split = &kind_optimize_split},
     {.name = "family-sweep",
      .summary = "Optimises every mirrored P(4,1+,n) placement configuration of one cost and "
                 "ranks them by E2.",
@@ -26,7 +27,8 @@ static const job_kind table[] = {
      .run = kind_family_sweep_run,
      .encode_result = kind_family_sweep_encode_result,
      .free_result = kind_family_sweep_free_result,
-     .best_of = kind_family_sweep_best_of},
+     .best_of = kind_family_sweep_best_of,
+     .split = &kind_family_sweep_split},
     {.name = "random-stats",
      .summary = "Min, average and max E2 of random patterns of a family, and the best of them "
                 "optimised for weights (Opt W) and for weights and positions (Opt W+P).",
@@ -37,7 +39,8 @@ static const job_kind table[] = {
      .run = kind_random_stats_run,
      .encode_result = kind_random_stats_encode_result,
      .free_result = kind_random_stats_free_result,
-     .best_of = kind_random_stats_best_of},
+     .best_of = kind_random_stats_best_of,
+     .split = &kind_random_stats_split},
     {.name = "compare",
      .summary = "Renders one scene with several patterns and tabulates samples per pixel, E2, "
                 "RMSE and max deviation against a supersampled reference.",

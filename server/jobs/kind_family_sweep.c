@@ -1,16 +1,24 @@
 /* Job kind "family-sweep" (Hasselgren et al. Fig. 3 workflow): enumerate the mirrored
  * P(4,1+,n) placement configurations of a cost, optimise each from K seeds, rank by E2 and keep
  * every configuration's best pattern. The spec is proto/job_family_sweep.h.
- * The time budget is split evenly over the configurations. */
+ * The time budget is split evenly over the configurations.
+ * Split (job_split.h): one stage, shards of contiguous configuration ranges (configuration c's
+ * seeds draw from stream (rng_seed, c) whichever shard runs it). A shard's output, and the
+ * merged state, is {"rows": [{"config": index, "e2", "best": pattern|null, "iterations",
+ * "evaluations", "seconds"}]} in configuration order; finish ranks them. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "codec.h"
 #include "aa_pattern.h"
+#include "codec.h"
 #include "job_family_sweep.h"
+#include "job_result_util.h"
+#include "job_split_local.h"
 #include "kinds.h"
 #include "optimizer_bridge.h"
+#include "split_ranges.h"
 
 JOB_KIND_SPEC_PARAMS(kind_family_sweep, proto_family_sweep_spec, proto_decode_family_sweep_spec,
                      proto_family_sweep_spec_free)
@@ -48,91 +56,253 @@ static int row_cmp(const void *a, const void *b)
     return (x->e2 > y->e2) - (x->e2 < y->e2);
 }
 
-static int family_sweep_run(void *params, job_ctx *ctx, proto_family_sweep_result *out,
-                            aa_error *err)
+static int plan(const void *params, int stage, const json_t *prior, size_t max_shards,
+                json_t **shards, aa_error *err)
 {
-    proto_family_sweep_spec *sp = params;
-    aa_metric_params metric = proto_optimizer_spec_metric(&sp->common);
+    (void)prior;
+    const proto_family_sweep_spec *sp = params;
+    if (stage != 0)
+        return aa_error_set(err, AA_EINVAL, "stage", "family-sweep has one stage");
     aa_mirrored_config *configs;
     size_t count;
     int rc = aa_enumerate_mirrored(sp->cost, &configs, &count, err);
     if (rc)
         return rc;
-    proto_sweep_row *rows = calloc(count ? count : 1, sizeof *rows);
-    aa_pattern *seeds = calloc(sp->per_config, sizeof *seeds);
-    if (!rows || !seeds) {
-        free(rows);
-        free(seeds);
-        free(configs);
-        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    free(configs);
+    if (count == 0)
+        return aa_error_set(err, AA_EINVAL, "cost", "no configuration of this cost");
+    *shards = split_ranges(count, max_shards);
+    return *shards ? AA_OK : aa_error_set(err, AA_ENOMEM, "", "out of memory");
+}
+
+/* Configuration c (of count) from the spec's seeds per configuration; *row gets its result. */
+static int run_config(const proto_family_sweep_spec *sp, const aa_mirrored_config *config, size_t c,
+                      size_t count, aa_pattern *seeds, opt_bridge *b, json_t **row, aa_error *err)
+{
+    aa_metric_params metric = proto_optimizer_spec_metric(&sp->common);
+    aa_rng rng;
+    aa_rng_seed(&rng, sp->common.rng_seed, (uint64_t)c);
+    int rc = AA_OK;
+    size_t made = 0;
+    for (; made < sp->per_config && !rc; made++) {
+        aa_seed_kind kind =
+            sp->kind_count ? sp->kinds[made % sp->kind_count] : (aa_seed_kind)(made % 5);
+        rc = aa_mirrored_config_seed(config, kind, &sp->common.filter, &rng, &seeds[made], err);
     }
-    opt_job_bridge b = {ctx, 0, 0, 0, 0, 0, INFINITY, -1};
-    size_t done = 0;
-    for (size_t c = 0; c < count && !rc; c++) {
-        rows[c].config = configs[c];
-        rows[c].e2 = INFINITY;
-        aa_rng rng;
-        aa_rng_seed(&rng, sp->common.rng_seed, (uint64_t)c);
-        size_t made = 0;
-        for (; made < sp->per_config && !rc; made++) {
-            aa_seed_kind kind =
-                sp->kind_count ? sp->kinds[made % sp->kind_count] : (aa_seed_kind)(made % 5);
-            rc = aa_mirrored_config_seed(&configs[c], kind, &sp->common.filter, &rng, &seeds[made],
-                                         err);
-        }
-        aa_multistart_params mp;
-        aa_multistart_params_default(&mp);
-        mp.local.mode = sp->common.mode;
-        /* Mirrored configurations are never tiled without border samples. */
-        mp.local.method = proto_optimizer_spec_method(&sp->common, false, sp->common.mode);
-        mp.local.grid_bits = sp->common.grid_bits;
-        mp.local.d3d12_range = sp->common.d3d12;
-        mp.local.max_iterations = 20000;
-        mp.local.clock = job_ctx_clock(ctx);
-        mp.local.stall_iterations = 300;
-        mp.seeds = seeds;
-        mp.seed_count = sp->per_config;
-        mp.rng_seed = sp->common.rng_seed;
-        int w = job_ctx_workers(ctx);
-        mp.workers = w < 1 ? 1 : w > 64 ? 64 : w;
-        mp.max_seconds = sp->common.max_seconds / (double)count;
-        b.base = (double)c / (double)count;
-        b.span = 1.0 / (double)count;
-        aa_pattern best;
-        aa_multistart_result r;
-        if (!rc)
-            rc = aa_multistart(&mp, &metric, opt_job_progress, &b, &best, &r, err);
-        if (!rc) {
-            rows[c].e2 = r.e2;
-            rows[c].best = best; /* the row owns it now */
-            rows[c].have_best = true;
-            b.iterations_before += r.iterations;
-            b.evaluations_before += r.evaluations;
-            b.seconds_before += r.seconds;
-            done++;
-            aa_multistart_result_free(&r);
-        }
-        for (size_t i = 0; i < made; i++)
-            aa_pattern_free(&seeds[i]);
-        if (!rc && job_ctx_cancelled(ctx))
+    aa_multistart_params mp;
+    aa_multistart_params_default(&mp);
+    mp.local.mode = sp->common.mode;
+    /* Mirrored configurations are never tiled without border samples. */
+    mp.local.method = proto_optimizer_spec_method(&sp->common, false, sp->common.mode);
+    mp.local.grid_bits = sp->common.grid_bits;
+    mp.local.d3d12_range = sp->common.d3d12;
+    mp.local.max_iterations = proto_optimizer_spec_iterations(&sp->common, 20000);
+    mp.local.clock = b->ctx->clock;
+    mp.local.stall_iterations = 300;
+    mp.seeds = seeds;
+    mp.seed_count = sp->per_config;
+    mp.rng_seed = sp->common.rng_seed;
+    int w = b->ctx->workers;
+    mp.workers = w < 1 ? 1 : w > 64 ? 64 : w;
+    mp.max_seconds = sp->common.max_seconds / (double)count; /* 0 (none) stays none */
+    aa_pattern best;
+    aa_multistart_result r;
+    if (!rc)
+        rc = aa_multistart(&mp, &metric, opt_bridge_progress, b, &best, &r, err);
+    for (size_t i = 0; i < made; i++)
+        aa_pattern_free(&seeds[i]);
+    if (rc)
+        return rc;
+    opt_bridge_add(b, r.iterations, r.evaluations, r.seconds);
+    *row = json_pack("{s:I,s:o,s:o,s:I,s:I,s:o}", "config", (json_int_t)c, "e2", proto_real(r.e2),
+                     "best", proto_encode_pattern(&best), "iterations", (json_int_t)r.iterations,
+                     "evaluations", (json_int_t)r.evaluations, "seconds", proto_real(r.seconds));
+    aa_pattern_free(&best);
+    aa_multistart_result_free(&r);
+    return *row ? AA_OK : aa_error_set(err, AA_ENOMEM, "", "out of memory");
+}
+
+static int run_shard(const void *params, int stage, const json_t *shard, const json_t *prior,
+                     const shard_ctx *ctx, json_t **output, aa_error *err)
+{
+    (void)prior;
+    const proto_family_sweep_spec *sp = params;
+    *output = NULL;
+    if (stage != 0)
+        return aa_error_set(err, AA_EINVAL, "stage", "family-sweep has one stage");
+    aa_mirrored_config *configs;
+    size_t count, first, n;
+    int rc = aa_enumerate_mirrored(sp->cost, &configs, &count, err);
+    if (rc)
+        return rc;
+    rc = split_range_decode(shard, count, &first, &n, err);
+    aa_pattern *seeds = calloc(sp->per_config, sizeof *seeds);
+    json_t *rows = json_array();
+    if (!rc && (!seeds || !rows))
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    opt_bridge b = opt_bridge_make(ctx, 0, 0);
+    for (size_t i = 0; !rc && i < n; i++) {
+        b.base = (double)i / (double)n;
+        b.span = 1.0 / (double)n;
+        json_t *row = NULL;
+        rc = run_config(sp, &configs[first + i], first + i, count, seeds, &b, &row, err);
+        if (!rc && json_array_append_new(rows, row))
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        if (!rc && opt_bridge_report(&b, (double)(i + 1) / (double)n))
             rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
     }
     if (!rc) {
-        qsort(rows, count, sizeof *rows, row_cmp);
-        for (size_t c = 0; c < count; c++) {
-            rows[c].rank = (long)c + 1;
-            rows[c].cost = aa_mirrored_config_cost(&rows[c].config);
-        }
+        opt_bridge_end(&b);
+        *output = json_pack("{s:O}", "rows", rows);
+        if (!*output)
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
-    *out = (proto_family_sweep_result){.cost = sp->cost,
-                                       .configurations = (long)count,
-                                       .seeds_per_config = (long)sp->per_config,
-                                       .ranked = rows,
-                                       .ranked_count = count}; /* frees rows */
+    json_decref(rows);
     free(seeds);
     free(configs);
     return rc;
 }
 
-JOB_KIND_RESULT(kind_family_sweep, proto_family_sweep_result, family_sweep_run,
-                proto_encode_family_sweep_result, proto_family_sweep_result_free)
+static int merge(const void *params, int stage, json_t *const *outputs, size_t count,
+                 const json_t *prior, json_t **merged, aa_error *err)
+{
+    (void)params;
+    (void)stage;
+    (void)prior;
+    json_t *rows = json_array();
+    int rc = rows ? AA_OK : aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    for (size_t i = 0; !rc && i < count; i++) {
+        json_t *part = json_object_get(outputs[i], "rows");
+        if (!json_is_array(part) || json_object_size(outputs[i]) != 1)
+            rc = aa_error_set(err, AA_EINVAL, "rows", "shard %zu: expected {\"rows\": [...]}", i);
+        else if (json_array_extend(rows, part))
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    *merged = rc ? NULL : json_pack("{s:o}", "rows", rows);
+    if (rc)
+        json_decref(rows);
+    else if (!*merged)
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    return rc;
+}
+
+static int decode_row(const json_t *j, size_t count, size_t *config, proto_sweep_row *row,
+                      aa_error *err)
+{
+    json_int_t c = -1, iterations, evaluations;
+    json_t *e2 = NULL, *best = NULL, *seconds = NULL;
+    json_error_t je;
+    if (json_unpack_ex((json_t *)j, &je, JSON_STRICT, "{s:I,s:o,s:o,s:I,s:I,s:o}", "config", &c,
+                       "e2", &e2, "best", &best, "iterations", &iterations, "evaluations",
+                       &evaluations, "seconds", &seconds))
+        return aa_error_set(err, AA_EINVAL, "rows", "bad row: %s", je.text);
+    if (c < 0 || (size_t)c >= count)
+        return aa_error_set(err, AA_EINVAL, "rows", "configuration %lld out of range",
+                            (long long)c);
+    *config = (size_t)c;
+    int rc = proto_result_real(j, "e2", &row->e2, err);
+    if (!rc)
+        rc = proto_result_pattern(j, "best", true, &row->best, &row->have_best, err);
+    return rc;
+}
+
+static int finish(const void *params, const json_t *merged, const char *executor, size_t shards,
+                  void **result, aa_error *err)
+{
+    const proto_family_sweep_spec *sp = params;
+    *result = NULL;
+    aa_mirrored_config *configs;
+    size_t count;
+    int rc = aa_enumerate_mirrored(sp->cost, &configs, &count, err);
+    if (rc)
+        return rc;
+    json_t *rows = json_object_get(merged, "rows");
+    proto_family_sweep_result *r = calloc(1, sizeof *r);
+    proto_sweep_row *ranked = calloc(count ? count : 1, sizeof *ranked);
+    bool *seen = calloc(count ? count : 1, sizeof *seen);
+    if (!r || !ranked || !seen)
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    if (!rc && json_array_size(rows) != count)
+        rc = aa_error_set(err, AA_EINVAL, "rows", "%zu rows for %zu configurations",
+                          json_array_size(rows), count);
+    size_t decoded = 0;
+    for (; !rc && decoded < count; decoded++) {
+        size_t c;
+        rc = decode_row(json_array_get(rows, decoded), count, &c, &ranked[decoded], err);
+        if (!rc && (seen[c] || c != decoded))
+            rc = aa_error_set(err, AA_EINVAL, "rows", "rows out of configuration order");
+        if (rc) {
+            aa_pattern_free(&ranked[decoded].best);
+            break;
+        }
+        seen[c] = true;
+        ranked[decoded].config = configs[c];
+    }
+    if (!rc) {
+        /* The same order as one run's: rows in configuration order, then sorted by E2. */
+        qsort(ranked, count, sizeof *ranked, row_cmp);
+        for (size_t c = 0; c < count; c++) {
+            ranked[c].rank = (long)c + 1;
+            ranked[c].cost = aa_mirrored_config_cost(&ranked[c].config);
+        }
+        *r = (proto_family_sweep_result){.cost = sp->cost,
+                                         .configurations = (long)count,
+                                         .seeds_per_config = (long)sp->per_config,
+                                         .ranked = ranked,
+                                         .ranked_count = count};
+        snprintf(r->run.executor, sizeof r->run.executor, "%s", executor);
+        r->run.shards = (long)shards;
+        r->run.reproducible = sp->common.reproducible;
+        *result = r;
+    } else {
+        for (size_t i = 0; i < decoded; i++)
+            aa_pattern_free(&ranked[i].best);
+        free(ranked);
+        free(r);
+    }
+    free(seen);
+    free(configs);
+    return rc;
+}
+
+static json_t *best_of_output(const void *params, int stage, const json_t *output)
+{
+    (void)params;
+    (void)stage;
+    const json_t *rows = json_object_get(output, "rows"), *row, *best = NULL, *best_e2 = NULL;
+    size_t i;
+    json_array_foreach(rows, i, row)
+    {
+        const json_t *e2 = json_object_get(row, "e2");
+        if (json_is_number(e2) && json_is_object(json_object_get(row, "best")) &&
+            (!best_e2 || json_number_value(e2) < json_number_value(best_e2))) {
+            best_e2 = e2;
+            best = json_object_get(row, "best");
+        }
+    }
+    return best ? json_pack("{s:O,s:O}", "pattern", best, "e2", best_e2) : NULL;
+}
+
+const job_split kind_family_sweep_split = {.stages = 1,
+                                           .plan = plan,
+                                           .run_shard = run_shard,
+                                           .merge = merge,
+                                           .finish = finish,
+                                           .best_of_output = best_of_output};
+
+int kind_family_sweep_run(void *params, job_ctx *ctx, void **result, aa_error *err)
+{
+    return job_split_run_local(&kind_family_sweep_split, params, ctx, result, err);
+}
+
+json_t *kind_family_sweep_encode_result(const void *result)
+{
+    return proto_encode_family_sweep_result(result);
+}
+
+void kind_family_sweep_free_result(void *result)
+{
+    if (result)
+        proto_family_sweep_result_free(result);
+    free(result);
+}

@@ -4,17 +4,30 @@
  * positions ("Opt W+P"), each with half of the remaining time budget. Opt W+P does not start
  * from Opt W: the weights-only optimum is a kink of the max where the descent finds no step in
  * the joint space either (measured, P(16,16,4) Poisson: W+P from Opt W 0.241 = Opt W, from the
- * random pattern 0.199). The spec is proto/job_random_stats.h. */
+ * random pattern 0.199). The spec is proto/job_random_stats.h.
+ * Split (job_split.h), two stages. Stage 0: shards of contiguous pattern ranges, pattern i drawn
+ * from stream (rng_seed, i) (since issue 13: before, the patterns came one after the other from
+ * stream (rng_seed, 0), so results of the same spec differ from older ones; accepted, it is what
+ * lets ranges reproduce one run); a shard's output is {"e2": [its patterns' E2 in order], "best":
+ * pattern, "best_index", "best_e2"}, merged into {"count", "min", "avg", "max", "best_random",
+ * "best_index", "best_e2"} with min / avg / max over the concatenated lists (the order one run
+ * sums them in, so bit-identical for any split). Stage 1: two fixed shards, Opt W and Opt W+P
+ * ({"stage": "opt_w" | "opt_wp"}), both from the merged best random pattern; each outputs {"e2",
+ * "pattern", "method"}; the merged state is stage 0's plus "opt_w" and "opt_wp". */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "aa_optimizer.h"
 #include "codec.h"
 #include "job_random_stats.h"
+#include "job_result_util.h"
+#include "job_split_local.h"
 #include "kinds.h"
 #include "optimizer_bridge.h"
-#include "aa_optimizer.h"
+#include "split_ranges.h"
 
 JOB_KIND_SPEC_PARAMS(kind_random_stats, proto_random_stats_spec, proto_decode_random_stats_spec,
                      proto_random_stats_spec_free)
@@ -43,9 +56,13 @@ json_t *kind_random_stats_best_of(const json_t *result, double *e2)
     return best;
 }
 
+/* Stream of Opt W+P's iterated local search: apart from every pattern's stream (rng_seed, i),
+ * i < 10^6. */
+#define PERTURB_STREAM (UINT64_C(1) << 32)
+
 static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric,
                           aa_optimize_mode mode, aa_optimize_method method, double seconds,
-                          uint64_t rng_seed, opt_job_bridge *b, aa_pattern *out,
+                          const proto_random_stats_spec *sp, opt_bridge *b, aa_pattern *out,
                           aa_optimize_result *r, aa_error *err)
 {
     aa_optimize_params op;
@@ -53,30 +70,28 @@ static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric
     op.mode = mode;
     op.method = method;
     op.max_seconds = seconds;
-    op.max_iterations = 1000000;
+    op.max_iterations = proto_optimizer_spec_iterations(&sp->common, 1000000);
     op.stall_iterations = 2000;
-    op.clock = job_ctx_clock(b->ctx);
-    int rc = aa_optimize(seed, metric, &op, opt_job_progress, b, out, r, err);
-    b->iterations_before += r->iterations;
-    b->evaluations_before += r->evaluations;
-    b->seconds_before += r->seconds;
-    if (rc == AA_OK && mode == AA_OPTIMIZE_BOTH && aa_perturbable(out) && r->seconds < seconds) {
+    op.clock = b->ctx->clock;
+    int rc = aa_optimize(seed, metric, &op, opt_bridge_progress, b, out, r, err);
+    opt_bridge_add(b, r->iterations, r->evaluations, r->seconds);
+    /* Without a time budget (seconds 0) the search runs until it stalls. */
+    if (rc == AA_OK && mode == AA_OPTIMIZE_BOTH && aa_perturbable(out) &&
+        (seconds <= 0 || r->seconds < seconds)) {
         /* The descent stops at a kink within seconds: spend the rest of the stage's budget on
          * iterated local search from its optimum (as optimize jobs do for tiled families). */
         aa_perturb_params pp;
         aa_perturb_params_default(&pp);
         pp.rounds = AA_PERTURB_UNTIL_STALL;
-        pp.max_seconds = seconds - r->seconds;
+        pp.max_seconds = seconds > 0 ? seconds - r->seconds : 0;
         aa_rng rng;
-        aa_rng_seed(&rng, rng_seed, 1);
+        aa_rng_seed(&rng, sp->common.rng_seed, PERTURB_STREAM);
         aa_pattern refined;
         aa_optimize_result rr;
-        int prc = aa_optimize_perturbed(out, metric, &op, &pp, &rng, opt_job_progress, b, &refined,
-                                        &rr, err);
+        int prc = aa_optimize_perturbed(out, metric, &op, &pp, &rng, opt_bridge_progress, b,
+                                        &refined, &rr, err);
         if (prc == AA_OK || prc == AA_ECANCELED) {
-            b->iterations_before += rr.iterations;
-            b->evaluations_before += rr.evaluations;
-            b->seconds_before += rr.seconds;
+            opt_bridge_add(b, rr.iterations, rr.evaluations, rr.seconds);
             aa_pattern_free(out);
             *out = refined;
             aa_optimize_result_chain(r, &rr);
@@ -86,67 +101,258 @@ static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric
     return rc;
 }
 
-/* The random patterns are the job's first 20%. */
+static int plan(const void *params, int stage, const json_t *prior, size_t max_shards,
+                json_t **shards, aa_error *err)
+{
+    (void)prior;
+    const proto_random_stats_spec *sp = params;
+    if (stage == 0)
+        *shards = split_ranges(sp->count, max_shards);
+    else if (stage == 1)
+        *shards = json_pack("[{s:s},{s:s}]", "stage", "opt_w", "stage", "opt_wp");
+    else
+        return aa_error_set(err, AA_EINVAL, "stage", "random-stats has two stages");
+    return *shards ? AA_OK : aa_error_set(err, AA_ENOMEM, "", "out of memory");
+}
+
 typedef struct random_progress {
-    job_ctx *ctx;
+    const shard_ctx *ctx;
     size_t count;
 } random_progress;
 
 static int random_patterns_progress(void *user, size_t i)
 {
     const random_progress *rp = user;
-    return job_ctx_progress(rp->ctx, 0.2 * (double)i / (double)rp->count, NULL);
+    return rp->ctx->progress &&
+           rp->ctx->progress(rp->ctx->user, (double)i / (double)rp->count, NULL);
 }
 
-static int random_stats_run(void *params, job_ctx *ctx, proto_random_stats_result *out,
-                            aa_error *err)
+static int run_patterns(const proto_random_stats_spec *sp, const json_t *shard,
+                        const shard_ctx *ctx, json_t **output, aa_error *err)
 {
-    proto_random_stats_spec *sp = params;
+    size_t first, count, best_index;
+    int rc = split_range_decode(shard, sp->count, &first, &count, err);
+    if (rc)
+        return rc;
+    double *e2 = calloc(count, sizeof *e2);
+    if (!e2)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     aa_metric_params metric = proto_optimizer_spec_metric(&sp->common);
-    aa_rng rng;
-    aa_rng_seed(&rng, sp->common.rng_seed, 0);
-    opt_job_bridge b = {ctx, 0, 0.2, 0, 0, 0, INFINITY, -1};
+    random_progress rp = {ctx, count};
     aa_pattern best;
     aa_random_stats rs;
-    random_progress rp = {ctx, sp->count};
-    int rc = aa_random_patterns(&sp->family, sp->kind, &metric, &rng, sp->count,
-                                random_patterns_progress, &rp, &best, &rs, err);
-    aa_pattern optw, optwp;
-    memset(&optw, 0, sizeof optw);
-    memset(&optwp, 0, sizeof optwp);
-    aa_optimize_result rw, rwp;
-    memset(&rw, 0, sizeof rw);
-    memset(&rwp, 0, sizeof rwp);
-    b.base = 0.2;
-    b.span = 0.4;
-    bool tiled = !rc && aa_pattern_tiled_without_border(&best);
-    aa_optimize_method mw = proto_optimizer_spec_method(&sp->common, tiled, AA_OPTIMIZE_WEIGHTS);
-    aa_optimize_method mwp = proto_optimizer_spec_method(&sp->common, tiled, AA_OPTIMIZE_BOTH);
-    if (!rc)
-        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_WEIGHTS, mw, sp->common.max_seconds / 2,
-                            sp->common.rng_seed, &b, &optw, &rw, err);
-    b.base = 0.6;
-    if (!rc)
-        rc = optimize_stage(&best, &metric, AA_OPTIMIZE_BOTH, mwp, sp->common.max_seconds / 2,
-                            sp->common.rng_seed, &b, &optwp, &rwp, err);
+    rc = aa_random_patterns_range(&sp->family, sp->kind, &metric, sp->common.rng_seed, first, count,
+                                  random_patterns_progress, &rp, e2, &best, &best_index, &rs, err);
+    json_t *list = rc ? NULL : json_array();
+    for (size_t i = 0; list && i < count; i++)
+        if (json_array_append_new(list, proto_real(e2[i]))) {
+            json_decref(list);
+            list = NULL;
+        }
     if (!rc) {
-        /* The result owns the patterns now. */
-        *out = (proto_random_stats_result){.distribution = sp->kind,
-                                           .count = (long)rs.count,
-                                           .min = rs.min,
-                                           .avg = rs.avg,
-                                           .max = rs.max,
-                                           .best_random = best,
-                                           .opt_w = {rw.e2, optw, mw},
-                                           .opt_wp = {rwp.e2, optwp, mwp}};
-        snprintf(out->family, sizeof out->family, "%s", sp->family.label);
-        return AA_OK;
+        *output =
+            list ? json_pack("{s:o,s:o,s:I,s:o}", "e2", list, "best", proto_encode_pattern(&best),
+                             "best_index", (json_int_t)best_index, "best_e2", proto_real(rs.min))
+                 : NULL;
+        if (!*output)
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
     aa_pattern_free(&best);
-    aa_pattern_free(&optw);
-    aa_pattern_free(&optwp);
+    free(e2);
     return rc;
 }
 
-JOB_KIND_RESULT(kind_random_stats, proto_random_stats_result, random_stats_run,
-                proto_encode_random_stats_result, proto_random_stats_result_free)
+static int run_optimized(const proto_random_stats_spec *sp, const json_t *shard,
+                         const json_t *prior, const shard_ctx *ctx, json_t **output, aa_error *err)
+{
+    const char *which = NULL;
+    json_error_t je;
+    if (json_unpack_ex((json_t *)shard, &je, JSON_STRICT, "{s:s}", "stage", &which) ||
+        (strcmp(which, "opt_w") && strcmp(which, "opt_wp")))
+        return aa_error_set(err, AA_EINVAL, "shard", "expected {\"stage\":\"opt_w\"|\"opt_wp\"}");
+    bool both = !strcmp(which, "opt_wp");
+    aa_pattern start, out;
+    memset(&out, 0, sizeof out);
+    int rc = proto_result_pattern(prior, "best_random", false, &start, NULL, err);
+    if (rc)
+        return rc; /* the error names best_random */
+    aa_metric_params metric = proto_optimizer_spec_metric(&sp->common);
+    aa_optimize_mode mode = both ? AA_OPTIMIZE_BOTH : AA_OPTIMIZE_WEIGHTS;
+    aa_optimize_method method =
+        proto_optimizer_spec_method(&sp->common, aa_pattern_tiled_without_border(&start), mode);
+    opt_bridge b = opt_bridge_make(ctx, 0, 1);
+    aa_optimize_result r;
+    memset(&r, 0, sizeof r);
+    rc = optimize_stage(&start, &metric, mode, method, sp->common.max_seconds / 2, sp, &b, &out, &r,
+                        err);
+    if (!rc) {
+        opt_bridge_end(&b);
+        *output = json_pack("{s:o,s:o,s:s}", "e2", proto_real(r.e2), "pattern",
+                            proto_encode_pattern(&out), "method", aa_optimize_method_name(method));
+        if (!*output)
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    aa_pattern_free(&start);
+    aa_pattern_free(&out);
+    return rc;
+}
+
+static int run_shard(const void *params, int stage, const json_t *shard, const json_t *prior,
+                     const shard_ctx *ctx, json_t **output, aa_error *err)
+{
+    const proto_random_stats_spec *sp = params;
+    *output = NULL;
+    if (stage == 0)
+        return run_patterns(sp, shard, ctx, output, err);
+    if (stage == 1 && prior)
+        return run_optimized(sp, shard, prior, ctx, output, err);
+    return aa_error_set(err, AA_EINVAL, "stage", "random-stats has two stages");
+}
+
+/* Stage 0: the concatenated E2 lists and the best pattern, the first of equals. */
+static int merge_patterns(const proto_random_stats_spec *sp, json_t *const *outputs, size_t count,
+                          json_t **merged, aa_error *err)
+{
+    double *e2 = calloc(sp->count, sizeof *e2);
+    if (!e2)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    size_t n = 0, win = 0;
+    double win_e2 = INFINITY;
+    int rc = AA_OK;
+    for (size_t s = 0; !rc && s < count; s++) {
+        json_t *list = json_object_get(outputs[s], "e2"), *v;
+        json_t *best_e2 = json_object_get(outputs[s], "best_e2");
+        if (!json_is_array(list) || !json_is_number(best_e2) ||
+            !json_is_object(json_object_get(outputs[s], "best")) ||
+            !json_is_integer(json_object_get(outputs[s], "best_index")) ||
+            json_object_size(outputs[s]) != 4 || json_array_size(list) > sp->count - n) {
+            rc = aa_error_set(err, AA_EINVAL, "output",
+                              "shard %zu: expected {\"e2\",\"best\","
+                              "\"best_index\",\"best_e2\"}",
+                              s);
+            break;
+        }
+        size_t i;
+        json_array_foreach(list, i, v) e2[n++] = json_is_number(v) ? json_number_value(v) : NAN;
+        if (json_number_value(best_e2) < win_e2) {
+            win_e2 = json_number_value(best_e2);
+            win = s;
+        }
+    }
+    if (!rc && n != sp->count)
+        rc = aa_error_set(err, AA_EINVAL, "output", "%zu E2 values for %zu patterns", n, sp->count);
+    if (!rc) {
+        aa_random_stats st = aa_random_stats_of(e2, n);
+        *merged =
+            json_pack("{s:I,s:o,s:o,s:o,s:O,s:O,s:O}", "count", (json_int_t)st.count, "min",
+                      proto_real(st.min), "avg", proto_real(st.avg), "max", proto_real(st.max),
+                      "best_random", json_object_get(outputs[win], "best"), "best_index",
+                      json_object_get(outputs[win], "best_index"), "best_e2",
+                      json_object_get(outputs[win], "best_e2"));
+        if (!*merged)
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    free(e2);
+    return rc;
+}
+
+static int merge(const void *params, int stage, json_t *const *outputs, size_t count,
+                 const json_t *prior, json_t **merged, aa_error *err)
+{
+    *merged = NULL;
+    if (stage == 0)
+        return merge_patterns(params, outputs, count, merged, err);
+    if (stage != 1 || count != 2 || !prior)
+        return aa_error_set(err, AA_EINVAL, "stage", "stage 1 merges Opt W and Opt W+P");
+    *merged = json_deep_copy(prior);
+    if (!*merged || json_object_set(*merged, "opt_w", outputs[0]) ||
+        json_object_set(*merged, "opt_wp", outputs[1])) {
+        json_decref(*merged);
+        *merged = NULL;
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    return AA_OK;
+}
+
+static int decode_stage(const json_t *j, const char *field, proto_stats_stage *s, aa_error *err)
+{
+    if (!json_is_object(j) || json_object_size(j) != 3)
+        return aa_error_set(err, AA_EINVAL, field, "expected {\"e2\",\"pattern\",\"method\"}");
+    int rc = proto_result_real(j, "e2", &s->e2, err);
+    if (!rc)
+        rc = proto_result_pattern(j, "pattern", false, &s->pattern, NULL, err);
+    if (!rc)
+        rc = proto_result_method(j, "method", &s->method, err);
+    return rc;
+}
+
+static int finish(const void *params, const json_t *merged, const char *executor, size_t shards,
+                  void **result, aa_error *err)
+{
+    const proto_random_stats_spec *sp = params;
+    *result = NULL;
+    proto_random_stats_result *r = calloc(1, sizeof *r);
+    if (!r)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    long long count = 0;
+    int rc = proto_result_integer(merged, "count", &count, err);
+    if (!rc)
+        rc = proto_result_real(merged, "min", &r->min, err);
+    if (!rc)
+        rc = proto_result_real(merged, "avg", &r->avg, err);
+    if (!rc)
+        rc = proto_result_real(merged, "max", &r->max, err);
+    if (!rc)
+        rc = proto_result_pattern(merged, "best_random", false, &r->best_random, NULL, err);
+    if (!rc)
+        rc = decode_stage(json_object_get(merged, "opt_w"), "opt_w", &r->opt_w, err);
+    if (!rc)
+        rc = decode_stage(json_object_get(merged, "opt_wp"), "opt_wp", &r->opt_wp, err);
+    if (rc) {
+        proto_random_stats_result_free(r);
+        free(r);
+        return rc;
+    }
+    r->distribution = sp->kind;
+    r->count = (long)count;
+    snprintf(r->family, sizeof r->family, "%s", sp->family.label);
+    snprintf(r->run.executor, sizeof r->run.executor, "%s", executor);
+    r->run.shards = (long)shards;
+    r->run.reproducible = sp->common.reproducible;
+    *result = r;
+    return AA_OK;
+}
+
+static json_t *best_of_output(const void *params, int stage, const json_t *output)
+{
+    (void)params;
+    const char *pk = stage == 0 ? "best" : "pattern", *ek = stage == 0 ? "best_e2" : "e2";
+    json_t *best = json_object_get(output, pk), *e2 = json_object_get(output, ek);
+    if (!json_is_object(best) || !json_is_number(e2))
+        return NULL;
+    return json_pack("{s:O,s:O}", "pattern", best, "e2", e2);
+}
+
+const job_split kind_random_stats_split = {.stages = 2,
+                                           .plan = plan,
+                                           .run_shard = run_shard,
+                                           .merge = merge,
+                                           .finish = finish,
+                                           .best_of_output = best_of_output};
+
+int kind_random_stats_run(void *params, job_ctx *ctx, void **result, aa_error *err)
+{
+    return job_split_run_local(&kind_random_stats_split, params, ctx, result, err);
+}
+
+json_t *kind_random_stats_encode_result(const void *result)
+{
+    return proto_encode_random_stats_result(result);
+}
+
+void kind_random_stats_free_result(void *result)
+{
+    if (result)
+        proto_random_stats_result_free(result);
+    free(result);
+}

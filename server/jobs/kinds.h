@@ -75,6 +75,12 @@ JOB_KIND_FUNCTIONS(kind_sleep);
         free(result);                                                                              \
     }
 
+/* How the optimizer kinds split into shards (job_split.h). */
+struct job_split;
+extern const struct job_split kind_optimize_split;
+extern const struct job_split kind_family_sweep_split;
+extern const struct job_split kind_random_stats_split;
+
 const char *kind_optimize_family(const void *params);
 const char *kind_family_sweep_family(const void *params);
 const char *kind_random_stats_family(const void *params);
