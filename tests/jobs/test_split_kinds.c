@@ -1,0 +1,267 @@
+/* The splittable kinds (optimize, family-sweep, random-stats; job_split.h) with a clock-free
+ * budget (max_iterations): one shard and several shards merge to the same result, bit for bit
+ * (the encoded best pattern, E2 and per-seed / per-configuration rows), through JSON text as the
+ * files between aalab-worker and the daemon carry it; the local run (job_split_local.c, against
+ * a stub job context) gives that result too, says executor "local", 1 shard; "reproducible"
+ * follows the budget. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "job_split.h"
+#include "kinds.h"
+#include "split_harness.h"
+
+static const job_kind kinds[] = {
+    {.name = "optimize",
+     .decode = kind_optimize_decode,
+     .free_params = kind_optimize_free,
+     .run = kind_optimize_run,
+     .encode_result = kind_optimize_encode_result,
+     .free_result = kind_optimize_free_result,
+     .split = &kind_optimize_split},
+    {.name = "family-sweep",
+     .decode = kind_family_sweep_decode,
+     .free_params = kind_family_sweep_free,
+     .run = kind_family_sweep_run,
+     .encode_result = kind_family_sweep_encode_result,
+     .free_result = kind_family_sweep_free_result,
+     .split = &kind_family_sweep_split},
+    {.name = "random-stats",
+     .decode = kind_random_stats_decode,
+     .free_params = kind_random_stats_free,
+     .run = kind_random_stats_run,
+     .encode_result = kind_random_stats_encode_result,
+     .free_result = kind_random_stats_free_result,
+     .split = &kind_random_stats_split},
+};
+
+/* Stub context: the worker pool is not part of this test. */
+struct job_ctx {
+    double last_fraction;
+    double last_trace_seconds;
+    int trace_points;
+    int cancel_after; /* progress calls; 0: never */
+    int progress_calls;
+};
+
+bool job_ctx_progress(job_ctx *ctx, double fraction, json_t *best_so_far)
+{
+    (void)best_so_far;
+    assert_true(fraction >= 0 && fraction <= 1 + 1e-12);
+    ctx->last_fraction = fraction;
+    ctx->progress_calls++;
+    return ctx->cancel_after && ctx->progress_calls >= ctx->cancel_after;
+}
+
+void job_ctx_trace(job_ctx *ctx, const job_trace_point *point)
+{
+    /* One continuous line over the shards and stages. */
+    assert_true(point->seconds >= ctx->last_trace_seconds - 1e-9);
+    ctx->last_trace_seconds = point->seconds;
+    ctx->trace_points++;
+}
+
+bool job_ctx_cancelled(const job_ctx *ctx)
+{
+    return ctx->cancel_after && ctx->progress_calls >= ctx->cancel_after;
+}
+
+int job_ctx_workers(const job_ctx *ctx)
+{
+    (void)ctx;
+    return 2;
+}
+
+aa_clock job_ctx_clock(job_ctx *ctx)
+{
+    (void)ctx;
+    return (aa_clock){NULL, NULL};
+}
+
+static void *decode(const job_kind *k, const char *text)
+{
+    json_error_t je;
+    json_t *spec = json_loads(text, JSON_REJECT_DUPLICATES, &je);
+    assert_non_null(spec);
+    void *params = NULL;
+    aa_error err = {0};
+    assert_int_equal(k->decode(spec, &params, &err), AA_OK);
+    json_decref(spec);
+    return params;
+}
+
+/* The same key of two results, as text. */
+static void same_key(const json_t *a, const json_t *b, const char *key)
+{
+    char *ta = split_harness_text(json_object_get(a, key));
+    char *tb = split_harness_text(json_object_get(b, key));
+    assert_non_null(ta);
+    assert_non_null(tb);
+    assert_string_equal(ta, tb);
+    free(ta);
+    free(tb);
+}
+
+/* Split with 1 shard and with `shards`, and the local run: the same result. */
+static void check_kind(const job_kind *k, const char *spec, size_t shards, long want_shards,
+                       const char *const *keys)
+{
+    void *params = decode(k, spec);
+    json_t *one = split_harness_run(k, params, 1, 1);
+    json_t *many = split_harness_run(k, params, shards, 2);
+    assert_non_null(one);
+    assert_non_null(many);
+    assert_true(json_is_object(json_object_get(one, "best")));
+    assert_true(json_is_number(json_object_get(one, "e2")));
+    for (size_t i = 0; keys[i]; i++)
+        same_key(one, many, keys[i]);
+    assert_string_equal(json_string_value(json_object_get(many, "executor")), "slurm");
+    assert_int_equal(json_integer_value(json_object_get(many, "shards")), want_shards);
+    assert_true(json_is_true(json_object_get(many, "reproducible")));
+
+    job_ctx ctx = {0};
+    void *result = NULL;
+    aa_error err = {0};
+    assert_int_equal(k->run(params, &ctx, &result, &err), AA_OK);
+    json_t *local = k->encode_result(result);
+    k->free_result(result);
+    for (size_t i = 0; keys[i]; i++)
+        same_key(one, local, keys[i]);
+    assert_string_equal(json_string_value(json_object_get(local, "executor")), "local");
+    assert_int_equal(json_integer_value(json_object_get(local, "shards")), 1);
+    assert_true(ctx.last_fraction > 0.99);
+    assert_true(ctx.trace_points > 0);
+    json_decref(one);
+    json_decref(many);
+    json_decref(local);
+    k->free_params(params);
+}
+
+static void optimize_mirrored_splits_alike(void **state)
+{
+    (void)state;
+    static const char *const keys[] = {"best", "e2", "argmax", "per_seed", "seeds_run", NULL};
+    check_kind(&kinds[0], "{\"family\":\"P(4,1+,1.5)\",\"seeds\":7,\"max_iterations\":60}", 3, 3,
+               keys);
+}
+
+static void optimize_tiled_splits_alike(void **state)
+{
+    (void)state;
+    static const char *const keys[] = {"best", "e2", "argmax", "per_seed", NULL};
+    check_kind(&kinds[0], "{\"family\":\"P(4,4,1)\",\"seeds\":4,\"max_iterations\":30}", 4, 4,
+               keys);
+}
+
+static void optimize_pattern_splits_alike(void **state)
+{
+    (void)state;
+    static const char *const keys[] = {"best", "e2", "per_seed", NULL};
+    check_kind(&kinds[0], "{\"pattern\":{\"preset\":\"rgss\"},\"max_iterations\":50}", 3, 1, keys);
+}
+
+static void family_sweep_splits_alike(void **state)
+{
+    (void)state;
+    static const char *const keys[] = {"best", "e2", "ranked", NULL};
+    check_kind(&kinds[1], "{\"cost\":1.25,\"seeds_per_config\":2,\"max_iterations\":40}", 3, 3,
+               keys);
+}
+
+static void random_stats_splits_alike(void **state)
+{
+    (void)state;
+    static const char *const keys[] = {"best",  "e2",     "random", "best_random",
+                                       "opt_w", "opt_wp", NULL};
+    check_kind(&kinds[2], "{\"family\":\"P(1,4,2)\",\"count\":50,\"max_iterations\":60}", 4, 4,
+               keys);
+}
+
+/* max_iterations alone: reproducible; with max_seconds: best effort. */
+static void reproducible_follows_the_budget(void **state)
+{
+    (void)state;
+    const char *specs[][2] = {
+        {"{\"family\":\"P(1,1,2)\",\"seeds\":2,\"max_iterations\":30}", "true"},
+        {"{\"family\":\"P(1,1,2)\",\"seeds\":2,\"max_iterations\":30,\"max_seconds\":20}", "false"},
+    };
+    for (size_t i = 0; i < 2; i++) {
+        void *params = decode(&kinds[0], specs[i][0]);
+        job_ctx ctx = {0};
+        void *result = NULL;
+        aa_error err = {0};
+        assert_int_equal(kinds[0].run(params, &ctx, &result, &err), AA_OK);
+        json_t *j = kinds[0].encode_result(result);
+        assert_int_equal(json_is_true(json_object_get(j, "reproducible")),
+                         !strcmp(specs[i][1], "true"));
+        json_decref(j);
+        kinds[0].free_result(result);
+        kinds[0].free_params(params);
+    }
+}
+
+/* A cancelled local run ends AA_ECANCELED without a result. */
+static void local_run_cancels(void **state)
+{
+    (void)state;
+    void *params =
+        decode(&kinds[1], "{\"cost\":1.25,\"seeds_per_config\":2,\"max_iterations\":100000}");
+    job_ctx ctx = {.cancel_after = 3};
+    void *result = NULL;
+    aa_error err = {0};
+    assert_int_equal(kinds[1].run(params, &ctx, &result, &err), AA_ECANCELED);
+    assert_null(result);
+    kinds[1].free_params(params);
+}
+
+/* Plans: at most max_shards contiguous ranges covering every seed once; random-stats' second
+ * stage has its two fixed parts. */
+static void plans_cover_the_range(void **state)
+{
+    (void)state;
+    void *params = decode(&kinds[0], "{\"family\":\"P(1,1,2)\",\"seeds\":10}");
+    json_t *shards = NULL;
+    aa_error err = {0};
+    assert_int_equal(kind_optimize_split.plan(params, 0, NULL, 4, &shards, &err), AA_OK);
+    assert_int_equal(json_array_size(shards), 4);
+    json_int_t next = 0;
+    for (size_t i = 0; i < 4; i++) {
+        json_t *s = json_array_get(shards, i);
+        assert_int_equal(json_integer_value(json_object_get(s, "first")), next);
+        next += json_integer_value(json_object_get(s, "count"));
+    }
+    assert_int_equal(next, 10);
+    json_decref(shards);
+    assert_int_equal(kind_optimize_split.plan(params, 0, NULL, 64, &shards, &err), AA_OK);
+    assert_int_equal(json_array_size(shards), 10);
+    json_decref(shards);
+    kinds[0].free_params(params);
+    params = decode(&kinds[2], "{\"family\":\"P(1,4,2)\",\"count\":5}");
+    assert_int_equal(kind_random_stats_split.plan(params, 1, NULL, 1, &shards, &err), AA_OK);
+    assert_int_equal(json_array_size(shards), 2);
+    json_decref(shards);
+    kinds[2].free_params(params);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(plans_cover_the_range),
+        cmocka_unit_test(optimize_mirrored_splits_alike),
+        cmocka_unit_test(optimize_tiled_splits_alike),
+        cmocka_unit_test(optimize_pattern_splits_alike),
+        cmocka_unit_test(family_sweep_splits_alike),
+        cmocka_unit_test(random_stats_splits_alike),
+        cmocka_unit_test(reproducible_follows_the_budget),
+        cmocka_unit_test(local_run_cancels),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
