@@ -107,12 +107,18 @@ static int run_config(const proto_family_sweep_spec *sp, const aa_mirrored_confi
     mp.max_seconds = sp->common.max_seconds / (double)count; /* 0 (none) stays none */
     aa_pattern best;
     aa_multistart_result r;
+    memset(&best, 0, sizeof best);
+    memset(&r, 0, sizeof r);
     if (!rc)
         rc = aa_multistart(&mp, &metric, opt_bridge_progress, b, &best, &r, err);
     for (size_t i = 0; i < made; i++)
         aa_pattern_free(&seeds[i]);
-    if (rc)
+    if (rc) {
+        /* A cancelled run still hands back its best so far. */
+        aa_pattern_free(&best);
+        aa_multistart_result_free(&r);
         return rc;
+    }
     opt_bridge_add(b, r.iterations, r.evaluations, r.seconds);
     *row = json_pack("{s:I,s:o,s:o,s:I,s:I,s:o}", "config", (json_int_t)c, "e2", proto_real(r.e2),
                      "best", proto_encode_pattern(&best), "iterations", (json_int_t)r.iterations,
