@@ -1,0 +1,438 @@
+/* cluster_driver.h. */
+#define _POSIX_C_SOURCE 200809L
+#include "cluster_driver.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "cluster_layout.h"
+#include "cluster_trace.h"
+#include "job_split.h"
+#include "slurm_commands.h"
+
+#define CANCEL_WAIT_SECONDS 60.0 /* how long a cancel waits for squeue to list none */
+#define LOG_TAIL_LINES 8
+#define LOG_TAIL_BYTES 4096
+
+/* One stage being run: its shards, their outputs and the part of the state that is the
+ * stage's ({"shards": n, "arrays": [id...], "shard_array": [id per shard], "retried": [0|1]}). */
+typedef struct stage_run {
+    int stage;
+    size_t n;
+    char dir[CLUSTER_PATH_MAX];
+    json_t **outputs; /* outputs[i]: shard i's output once it has one */
+    json_t *st;       /* borrowed from the driver's state */
+} stage_run;
+
+typedef struct driver {
+    const cluster_config *cfg;
+    const cluster_job *job;
+    const job_split *split;
+    const cluster_job_io *io;
+    json_t *state;     /* owned */
+    json_t *task_spec; /* the spec without "kind" */
+    json_t *best;      /* best finished shard's {"pattern","e2"} so far, over all stages */
+    double best_e2;
+    json_t *traces;     /* trace file JSON of every shard seen, in stage then shard order */
+    size_t trace_base;  /* index in traces of the current stage's shard 0 */
+    size_t done_before; /* stages finished before the current one */
+} driver;
+
+static double now_unix(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+size_t cluster_state_arrays(const json_t *state, long long *ids, size_t cap)
+{
+    size_t count = 0, s, k;
+    json_t *stage, *id;
+    json_array_foreach(json_object_get(state, "stages"), s, stage)
+    {
+        json_array_foreach(json_object_get(stage, "arrays"), k, id)
+        {
+            if (count < cap)
+                ids[count] = json_integer_value(id);
+            count++;
+        }
+    }
+    return count;
+}
+
+/* scancel of every array of the job, then wait (bounded) until squeue lists none of them. */
+static void cancel_all(driver *d)
+{
+    long long ids[512];
+    size_t n = cluster_state_arrays(d->state, ids, 512);
+    if (n > 512)
+        n = 512;
+    aa_error err = {0};
+    if (slurm_scancel(ids, n, &err))
+        fprintf(stderr, "aalabd: job %lld: %s\n", d->job->id, err.message);
+    double until = aa_monotonic_seconds() + CANCEL_WAIT_SECONDS;
+    while (n && aa_monotonic_seconds() < until) {
+        slurm_queued *q = NULL;
+        size_t count = 0;
+        int rc = slurm_squeue(ids, n, &q, &count, &err);
+        free(q);
+        if (!rc && count == 0)
+            return;
+        struct timespec t = {0, 250 * 1000 * 1000};
+        nanosleep(&t, NULL);
+    }
+    if (n)
+        fprintf(stderr,
+                "aalabd: job %lld: its arrays are still listed by squeue %.0f s after "
+                "scancel\n",
+                d->job->id, CANCEL_WAIT_SECONDS);
+}
+
+/* Sleeps one poll interval in short steps; returns the first stop request seen. */
+static cluster_stop pause_poll(driver *d)
+{
+    double until = aa_monotonic_seconds() + d->cfg->poll_seconds;
+    for (;;) {
+        cluster_stop s = d->io->check(d->io->user);
+        if (s != CLUSTER_GO)
+            return s;
+        double left = until - aa_monotonic_seconds();
+        if (left <= 0)
+            return CLUSTER_GO;
+        double step = left < 0.1 ? left : 0.1;
+        struct timespec t = {0, (long)(step * 1e9)};
+        nanosleep(&t, NULL);
+    }
+}
+
+static void save(driver *d)
+{
+    if (d->io->save)
+        d->io->save(d->io->user, d->state);
+}
+
+/* sbatch --array=<array> for this stage; records the array id for the given shards. */
+static int submit(driver *d, stage_run *r, const char *array, long first, long last, aa_error *err)
+{
+    char name[64], log[CLUSTER_PATH_MAX + 32], script[CLUSTER_PATH_MAX + 16];
+    snprintf(name, sizeof name, "aalab-%lld-s%d", d->job->id, r->stage);
+    snprintf(log, sizeof log, "%s/log-%%a.out", r->dir);
+    snprintf(script, sizeof script, "%s/array.sh", r->dir);
+    slurm_submit s = {.script = script,
+                      .job_name = name,
+                      .output = log,
+                      .array = array,
+                      .time_minutes = d->cfg->time_limit_minutes,
+                      .partition = d->cfg->partition,
+                      .extra_args = d->cfg->sbatch_args};
+    long long id;
+    int rc = slurm_sbatch(&s, &id, err);
+    if (rc)
+        return rc;
+    if (!json_object_get(d->state, "submitted_unix"))
+        json_object_set_new(d->state, "submitted_unix", json_real(now_unix()));
+    json_array_append_new(json_object_get(r->st, "arrays"), json_integer(id));
+    json_t *sa = json_object_get(r->st, "shard_array");
+    for (long i = first; i <= last; i++)
+        json_array_set_new(sa, (size_t)i, json_integer(id));
+    save(d);
+    return AA_OK;
+}
+
+/* Writes the tasks and array.sh of a new stage and submits its array. */
+static int start_stage(driver *d, stage_run *r, const json_t *shards, const json_t *prior,
+                       aa_error *err)
+{
+    int rc = cluster_mkdirs(r->dir, err);
+    for (size_t i = 0; !rc && i < r->n; i++) {
+        char task[CLUSTER_PATH_MAX + 32], out[CLUSTER_PATH_MAX + 32], trace[CLUSTER_PATH_MAX + 32];
+        cluster_shard_path(r->dir, "task", (long)i, "json", task, sizeof task);
+        cluster_shard_path(r->dir, "output", (long)i, "json", out, sizeof out);
+        cluster_shard_path(r->dir, "trace", (long)i, "json", trace, sizeof trace);
+        /* Leftovers of an earlier daemon's run of this id (a reused state dir) must not pass
+         * for this job's outputs. */
+        unlink(out);
+        unlink(trace);
+        cluster_task t = {.job_id = d->job->id,
+                          .kind = d->job->kind->name,
+                          .spec = d->task_spec,
+                          .stage = r->stage,
+                          .shard_index = (long)i,
+                          .shard = json_array_get(shards, i),
+                          .prior = prior,
+                          .output = out,
+                          .trace = trace};
+        rc = cluster_write_task(task, &t, err);
+    }
+    if (!rc)
+        rc = cluster_write_array_script(r->dir, d->cfg->worker, err);
+    if (rc)
+        return rc;
+    char array[48];
+    snprintf(array, sizeof array, "0-%zu", r->n - 1);
+    return submit(d, r, array, 0, (long)r->n - 1, err);
+}
+
+/* Shard i's output if its file is there and is this job's; NULL otherwise. */
+static json_t *read_output(driver *d, stage_run *r, size_t i)
+{
+    char path[CLUSTER_PATH_MAX + 32];
+    cluster_shard_path(r->dir, "output", (long)i, "json", path, sizeof path);
+    json_t *o = cluster_read_json(path);
+    const char *format = NULL;
+    json_int_t job_id = -1, stage = -1, index = -1;
+    json_t *output = NULL;
+    if (!o ||
+        json_unpack(o, "{s:s,s:I,s:I,s:I,s:o}", "format", &format, "job_id", &job_id, "stage",
+                    &stage, "shard_index", &index, "output", &output) ||
+        strcmp(format, "aalab-shard-output/1") || job_id != d->job->id || stage != r->stage ||
+        index != (json_int_t)i) {
+        json_decref(o);
+        return NULL;
+    }
+    json_incref(output);
+    json_decref(o);
+    return output;
+}
+
+static void note_best(driver *d, int stage, const json_t *output)
+{
+    if (!d->split->best_of_output)
+        return;
+    json_t *b = d->split->best_of_output(d->job->params, stage, output);
+    json_t *e2 = json_object_get(b, "e2");
+    if (b && json_is_number(e2) && (!d->best || json_number_value(e2) < d->best_e2)) {
+        json_decref(d->best);
+        d->best = b;
+        d->best_e2 = json_number_value(e2);
+        return;
+    }
+    json_decref(b);
+}
+
+static void refresh_traces(driver *d, stage_run *r)
+{
+    for (size_t i = 0; i < r->n; i++) {
+        json_t *have = json_array_get(d->traces, d->trace_base + i);
+        if (!json_is_null(have) && r->outputs[i])
+            continue; /* final: read once after the output appeared */
+        char path[CLUSTER_PATH_MAX + 32];
+        cluster_shard_path(r->dir, "trace", (long)i, "json", path, sizeof path);
+        json_t *t = cluster_read_json(path);
+        if (t)
+            json_array_set_new(d->traces, d->trace_base + i, t);
+    }
+}
+
+static void report(driver *d, stage_run *r, size_t done)
+{
+    int stages = d->split->stages;
+    double progress = ((double)d->done_before + (r->n ? (double)done / (double)r->n : 0)) / stages;
+    refresh_traces(d, r);
+    size_t n = json_array_size(d->traces);
+    json_t **list = calloc(n ? n : 1, sizeof *list);
+    json_t *trace = NULL;
+    if (list) {
+        for (size_t i = 0; i < n; i++)
+            list[i] = json_array_get(d->traces, i);
+        trace = cluster_trace_merge(list, n,
+                                    json_number_value(json_object_get(d->state, "submitted_unix")));
+        free(list);
+    }
+    d->io->report(d->io->user, progress, d->best, trace);
+    json_decref(trace);
+}
+
+static bool queued(const slurm_queued *q, size_t count, long long array, size_t index)
+{
+    for (size_t k = 0; k < count; k++)
+        if (q[k].job_id == array && (q[k].index < 0 || q[k].index == (long)index))
+            return true;
+    return false;
+}
+
+/* Shard i left the queue without an output: resubmit it once, else fail the job. */
+static int shard_lost(driver *d, stage_run *r, size_t i, char *failure, size_t cap, aa_error *err)
+{
+    json_t *retried = json_object_get(r->st, "retried");
+    long long array = json_integer_value(json_array_get(json_object_get(r->st, "shard_array"), i));
+    if (!json_integer_value(json_array_get(retried, i))) {
+        fprintf(stderr,
+                "aalabd: job %lld: shard %zu of stage %d (Slurm %lld_%zu) ended without "
+                "output; retrying it once\n",
+                d->job->id, i, r->stage, array, i);
+        json_array_set_new(retried, i, json_integer(1));
+        char one[32];
+        snprintf(one, sizeof one, "%zu", i);
+        return submit(d, r, one, (long)i, (long)i, err);
+    }
+    char slurm[200], log[CLUSTER_PATH_MAX + 32], tail[1024];
+    slurm_describe_task(array, (long)i, slurm, sizeof slurm);
+    cluster_shard_path(r->dir, "log", (long)i, "out", log, sizeof log);
+    cluster_file_tail(log, LOG_TAIL_LINES, LOG_TAIL_BYTES, tail, sizeof tail);
+    snprintf(failure, cap,
+             "shard %zu of stage %d failed twice (Slurm job %lld_%zu: %s); last lines of %s: %s", i,
+             r->stage, array, i, slurm, log, tail[0] ? tail : "(empty or missing)");
+    return aa_error_set(err, AA_EINVAL, "executor", "shard %zu of stage %d failed twice (%.60s)", i,
+                        r->stage, slurm);
+}
+
+/* Polls one stage until every shard has its output. */
+static int run_stage(driver *d, stage_run *r, char *failure, size_t cap, aa_error *err)
+{
+    for (;;) {
+        cluster_stop stop = d->io->check(d->io->user);
+        if (stop == CLUSTER_CANCEL) {
+            cancel_all(d);
+            return AA_ECANCELED;
+        }
+        if (stop == CLUSTER_DETACH)
+            return CLUSTER_EDETACHED;
+        /* squeue first, then the outputs: a task writes its output before it leaves the
+         * queue, so one absent from this squeue and without an output now never will. */
+        json_t *arrays = json_object_get(r->st, "arrays");
+        size_t na = json_array_size(arrays);
+        long long ids[256];
+        for (size_t k = 0; k < na && k < 256; k++)
+            ids[k] = json_integer_value(json_array_get(arrays, k));
+        slurm_queued *q = NULL;
+        size_t count = 0;
+        aa_error qerr = {0};
+        bool queue_known = !slurm_squeue(ids, na < 256 ? na : 256, &q, &count, &qerr);
+        if (!queue_known)
+            fprintf(stderr, "aalabd: job %lld: %s (will ask again)\n", d->job->id, qerr.message);
+        size_t done = 0;
+        for (size_t i = 0; i < r->n; i++) {
+            if (!r->outputs[i] && (r->outputs[i] = read_output(d, r, i)))
+                note_best(d, r->stage, r->outputs[i]);
+            done += r->outputs[i] != NULL;
+        }
+        int rc = AA_OK;
+        json_t *sa = json_object_get(r->st, "shard_array");
+        for (size_t i = 0; queue_known && !rc && i < r->n; i++)
+            if (!r->outputs[i] && !queued(q, count, json_integer_value(json_array_get(sa, i)), i))
+                rc = shard_lost(d, r, i, failure, cap, err);
+        free(q);
+        report(d, r, done);
+        if (rc)
+            return rc;
+        if (done == r->n)
+            return AA_OK;
+        stop = pause_poll(d);
+        if (stop != CLUSTER_GO)
+            continue; /* handled at the top */
+    }
+}
+
+static json_t *new_stage_state(size_t n)
+{
+    json_t *sa = json_array(), *re = json_array();
+    for (size_t i = 0; i < n; i++) {
+        json_array_append_new(sa, json_integer(0));
+        json_array_append_new(re, json_integer(0));
+    }
+    return json_pack("{s:I,s:[],s:o,s:o}", "shards", (json_int_t)n, "arrays", "shard_array", sa,
+                     "retried", re);
+}
+
+/* Checks that a stored stage state has the shape the driver writes. */
+static bool stage_state_ok(const json_t *st, size_t n)
+{
+    return json_is_object(st) &&
+           json_integer_value(json_object_get(st, "shards")) == (json_int_t)n &&
+           json_is_array(json_object_get(st, "arrays")) &&
+           json_array_size(json_object_get(st, "shard_array")) == n &&
+           json_array_size(json_object_get(st, "retried")) == n;
+}
+
+int cluster_driver_run(const cluster_config *cfg, const cluster_job *job, const cluster_job_io *io,
+                       void **result, char *failure, size_t failure_cap, aa_error *err)
+{
+    *result = NULL;
+    if (failure_cap)
+        failure[0] = 0;
+    if (!job->kind->split)
+        return aa_error_set(err, AA_EINVAL, "executor", "kind %s cannot run on Slurm",
+                            job->kind->name);
+    driver d = {.cfg = cfg,
+                .job = job,
+                .split = job->kind->split,
+                .io = io,
+                .best_e2 = INFINITY,
+                .traces = json_array()};
+    d.state = job->state ? json_deep_copy(job->state)
+                         : json_pack("{s:s,s:[]}", "executor", "slurm", "stages");
+    d.task_spec = json_deep_copy(job->spec);
+    if (!d.state || !d.task_spec || !d.traces ||
+        !json_is_array(json_object_get(d.state, "stages"))) {
+        json_decref(d.state);
+        json_decref(d.task_spec);
+        json_decref(d.traces);
+        return aa_error_set(err, job->state ? AA_EINVAL : AA_ENOMEM, "",
+                            job->state ? "the stored Slurm state is malformed" : "out of memory");
+    }
+    json_object_del(d.task_spec, "kind");
+    json_object_del(d.task_spec, "executor");
+    size_t max_tasks = cfg->max_tasks > 0 ? (size_t)cfg->max_tasks : CLUSTER_DEFAULT_MAX_TASKS;
+    json_t *prior = NULL, *merged = NULL;
+    size_t most = 0;
+    int rc = AA_OK;
+    for (int s = 0; !rc && s < d.split->stages; s++) {
+        json_t *shards = NULL;
+        stage_run r = {.stage = s};
+        rc = d.split->plan(job->params, s, prior, max_tasks, &shards, err);
+        if (!rc && (r.n = json_array_size(shards)) == 0)
+            rc = aa_error_set(err, AA_EINVAL, "", "the plan of stage %d has no shards", s);
+        if (!rc && cluster_stage_dir(cfg->shared_dir, job->id, s, r.dir, sizeof r.dir))
+            rc = aa_error_set(err, AA_ERANGE, "", "--slurm-shared-dir is too long");
+        if (!rc && !(r.outputs = calloc(r.n, sizeof *r.outputs)))
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        for (size_t i = 0; !rc && i < r.n; i++)
+            json_array_append_new(d.traces, json_null());
+        json_t *stages = json_object_get(d.state, "stages");
+        if (!rc && (size_t)s < json_array_size(stages)) {
+            /* Re-attach: the arrays of this stage were submitted by an earlier run. */
+            r.st = json_array_get(stages, (size_t)s);
+            if (!stage_state_ok(r.st, r.n))
+                rc = aa_error_set(err, AA_EINVAL, "",
+                                  "the stored Slurm state of stage %d does not match its plan", s);
+        } else if (!rc) {
+            r.st = new_stage_state(r.n);
+            if (!r.st || json_array_append_new(stages, r.st))
+                rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+            if (!rc)
+                rc = start_stage(&d, &r, shards, prior, err);
+        }
+        if (!rc)
+            rc = run_stage(&d, &r, failure, failure_cap, err);
+        if (!rc) {
+            merged = NULL;
+            rc = d.split->merge(job->params, s, r.outputs, r.n, prior, &merged, err);
+        }
+        if (!rc) {
+            json_decref(prior);
+            prior = merged;
+            if (r.n > most)
+                most = r.n;
+            d.done_before++;
+            d.trace_base += r.n;
+        }
+        for (size_t i = 0; r.outputs && i < r.n; i++)
+            json_decref(r.outputs[i]);
+        free(r.outputs);
+        json_decref(shards);
+    }
+    if (!rc)
+        rc = d.split->finish(job->params, prior, "slurm", most, result, err);
+    json_decref(prior);
+    json_decref(d.state);
+    json_decref(d.task_spec);
+    json_decref(d.best);
+    json_decref(d.traces);
+    return rc;
+}
