@@ -116,11 +116,18 @@ static void save(driver *d)
         d->io->save(d->io->user, d->state);
 }
 
-/* sbatch --array=<array> for this stage; records the array id for the given shards. */
-static int submit(driver *d, stage_run *r, const char *array, long first, long last, aa_error *err)
+static void job_name(const driver *d, int stage, char *buf, size_t cap)
+{
+    snprintf(buf, cap, "aalab-%lld-s%d", d->job->id, stage);
+}
+
+/* sbatch --array=<array> for this stage; records the array id as the one running shards
+ * idx[0..count). */
+static int submit(driver *d, stage_run *r, const char *array, const size_t *idx, size_t count,
+                  aa_error *err)
 {
     char name[64], log[CLUSTER_PATH_MAX + 32], script[CLUSTER_PATH_MAX + 16];
-    snprintf(name, sizeof name, "aalab-%lld-s%d", d->job->id, r->stage);
+    job_name(d, r->stage, name, sizeof name);
     snprintf(log, sizeof log, "%s/log-%%a.out", r->dir);
     snprintf(script, sizeof script, "%s/array.sh", r->dir);
     slurm_submit s = {.script = script,
@@ -134,18 +141,16 @@ static int submit(driver *d, stage_run *r, const char *array, long first, long l
     int rc = slurm_sbatch(&s, &id, err);
     if (rc)
         return rc;
-    if (!json_object_get(d->state, "submitted_unix"))
-        json_object_set_new(d->state, "submitted_unix", json_real(now_unix()));
     json_array_append_new(json_object_get(r->st, "arrays"), json_integer(id));
     json_t *sa = json_object_get(r->st, "shard_array");
-    for (long i = first; i <= last; i++)
-        json_array_set_new(sa, (size_t)i, json_integer(id));
+    for (size_t k = 0; k < count; k++)
+        json_array_set_new(sa, idx[k], json_integer(id));
     save(d);
     return AA_OK;
 }
 
-/* Writes the tasks and array.sh of a new stage and submits its array. */
-static int start_stage(driver *d, stage_run *r, const json_t *shards, const json_t *prior,
+/* Writes the tasks and array.sh of a new stage. */
+static int write_stage(driver *d, stage_run *r, const json_t *shards, const json_t *prior,
                        aa_error *err)
 {
     int rc = cluster_mkdirs(r->dir, err);
@@ -171,11 +176,60 @@ static int start_stage(driver *d, stage_run *r, const json_t *shards, const json
     }
     if (!rc)
         rc = cluster_write_array_script(r->dir, d->cfg->worker, err);
-    if (rc)
-        return rc;
-    char array[48];
-    snprintf(array, sizeof array, "0-%zu", r->n - 1);
-    return submit(d, r, array, 0, (long)r->n - 1, err);
+    return rc;
+}
+
+static json_t *read_output(driver *d, stage_run *r, size_t i);
+
+/* One array of the shards without an output ("0-7", or "1,5" after a crash between the save
+ * of a stage and its sbatch). */
+static int submit_missing(driver *d, stage_run *r, aa_error *err)
+{
+    size_t *idx = malloc(r->n * sizeof *idx);
+    char *array = malloc(r->n * 12 + 16);
+    if (!idx || !array) {
+        free(idx);
+        free(array);
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    size_t count = 0, len = 0;
+    for (size_t i = 0; i < r->n; i++) {
+        json_t *o = read_output(d, r, i);
+        if (!o) {
+            idx[count++] = i;
+            len += (size_t)sprintf(array + len, "%s%zu", len ? "," : "", i);
+        }
+        json_decref(o);
+    }
+    if (count == r->n)
+        sprintf(array, "0-%zu", r->n - 1);
+    int rc = count ? submit(d, r, array, idx, count, err) : AA_OK;
+    free(idx);
+    free(array);
+    return rc;
+}
+
+/* A stage saved without an array id: the daemon stopped between the save and sbatch's
+ * answer. The array may exist: adopt it by its job name, else submit what has no output. */
+static int adopt_or_submit(driver *d, stage_run *r, aa_error *err)
+{
+    char name[64];
+    job_name(d, r->stage, name, sizeof name);
+    long long ids[8];
+    int found = slurm_squeue_by_name(name, ids, 8, err);
+    if (found < 0)
+        return found;
+    if (found == 0)
+        return submit_missing(d, r, err);
+    json_t *sa = json_object_get(r->st, "shard_array");
+    for (int k = 0; k < found; k++)
+        json_array_append_new(json_object_get(r->st, "arrays"), json_integer(ids[k]));
+    for (size_t i = 0; i < r->n; i++)
+        json_array_set_new(sa, i, json_integer(ids[0]));
+    fprintf(stderr, "aalabd: job %lld: adopted Slurm array %lld (%s) found by name\n", d->job->id,
+            ids[0], name);
+    save(d);
+    return AA_OK;
 }
 
 /* Shard i's output if its file is there and is this job's; NULL otherwise. */
@@ -269,7 +323,7 @@ static int shard_lost(driver *d, stage_run *r, size_t i, char *failure, size_t c
         json_array_set_new(retried, i, json_integer(1));
         char one[32];
         snprintf(one, sizeof one, "%zu", i);
-        return submit(d, r, one, (long)i, (long)i, err);
+        return submit(d, r, one, &i, 1, err);
     }
     char slurm[200], log[CLUSTER_PATH_MAX + 32], tail[1024];
     slurm_describe_task(array, (long)i, slurm, sizeof slurm);
@@ -401,12 +455,21 @@ int cluster_driver_run(const cluster_config *cfg, const cluster_job *job, const 
             if (!stage_state_ok(r.st, r.n))
                 rc = aa_error_set(err, AA_EINVAL, "",
                                   "the stored Slurm state of stage %d does not match its plan", s);
+            else if (json_array_size(json_object_get(r.st, "arrays")) == 0)
+                rc = adopt_or_submit(&d, &r, err);
         } else if (!rc) {
             r.st = new_stage_state(r.n);
             if (!r.st || json_array_append_new(stages, r.st))
                 rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
             if (!rc)
-                rc = start_stage(&d, &r, shards, prior, err);
+                rc = write_stage(&d, &r, shards, prior, err);
+            /* Saved before sbatch: a stop in between re-attaches by the array's job name. */
+            if (!rc) {
+                if (!json_object_get(d.state, "submitted_unix"))
+                    json_object_set_new(d.state, "submitted_unix", json_real(now_unix()));
+                save(&d);
+                rc = submit_missing(&d, &r, err);
+            }
         }
         if (!rc)
             rc = run_stage(&d, &r, failure, failure_cap, err);

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cluster_command.h"
 
@@ -109,6 +110,34 @@ int slurm_squeue(const long long *ids, size_t n, slurm_queued **items, size_t *c
         rc = slurm_parse_squeue(out.out, items, count);
     cluster_output_free(&out);
     return rc == AA_ENOMEM ? aa_error_set(err, AA_ENOMEM, "", "out of memory") : rc;
+}
+
+int slurm_squeue_by_name(const char *name, long long *ids, size_t cap, aa_error *err)
+{
+    char uid[24];
+    snprintf(uid, sizeof uid, "%u", (unsigned)getuid());
+    char *argv[] = {"squeue", "-h", "-r", "-u", uid, "-n", (char *)name, "-o", "%i %T", NULL};
+    cluster_output out;
+    int rc = run(argv, &out, err);
+    slurm_queued *q = NULL;
+    size_t count = 0, n = 0;
+    if (!rc)
+        rc = slurm_parse_squeue(out.out, &q, &count);
+    cluster_output_free(&out);
+    if (rc)
+        return rc == AA_ENOMEM ? aa_error_set(err, AA_ENOMEM, "", "out of memory") : rc;
+    for (size_t k = 0; k < count; k++) {
+        bool seen = false;
+        for (size_t m = 0; m < n && m < cap; m++)
+            seen |= ids[m] == q[k].job_id;
+        if (!seen) {
+            if (n < cap)
+                ids[n] = q[k].job_id;
+            n++;
+        }
+    }
+    free(q);
+    return (int)(n < cap ? n : cap);
 }
 
 int slurm_scancel(const long long *ids, size_t n, aa_error *err)

@@ -29,6 +29,10 @@ int slurm_sbatch(const slurm_submit *s, long long *job_id, aa_error *err);
  * caller must then not conclude that anything left the queue. */
 int slurm_squeue(const long long *ids, size_t n, slurm_queued **items, size_t *count,
                  aa_error *err);
+/* squeue -h -r -u <this uid> -n NAME -o '%i %T': the arrays of that job name still known to
+ * the controller (their distinct job ids into ids, at most cap; returns how many, or a
+ * negative code when squeue failed). */
+int slurm_squeue_by_name(const char *name, long long *ids, size_t cap, aa_error *err);
 /* scancel ID... */
 int slurm_scancel(const long long *ids, size_t n, aa_error *err);
 /* Slurm's account of one array element for a failure message: "state FAILED, exit code 1:0,

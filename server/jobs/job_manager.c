@@ -157,8 +157,10 @@ static int owner_load(job_manager *jm, long long owner)
 static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
 {
     size_t count = 0;
+    /* Admitted jobs not yet in the store are not schedulable, nor are Slurm jobs (their
+     * threads need no worker). */
     for (job *j = jm->active; j; j = j->next)
-        count += j->id > 0; /* admitted jobs not yet in the store are not schedulable */
+        count += j->id > 0 && !j->slurm;
     if (count > jm->snapshot_cap || !jm->snapshot) {
         size_t cap = count < 8 ? 16 : count * 2;
         fs_job *s = realloc(jm->snapshot, cap * (sizeof *s + sizeof(job *)));
@@ -170,7 +172,7 @@ static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
     job **jobs = (job **)(void *)(jm->snapshot + jm->snapshot_cap);
     size_t i = 0;
     for (job *j = jm->active; j; j = j->next) {
-        if (j->id <= 0)
+        if (j->id <= 0 || j->slurm)
             continue;
         jobs[i] = j;
         jm->snapshot[i] = (fs_job){.owner = j->owner,

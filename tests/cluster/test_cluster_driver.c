@@ -27,6 +27,7 @@ typedef struct harness {
     json_t *spec;
     /* what the driver reported */
     json_t *saved;
+    json_t *first_saved; /* the state as first saved: a stage without its array id yet */
     json_t *best;
     json_t *trace;
     double progress;
@@ -62,6 +63,8 @@ static void h_save(void *user, const json_t *state)
     harness *h = user;
     json_decref(h->saved);
     h->saved = json_deep_copy(state);
+    if (!h->first_saved)
+        h->first_saved = json_deep_copy(state);
     h->saves++;
 }
 
@@ -101,6 +104,7 @@ static int teardown(void **state)
     if (system(cmd)) {
     }
     json_decref(h->saved);
+    json_decref(h->first_saved);
     json_decref(h->best);
     json_decref(h->trace);
     json_decref(h->spec);
@@ -311,6 +315,62 @@ static void test_reattaches_from_saved_state(void **state)
     assert_int_equal(count_lines(p), 0);
 }
 
+/* A daemon that stopped between saving a stage and sbatch's answer finds the array by its job
+ * name instead of submitting it again. */
+static void test_adopts_an_unrecorded_array_by_name(void **state)
+{
+    harness *h = *state;
+    use_spec(h, 1.0);
+    h->stop_with = CLUSTER_DETACH;
+    h->stop_after_saves = 1;
+    void *result = NULL;
+    char failure[1200];
+    aa_error err = {0};
+    int rc = run(h, 13, NULL, &result, failure, sizeof failure, &err);
+    assert_int_equal(rc, CLUSTER_EDETACHED);
+    json_t *unrecorded = json_deep_copy(h->first_saved);
+    long long ids[4];
+    assert_int_equal(cluster_state_arrays(unrecorded, ids, 4), 0);
+    h->stop_after_saves = 0;
+    rc = run(h, 13, unrecorded, &result, failure, sizeof failure, &err);
+    json_decref(unrecorded);
+    assert_int_equal(rc, AA_OK);
+    assert_int_equal(result_steps(h, result), 100);
+    char p[400];
+    file_in(h, "sbatch.log", p, sizeof p);
+    assert_int_equal(count_lines(p), 1);
+    assert_int_equal(cluster_state_arrays(h->saved, ids, 4), 1);
+}
+
+/* The same when the array was never submitted: only the shards without output go. */
+static void test_submits_an_unrecorded_stage(void **state)
+{
+    harness *h = *state;
+    use_spec(h, 0.2);
+    void *result = NULL;
+    char failure[1200];
+    aa_error err = {0};
+    assert_int_equal(run(h, 14, NULL, &result, failure, sizeof failure, &err), AA_OK);
+    h->kind->free_result(result);
+    /* As if shard 2's output were lost and the array id never stored. */
+    json_t *unrecorded = json_deep_copy(h->first_saved);
+    char out[600], name[300];
+    snprintf(out, sizeof out, "%s/job-14/stage-0/output-2.json", h->shared);
+    assert_int_equal(unlink(out), 0);
+    file_in(h, "name-1000", name, sizeof name);
+    assert_int_equal(unlink(name), 0); /* squeue -n finds nothing */
+    int rc = run(h, 14, unrecorded, &result, failure, sizeof failure, &err);
+    json_decref(unrecorded);
+    assert_int_equal(rc, AA_OK);
+    assert_int_equal(result_steps(h, result), 100);
+    char p[400];
+    file_in(h, "sbatch.log", p, sizeof p);
+    assert_int_equal(count_lines(p), 2);
+    char *log = slurp(p);
+    assert_non_null(strstr(log, "--array=2 "));
+    free(log);
+}
+
 /* A state whose stage does not match the plan is refused rather than resubmitted. */
 static void test_malformed_state_is_refused(void **state)
 {
@@ -335,6 +395,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_second_failure_fails_the_job, setup, teardown),
         cmocka_unit_test_setup_teardown(test_cancel_scancels_every_array, setup, teardown),
         cmocka_unit_test_setup_teardown(test_reattaches_from_saved_state, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_adopts_an_unrecorded_array_by_name, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_submits_an_unrecorded_stage, setup, teardown),
         cmocka_unit_test_setup_teardown(test_malformed_state_is_refused, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
