@@ -17,6 +17,10 @@
 #define CANCEL_WAIT_SECONDS 60.0 /* how long a cancel waits for squeue to list none */
 #define LOG_TAIL_LINES 8
 #define LOG_TAIL_BYTES 4096
+/* A shard out of the queue without an output is declared lost only after this many polls: a
+ * shared filesystem (NFS attribute and lookup caches) may show a file written on a node a
+ * little after the task has left the queue. */
+#define LOST_AFTER_POLLS 3
 
 /* One stage being run: its shards, their outputs and the part of the state that is the
  * stage's ({"shards": n, "arrays": [id...], "shard_array": [id per shard], "retried": [0|1]}). */
@@ -24,8 +28,9 @@ typedef struct stage_run {
     int stage;
     size_t n;
     char dir[CLUSTER_PATH_MAX];
-    json_t **outputs; /* outputs[i]: shard i's output once it has one */
-    json_t *st;       /* borrowed from the driver's state */
+    json_t **outputs;      /* outputs[i]: shard i's output once it has one */
+    double *missing_since; /* monotonic time shard i was first seen gone without output, 0 */
+    json_t *st;            /* borrowed from the driver's state */
 } stage_run;
 
 typedef struct driver {
@@ -368,9 +373,17 @@ static int run_stage(driver *d, stage_run *r, char *failure, size_t cap, aa_erro
         }
         int rc = AA_OK;
         json_t *sa = json_object_get(r->st, "shard_array");
-        for (size_t i = 0; queue_known && !rc && i < r->n; i++)
-            if (!r->outputs[i] && !queued(q, count, json_integer_value(json_array_get(sa, i)), i))
+        double now = aa_monotonic_seconds(), grace = LOST_AFTER_POLLS * d->cfg->poll_seconds;
+        for (size_t i = 0; queue_known && !rc && i < r->n; i++) {
+            if (r->outputs[i] || queued(q, count, json_integer_value(json_array_get(sa, i)), i)) {
+                r->missing_since[i] = 0;
+            } else if (!r->missing_since[i]) {
+                r->missing_since[i] = now;
+            } else if (now - r->missing_since[i] >= grace) {
+                r->missing_since[i] = 0;
                 rc = shard_lost(d, r, i, failure, cap, err);
+            }
+        }
         free(q);
         report(d, r, done);
         if (rc)
@@ -444,7 +457,8 @@ int cluster_driver_run(const cluster_config *cfg, const cluster_job *job, const 
             rc = aa_error_set(err, AA_EINVAL, "", "the plan of stage %d has no shards", s);
         if (!rc && cluster_stage_dir(cfg->shared_dir, job->id, s, r.dir, sizeof r.dir))
             rc = aa_error_set(err, AA_ERANGE, "", "--slurm-shared-dir is too long");
-        if (!rc && !(r.outputs = calloc(r.n, sizeof *r.outputs)))
+        if (!rc && (!(r.outputs = calloc(r.n, sizeof *r.outputs)) ||
+                    !(r.missing_since = calloc(r.n, sizeof *r.missing_since))))
             rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
         for (size_t i = 0; !rc && i < r.n; i++)
             json_array_append_new(d.traces, json_null());
@@ -488,6 +502,7 @@ int cluster_driver_run(const cluster_config *cfg, const cluster_job *job, const 
         for (size_t i = 0; r.outputs && i < r.n; i++)
             json_decref(r.outputs[i]);
         free(r.outputs);
+        free(r.missing_since);
         json_decref(shards);
     }
     if (!rc)

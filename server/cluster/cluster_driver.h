@@ -2,10 +2,10 @@
  * most --slurm-max-tasks shards, writes their TASK.json files and array.sh under the shared
  * directory (cluster_layout.h) and submits one `sbatch --array`; then it polls (squeue first,
  * then the output files) every --slurm-poll seconds. A shard that left the queue without an
- * output failed: it is resubmitted once (`sbatch --array=<i>`), and a second failure fails the
- * job, naming the shard, Slurm's state for it and the tail of its log. When every shard of a
- * stage has its output the outputs merge in shard order; after the last stage split->finish
- * makes the kind's result.
+ * output (for 3 polls in a row: shared filesystems may show a node's file late) failed: it is
+ * resubmitted once (`sbatch --array=<i>`), and a second failure fails the job, naming the shard,
+ * Slurm's state for it and the tail of its log. When every shard of a stage has its output the
+ * outputs merge in shard order; after the last stage split->finish makes the kind's result.
  *
  * Everything needed to re-attach is the state JSON the driver hands to io->save whenever it
  * changes (array ids per stage, which shard runs in which array, which were retried, when the

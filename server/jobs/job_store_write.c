@@ -430,6 +430,8 @@ int job_store_sweep(job_store *st, double before, long long *deleted)
 
 int job_store_set_cluster(job_store *st, long long id, const json_t *cluster)
 {
+    if (json_is_null(cluster))
+        cluster = NULL; /* a local job again: the column is cleared */
     char *text = cluster ? json_dumps(cluster, JSON_COMPACT) : NULL;
     if (cluster && !text)
         return AA_ENOMEM;
