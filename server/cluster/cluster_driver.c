@@ -30,6 +30,7 @@ typedef struct stage_run {
     char dir[CLUSTER_PATH_MAX];
     json_t **outputs;      /* outputs[i]: shard i's output once it has one */
     double *missing_since; /* monotonic time shard i was first seen gone without output, 0 */
+    bool *trace_final;     /* shard i's trace was read after its output appeared */
     json_t *st;            /* borrowed from the driver's state */
 } stage_run;
 
@@ -145,7 +146,7 @@ static int submit(driver *d, stage_run *r, const char *array, const size_t *idx,
     long long id;
     int rc = slurm_sbatch(&s, &id, err);
     if (rc)
-        return rc;
+        return rc == AA_ENOMEM ? rc : (err->code = CLUSTER_ESLURM);
     json_array_append_new(json_object_get(r->st, "arrays"), json_integer(id));
     json_t *sa = json_object_get(r->st, "shard_array");
     for (size_t k = 0; k < count; k++)
@@ -277,9 +278,9 @@ static void note_best(driver *d, int stage, const json_t *output)
 static void refresh_traces(driver *d, stage_run *r)
 {
     for (size_t i = 0; i < r->n; i++) {
-        json_t *have = json_array_get(d->traces, d->trace_base + i);
-        if (!json_is_null(have) && r->outputs[i])
-            continue; /* final: read once after the output appeared */
+        if (r->trace_final[i])
+            continue; /* the worker writes its last trace before its output */
+        r->trace_final[i] = r->outputs[i] != NULL;
         char path[CLUSTER_PATH_MAX + 32];
         cluster_shard_path(r->dir, "trace", (long)i, "json", path, sizeof path);
         json_t *t = cluster_read_json(path);
@@ -337,8 +338,8 @@ static int shard_lost(driver *d, stage_run *r, size_t i, char *failure, size_t c
     snprintf(failure, cap,
              "shard %zu of stage %d failed twice (Slurm job %lld_%zu: %s); last lines of %s: %s", i,
              r->stage, array, i, slurm, log, tail[0] ? tail : "(empty or missing)");
-    return aa_error_set(err, AA_EINVAL, "executor", "shard %zu of stage %d failed twice (%.60s)", i,
-                        r->stage, slurm);
+    return aa_error_set(err, CLUSTER_ESHARD, "executor",
+                        "shard %zu of stage %d failed twice (%.60s)", i, r->stage, slurm);
 }
 
 /* Polls one stage until every shard has its output. */
@@ -458,7 +459,8 @@ int cluster_driver_run(const cluster_config *cfg, const cluster_job *job, const 
         if (!rc && cluster_stage_dir(cfg->shared_dir, job->id, s, r.dir, sizeof r.dir))
             rc = aa_error_set(err, AA_ERANGE, "", "--slurm-shared-dir is too long");
         if (!rc && (!(r.outputs = calloc(r.n, sizeof *r.outputs)) ||
-                    !(r.missing_since = calloc(r.n, sizeof *r.missing_since))))
+                    !(r.missing_since = calloc(r.n, sizeof *r.missing_since)) ||
+                    !(r.trace_final = calloc(r.n, sizeof *r.trace_final))))
             rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
         for (size_t i = 0; !rc && i < r.n; i++)
             json_array_append_new(d.traces, json_null());
@@ -503,6 +505,7 @@ int cluster_driver_run(const cluster_config *cfg, const cluster_job *job, const 
             json_decref(r.outputs[i]);
         free(r.outputs);
         free(r.missing_since);
+        free(r.trace_final);
         json_decref(shards);
     }
     if (!rc)

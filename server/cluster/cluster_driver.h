@@ -25,6 +25,8 @@
 #include "job_kind.h"
 
 #define CLUSTER_EDETACHED (-3001) /* stopped for a daemon shutdown; the arrays keep running */
+#define CLUSTER_ESHARD (-3002)    /* a shard failed twice (the job's error: "internal") */
+#define CLUSTER_ESLURM (-3003)    /* sbatch failed */
 
 typedef enum cluster_stop {
     CLUSTER_GO,     /* keep going */
