@@ -1,6 +1,7 @@
 """aalabd with executor "slurm" against the fake Slurm commands of this directory (fake_slurm/,
 on PATH) and the fake worker, with the test kind "sleep": health, 503 slurm_unavailable, 400 for
-a kind without a split, a job run to the end, cancel, re-attach after SIGTERM and after kill -9.
+a kind without a split, a job run to the end, cancel, re-attach after SIGTERM and after kill -9,
+a shard failing twice, Slurm not answering, --max-job-seconds.
 Every answer is checked against its schema (tests/e2e/response_check.py).
 usage: daemon_fake_slurm.py AALABD"""
 
@@ -130,6 +131,26 @@ def main():
         wait(lambda: d.get("/v1/health").json()["slurm"]["answering"] is False, "slurm down", 20)
         e = expect_error(submit(d, 0.1, status=503), 503, "executor")
         check("not answering" in e["message"], e)
+    finally:
+        d.cleanup()
+
+    # --max-job-seconds stops a Slurm job too: its arrays are scancelled, the job fails with
+    # time_limit.
+    os.unlink(os.path.join(fake, "down"))
+    root = tempfile.mkdtemp(prefix="aalab-e2e-slurm-")
+    d = Daemon(binary, root=root, tcp=False,
+               extra=extra[:1] + [os.path.join(root, "shared")] + extra[2:] + ["--max-job-seconds", "2"])
+    d.start()
+    try:
+        wait(lambda: d.get("/v1/health").json()["slurm"]["answering"] is True, "slurm answering")
+        cancels = len(lines(scancel_log))
+        job = submit(d, 0.5).json()  # shards sleep up to 0.5 s: done well within 2 s
+        check(d.wait_job(job["id"], timeout=60)["state"] == "done", job)
+        job = submit(d, 60).json()
+        j = d.wait_job(job["id"], timeout=60)
+        check(j["state"] == "failed" and j["error"]["code"] == "time_limit", j)
+        check(len(lines(scancel_log)) == cancels + 1, lines(scancel_log))
+        check(not os.listdir(os.path.join(fake, "queue")), os.listdir(os.path.join(fake, "queue")))
     finally:
         d.cleanup()
     print("daemon_fake_slurm: ok")
