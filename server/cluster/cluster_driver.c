@@ -244,14 +244,23 @@ static json_t *read_output(driver *d, stage_run *r, size_t i)
     char path[CLUSTER_PATH_MAX + 32];
     cluster_shard_path(r->dir, "output", (long)i, "json", path, sizeof path);
     json_t *o = cluster_read_json(path);
-    const char *format = NULL;
+    if (!o)
+        return NULL; /* not there yet (the worker renames it into place whole) */
+    const char *format = NULL, *host = NULL;
     json_int_t job_id = -1, stage = -1, index = -1;
+    double started, finished;
     json_t *output = NULL;
-    if (!o ||
-        json_unpack(o, "{s:s,s:I,s:I,s:I,s:o}", "format", &format, "job_id", &job_id, "stage",
-                    &stage, "shard_index", &index, "output", &output) ||
+    json_error_t e;
+    e.text[0] = 0;
+    if (json_unpack_ex(o, &e, 0, "{s:s,s:I,s:I,s:I,s:s,s:F,s:F,s:o!}", "format", &format, "job_id",
+                       &job_id, "stage", &stage, "shard_index", &index, "host", &host,
+                       "started_unix", &started, "finished_unix", &finished, "output", &output) ||
         strcmp(format, "aalab-shard-output/1") || job_id != d->job->id || stage != r->stage ||
         index != (json_int_t)i) {
+        /* Not this shard's output: it counts as missing (and the shard, once out of the queue,
+         * as failed); say why once per poll in the journal. */
+        fprintf(stderr, "aalabd: job %lld: %s is not this shard's output (%s)\n", d->job->id, path,
+                e.text[0] ? e.text : "format, job_id, stage or shard_index differ");
         json_decref(o);
         return NULL;
     }
