@@ -30,6 +30,7 @@ typedef enum opt_id {
     OPT_RNG_SEED,
     OPT_MODE,
     OPT_METHOD,
+    OPT_EXECUTOR,
     OPT_WAIT,
     OPT_POLL,
     OPT_SCENE,
@@ -78,6 +79,7 @@ static const opt_spec OPTIONS[] = {
     {"rng-seed", 0, true, BIT(CMD_OPTIMIZE), OPT_RNG_SEED},
     {"mode", 0, true, BIT(CMD_OPTIMIZE), OPT_MODE},
     {"method", 0, true, BIT(CMD_OPTIMIZE), OPT_METHOD},
+    {"executor", 0, true, BIT(CMD_OPTIMIZE), OPT_EXECUTOR},
     {"wait", 'w', false, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_WAIT},
     {"poll", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT) | BIT(CMD_WAIT), OPT_POLL},
     {"quiet", 'q', false, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_QUIET},
@@ -271,6 +273,11 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
             return fail(err, cap, "--method wants auto, laine-aila, minimax or smooth, got '%s'",
                         v);
         a->method = v;
+        break;
+    case OPT_EXECUTOR:
+        if (strcmp(v, "local") && strcmp(v, "slurm"))
+            return fail(err, cap, "--executor wants local or slurm, got '%s'", v);
+        a->executor = v;
         break;
     case OPT_WAIT:
         a->wait = true;

@@ -48,7 +48,8 @@ typedef struct cli_args {
     const char *family;
     const char *pattern; /* optimize: FILE or preset NAME; render: NAME or FILE */
     const char *mode;
-    const char *method; /* optimize: the step rule, NULL = the daemon's choice */
+    const char *method;   /* optimize: the step rule, NULL = the daemon's choice */
+    const char *executor; /* optimize: "local" or "slurm", NULL = the daemon's default */
     long seeds;
     double max_seconds;
     long long rng_seed;

@@ -41,6 +41,8 @@
     X(WIRE_OUT_OF_MEMORY, 503, "unavailable", 5)                                                   \
     X(WIRE_STORE_UNAVAILABLE, 503, "unavailable", 30) /* the job or token store failed */          \
     X(WIRE_BUSY, 503, "unavailable", 1) /* compute queue or connections full, shutting down */     \
+    /* executor "slurm" while Slurm is not configured (--slurm-shared-dir) or not answering */     \
+    X(WIRE_SLURM_UNAVAILABLE, 503, "slurm_unavailable", 30)                                        \
     X(WIRE_HTTP_VERSION, 505, "http_version_not_supported", 0)
 
 /* X(engine code of aa_error.h, row): every AA_E* code has one. */

@@ -72,6 +72,10 @@ void config_defaults(aalab_config *cfg)
     cfg->user_store_bytes = 256u << 20;
     cfg->keep_days = 90.0;
     cfg->max_spec_bytes = 2u << 20;
+    cfg->slurm.max_tasks = CLUSTER_DEFAULT_MAX_TASKS;
+    cfg->slurm.time_limit_minutes = CLUSTER_DEFAULT_TIME_LIMIT;
+    cfg->slurm.poll_seconds = CLUSTER_DEFAULT_POLL;
+    /* worker: "" until config_finish puts aalab-worker beside this executable. */
 }
 
 /* Defaults that follow from other flags. */
@@ -79,6 +83,18 @@ static void config_finish(aalab_config *cfg)
 {
     if (cfg->user_workers <= 0)
         cfg->user_workers = cfg->workers / 2 > 1 ? cfg->workers / 2 : 1;
+    if (!cfg->slurm.worker[0]) {
+        /* aalab-worker is built and installed beside aalabd. */
+        char exe[AALAB_PATH_MAX];
+        ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+        char *slash = n > 0 ? (exe[n] = 0, strrchr(exe, '/')) : NULL;
+        if (slash) {
+            *slash = 0;
+            snprintf(cfg->slurm.worker, sizeof cfg->slurm.worker, "%.4000s/aalab-worker", exe);
+        } else {
+            snprintf(cfg->slurm.worker, sizeof cfg->slurm.worker, "aalab-worker");
+        }
+    }
 }
 
 void config_usage(FILE *out)
@@ -121,6 +137,17 @@ void config_usage(FILE *out)
             "  --user-store-bytes B stored job data per user (default 268435456)\n"
             "  --keep-days D        finished, unpinned jobs are deleted after D days (default 90)\n"
             "  --max-spec-bytes B   largest job spec, 413 beyond (default 2097152)\n"
+            "Slurm executor (jobs with \"executor\": \"slurm\"; docs/cluster.md):\n"
+            "  --slurm-shared-dir DIR  directory every node sees, for task files and outputs\n"
+            "                       (default: unset = Slurm not configured)\n"
+            "  --slurm-partition NAME  partition of the arrays (default: the cluster's default)\n"
+            "  --slurm-max-tasks N  most shards (array elements) per stage (default 64)\n"
+            "  --slurm-time-limit MIN  time limit per task, sbatch --time (default 60)\n"
+            "  --slurm-sbatch-args \"ARGS\"  extra sbatch arguments, split on blanks, no shell\n"
+            "                       (default: none)\n"
+            "  --slurm-worker PATH  aalab-worker on the nodes (default: aalab-worker beside\n"
+            "                       the aalabd executable)\n"
+            "  --slurm-poll S       seconds between squeue polls (default 2)\n"
             "  --enable-test-kinds  offer the 'sleep' job kind (for tests; off by default)\n"
             "  --help, --version\n");
 }
@@ -215,6 +242,13 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
                                             "--user-store-bytes",
                                             "--keep-days",
                                             "--max-spec-bytes",
+                                            "--slurm-shared-dir",
+                                            "--slurm-partition",
+                                            "--slurm-max-tasks",
+                                            "--slurm-time-limit",
+                                            "--slurm-sbatch-args",
+                                            "--slurm-worker",
+                                            "--slurm-poll",
                                             NULL};
         bool is_known = false;
         for (size_t k = 0; known[k] && !is_known; k++)
@@ -289,6 +323,24 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
             bad = parse_seconds(v, 0.0001, 36500.0, &cfg->keep_days);
         else if (!strcmp(a, "--max-spec-bytes") && !(bad = parse_long(v, 1024, 1L << 30, &n)))
             cfg->max_spec_bytes = (size_t)n;
+        else if (!strcmp(a, "--slurm-shared-dir"))
+            bad = v[0] != '/' || snprintf(cfg->slurm.shared_dir, sizeof cfg->slurm.shared_dir, "%s",
+                                          v) >= (int)sizeof cfg->slurm.shared_dir;
+        else if (!strcmp(a, "--slurm-partition"))
+            bad = snprintf(cfg->slurm.partition, sizeof cfg->slurm.partition, "%s", v) >=
+                  (int)sizeof cfg->slurm.partition;
+        else if (!strcmp(a, "--slurm-max-tasks") && !(bad = parse_long(v, 1, 100000, &n)))
+            cfg->slurm.max_tasks = (int)n;
+        else if (!strcmp(a, "--slurm-time-limit") && !(bad = parse_long(v, 1, 525600, &n)))
+            cfg->slurm.time_limit_minutes = (int)n;
+        else if (!strcmp(a, "--slurm-sbatch-args"))
+            bad = snprintf(cfg->slurm.sbatch_args, sizeof cfg->slurm.sbatch_args, "%s", v) >=
+                  (int)sizeof cfg->slurm.sbatch_args;
+        else if (!strcmp(a, "--slurm-worker"))
+            bad = !v[0] || snprintf(cfg->slurm.worker, sizeof cfg->slurm.worker, "%s", v) >=
+                               (int)sizeof cfg->slurm.worker;
+        else if (!strcmp(a, "--slurm-poll"))
+            bad = parse_seconds(v, 0.05, 3600.0, &cfg->slurm.poll_seconds);
         else if (!bad) {
             fprintf(err, "aalabd: unknown option %s (see --help)\n", a);
             return -1;

@@ -7,6 +7,8 @@
 #include <stddef.h>
 #include <stdio.h>
 
+#include "cluster_config.h"
+
 typedef struct aalab_config {
     char socket_path[AALAB_PATH_MAX];
     char tcp_host[64]; /* "" = no TCP listener */
@@ -42,6 +44,7 @@ typedef struct aalab_config {
     size_t user_store_bytes; /* stored job bytes per user */
     double keep_days;        /* finished, unpinned jobs older than this are deleted */
     size_t max_spec_bytes;   /* a job spec above this is refused with 413 */
+    cluster_config slurm;    /* the Slurm executor (--slurm-*); shared_dir "" = not configured */
 } aalab_config;
 
 /* Embedded defaults: socket under $RUNTIME_DIRECTORY / $XDG_RUNTIME_DIR (or /run/aalab as root),

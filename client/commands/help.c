@@ -55,13 +55,15 @@ static const struct {
                  "                      [--seeds N] [--max-seconds S] [--rng-seed K]\n"
                  "                      [--mode weights|positions|both]\n"
                  "                      [--method auto|laine-aila|minimax|smooth]\n"
-                 "                      [--wait] [--poll S] [-q]\n"
+                 "                      [--executor local|slurm] [--wait] [--poll S] [-q]\n"
                  "Prints the job id. With --wait, follows the job with a progress bar on\n"
                  "stderr, prints the finished job and exits 5 if it failed or was cancelled.\n"
                  "-q prints the bare id (ID=$(aalab optimize -q ...)); with --wait it then\n"
                  "waits silently and the exit code says how the job ended.\n"
                  "--method picks the step rule (default auto: minimax for --mode weights,\n"
-                 "smooth for P(4,4,n) and P(16,16,n), laine-aila otherwise).\n"},
+                 "smooth for P(4,4,n) and P(16,16,n), laine-aila otherwise).\n"
+                 "--executor slurm runs the seeds as a Slurm job array (the daemon needs\n"
+                 "--slurm-shared-dir; GET /v1/health says whether Slurm answers).\n"},
     {"submit", "usage: aalab submit SPEC.json|- [--wait] [--poll S] [-q]\n"
                "SPEC is the POST /v1/jobs body, e.g. {\"kind\":\"family-sweep\",...}; the\n"
                "kinds, their fields and runnable examples are at GET /v1/kinds.\n"

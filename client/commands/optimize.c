@@ -1,5 +1,6 @@
 /* aalab optimize --family F | --pattern FILE [--seeds N] [--max-seconds S] [--rng-seed K]
- *                [--mode weights|positions|both] [--method NAME] [--wait] */
+ *                [--mode weights|positions|both] [--method NAME] [--executor local|slurm]
+ *                [--wait] */
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
@@ -32,6 +33,8 @@ int optimize_request(const cli_args *a, json_t **req, char *err, size_t errcap)
         json_object_set_new(r, "mode", json_string(a->mode));
     if (a->method)
         json_object_set_new(r, "method", json_string(a->method));
+    if (a->executor)
+        json_object_set_new(r, "executor", json_string(a->executor));
     *req = r;
     return 0;
 }

@@ -98,7 +98,8 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
                              .user_workers = cfg->user_workers,
                              .slice_seconds = cfg->job_slice,
                              .max_job_seconds = cfg->max_job_seconds,
-                             .user_store_bytes = (long long)cfg->user_store_bytes};
+                             .user_store_bytes = (long long)cfg->user_store_bytes,
+                             .cluster = cfg->slurm};
     ctx->jobs = job_manager_create(cfg->state_dir, &jc, err);
     if (!ctx->jobs)
         goto fail;

@@ -127,6 +127,11 @@ void api_reply_job_error(api_response *resp, int rc, const aa_error *err)
     case JM_ESTORE_QUOTA:
         e = WIRE_QUOTA_EXCEEDED;
         break;
+    case JM_ESLURM:
+        /* Names the envelope field that asked for Slurm. */
+        api_reply_wire(resp, WIRE_SLURM_UNAVAILABLE, "executor", "%s",
+                       err->message[0] ? err->message : "Slurm is unavailable");
+        return;
     default:
         api_reply_aa_error(resp, err);
         return;

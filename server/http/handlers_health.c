@@ -1,4 +1,4 @@
-/* GET /v1/health: version, uptime, workers, queue, jobs by state, caches. */
+/* GET /v1/health: version, uptime, workers, queue, jobs by state, caches, Slurm. */
 #include <stdio.h>
 #include <string.h>
 
@@ -39,6 +39,15 @@ void handle_health(api_context *ctx, const api_request *req, api_response *resp)
                                   cfg->job_slice, "max_job_seconds", cfg->max_job_seconds,
                                   "user_evaluates", (json_int_t)cfg->user_evaluates, "user_renders",
                                   (json_int_t)cfg->user_renders));
+    /* The Slurm executor, from the probe thread's last scontrol ping (never asked here). */
+    cluster_status slurm;
+    job_manager_slurm_status(api_context_jobs(ctx), &slurm);
+    json_object_set_new(o, "slurm",
+                        json_pack("{s:b,s:o,s:s}", "configured", slurm.configured, "answering",
+                                  slurm.configured && slurm.answering >= 0
+                                      ? json_boolean(slurm.answering == 1)
+                                      : json_null(),
+                                  "message", slurm.message));
     /* Where the dashboard is, so `aalab token` can print its URL (--tcp; a socket-activated
      * listener is not known here). */
     if (o && cfg->tcp_port > 0) {

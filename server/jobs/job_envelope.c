@@ -37,6 +37,13 @@ int job_envelope_take(const json_t *spec, job_envelope *env, json_t **kind_spec,
                                 JOB_LABEL_MAX);
         memcpy(env->label, s, json_string_length(v) + 1);
     }
+    v = json_object_get(spec, "executor");
+    if (v) {
+        const char *s = json_string_value(v);
+        if (!s || (strcmp(s, "local") && strcmp(s, "slurm")) || strlen(s) != json_string_length(v))
+            return aa_error_set(err, AA_EINVAL, "executor", "must be \"local\" or \"slurm\"");
+        env->slurm = !strcmp(s, "slurm");
+    }
     json_t *copy = json_deep_copy(spec);
     if (!copy)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
@@ -45,6 +52,7 @@ int job_envelope_take(const json_t *spec, job_envelope *env, json_t **kind_spec,
     json_object_del(copy, "visibility");
     json_object_del(copy, "pinned");
     json_object_del(copy, "label");
+    json_object_del(copy, "executor");
     *kind_spec = copy;
     return AA_OK;
 }
@@ -52,4 +60,9 @@ int job_envelope_take(const json_t *spec, job_envelope *env, json_t **kind_spec,
 const char *job_envelope_visibility(const job_envelope *env)
 {
     return env->private_job ? "private" : "team";
+}
+
+const char *job_envelope_executor(const job_envelope *env)
+{
+    return env->slurm ? "slurm" : "local";
 }

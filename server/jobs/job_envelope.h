@@ -25,6 +25,7 @@ typedef struct job_envelope {
     bool private_job; /* visibility "private" */
     bool pinned;
     char label[JOB_LABEL_MAX + 1]; /* "" when absent */
+    bool slurm;                    /* executor "slurm" */
 } job_envelope;
 
 /* Validates the envelope keys of spec (AA_EINVAL naming the field) and returns in *kind_spec a
@@ -32,5 +33,6 @@ typedef struct job_envelope {
  * checked by the job manager, which knows the table of kinds. */
 int job_envelope_take(const json_t *spec, job_envelope *env, json_t **kind_spec, aa_error *err);
 const char *job_envelope_visibility(const job_envelope *env); /* "team" or "private" */
+const char *job_envelope_executor(const job_envelope *env);   /* "local" or "slurm" */
 
 #endif

@@ -74,7 +74,8 @@ static const job_kind table[] = {
      .run = kind_sleep_run,
      .encode_result = kind_sleep_encode_result,
      .free_result = kind_sleep_free_result,
-     .best_of = kind_sleep_best_of},
+     .best_of = kind_sleep_best_of,
+     .split = &kind_sleep_split},
 };
 
 #define KIND_COUNT (sizeof table / sizeof table[0])

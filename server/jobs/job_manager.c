@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "cluster_driver.h"
 #include "fair_share.h"
 #include "job_ctx_impl.h"
 #include "job_envelope.h"
@@ -37,8 +38,10 @@ typedef struct job {
     atomic_llong paused_ns; /* total pause so far: the job's clock stands still meanwhile */
     pthread_cond_t resume;
     char reason[160];
-    job_live live;    /* progress, best, trace: guarded by jm->lock */
-    struct job *next; /* active list */
+    bool slurm;            /* executor "slurm": its thread drives Slurm arrays, holds no worker */
+    json_t *cluster_state; /* the stored Slurm state to re-attach to (restart), or NULL */
+    job_live live;         /* progress, best, trace: guarded by jm->lock */
+    struct job *next;      /* active list */
 } job;
 
 struct job_manager {
@@ -59,6 +62,8 @@ struct job_manager {
     long long counts[JOB_STATE_COUNT]; /* jobs by state, cached for COUNTS_MAX_AGE */
     double counts_at;
     bool stopping;
+    cluster_probe *probe; /* whether Slurm answers (health, submit) */
+    int slurm_jobs;       /* Slurm jobs with a thread */
 };
 
 double jm_now(void)
@@ -89,6 +94,7 @@ static void job_free(job *j)
     if (j->params && j->kind && j->kind->free_params)
         j->kind->free_params(j->params);
     json_decref(j->spec);
+    json_decref(j->cluster_state);
     job_live_clear(&j->live);
     pthread_cond_destroy(&j->resume);
     free(j);
@@ -151,8 +157,10 @@ static int owner_load(job_manager *jm, long long owner)
 static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
 {
     size_t count = 0;
+    /* Admitted jobs not yet in the store are not schedulable, nor are Slurm jobs (their
+     * threads need no worker). */
     for (job *j = jm->active; j; j = j->next)
-        count += j->id > 0; /* admitted jobs not yet in the store are not schedulable */
+        count += j->id > 0 && !j->slurm;
     if (count > jm->snapshot_cap || !jm->snapshot) {
         size_t cap = count < 8 ? 16 : count * 2;
         fs_job *s = realloc(jm->snapshot, cap * (sizeof *s + sizeof(job *)));
@@ -164,7 +172,7 @@ static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
     job **jobs = (job **)(void *)(jm->snapshot + jm->snapshot_cap);
     size_t i = 0;
     for (job *j = jm->active; j; j = j->next) {
-        if (j->id <= 0)
+        if (j->id <= 0 || j->slurm)
             continue;
         jobs[i] = j;
         jm->snapshot[i] = (fs_job){.owner = j->owner,
@@ -295,11 +303,14 @@ double jm_job_clock(void *ctx_)
     return aa_monotonic_seconds() - (double)atomic_load(&j->paused_ns) * 1e-9;
 }
 
-static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa_error *err)
+/* failure: a message longer than err's (a Slurm shard's log tail), or NULL/"". */
+static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa_error *err,
+                       const char *failure)
 {
     pthread_mutex_lock(&jm->lock);
+    bool detached = rc == CLUSTER_EDETACHED;
     bool shutdown_stop =
-        rc == AA_ECANCELED && jm->stopping && !j->cancel_requested && !j->over_time;
+        detached || (rc == AA_ECANCELED && jm->stopping && !j->cancel_requested && !j->over_time);
     bool over_time = j->over_time && rc != AA_OK;
     json_t *best = json_incref(j->live.best);
     job_live_flush_pending(&j->live);
@@ -311,7 +322,12 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
     json_t *error = NULL;
     const char *reason = NULL;
     char why[160];
-    if (shutdown_stop) {
+    if (detached) {
+        /* Its arrays keep running; the next start re-attaches through the cluster column. */
+        st = JOB_QUEUED;
+        reason = "daemon stopped; the job's Slurm arrays keep running and the next start "
+                 "re-attaches to them";
+    } else if (shutdown_stop) {
         /* Not resumable mid-run: the next start runs it again from the beginning. */
         st = JOB_QUEUED;
         reason = "daemon stopped while the job was running; re-queued";
@@ -334,10 +350,12 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
     } else {
         st = JOB_FAILED;
         /* The wire code of the engine error, as an HTTP answer would carry it. */
-        error =
-            json_pack("{s:s,s:s,s:s}", "code", proto_wire_row_of(proto_wire_error_of_aa(rc))->code,
-                      "message", err && err->message[0] ? err->message : aa_strerror(rc), "field",
-                      err ? err->field : "");
+        error = json_pack("{s:s,s:s,s:s}", "code",
+                          proto_wire_row_of(proto_wire_error_of_aa(rc))->code, "message",
+                          failure && failure[0]    ? failure
+                          : err && err->message[0] ? err->message
+                                                   : aa_strerror(rc),
+                          "field", err ? err->field : "");
     }
     /* The live best is posted at most 10 times a second, so the last improvement may be
      * missing from it: a finished job's best is its result's. */
@@ -400,12 +418,123 @@ static void *job_thread(void *arg)
     if (rc == AA_OK && !(result = j->kind->encode_result(typed)))
         rc = aa_error_set(&err, AA_ENOMEM, "", "out of memory");
     j->kind->free_result(typed);
-    finish_job(jm, j, rc, result, &err);
+    finish_job(jm, j, rc, result, &err, NULL);
     pthread_mutex_lock(&jm->lock);
     if (--jm->threads == 0)
         pthread_cond_broadcast(&jm->idle);
     pthread_mutex_unlock(&jm->lock);
     return NULL;
+}
+
+/* --- Slurm jobs -------------------------------------------------------------------------- */
+
+static cluster_stop slurm_check(void *user)
+{
+    job_ctx *ctx = user;
+    pthread_mutex_lock(ctx->lock);
+    jm_yield_point_locked(ctx); /* holds no worker: this only enforces --max-job-seconds */
+    const job *j = ctx->job;
+    cluster_stop s = j->cancel_requested || j->over_time ? CLUSTER_CANCEL
+                     : ctx->jm->stopping                 ? CLUSTER_DETACH
+                                                         : CLUSTER_GO;
+    pthread_mutex_unlock(ctx->lock);
+    return s;
+}
+
+static void slurm_report(void *user, double progress, const json_t *best, const json_t *trace)
+{
+    job_ctx *ctx = user;
+    json_t *b = best ? json_deep_copy(best) : NULL;
+    json_t *t = trace ? json_deep_copy(trace) : NULL;
+    pthread_mutex_lock(ctx->lock);
+    job_live *l = ctx->live;
+    l->progress = progress < 0 ? 0 : progress > 1 ? 1 : progress;
+    if (b) {
+        json_decref(l->best);
+        l->best = b;
+    }
+    if (t) {
+        /* The merged trace is rebuilt from the shards' files each poll: replace it whole. */
+        json_decref(l->trace);
+        l->trace = t;
+        l->have_pending = false;
+        if (json_array_size(t) == l->flushed_trace_len)
+            l->flushed_trace_len = (size_t)-1;
+    }
+    if (jm_now() - l->last_flush >= 5.0)
+        job_ctx_flush_locked(ctx);
+    pthread_mutex_unlock(ctx->lock);
+}
+
+static void slurm_save(void *user, const json_t *state)
+{
+    job_ctx *ctx = user;
+    if (job_store_set_cluster(ctx->store, ctx->id, state))
+        fprintf(stderr, "aalabd: job %lld: cannot store its Slurm array ids\n", ctx->id);
+}
+
+/* One thread per Slurm job: runs the driver until the job ends, is cancelled or the daemon
+ * stops (then the arrays keep running). */
+static void *slurm_thread(void *arg)
+{
+    job *j = arg;
+    job_manager *jm = j->jm;
+    job_store_set_state(jm->store, j->id, JOB_RUNNING, j->started, j->reason[0] ? j->reason : NULL);
+    struct job_ctx ctx = {.jm = jm,
+                          .job = j,
+                          .lock = &jm->lock,
+                          .live = &j->live,
+                          .store = jm->store,
+                          .id = j->id,
+                          .tiles = jm->cfg.tiles,
+                          .workers = jm->cfg.workers,
+                          .busy = &jm->busy,
+                          .started = j->started,
+                          .started_mono = aa_monotonic_seconds()};
+    cluster_job cj = {.id = j->id,
+                      .kind = j->kind,
+                      .params = j->params,
+                      .spec = j->spec,
+                      .state = j->cluster_state};
+    cluster_job_io io = {
+        .check = slurm_check, .report = slurm_report, .save = slurm_save, .user = &ctx};
+    void *typed = NULL;
+    json_t *result = NULL;
+    aa_error err = {0};
+    char failure[1200];
+    int rc = cluster_driver_run(&jm->cfg.cluster, &cj, &io, &typed, failure, sizeof failure, &err);
+    if (rc == AA_OK && !(result = j->kind->encode_result(typed)))
+        rc = aa_error_set(&err, AA_ENOMEM, "", "out of memory");
+    if (typed)
+        j->kind->free_result(typed);
+    finish_job(jm, j, rc, result, &err, failure);
+    pthread_mutex_lock(&jm->lock);
+    jm->slurm_jobs--;
+    if (--jm->threads == 0)
+        pthread_cond_broadcast(&jm->idle);
+    pthread_mutex_unlock(&jm->lock);
+    return NULL;
+}
+
+/* Starts a Slurm job's thread (lock held). false when no thread could start. */
+static bool slurm_start_locked(job_manager *jm, job *j)
+{
+    j->state = JOB_RUNNING;
+    j->started = jm_now();
+    pthread_attr_t attr;
+    pthread_t t;
+    int rc = pthread_attr_init(&attr);
+    if (!rc) {
+        pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+        rc = pthread_create(&t, &attr, slurm_thread, j);
+        pthread_attr_destroy(&attr);
+    }
+    if (rc)
+        return false;
+    jm->running++;
+    jm->threads++;
+    jm->slurm_jobs++;
+    return true;
 }
 
 /* --- restart recovery --------------------------------------------------------------------- */
@@ -424,8 +553,19 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
                          jm_now());
         return;
     }
-    /* A job that keeps taking the daemon down with it must not do so forever. */
-    if (state == JOB_RUNNING) {
+    /* A Slurm job (its array ids are in the cluster column) re-attaches to its arrays. */
+    json_t *cluster_state = job_store_get_cluster(jm->store, id);
+    if (cluster_state && !jm->cfg.cluster.shared_dir[0]) {
+        json_decref(cluster_state);
+        job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL,
+                         "a Slurm job, but the daemon restarted without --slurm-shared-dir; its "
+                         "arrays were left alone",
+                         jm_now());
+        return;
+    }
+    /* A job that keeps taking the daemon down with it must not do so forever (a Slurm job runs
+     * elsewhere: its thread only polls). */
+    if (state == JOB_RUNNING && !cluster_state) {
         int crashes = job_store_bump_crashes(jm->store, id);
         if (crashes >= JOB_MAX_CRASHES) {
             snprintf(reason, sizeof reason,
@@ -448,6 +588,7 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
         prc = kind->decode(kind_spec, &params, &err);
     json_decref(kind_spec);
     if (prc != AA_OK) {
+        json_decref(cluster_state);
         snprintf(reason, sizeof reason, "spec no longer valid after restart: %s (%s)", err.message,
                  err.field);
         job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL, reason,
@@ -456,6 +597,7 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
     }
     job *j = job_new();
     if (!j) {
+        json_decref(cluster_state);
         kind->free_params(params);
         job_store_finish(jm->store, id, JOB_INTERRUPTED, 0, NULL, NULL, NULL, NULL,
                          "out of memory at restart", jm_now());
@@ -471,6 +613,15 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
     j->private_job = private_job || env.private_job;
     j->state = JOB_QUEUED;
     j->created = created;
+    if (cluster_state) {
+        /* Started by job_manager_create once recovery is over. */
+        j->slurm = true;
+        j->cluster_state = cluster_state;
+        snprintf(j->reason, sizeof j->reason, "re-attached to its Slurm arrays at restart");
+        j->next = jm->active;
+        jm->active = j;
+        return;
+    }
     if (state == JOB_RUNNING)
         snprintf(j->reason, sizeof j->reason,
                  "was running when the daemon stopped; re-queued at restart");
@@ -508,8 +659,17 @@ job_manager *job_manager_create(const char *state_dir, const job_manager_config 
     if (!(jm->cfg.max_job_seconds > 0))
         jm->cfg.max_job_seconds = 86400;
     job_store_set_user_quota(jm->store, jm->cfg.user_store_bytes);
+    jm->probe = cluster_probe_start(jm->cfg.cluster.shared_dir[0] != 0, err);
+    if (!jm->probe) {
+        job_manager_destroy(jm);
+        return NULL;
+    }
     job_store_unfinished(jm->store, recover_one, jm);
     pthread_mutex_lock(&jm->lock);
+    for (job *j = jm->active; j; j = j->next) {
+        if (j->slurm && j->state == JOB_QUEUED && !slurm_start_locked(jm, j))
+            fprintf(stderr, "aalabd: cannot start a thread for Slurm job %lld\n", j->id);
+    }
     schedule_locked(jm);
     pthread_mutex_unlock(&jm->lock);
     return jm;
@@ -541,6 +701,7 @@ void job_manager_destroy(job_manager *jm)
     free(jm->queue);
     free(jm->snapshot);
     job_store_close(jm->store);
+    cluster_probe_stop(jm->probe);
     pthread_cond_destroy(&jm->idle);
     pthread_mutex_destroy(&jm->counts_lock);
     pthread_mutex_destroy(&jm->lock);
@@ -571,6 +732,25 @@ void job_manager_kind_names(const job_manager *jm, char *buf, size_t cap)
     }
 }
 
+/* Why a job with executor "slurm" cannot be taken now (AA_EINVAL for a kind without a split,
+ * JM_ESLURM), or AA_OK. Reads the probe's last answer: never waits for Slurm. */
+static int slurm_refusal(job_manager *jm, const job_kind *kind, aa_error *err)
+{
+    if (!kind->split)
+        return aa_error_set(err, AA_EINVAL, "executor",
+                            "kind %s cannot run on Slurm (optimize, family-sweep and random-stats "
+                            "can)",
+                            kind->name);
+    cluster_status st;
+    cluster_probe_status(jm->probe, &st);
+    if (!st.configured)
+        return aa_error_set(err, JM_ESLURM, "executor",
+                            "Slurm is not configured: this daemon runs without --slurm-shared-dir");
+    if (st.answering != 1)
+        return aa_error_set(err, JM_ESLURM, "executor", "%s", st.message);
+    return AA_OK;
+}
+
 int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, long long *id,
                        aa_error *err)
 {
@@ -592,6 +772,13 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     int rc = job_envelope_take(spec, &env, &kind_spec, err);
     if (rc)
         return rc;
+    if (env.slurm) {
+        rc = slurm_refusal(jm, kind, err);
+        if (rc) {
+            json_decref(kind_spec);
+            return rc;
+        }
+    }
     void *params = NULL;
     rc = kind->decode(kind_spec, &params, err);
     if (!rc && kind->max_seconds && kind->max_seconds(params) > jm->cfg.max_job_seconds) {
@@ -624,6 +811,7 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     j->private_job = env.private_job;
     j->state = JOB_QUEUED;
     j->created = jm_now();
+    j->slurm = env.slurm;
 
     /* Admission under the lock; the store insert (an fsync) outside it, so workers reporting
      * progress never wait for a disk. The job joins the active list first (id 0, invisible
@@ -631,7 +819,10 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     pthread_mutex_lock(&jm->lock);
     if (jm->stopping) {
         rc = aa_error_set(err, JM_EQUEUE_FULL, "", "the daemon is shutting down");
-    } else if ((int)(jm->q_len + jm->admitting) >= jm->cfg.queue_size) {
+    } else if (j->slurm && jm->slurm_jobs >= JM_SLURM_JOBS_MAX) {
+        rc = aa_error_set(err, JM_EQUEUE_FULL, "", "%d Slurm jobs are running (the limit)",
+                          JM_SLURM_JOBS_MAX);
+    } else if (!j->slurm && (int)(jm->q_len + jm->admitting) >= jm->cfg.queue_size) {
         rc = aa_error_set(err, JM_EQUEUE_FULL, "", "the job queue is full (%d queued)",
                           (int)jm->q_len);
     } else if (owner >= 0 && owner_load(jm, owner) >= jm->cfg.user_quota) {
@@ -661,10 +852,20 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     rc = job_store_insert(jm->store, &rec, &new_id, err);
     if (rc)
         rc = rc == JOB_STORE_EQUOTA ? JM_ESTORE_QUOTA : JM_ESTORE;
+    /* A restart must know a Slurm job as one even before its first array is submitted. */
+    json_t *marker = j->slurm ? json_pack("{s:s,s:[]}", "executor", "slurm", "stages") : NULL;
+    if (!rc && j->slurm && (!marker || job_store_set_cluster(jm->store, new_id, marker)))
+        rc = aa_error_set(err, JM_ESTORE, "", "cannot store the job's executor");
+    json_decref(marker);
     pthread_mutex_lock(&jm->lock);
     jm->admitting--;
-    if (!rc && queue_push(jm, j) != AA_OK)
+    if (!rc && j->slurm) {
+        j->id = new_id;
+        if (!slurm_start_locked(jm, j))
+            rc = aa_error_set(err, AA_ENOMEM, "", "cannot start a thread for the Slurm job");
+    } else if (!rc && queue_push(jm, j) != AA_OK) {
         rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
     if (rc) {
         active_remove(jm, j);
     } else {
@@ -673,7 +874,7 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
         schedule_locked(jm);
     }
     pthread_mutex_unlock(&jm->lock);
-    if (rc == AA_ENOMEM)
+    if (new_id > 0 && (rc == AA_ENOMEM || rc == JM_ESTORE))
         job_store_finish(jm->store, new_id, JOB_FAILED, 0, NULL, NULL, NULL, NULL, "out of memory",
                          jm_now());
     if (!rc)
@@ -710,6 +911,9 @@ json_t *job_manager_get(job_manager *jm, long long id)
     json_t *o = job_store_get(jm->store, id, true);
     if (!o)
         return NULL;
+    json_t *cluster = job_store_get_cluster(jm->store, id);
+    json_object_set_new(o, "executor", json_string(cluster ? "slurm" : "local"));
+    json_decref(cluster);
     pthread_mutex_lock(&jm->lock);
     job *j = active_find(jm, id);
     if (j)
@@ -843,4 +1047,9 @@ int job_manager_purge(job_manager *jm, long long id, long long caller)
     /* A queued job that started meanwhile is still "running" in the store: refused. */
     int rc = job_store_delete(jm->store, id);
     return rc == AA_OK ? JM_OK : rc == JOB_STORE_ENOENT ? JM_ENOENT : JM_EACTIVE;
+}
+
+void job_manager_slurm_status(job_manager *jm, cluster_status *out)
+{
+    cluster_probe_status(jm->probe, out);
 }

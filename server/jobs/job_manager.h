@@ -33,6 +33,8 @@
 #include <jansson.h>
 
 #include "aa_core.h"
+#include "cluster_config.h"
+#include "cluster_probe.h"
 #include "job_kind.h"
 #include "job_store.h"
 
@@ -49,7 +51,12 @@ typedef struct job_manager_config {
     double slice_seconds;       /* a job yields to a waiting user after this (60) */
     double max_job_seconds;     /* ceiling on max_seconds and on running time (86400) */
     long long user_store_bytes; /* stored job bytes per owner, 0 = unlimited */
+    /* The Slurm executor (cluster_driver.h); cluster.shared_dir "" = not configured. */
+    cluster_config cluster;
 } job_manager_config;
+
+/* Slurm jobs running at once (each has a thread that polls Slurm; none holds a worker). */
+#define JM_SLURM_JOBS_MAX 64
 
 enum {
     JM_OK = 0,
@@ -59,8 +66,9 @@ enum {
     JM_EFORBIDDEN = -1004,
     JM_EFINISHED = -1005,
     JM_ESTORE = -1006,
-    JM_EACTIVE = -1007,     /* purge of a running job */
-    JM_ESTORE_QUOTA = -1008 /* the owner's stored jobs would exceed user_store_bytes */
+    JM_EACTIVE = -1007,      /* purge of a running job */
+    JM_ESTORE_QUOTA = -1008, /* the owner's stored jobs would exceed user_store_bytes */
+    JM_ESLURM = -1009        /* executor slurm: Slurm not configured or not answering */
 };
 
 /* Opens the store in state_dir, re-queues unfinished jobs (or marks them interrupted with a
@@ -74,7 +82,11 @@ void job_manager_destroy(job_manager *jm); /* shuts down first if needed */
 /* Validates spec with the kind named spec.kind and queues the job. owner < 0 = unknown.
  * The envelope keys (job_envelope.h) are taken out of spec before the kind sees it.
  * AA_E* with err (field relative to the body) for bad specs, JM_EQUEUE_FULL, JM_EQUOTA,
- * JM_ESTORE_QUOTA. */
+ * JM_ESTORE_QUOTA, JM_ESLURM (field "executor").
+ * A job with executor "slurm" is not queued: it starts at once on a thread of its own that
+ * drives its Slurm arrays (cluster_driver.h) and holds no worker; at most JM_SLURM_JOBS_MAX
+ * run at once (JM_EQUEUE_FULL beyond). At shutdown such a job is written back with its array
+ * ids (the store's cluster column) and the arrays keep running; the next start re-attaches. */
 int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, long long *id,
                        aa_error *err);
 /* The job object (full detail) or NULL. */
@@ -106,6 +118,8 @@ typedef struct job_manager_stats {
     long long by_state[JOB_STATE_COUNT];
 } job_manager_stats;
 void job_manager_stats_get(job_manager *jm, job_manager_stats *out);
+/* Whether Slurm is configured and answering (the probe's last answer; never blocks). */
+void job_manager_slurm_status(job_manager *jm, cluster_status *out);
 job_store *job_manager_store(job_manager *jm);
 
 #endif

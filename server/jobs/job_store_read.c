@@ -283,3 +283,24 @@ int job_store_unfinished(job_store *st, job_store_visit_fn fn, void *user)
     free(rows);
     return AA_OK;
 }
+
+json_t *job_store_get_cluster(job_store *st, long long id)
+{
+    job_store_reader *r = job_store_reader_acquire(st);
+    sqlite3_stmt *q;
+    char *text = NULL;
+    if (sqlite3_prepare_v2(r->db, "SELECT cluster FROM jobs WHERE id=?", -1, &q, NULL) ==
+        SQLITE_OK) {
+        sqlite3_bind_int64(q, 1, id);
+        if (sqlite3_step(q) == SQLITE_ROW)
+            text = column_dup(q, 0);
+        sqlite3_finalize(q);
+    }
+    job_store_reader_release(r);
+    if (!text)
+        return NULL;
+    json_error_t e;
+    json_t *o = json_loads(text, JSON_REJECT_DUPLICATES, &e);
+    free(text);
+    return o;
+}

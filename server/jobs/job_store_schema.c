@@ -1,12 +1,12 @@
 /* The jobs table and its migration. user_version 0 is the first schema (no list columns):
  * opening such a database adds the columns with ALTER TABLE and backfills them once, in one
  * transaction, from the JSON already stored. Version 2 lacks the label column: it is added and
- * filled from the specs that carried a label. */
+ * filled from the specs that carried a label. Version 3 lacks the cluster column (added, NULL). */
 #include <stdio.h>
 
 #include "job_store_impl.h"
 
-#define SCHEMA_VERSION 3
+#define SCHEMA_VERSION 4              /* 4: the cluster column (Slurm executor state) */
 #define SCHEMA_VERSION_LIST_COLUMNS 2 /* the first with best_e2, family, bytes, job_specs */
 
 static const char create_sql[] = "CREATE TABLE IF NOT EXISTS jobs ("
@@ -31,6 +31,9 @@ static const char *const added_columns[] = {
     "reserve INTEGER NOT NULL DEFAULT 0", /* bytes held for an unfinished job's output */
     "priority INTEGER NOT NULL DEFAULT 0",
     "label TEXT",
+    /* The Slurm executor's state of a job (JSON: array ids per stage, retries): NULL for a job
+     * run by the local workers. Read at restart to re-attach to the arrays. */
+    "cluster TEXT",
 };
 
 /* job_specs keeps new jobs' specs out of the jobs row: a row is rewritten whole on update, and

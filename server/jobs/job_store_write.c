@@ -427,3 +427,28 @@ int job_store_sweep(job_store *st, double before, long long *deleted)
     pthread_mutex_unlock(&st->lock);
     return rc;
 }
+
+int job_store_set_cluster(job_store *st, long long id, const json_t *cluster)
+{
+    if (json_is_null(cluster))
+        cluster = NULL; /* a local job again: the column is cleared */
+    char *text = cluster ? json_dumps(cluster, JSON_COMPACT) : NULL;
+    if (cluster && !text)
+        return AA_ENOMEM;
+    pthread_mutex_lock(&st->lock);
+    /* The array ids must survive a crash: a lost write would resubmit running arrays. */
+    job_store_sync(st, true);
+    sqlite3_stmt *q;
+    int rc = AA_EINVAL;
+    if (sqlite3_prepare_v2(st->db, "UPDATE jobs SET cluster=? WHERE id=?", -1, &q, NULL) ==
+        SQLITE_OK) {
+        bind_text_or_null(q, 1, text);
+        sqlite3_bind_int64(q, 2, id);
+        rc = step_done(q);
+        if (!rc && sqlite3_changes(st->db) == 0)
+            rc = JOB_STORE_ENOENT;
+    }
+    pthread_mutex_unlock(&st->lock);
+    free(text);
+    return rc;
+}

@@ -93,5 +93,7 @@ json_t *kind_optimize_best_of(const json_t *result, double *e2);
 json_t *kind_family_sweep_best_of(const json_t *result, double *e2);
 json_t *kind_random_stats_best_of(const json_t *result, double *e2);
 json_t *kind_sleep_best_of(const json_t *result, double *e2);
+/* The sleep kind's split (kind_sleep_split.c): the test kind the Slurm executor tests drive. */
+extern const struct job_split kind_sleep_split;
 
 #endif

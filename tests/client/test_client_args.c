@@ -93,6 +93,10 @@ static void bad_numbers_are_usage_errors(void **state)
     assert_non_null(strstr(err, "--mode"));
     assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--method", "newton"), -1);
     assert_non_null(strstr(err, "--method"));
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--executor", "cloud"), -1);
+    assert_non_null(strstr(err, "--executor"));
+    assert_int_equal(PARSE(&a, "optimize", "--family", "F", "--executor", "slurm"), 0);
+    assert_string_equal(a.executor, "slurm");
     assert_int_equal(PARSE(&a, "health", "--timeout", "0"), -1);
 }
 

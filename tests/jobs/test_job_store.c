@@ -391,6 +391,21 @@ static void test_migration_of_old_schema(void **state)
             json_string_value(json_object_get(json_object_get(full, "spec"), "family")),
             "P(4,1+,2)");
         json_decref(full);
+        /* Schema 4: the cluster column (Slurm state), NULL for old rows, kept across opens. */
+        assert_null(job_store_get_cluster(st, 1));
+        json_t *cl = job_store_get_cluster(st, 2);
+        if (round == 0) {
+            assert_null(cl);
+            json_t *set = json_pack("{s:s,s:[{s:i,s:[I]}]}", "executor", "slurm", "stages",
+                                    "shards", 2, "arrays", (json_int_t)123);
+            assert_int_equal(job_store_set_cluster(st, 2, set), AA_OK);
+            json_decref(set);
+            assert_int_equal(job_store_set_cluster(st, 99, json_null()), JOB_STORE_ENOENT);
+        } else {
+            assert_non_null(cl);
+            assert_string_equal(json_string_value(json_object_get(cl, "executor")), "slurm");
+        }
+        json_decref(cl);
         assert_true(job_store_integrity_ok(st));
         job_store_close(st);
     }

@@ -112,6 +112,57 @@ static void test_flags(void **state)
     assert_true(c.render_seconds == 0.5);
 }
 
+/* The Slurm executor's flags and their defaults (README, aalabd --help). */
+static void test_slurm_flags(void **state)
+{
+    (void)state;
+    aalab_config c;
+    config_defaults(&c);
+    char *none[] = {"aalabd"};
+    assert_int_equal(parse(&c, 1, none), 0);
+    assert_string_equal(c.slurm.shared_dir, ""); /* not configured */
+    assert_string_equal(c.slurm.partition, "");
+    assert_int_equal(c.slurm.max_tasks, 64);
+    assert_int_equal(c.slurm.time_limit_minutes, 60);
+    assert_string_equal(c.slurm.sbatch_args, "");
+    assert_true(c.slurm.poll_seconds == 2.0);
+    /* aalab-worker beside this executable. */
+    const char *w = c.slurm.worker;
+    assert_true(strlen(w) > 13 && w[0] == '/' && !strcmp(w + strlen(w) - 13, "/aalab-worker"));
+    char *argv[] = {"aalabd",
+                    "--slurm-shared-dir",
+                    "/shared/aalab",
+                    "--slurm-partition=short",
+                    "--slurm-max-tasks",
+                    "8",
+                    "--slurm-time-limit",
+                    "15",
+                    "--slurm-sbatch-args",
+                    "--account=lab --qos=low",
+                    "--slurm-worker",
+                    "/opt/aalab/bin/aalab-worker",
+                    "--slurm-poll=0.5"};
+    assert_int_equal(parse(&c, (int)(sizeof argv / sizeof argv[0]), argv), 0);
+    assert_string_equal(c.slurm.shared_dir, "/shared/aalab");
+    assert_string_equal(c.slurm.partition, "short");
+    assert_int_equal(c.slurm.max_tasks, 8);
+    assert_int_equal(c.slurm.time_limit_minutes, 15);
+    assert_string_equal(c.slurm.sbatch_args, "--account=lab --qos=low");
+    assert_string_equal(c.slurm.worker, "/opt/aalab/bin/aalab-worker");
+    assert_true(c.slurm.poll_seconds == 0.5);
+    char *bad[][2] = {{"--slurm-shared-dir", "relative/dir"},
+                      {"--slurm-max-tasks", "0"},
+                      {"--slurm-time-limit", "0"},
+                      {"--slurm-poll", "0"},
+                      {"--slurm-worker", ""}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        config_defaults(&c);
+        char *a[] = {"aalabd", bad[i][0], bad[i][1]};
+        if (parse(&c, 3, a) != -1)
+            fail_msg("accepted %s %s", bad[i][0], bad[i][1]);
+    }
+}
+
 static void test_bad_flags(void **state)
 {
     (void)state;
@@ -139,9 +190,8 @@ static void test_bad_flags(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_defaults),
-        cmocka_unit_test(test_flags),
-        cmocka_unit_test(test_sharing_flags),
+        cmocka_unit_test(test_defaults),      cmocka_unit_test(test_flags),
+        cmocka_unit_test(test_sharing_flags), cmocka_unit_test(test_slurm_flags),
         cmocka_unit_test(test_bad_flags),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,0 +1,88 @@
+/* cluster_probe.h. */
+#define _POSIX_C_SOURCE 200809L
+#include "cluster_probe.h"
+
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "slurm_commands.h"
+
+struct cluster_probe {
+    pthread_mutex_t lock;
+    pthread_cond_t wake;
+    pthread_t thread;
+    bool has_thread, stopping;
+    cluster_status status;
+};
+
+static void *probe_thread(void *arg)
+{
+    cluster_probe *p = arg;
+    pthread_mutex_lock(&p->lock);
+    while (!p->stopping) {
+        pthread_mutex_unlock(&p->lock);
+        char message[200];
+        bool up = slurm_ping(message, sizeof message);
+        pthread_mutex_lock(&p->lock);
+        p->status.answering = up;
+        snprintf(p->status.message, sizeof p->status.message, "%s%s",
+                 up ? "" : "Slurm is configured but not answering: ", message);
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_sec += (time_t)CLUSTER_PROBE_INTERVAL;
+        while (!p->stopping && pthread_cond_timedwait(&p->wake, &p->lock, &until) == 0)
+            ;
+    }
+    pthread_mutex_unlock(&p->lock);
+    return NULL;
+}
+
+cluster_probe *cluster_probe_start(bool configured, aa_error *err)
+{
+    cluster_probe *p = calloc(1, sizeof *p);
+    if (!p) {
+        aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        return NULL;
+    }
+    pthread_mutex_init(&p->lock, NULL);
+    pthread_cond_init(&p->wake, NULL);
+    p->status.configured = configured;
+    p->status.answering = configured ? -1 : 0;
+    snprintf(p->status.message, sizeof p->status.message, "%s",
+             configured ? "Slurm is configured; the first scontrol ping has not answered yet"
+                        : "Slurm is not configured (start aalabd with --slurm-shared-dir)");
+    if (configured) {
+        if (pthread_create(&p->thread, NULL, probe_thread, p)) {
+            aa_error_set(err, AA_ENOMEM, "", "cannot start the Slurm probe thread");
+            cluster_probe_stop(p);
+            return NULL;
+        }
+        p->has_thread = true;
+    }
+    return p;
+}
+
+void cluster_probe_status(cluster_probe *p, cluster_status *out)
+{
+    pthread_mutex_lock(&p->lock);
+    *out = p->status;
+    pthread_mutex_unlock(&p->lock);
+}
+
+void cluster_probe_stop(cluster_probe *p)
+{
+    if (!p)
+        return;
+    pthread_mutex_lock(&p->lock);
+    p->stopping = true;
+    pthread_cond_broadcast(&p->wake);
+    pthread_mutex_unlock(&p->lock);
+    if (p->has_thread)
+        pthread_join(p->thread, NULL);
+    pthread_cond_destroy(&p->wake);
+    pthread_mutex_destroy(&p->lock);
+    free(p);
+}
