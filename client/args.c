@@ -28,9 +28,10 @@ typedef enum opt_id {
     OPT_SEEDS,
     OPT_MAX_SECONDS,
     OPT_RNG_SEED,
+    OPT_MAX_ITERATIONS,
+    OPT_EXECUTOR,
     OPT_MODE,
     OPT_METHOD,
-    OPT_EXECUTOR,
     OPT_WAIT,
     OPT_POLL,
     OPT_SCENE,
@@ -77,9 +78,10 @@ static const opt_spec OPTIONS[] = {
     {"seeds", 0, true, BIT(CMD_OPTIMIZE), OPT_SEEDS},
     {"max-seconds", 0, true, BIT(CMD_OPTIMIZE), OPT_MAX_SECONDS},
     {"rng-seed", 0, true, BIT(CMD_OPTIMIZE), OPT_RNG_SEED},
+    {"max-iterations", 0, true, BIT(CMD_OPTIMIZE), OPT_MAX_ITERATIONS},
+    {"executor", 0, true, BIT(CMD_OPTIMIZE), OPT_EXECUTOR},
     {"mode", 0, true, BIT(CMD_OPTIMIZE), OPT_MODE},
     {"method", 0, true, BIT(CMD_OPTIMIZE), OPT_METHOD},
-    {"executor", 0, true, BIT(CMD_OPTIMIZE), OPT_EXECUTOR},
     {"wait", 'w', false, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_WAIT},
     {"poll", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT) | BIT(CMD_WAIT), OPT_POLL},
     {"quiet", 'q', false, BIT(CMD_OPTIMIZE) | BIT(CMD_SUBMIT), OPT_QUIET},
@@ -210,6 +212,7 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
 {
     static const char *const MODES[] = {"weights", "positions", "both", NULL};
     static const char *const METHODS[] = {"auto", "laine-aila", "minimax", "smooth", NULL};
+    static const char *const EXECUTORS[] = {"local", "slurm", NULL};
     static const char *const IMAGES[] = {"pattern", "reference", "difference", NULL};
     static const char *const FORMATS[] = {"json", "utk", "vulkan", "d3d12", NULL};
     static const char *const STATES[] = {"queued",    "running",     "done", "failed",
@@ -263,6 +266,16 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
         a->rng_seed = l;
         a->has_rng_seed = true;
         break;
+    case OPT_MAX_ITERATIONS:
+        if (parse_long(v, 1, 10000000, &a->max_iterations))
+            return fail(err, cap, "--max-iterations wants an integer in 1..10000000, got '%s'", v);
+        a->has_max_iterations = true;
+        break;
+    case OPT_EXECUTOR:
+        if (!one_of(v, EXECUTORS))
+            return fail(err, cap, "--executor wants local or slurm, got '%s'", v);
+        a->executor = v;
+        break;
     case OPT_MODE:
         if (!one_of(v, MODES))
             return fail(err, cap, "--mode wants weights, positions or both, got '%s'", v);
@@ -273,11 +286,6 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
             return fail(err, cap, "--method wants auto, laine-aila, minimax or smooth, got '%s'",
                         v);
         a->method = v;
-        break;
-    case OPT_EXECUTOR:
-        if (strcmp(v, "local") && strcmp(v, "slurm"))
-            return fail(err, cap, "--executor wants local or slurm, got '%s'", v);
-        a->executor = v;
         break;
     case OPT_WAIT:
         a->wait = true;

@@ -53,7 +53,8 @@ typedef struct cli_args {
     long seeds;
     double max_seconds;
     long long rng_seed;
-    bool has_seeds, has_max_seconds, has_rng_seed;
+    long max_iterations; /* per seed: with no --max-seconds, a clock-free, reproducible budget */
+    bool has_seeds, has_max_seconds, has_rng_seed, has_max_iterations;
     bool wait;
     bool quiet;    /* optimize/submit -q: only the job id on stdout */
     double poll_s; /* --wait polling interval */

@@ -52,18 +52,20 @@ static const struct {
              "--detail adds the per-kernel, per-angle table (angle_deg, weight, e1, weighted).\n"},
     {"presets", "usage: aalab presets [NAME]\n"},
     {"optimize", "usage: aalab optimize --family 'P(4,1+,2)' | --pattern NAME|FILE.json\n"
-                 "                      [--seeds N] [--max-seconds S] [--rng-seed K]\n"
-                 "                      [--mode weights|positions|both]\n"
+                 "                      [--seeds N] [--max-seconds S] [--max-iterations N]\n"
+                 "                      [--rng-seed K] [--mode weights|positions|both]\n"
                  "                      [--method auto|laine-aila|minimax|smooth]\n"
-                 "                      [--executor local|slurm] [--wait] [--poll S] [-q]\n"
+                 "                      [--executor local|slurm]\n"
+                 "                      [--wait] [--poll S] [-q]\n"
                  "Prints the job id. With --wait, follows the job with a progress bar on\n"
                  "stderr, prints the finished job and exits 5 if it failed or was cancelled.\n"
                  "-q prints the bare id (ID=$(aalab optimize -q ...)); with --wait it then\n"
                  "waits silently and the exit code says how the job ended.\n"
                  "--method picks the step rule (default auto: minimax for --mode weights,\n"
                  "smooth for P(4,4,n) and P(16,16,n), laine-aila otherwise).\n"
-                 "--executor slurm runs the seeds as a Slurm job array (the daemon needs\n"
-                 "--slurm-shared-dir; GET /v1/health says whether Slurm answers).\n"},
+                 "--max-iterations N without --max-seconds: a budget of N steps per seed and\n"
+                 "no clock, so the result depends on the spec and --rng-seed only.\n"
+                 "--executor slurm runs the seeds as a Slurm job array (docs/cluster.md).\n"},
     {"submit", "usage: aalab submit SPEC.json|- [--wait] [--poll S] [-q]\n"
                "SPEC is the POST /v1/jobs body, e.g. {\"kind\":\"family-sweep\",...}; the\n"
                "kinds, their fields and runnable examples are at GET /v1/kinds.\n"

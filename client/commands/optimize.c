@@ -1,6 +1,6 @@
-/* aalab optimize --family F | --pattern FILE [--seeds N] [--max-seconds S] [--rng-seed K]
- *                [--mode weights|positions|both] [--method NAME] [--executor local|slurm]
- *                [--wait] */
+/* aalab optimize --family F | --pattern FILE [--seeds N] [--max-seconds S]
+ *                [--max-iterations N] [--rng-seed K] [--mode weights|positions|both]
+ *                [--method NAME] [--executor local|slurm] [--wait] */
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
@@ -27,14 +27,16 @@ int optimize_request(const cli_args *a, json_t **req, char *err, size_t errcap)
         json_object_set_new(r, "seeds", json_integer(a->seeds));
     if (a->has_max_seconds)
         json_object_set_new(r, "max_seconds", json_real(a->max_seconds));
+    if (a->has_max_iterations)
+        json_object_set_new(r, "max_iterations", json_integer(a->max_iterations));
+    if (a->executor)
+        json_object_set_new(r, "executor", json_string(a->executor));
     if (a->has_rng_seed)
         json_object_set_new(r, "rng_seed", json_integer(a->rng_seed));
     if (a->mode)
         json_object_set_new(r, "mode", json_string(a->mode));
     if (a->method)
         json_object_set_new(r, "method", json_string(a->method));
-    if (a->executor)
-        json_object_set_new(r, "executor", json_string(a->executor));
     *req = r;
     return 0;
 }

@@ -46,6 +46,7 @@ void view_family_sweep(FILE *out, const json_t *result, bool csv)
         view_kv_number(&kv, "configurations", json_object_get(result, "configurations"), 0);
         view_kv_number(&kv, "seeds_per_config", json_object_get(result, "seeds_per_config"), 0);
         view_kv_number(&kv, "best E2", json_object_get(result, "e2"), 6);
+        view_kv_execution(&kv, result);
         view_kv_print(out, &kv);
         fputs("\nranked configurations\n", out);
     }

@@ -38,6 +38,19 @@ void view_kv_scene(view_kv *kv, const json_t *scene)
                 (long long)json_integer_value(json_object_get(scene, "height")));
 }
 
+void view_kv_execution(view_kv *kv, const json_t *result)
+{
+    const json_t *executor = json_object_get(result, "executor");
+    if (!json_is_string(executor))
+        return;
+    long long shards = json_integer_value(json_object_get(result, "shards"));
+    view_kv_add(kv, "executor", "%s, %lld shard%s, %s", json_string_value(executor), shards,
+                shards == 1 ? "" : "s",
+                json_is_true(json_object_get(result, "reproducible"))
+                    ? "reproducible"
+                    : "best effort (time budget)");
+}
+
 const char *view_str(const json_t *v)
 {
     return json_is_string(v) ? json_string_value(v) : "-";

@@ -23,6 +23,9 @@ void view_kv_add(view_kv *kv, const char *key, const char *fmt, ...)
 void view_kv_number(view_kv *kv, const char *key, const json_t *v, int decimals);
 void view_kv_print(FILE *out, const view_kv *kv);
 
+/* Adds "executor  slurm, 8 shards, reproducible" (or "best effort": a time budget) of an
+ * optimizer kind's result; nothing for results made before those fields existed. */
+void view_kv_execution(view_kv *kv, const json_t *result);
 /* The string, or "-" when v is not one. */
 const char *view_str(const json_t *v);
 /* Adds the "scene" line, "siemens-star 64x64", of a scene object. */

@@ -37,6 +37,7 @@ void view_optimize(FILE *out, const json_t *result, bool csv)
     view_kv_number(&kv, "iterations", json_object_get(result, "iterations"), 0);
     view_kv_number(&kv, "evaluations", json_object_get(result, "evaluations"), 0);
     view_kv_number(&kv, "seconds", json_object_get(result, "seconds"), 3);
+    view_kv_execution(&kv, result);
     if (json_is_object(grid)) {
         view_kv_number(&kv, "grid bits", json_object_get(grid, "bits"), 0);
         view_kv_add(&kv, "grid d3d12", "%s",

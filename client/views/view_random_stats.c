@@ -35,6 +35,7 @@ void view_random_stats(FILE *out, const json_t *result, bool csv)
     view_kv kv = {0};
     view_kv_add(&kv, "Opt W method", "%s", view_str(json_object_get(opt_w, "method")));
     view_kv_add(&kv, "Opt W+P method", "%s", view_str(json_object_get(opt_wp, "method")));
+    view_kv_execution(&kv, result);
     fputc('\n', out);
     view_kv_print(out, &kv);
 }

@@ -215,15 +215,18 @@ static void optimize_bodies(void **state)
                   .has_max_seconds = true,
                   .rng_seed = 42,
                   .has_rng_seed = true,
+                  .max_iterations = 500,
+                  .has_max_iterations = true,
+                  .executor = "slurm",
                   .mode = "weights",
-                  .method = "minimax",
-                  .executor = "slurm"};
+                  .method = "minimax"};
     json_t *req;
     char err[256];
     assert_int_equal(optimize_request(&a, &req, err, sizeof err), 0);
     assert_json(req, "{\"kind\":\"optimize\",\"family\":\"P(4,1+,2)\",\"seeds\":16,"
-                     "\"max_seconds\":2.5,\"rng_seed\":42,\"mode\":\"weights\","
-                     "\"method\":\"minimax\",\"executor\":\"slurm\"}");
+                     "\"max_seconds\":2.5,\"max_iterations\":500,\"executor\":\"slurm\","
+                     "\"rng_seed\":42,\"mode\":\"weights\","
+                     "\"method\":\"minimax\"}");
     json_decref(req);
     cli_args b = {.command = CMD_OPTIMIZE, .pattern = "flipquad"};
     assert_int_equal(optimize_request(&b, &req, err, sizeof err), 0);

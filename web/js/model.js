@@ -128,7 +128,19 @@ export function normJob(j) {
     trace: normTrace(j.trace),
     spec: j.spec || {},
     result: r,
+    execution: executionText(j.spec, r),
   };
+}
+
+/* Where and how a job ran: "slurm, 8 shards, reproducible" from an optimizer kind's result, the
+ * spec's executor while it runs, or null (kinds that always run locally). */
+export function executionText(spec, result) {
+  if (result && typeof result.executor === 'string') {
+    const n = num(result.shards);
+    const shards = n == null ? '' : `, ${n} shard${n === 1 ? '' : 's'}`;
+    return `${result.executor}${shards}, ${result.reproducible ? 'reproducible' : 'best effort (time budget)'}`;
+  }
+  return spec && typeof spec.executor === 'string' ? spec.executor : null;
 }
 
 /* Trace points to draw, sorted by time, and the curve's end: best-so-far stays constant after

@@ -10,6 +10,7 @@ import { fileURLToPath } from 'node:url';
 import {
   normEvaluation, normJob, jobsFrom, traceCurve, sweepRows, randomStatsRow, comparisonRows, animationTable, convergenceTable,
   renderImages, renderStats, presetsFrom, normPreset, filtersFrom, acuityFrom, wirePattern, jobPattern, familySeries,
+  executionText,
 } from '../../../web/js/model.js';
 import { traceAxes, tickLabels } from '../../../web/js/trace-axes.js';
 import { kernelsOf, layoutDots, moveSample, drawableOf } from '../../../web/js/pattern-geometry.js';
@@ -257,4 +258,15 @@ test('moving samples: edge samples stay on their edge, mirrored samples stay in 
   assert.deepEqual(q.kernels[0][1], [-0.5, -0.5, 0.5]);
   moveSample(q, 0, 1, 0.1, 0.1, false);
   assert.deepEqual(q.kernels[0][1], [0.1, 0.1, 0.5]);
+});
+
+test('execution: where an optimizer job ran and whether its result is reproducible', () => {
+  const raw = load('job-family-sweep');
+  const r = raw.result;
+  assert.equal(typeof r.executor, 'string', 'optimizer results say their executor');
+  const expect = `${r.executor}, ${r.shards} shard${r.shards === 1 ? '' : 's'}, ${r.reproducible ? 'reproducible' : 'best effort (time budget)'}`;
+  assert.equal(normJob(raw).execution, expect);
+  assert.equal(executionText({ executor: 'slurm' }, { executor: 'slurm', shards: 8, reproducible: true }), 'slurm, 8 shards, reproducible');
+  assert.equal(executionText({ executor: 'slurm' }, null), 'slurm', 'running: the spec says');
+  assert.equal(executionText({}, { e2: 0.1 }), null, 'kinds without an executor');
 });

@@ -118,7 +118,7 @@ function clearDetail() {
   chartKey = '';
   $('jd-trace').replaceChildren();
   delete $('jd-trace').dataset.points;
-  for (const id of ['jd-state', 'jd-label', 'jd-e2', 'jd-family', 'jd-points']) $(id).textContent = '—';
+  for (const id of ['jd-state', 'jd-label', 'jd-e2', 'jd-family', 'jd-points', 'jd-executor']) $(id).textContent = '—';
   $('jd-error').textContent = '';
   $('jd-kind').replaceChildren();
   delete $('jd-kind').dataset.kind;
@@ -187,6 +187,7 @@ async function renderDetail(id) {
   $('jd-e2').textContent = fmt(j.bestE2, 6);
   $('jd-family').textContent = j.family || '—';
   $('jd-points').textContent = String(j.trace.length);
+  $('jd-executor').textContent = j.execution || 'local';
   $('jd-error').textContent = j.error ? `error: ${j.error}` : '';
   $('jd-trace-figure').hidden = !j.trace.length;
   drawTrace(j);
