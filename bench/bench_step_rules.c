@@ -102,12 +102,11 @@ int main(int argc, char **argv)
     printf("  (mean E2 / laine-aila's)\n\n");
 
     /* L&A Table 3, Opt W: the best of 1000 random Poisson patterns, weights only. */
-    aa_rng rng;
-    aa_rng_seed(&rng, 1, 0);
     aa_pattern best;
     aa_random_stats rs;
-    if (aa_random_patterns(&fam, AA_SEED_POISSON, &metric, &rng, 1000, NULL, NULL, &best, &rs,
-                           &err))
+    size_t best_index;
+    if (aa_random_patterns_range(&fam, AA_SEED_POISSON, &metric, 1, 0, 1000, NULL, NULL, NULL,
+                                 &best, &best_index, &rs, &err))
         return 1;
     printf("Opt W of the best of 1000 Poisson P(16,16,4) patterns (E2 %.4f; paper: 0.346 -> "
            "0.221)\n",

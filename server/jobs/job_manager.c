@@ -393,6 +393,22 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
     job_free(j);
 }
 
+/* The context a job's thread hands its kind (or the Slurm driver). */
+static struct job_ctx job_ctx_of(job_manager *jm, job *j)
+{
+    return (struct job_ctx){.jm = jm,
+                            .job = j,
+                            .lock = &jm->lock,
+                            .live = &j->live,
+                            .store = jm->store,
+                            .id = j->id,
+                            .tiles = jm->cfg.tiles,
+                            .workers = jm->cfg.workers,
+                            .busy = &jm->busy,
+                            .started = j->started,
+                            .started_mono = aa_monotonic_seconds()};
+}
+
 /* One thread per started job: paused jobs keep their thread (and memory) while they wait, so
  * the number of threads is the number of started jobs, bounded by the queue and user quota. */
 static void *job_thread(void *arg)
@@ -400,17 +416,7 @@ static void *job_thread(void *arg)
     job *j = arg;
     job_manager *jm = j->jm;
     job_store_set_state(jm->store, j->id, JOB_RUNNING, j->started, NULL);
-    struct job_ctx ctx = {.jm = jm,
-                          .job = j,
-                          .lock = &jm->lock,
-                          .live = &j->live,
-                          .store = jm->store,
-                          .id = j->id,
-                          .tiles = jm->cfg.tiles,
-                          .workers = jm->cfg.workers,
-                          .busy = &jm->busy,
-                          .started = j->started,
-                          .started_mono = aa_monotonic_seconds()};
+    struct job_ctx ctx = job_ctx_of(jm, j);
     void *typed = NULL;
     json_t *result = NULL;
     aa_error err = {0};
@@ -480,17 +486,7 @@ static void *slurm_thread(void *arg)
     job *j = arg;
     job_manager *jm = j->jm;
     job_store_set_state(jm->store, j->id, JOB_RUNNING, j->started, j->reason[0] ? j->reason : NULL);
-    struct job_ctx ctx = {.jm = jm,
-                          .job = j,
-                          .lock = &jm->lock,
-                          .live = &j->live,
-                          .store = jm->store,
-                          .id = j->id,
-                          .tiles = jm->cfg.tiles,
-                          .workers = jm->cfg.workers,
-                          .busy = &jm->busy,
-                          .started = j->started,
-                          .started_mono = aa_monotonic_seconds()};
+    struct job_ctx ctx = job_ctx_of(jm, j);
     cluster_job cj = {.id = j->id,
                       .kind = j->kind,
                       .params = j->params,

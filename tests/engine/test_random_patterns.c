@@ -46,17 +46,17 @@ static void stats_and_best_match_an_independent_loop(void **state)
     aa_family fam;
     assert_int_equal(aa_family_parse("P(1,1,3)", &fam, NULL), AA_OK);
     const size_t count = 150;
-    aa_rng rng;
-    aa_rng_seed(&rng, 11, 0);
     aa_pattern best;
     aa_random_stats rs;
-    assert_int_equal(aa_random_patterns(&fam, AA_SEED_POISSON, &metric, &rng, count, NULL, NULL,
-                                        &best, &rs, NULL),
+    size_t best_index;
+    assert_int_equal(aa_random_patterns_range(&fam, AA_SEED_POISSON, &metric, 11, 0, count, NULL,
+                                              NULL, NULL, &best, &best_index, &rs, NULL),
                      AA_OK);
-    /* The same stream, drawn by hand, evaluated by the reference. */
-    aa_rng_seed(&rng, 11, 0);
+    /* The same streams, drawn by hand, evaluated by the reference. */
     double mn = INFINITY, mx = -INFINITY, sum = 0;
     for (size_t i = 0; i < count; i++) {
+        aa_rng rng;
+        aa_rng_seed(&rng, 11, i);
         aa_pattern p;
         assert_int_equal(aa_family_seed(&fam, AA_SEED_POISSON, &filter, &rng, &p, NULL), AA_OK);
         double e2 = reference_e2(&p);
@@ -91,13 +91,12 @@ static void progress_every_64_and_cancel(void **state)
     (void)state;
     aa_family fam;
     assert_int_equal(aa_family_parse("P(1,4,2)", &fam, NULL), AA_OK);
-    aa_rng rng;
-    aa_rng_seed(&rng, 3, 0);
     aa_pattern best;
     aa_random_stats rs;
+    size_t bi;
     progress_log l = {0, 0, SIZE_MAX};
-    assert_int_equal(aa_random_patterns(&fam, AA_SEED_JITTERED, &metric, &rng, 200, log_progress,
-                                        &l, &best, &rs, NULL),
+    assert_int_equal(aa_random_patterns_range(&fam, AA_SEED_JITTERED, &metric, 3, 0, 200,
+                                              log_progress, &l, NULL, &best, &bi, &rs, NULL),
                      AA_OK);
     assert_int_equal(l.calls, 4); /* after patterns 0, 64, 128, 192 */
     assert_int_equal(l.last, 192);
@@ -106,17 +105,17 @@ static void progress_every_64_and_cancel(void **state)
     /* Cancelled after pattern 64: the 65 done so far are kept. */
     progress_log c = {0, 0, 64};
     aa_error err;
-    assert_int_equal(aa_random_patterns(&fam, AA_SEED_JITTERED, &metric, &rng, 200, log_progress,
-                                        &c, &best, &rs, &err),
+    assert_int_equal(aa_random_patterns_range(&fam, AA_SEED_JITTERED, &metric, 3, 0, 200,
+                                              log_progress, &c, NULL, &best, &bi, &rs, &err),
                      AA_ECANCELED);
     assert_int_equal(rs.count, 65);
     assert_non_null(best.kernels);
     assert_true(isfinite(rs.min) && rs.min <= rs.avg && rs.avg <= rs.max);
     aa_pattern_free(&best);
 
-    assert_int_equal(
-        aa_random_patterns(&fam, AA_SEED_JITTERED, &metric, &rng, 0, NULL, NULL, &best, &rs, &err),
-        AA_EINVAL);
+    assert_int_equal(aa_random_patterns_range(&fam, AA_SEED_JITTERED, &metric, 3, 0, 0, NULL, NULL,
+                                              NULL, &best, &bi, &rs, &err),
+                     AA_EINVAL);
     assert_string_equal(err.field, "count");
     assert_null(best.kernels);
 }

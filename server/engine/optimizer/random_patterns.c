@@ -4,44 +4,6 @@
 #include <stdint.h>
 #include <string.h>
 
-int aa_random_patterns(const aa_family *family, aa_seed_kind kind, const aa_metric_params *metric,
-                       aa_rng *rng, size_t count, aa_random_progress_fn progress, void *user,
-                       aa_pattern *best, aa_random_stats *stats, aa_error *err)
-{
-    memset(best, 0, sizeof *best);
-    *stats = (aa_random_stats){0, INFINITY, NAN, -INFINITY};
-    if (count == 0)
-        return aa_error_set(err, AA_EINVAL, "count", "at least one pattern");
-    double sum = 0;
-    int rc = AA_OK;
-    for (size_t i = 0; i < count && !rc; i++) {
-        aa_pattern p;
-        rc = aa_family_seed(family, kind, metric->filter, rng, &p, err);
-        aa_evaluation ev;
-        if (!rc)
-            rc = aa_evaluate(&p, metric, &ev, err);
-        if (rc) {
-            aa_pattern_free(&p);
-            break;
-        }
-        sum += ev.e2;
-        stats->max = fmax(stats->max, ev.e2);
-        if (ev.e2 < stats->min) {
-            stats->min = ev.e2;
-            aa_pattern_free(best);
-            *best = p;
-        } else {
-            aa_pattern_free(&p);
-        }
-        aa_evaluation_free(&ev);
-        stats->count++;
-        stats->avg = sum / (double)stats->count;
-        if (progress && i % 64 == 0 && progress(user, i))
-            rc = aa_error_set(err, AA_ECANCELED, "", "cancelled by the progress callback");
-    }
-    return rc;
-}
-
 int aa_random_patterns_range(const aa_family *family, aa_seed_kind kind,
                              const aa_metric_params *metric, uint64_t rng_seed, size_t first,
                              size_t count, aa_random_progress_fn progress, void *user, double *e2,

@@ -19,18 +19,13 @@ typedef struct aa_random_stats {
 typedef int (*aa_random_progress_fn)(void *user, size_t i);
 
 /* Draws count (>= 1) seed patterns of the family (aa_family_seed: positions from kind, weights
- * from metric->filter) in turn from rng and evaluates each. *best: the lowest E2, the first of
- * equals. On error or cancel (AA_ECANCELED) *stats and *best hold the patterns done so far. */
-int aa_random_patterns(const aa_family *family, aa_seed_kind kind, const aa_metric_params *metric,
-                       aa_rng *rng, size_t count, aa_random_progress_fn progress, void *user,
-                       aa_pattern *best, aa_random_stats *stats, aa_error *err);
-
-/* Patterns first .. first + count - 1 of a numbered sequence: pattern i draws from its own
- * PCG32 stream (rng_seed, i), so contiguous ranges evaluated apart (shards of a job) give the
- * patterns and E2 values of one run over the whole sequence. e2 (optional, count entries)
- * receives each pattern's E2 in order (to merge ranges exactly: min / avg / max recomputed over
- * the concatenated lists equal one run's); *best_index the global index of *best (the first of
- * equals). progress as above, with the local index. */
+ * from metric->filter) and evaluates each: patterns first .. first + count - 1 of a numbered
+ * sequence, where pattern i draws from its own PCG32 stream (rng_seed, i), so contiguous ranges
+ * evaluated apart (shards of a job) give the patterns and E2 values of one run over the whole
+ * sequence. e2 (optional, count entries) receives each pattern's E2 in order (to merge ranges
+ * exactly: min / avg / max recomputed over the concatenated lists equal one run's); *best_index the
+ * global index of *best (the first of equals). progress as above, with the local index. On error or
+ * cancel (AA_ECANCELED) *stats and *best hold the patterns done so far. */
 int aa_random_patterns_range(const aa_family *family, aa_seed_kind kind,
                              const aa_metric_params *metric, uint64_t rng_seed, size_t first,
                              size_t count, aa_random_progress_fn progress, void *user, double *e2,
