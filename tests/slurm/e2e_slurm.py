@@ -35,14 +35,16 @@ import slurm_cluster  # noqa: E402
 from e2e_lib import Daemon, check, expect_error  # noqa: E402
 
 # Small reproducible jobs (iterations per seed, no clock). OPT_SHORT / SWEEP run in a few seconds;
-# OPT_LONG's shards run long enough to cancel, scancel or kill the daemon while they run.
+# OPT_LONG's shards (2 seeds of P(1,16,8), ~4 s each on one core) run long enough to scancel one
+# or kill the daemon while they run. P(1,r,n) families are used because a tiled family in mode
+# both refines each seed's optimum by iterated local search beyond max_iterations (slower).
 OPT_SHORT = {"kind": "optimize", "family": "P(1,4,2)", "seeds": 8, "max_iterations": 400,
              "rng_seed": 11}
 SWEEP = {"kind": "family-sweep", "cost": 1.25, "seeds_per_config": 2, "max_iterations": 300,
          "rng_seed": 5}
-OPT_LONG = {"kind": "optimize", "family": "P(4,4,2)", "seeds": 4, "max_iterations": 4000,
+OPT_LONG = {"kind": "optimize", "family": "P(1,16,8)", "seeds": 8, "max_iterations": 4000,
             "rng_seed": 3}
-OPT_CANCEL = {"kind": "optimize", "family": "P(4,4,2)", "seeds": 4, "max_iterations": 2000000,
+OPT_CANCEL = {"kind": "optimize", "family": "P(1,16,8)", "seeds": 4, "max_iterations": 10000000,
               "rng_seed": 9}
 
 # Result fields that legitimately differ between executors or runs: the executor itself, the
