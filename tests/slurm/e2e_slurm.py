@@ -136,7 +136,7 @@ class Env:
 def tasks_of(cluster, job_id, states=None):
     """[(array_job_id, task_id_string, state)] of the Slurm tasks of aalab job job_id (name
     aalab-<id>-s<stage>), from squeue (pending ones as one "<array>_[a-b]" line)."""
-    args = ["-o", "%A|%i|%j|%T"]
+    args = ["-o", "%F|%i|%j|%T"]  # %F: the array's base job id (%A differs per element)
     if states:
         args += ["-t", states]
     out = []
@@ -326,6 +326,10 @@ def check_kill9_restart(env, d, local):
         time.sleep(0.2)
     still = tasks_of(env.cluster, jid)
     d.stop(sig=signal.SIGKILL)
+    before = {}
+    for p in outputs_of(d.shared, jid):
+        with open(p) as f:
+            before[p] = json.load(f)["started_unix"]
     log("kill -9 aalabd with job %d: %d output(s) written, still in squeue: %r" %
         (jid, len(outputs_of(d.shared, jid)), still))
     # shards finish while no daemon runs
@@ -335,6 +339,10 @@ def check_kill9_restart(env, d, local):
     check(j["state"] == "done", "job after kill -9 and restart ended %s: %s" %
           (j["state"], json.dumps(j)[:2000]))
     expect_same(local, j, "optimize across kill -9 and restart")
+    # re-attached, not resubmitted: the shards finished before the restart did not run again
+    for p, t in before.items():
+        with open(p) as f:
+            check(json.load(f)["started_unix"] == t, "%s was run again after the restart" % p)
     check(not tasks_of(env.cluster, jid), "finished job still in squeue after restart")
 
 
