@@ -4,7 +4,7 @@ against local execution in the same run. A benchmark, not a timed test: it print
 fails only if something does not work.
 
     bench/bench_cluster.py build/dev/server/aalabd [--trivial 20] [--shards 16]
-                           [--shard-iterations 3000] [--p16-iterations 500]
+                           [--shard-iterations 3000] [--rounds 2] [--p16-iterations 500]
 
 aalab-worker is taken from beside aalabd. The task files are real ones: the bench submits jobs
 with executor slurm to an aalabd started on the cluster and copies the TASK.json files the daemon
@@ -165,6 +165,17 @@ def run_local(worker, paths, parallel):
     return time.time() - t
 
 
+def stable(output):
+    """A shard output as canonical JSON without its compute seconds (a clock reading)."""
+    def strip(v):
+        if isinstance(v, dict):
+            return {k: strip(x) for k, x in v.items() if k != "seconds"}
+        if isinstance(v, list):
+            return [strip(x) for x in v]
+        return v
+    return json.dumps(strip(output), sort_keys=True)
+
+
 def fmt(xs):
     return "median %.2f s, max %.2f s, min %.2f s" % (statistics.median(xs), max(xs), min(xs))
 
@@ -175,7 +186,8 @@ def main():
     ap.add_argument("--trivial", type=int, default=20)
     ap.add_argument("--shards", type=int, default=16)
     ap.add_argument("--shard-iterations", type=int, default=3000)
-    ap.add_argument("--p16-iterations", type=int, default=500)
+    ap.add_argument("--rounds", type=int, default=2)
+    ap.add_argument("--p16-iterations", type=int, default=500, help="0: skip (c)")
     a = ap.parse_args()
     aalabd = os.path.abspath(a.aalabd)
     worker = os.path.join(os.path.dirname(aalabd), "aalab-worker")
@@ -194,9 +206,10 @@ def main():
                                              "--slurm-poll", "1", "--slurm-max-tasks", str(maxt)])
         d.shared = shared
         d.start()
-        say("cluster: one node %s, %d CPUs, Slurm %s; aalabd %s" % (
+        say("cluster: one node %s, %d CPUs, Slurm %s; aalabd %s; load average %.2f" % (
             cluster.hostname, cluster.cpus,
-            subprocess.run(["sinfo", "-V"], capture_output=True, text=True).stdout.strip(), aalabd))
+            subprocess.run(["sinfo", "-V"], capture_output=True, text=True).stdout.strip(), aalabd,
+            os.getloadavg()[0]))
 
         # (a) per-task overhead
         trivial = {"kind": "optimize", "family": "P(1,4,1)", "seeds": a.trivial,
@@ -223,34 +236,47 @@ def main():
             "(task run time median %.3f s)" % (len(alat), cluster.cpus, fmt(alat),
                                                statistics.median(run_s)))
 
-        # (b) shards per minute
+        # (b) shards per minute, alternating local and Slurm runs of the same shards (the
+        # machine may be shared: each round prints the load average it ran under)
         spec = {"kind": "optimize", "family": "P(1,16,8)", "seeds": a.shards,
                 "max_iterations": a.shard_iterations, "rng_seed": 1}
         tasks, _ = capture_tasks(d, spec, a.shards)
-        loc = os.path.join(work, "local")
-        lpaths = write_tasks(tasks, loc)
-        local_s = run_local(worker, lpaths, cluster.cpus)
-        louts = [read_output(loc, i) for i in range(len(tasks))]
-        lshard = [o["finished_unix"] - o["started_unix"] for o in louts]
-        sl = os.path.join(work, "slurm")
-        write_tasks(tasks, sl)
-        t = sbatch(cluster, sl, worker, "0-%d" % (len(tasks) - 1), "bench-tput")
-        souts = wait_outputs(sl, list(range(len(tasks))), 600)
-        slurm_s = max(o["finished_unix"] for o in souts.values()) - t
-        sshard = [o["finished_unix"] - o["started_unix"] for o in souts.values()]
-        same = all(json.dumps(louts[i]["output"], sort_keys=True) ==
-                   json.dumps(souts[i]["output"], sort_keys=True) for i in range(len(tasks)))
-        lr, sr = 60 * len(tasks) / local_s, 60 * len(tasks) / slurm_s
-        say("(b) %d shards of optimize P(1,16,8), 1 seed x %d iterations each (shard run time "
-            "median %.2f s local, %.2f s under Slurm):" % (len(tasks), a.shard_iterations,
-                                                          statistics.median(lshard),
-                                                          statistics.median(sshard)))
-        say("    %-34s %8s %12s" % ("", "seconds", "shards/min"))
-        say("    %-34s %8.1f %12.1f" % ("local, aalab-worker 2 at a time", local_s, lr))
-        say("    %-34s %8.1f %12.1f" % ("one-node Slurm, one array", slurm_s, sr))
-        say("    ratio slurm/local: %.2f  (outputs identical: %s)" % (sr / lr, same))
+        say("(b) %d shards of optimize P(1,16,8), 1 seed x %d iterations each, aalab-worker with "
+            "1 thread; local: 2 at a time (the node's CPUs); Slurm: one array, --cpus-per-task=1"
+            % (len(tasks), a.shard_iterations))
+        say("    %-6s %-34s %8s %12s %16s %10s" % ("round", "", "seconds", "shards/min",
+                                                   "shard median s", "load avg"))
+        same = True
+        rates = {"local": [], "slurm": []}
+        for rnd in range(a.rounds):
+            loc = os.path.join(work, "local-%d" % rnd)
+            lpaths = write_tasks(tasks, loc)
+            local_s = run_local(worker, lpaths, cluster.cpus)
+            louts = [read_output(loc, i) for i in range(len(tasks))]
+            lshard = [o["finished_unix"] - o["started_unix"] for o in louts]
+            rates["local"].append(60 * len(tasks) / local_s)
+            say("    %-6d %-34s %8.1f %12.1f %16.2f %10.2f" % (
+                rnd, "local, aalab-worker 2 at a time", local_s, rates["local"][-1],
+                statistics.median(lshard), os.getloadavg()[0]))
+            sl = os.path.join(work, "slurm-%d" % rnd)
+            write_tasks(tasks, sl)
+            t = sbatch(cluster, sl, worker, "0-%d" % (len(tasks) - 1), "bench-tput")
+            souts = wait_outputs(sl, list(range(len(tasks))), 600)
+            slurm_s = max(o["finished_unix"] for o in souts.values()) - t
+            sshard = [o["finished_unix"] - o["started_unix"] for o in souts.values()]
+            rates["slurm"].append(60 * len(tasks) / slurm_s)
+            say("    %-6d %-34s %8.1f %12.1f %16.2f %10.2f" % (
+                rnd, "one-node Slurm, one array", slurm_s, rates["slurm"][-1],
+                statistics.median(sshard), os.getloadavg()[0]))
+            same = same and all(stable(louts[i]["output"]) == stable(souts[i]["output"])
+                                for i in range(len(tasks)))
+        lr, sr = statistics.median(rates["local"]), statistics.median(rates["slurm"])
+        say("    median shards/min: local %.1f, Slurm %.1f, ratio slurm/local %.2f; shard outputs "
+            "identical (but for compute seconds): %s" % (lr, sr, sr / lr, same))
         if not same:
             say("    ERROR: a shard's output differs between local and Slurm")
+        if not a.p16_iterations:
+            return 0 if same else 1
 
         # (c) one P(16,16,4) seed
         spec = {"kind": "optimize", "family": "P(16,16,4)", "seeds": 2,
@@ -261,8 +287,9 @@ def main():
         wall = run_local(worker, ppaths, 1)
         o = read_output(p16, 0)
         say("(c) one P(16,16,4) seed, max_iterations %d, aalab-worker with 1 thread: %.1f s "
-            "(worker's own started..finished %.1f s)" % (a.p16_iterations, wall,
-                                                        o["finished_unix"] - o["started_unix"]))
+            "(worker's own started..finished %.1f s; load average %.2f)" % (
+                a.p16_iterations, wall, o["finished_unix"] - o["started_unix"],
+                os.getloadavg()[0]))
         return 0 if same else 1
     finally:
         if d is not None:
