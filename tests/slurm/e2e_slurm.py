@@ -7,7 +7,7 @@ aalab-worker, and
     pattern, E2, every per-seed / per-configuration figure), for two --slurm-max-tasks values;
   - cancel mid-run: the job ends cancelled and squeue shows no task of it;
   - `scancel <array>_<i>` of a running shard: the shard is resubmitted and the job still gives
-    the local result;
+    the local result; killed a second time, the job fails naming the shard and its log's tail;
   - kill -9 of aalabd mid-array, restart on the same state dir: the job re-attaches and gives the
     local result;
   - executor slurm on a kind without a split (compare) is a 400 naming "executor"; a daemon
@@ -317,6 +317,38 @@ def check_scancel_retry(env, d, local):
                 (tid, ",".join(sorted(arrays))))
 
 
+def check_retry_exhausted(env, d):
+    """A shard killed twice fails the job, naming the shard and the tail of its log; the job's
+    other tasks leave the queue."""
+    jid = submit(d, OPT_CANCEL, "slurm")
+    arr, tid, _ = wait_running_tasks(env.cluster, jid)[0]
+    index = tid.split("_", 1)[1]
+    subprocess.run(["scancel", tid], env=env.cluster.env(), check=True)
+    deadline = time.time() + 60
+    retry = None
+    while retry is None and time.time() < deadline:
+        for a, t, state in tasks_of(env.cluster, jid):
+            if a != arr and state == "RUNNING" and t.split("_", 1)[1] == index:
+                retry = t
+        time.sleep(0.2)
+    check(retry, "shard %s was not resubmitted after scancel %s: %r" %
+          (index, tid, tasks_of(env.cluster, jid)))
+    subprocess.run(["scancel", retry], env=env.cluster.env(), check=True)
+    j = d.wait_job(jid, timeout=60)
+    check(j["state"] == "failed", "job with a shard killed twice ended %s" % j["state"])
+    text = json.dumps(j.get("error"))
+    check(re.search(r"shard %s\b" % index, text) and "log-%s.out" % index in text and
+          "CANCELLED" in text.upper(),
+          "the failure names the shard, its log and the tail of the log: %s" % text)
+    deadline = time.time() + 20
+    while tasks_of(env.cluster, jid) and time.time() < deadline:
+        time.sleep(0.2)
+    check(not tasks_of(env.cluster, jid), "tasks of the failed job still in squeue: %r" %
+          tasks_of(env.cluster, jid))
+    log("shard %s killed twice (%s, %s): job failed: %s" % (index, tid, retry,
+                                                            j["error"]["message"][:200]))
+
+
 def check_kill9_restart(env, d, local):
     jid = submit(d, OPT_LONG, "slurm")
     wait_running_tasks(env.cluster, jid)
@@ -373,6 +405,7 @@ def main():
         local_long = run(d, OPT_LONG, timeout=180)
         log("optimize %s local: e2 %r" % (OPT_LONG["family"], local_long["result"]["e2"]))
         check_scancel_retry(env, d, local_long)
+        check_retry_exhausted(env, d)
         check_kill9_restart(env, d, local_long)
         ok = True
     finally:
