@@ -67,7 +67,8 @@ def capture_tasks(d, spec, want, keep_job=False, timeout=120):
                     pass  # being written
         time.sleep(0.02)
     if len(tasks) < want:
-        raise RuntimeError("job %d: %d task files in %s, %d wanted" % (jid, len(tasks), stage, want))
+        raise RuntimeError("job %d: %d task files in %s, %d wanted" %
+                           (jid, len(tasks), stage, want))
     job_seconds = None
     if keep_job:
         j = d.wait_job(jid, timeout=timeout)

@@ -202,7 +202,8 @@ def expect_same(local, other, what):
     diff = first_difference(a, b)
     check(diff is None and comparable(a) == comparable(b),
           "%s: result differs from the local run: %s" % (what, diff))
-    log("%s: same result as local (e2 %r)" % (what, b.get("e2", b.get("ranked", [{}])[0].get("e2"))))
+    e2 = b.get("e2", b.get("ranked", [{}])[0].get("e2"))
+    log("%s: same result as local (e2 %r)" % (what, e2))
 
 
 def check_result_meta(j, executor, max_shards=None):

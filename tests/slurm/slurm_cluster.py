@@ -224,8 +224,8 @@ class SlurmCluster:
         out.close()
         self.pids["munged"] = p.pid
         self._save_state()
-        self._wait(lambda: os.path.exists(self.munge_socket), 15, "munged did not create its socket",
-                   "munged")
+        self._wait(lambda: os.path.exists(self.munge_socket), 15,
+                   "munged did not create its socket", "munged")
 
     def _write_conf(self):
         ctld_port, slurmd_port = _free_ports(2)
