@@ -29,6 +29,7 @@ into a skip (exit code 77) with the reason printed, unless AALAB_REQUIRE_SLURM=1
 failure instead. Standard library only."""
 
 import argparse
+import glob
 import json
 import os
 import pwd
@@ -129,8 +130,11 @@ def unavailable_reason():
 
 
 class SlurmCluster:
-    def __init__(self, root=None, min_job_age=30, kill_wait=5):
+    def __init__(self, root=None, min_job_age=30, kill_wait=5, owner=True):
         self.root = root
+        # The process whose end makes this cluster stale (the next start stops it); None for a
+        # cluster started from the command line, which lives until `stop`.
+        self.owner = os.getpid() if owner else None
         self.min_job_age = min_job_age
         self.kill_wait = kill_wait
         self.pids = {}  # name -> pid of the daemons started here
@@ -161,6 +165,7 @@ class SlurmCluster:
         why = unavailable_reason()
         if why:
             raise ClusterUnavailable(why)
+        reap_stale()
         if self.root is None:
             self.root = tempfile.mkdtemp(prefix="aalab-slurm-")
         os.makedirs(self.root, exist_ok=True)
@@ -269,7 +274,7 @@ class SlurmCluster:
 
     def _save_state(self):
         with open(self.path("cluster.json"), "w") as f:
-            json.dump({"root": self.root, "pids": self.pids}, f)
+            json.dump({"root": self.root, "pids": self.pids, "owner": self.owner}, f)
 
     def _run(self, args, timeout=15):
         try:
@@ -421,15 +426,38 @@ class SlurmCluster:
     def attach(cls, root):
         with open(os.path.join(root, "cluster.json")) as f:
             st = json.load(f)
-        c = cls(root=st["root"])
+        c = cls(root=st["root"], owner=False)
+        c.owner = st.get("owner")
         c.pids = {k: int(v) for k, v in st["pids"].items()}
         c.started = True
         return c
 
 
+def reap_stale():
+    """Stops the clusters of earlier test runs whose owner process is gone (a test killed by
+    ctest's timeout cannot run its own clean-up)."""
+    for st in glob.glob(os.path.join(tempfile.gettempdir(), "aalab-slurm-*", "cluster.json")):
+        try:
+            with open(st) as f:
+                owner = json.load(f).get("owner")
+        except (OSError, ValueError):
+            continue
+        if owner and not _alive(owner):
+            print("slurm_cluster: stopping the stale cluster in %s (its test, pid %d, is gone)"
+                  % (os.path.dirname(st), owner), flush=True)
+            SlurmCluster.attach(os.path.dirname(st)).stop()
+
+
+def _exit_on_signal(signum, frame):
+    raise SystemExit(128 + signum)  # runs the callers' finally blocks: the cluster stops
+
+
 def start_or_skip(**kw):
     """A started cluster, or exits 77 (skip) printing why it cannot run here (exit 1 instead if
-    AALAB_REQUIRE_SLURM=1)."""
+    AALAB_REQUIRE_SLURM=1). SIGTERM and SIGHUP then end the caller through SystemExit, so that its
+    clean-up stops the cluster."""
+    for sig in (signal.SIGTERM, signal.SIGHUP):
+        signal.signal(sig, _exit_on_signal)
     try:
         return SlurmCluster(**kw).start()
     except ClusterUnavailable as e:
@@ -452,7 +480,7 @@ def main():
     a = ap.parse_args()
     if a.cmd == "start":
         try:
-            c = SlurmCluster(root=a.dir).start()
+            c = SlurmCluster(root=a.dir, owner=False).start()
         except ClusterUnavailable as e:
             print("slurm_cluster: cannot start: %s" % e, file=sys.stderr)
             return SKIP
