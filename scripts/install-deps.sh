@@ -1,7 +1,8 @@
 #!/bin/sh
 # Installs every Debian 12 package aalab needs to build, run and test (passwd and procps: the
 # multi-user tests create users with useradd and end their processes with pkill;
-# python3-jsonschema: the e2e tests validate every answer against proto/schemas), then the dashboard test
+# python3-jsonschema: the e2e tests validate every answer against proto/schemas; slurm-wlm and
+# munge: tests/slurm starts a real one-node Slurm cluster), then the dashboard test
 # dependencies (npm ci in tests/web). Idempotent and quiet: when everything is present it only
 # checks and returns. Needs root (or sudo) only when something is missing.
 set -eu
@@ -12,7 +13,7 @@ PACKAGES="build-essential cmake pkg-config git ca-certificates
   libmicrohttpd-dev libjansson-dev libsqlite3-dev libpng-dev libcurl4-openssl-dev libsystemd-dev libssl-dev
   liblbfgs-dev libcmocka-dev clang libclang-rt-14-dev clang-format
   curl jq python3 python3-jsonschema sqlite3 wrk chromium systemd
-  passwd procps"
+  passwd procps slurm-wlm munge"
 
 missing=""
 for p in $PACKAGES; do

@@ -2,6 +2,8 @@
 # Installs what is missing, builds, and runs everything CI checks:
 #   0. the Release build scripts/run.sh uses compiles (-O3 finds other warnings)  build/release
 #   1. the whole ctest suite in a normal (RelWithDebInfo) build        build/ci
+#   1b. "slurm": the tests labelled slurm (a real one-node Slurm cluster, tests/slurm), build/ci;
+#      SKIP with the reason printed where the cluster cannot start (not root, no slurmd)
 #   2. the whole ctest suite with AddressSanitizer + UBSan            build/ci-sanitize
 #   3. ThreadSanitizer: tests/tsan.sh's selection, then the end-to-end tests  build/ci-tsan
 #   4. tests labelled "fuzz" (60 s per target) in a clang libFuzzer build   build/ci-fuzz
@@ -28,7 +30,7 @@ stage() { # stage NAME COMMAND...: runs, records pass/fail and seconds
   "$@"
   case $? in
     0) result=PASS ;;
-    77) result=SKIP ;; # nothing to run in this stage
+    77) result=SKIP ;; # nothing to run in this stage (the slurm stage: the cluster cannot start)
     *) result=FAIL; failed=1 ;;
   esac
   t=$(( $(date +%s) - t0 ))
@@ -55,7 +57,20 @@ release() {
 }
 
 normal() {
-  build build/ci -DCMAKE_BUILD_TYPE=RelWithDebInfo && suite build/ci
+  build build/ci -DCMAKE_BUILD_TYPE=RelWithDebInfo && suite build/ci -LE slurm
+}
+
+slurm() {
+  # The one-node Slurm cluster tests (tests/slurm), serially and verbosely (they print what they
+  # measured, or why they skip). The stage is SKIP when they skipped, FAIL when one failed.
+  build build/ci -DCMAKE_BUILD_TYPE=RelWithDebInfo || return 1
+  log=$(mktemp)
+  (cd build/ci && ctest -L slurm --no-tests=error -V --timeout 600) 2>&1 | tee "$log"
+  rc=${PIPESTATUS[0]}
+  skipped=$(grep -c '\*\*\*Skipped' "$log")
+  rm -f "$log"
+  [ "$rc" -eq 0 ] || return 1
+  [ "$skipped" -eq 0 ] || return 77
 }
 
 sanitize() {
@@ -66,7 +81,7 @@ sanitize() {
      # The fair-share figure (60 s slice) is measured in the normal stage; here the same check
      # runs with a 5 s slice.
      export AALAB_SHARE_SLICE=${AALAB_SHARE_SLICE:-5}
-     suite build/ci-sanitize)
+     suite build/ci-sanitize -LE slurm)
 }
 
 tsan() {
@@ -76,7 +91,7 @@ tsan() {
   export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}
   export AALAB_SHARE_SLICE=${AALAB_SHARE_SLICE:-5}
   sh tests/tsan.sh "$repo/$dir" || return 1
-  suite $dir -R e2e
+  suite $dir -R e2e -LE slurm
 }
 
 fuzz() {
@@ -142,6 +157,7 @@ systemd_security() {
 scripts/install-deps.sh || { echo "install-deps failed"; exit 1; }
 stage release release
 stage normal normal
+stage slurm slurm
 stage sanitize sanitize
 stage tsan tsan
 stage fuzz fuzz
