@@ -344,6 +344,8 @@ static int shard_lost(driver *d, stage_run *r, size_t i, char *failure, size_t c
     slurm_describe_task(array, (long)i, slurm, sizeof slurm);
     cluster_shard_path(r->dir, "log", (long)i, "out", log, sizeof log);
     cluster_file_tail(log, LOG_TAIL_LINES, LOG_TAIL_BYTES, tail, sizeof tail);
+    /* The job fails: its other shards must not run on (or start) for nothing. */
+    cancel_all(d);
     snprintf(failure, cap,
              "shard %zu of stage %d failed twice (Slurm job %lld_%zu: %s); last lines of %s: %s", i,
              r->stage, array, i, slurm, log, tail[0] ? tail : "(empty or missing)");
