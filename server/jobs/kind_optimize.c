@@ -85,6 +85,8 @@ static int run_seeds(const proto_optimize_spec *op, size_t first, size_t count,
     mp.local.grid_bits = op->common.grid_bits;
     mp.local.d3d12_range = op->common.d3d12;
     mp.local.max_iterations = proto_optimizer_spec_iterations(&op->common, 20000);
+    /* The spec's max_iterations bounds a seed's whole work, its refinement included. */
+    mp.seed_iterations = op->common.max_iterations;
     mp.local.clock = ctx->clock;
     mp.local.stall_iterations = 500;
     mp.first_seed = first;

@@ -76,14 +76,19 @@ static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric
     int rc = aa_optimize(seed, metric, &op, opt_bridge_progress, b, out, r, err);
     opt_bridge_add(b, r->iterations, r->evaluations, r->seconds);
     /* Without a time budget (seconds 0) the search runs until it stalls. */
+    /* The spec's max_iterations bounds the stage's whole work, its refinement included. */
+    long refine_steps =
+        sp->common.max_iterations > 0 ? sp->common.max_iterations - r->iterations : 0;
     if (rc == AA_OK && mode == AA_OPTIMIZE_BOTH && aa_perturbable(out) &&
-        (seconds <= 0 || r->seconds < seconds)) {
+        (seconds <= 0 || r->seconds < seconds) &&
+        (sp->common.max_iterations <= 0 || refine_steps > 0)) {
         /* The descent stops at a kink within seconds: spend the rest of the stage's budget on
          * iterated local search from its optimum (as optimize jobs do for tiled families). */
         aa_perturb_params pp;
         aa_perturb_params_default(&pp);
         pp.rounds = AA_PERTURB_UNTIL_STALL;
         pp.max_seconds = seconds > 0 ? seconds - r->seconds : 0;
+        pp.max_iterations = refine_steps;
         aa_rng rng;
         aa_rng_seed(&rng, sp->common.rng_seed, PERTURB_STREAM);
         aa_pattern refined;

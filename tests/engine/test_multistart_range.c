@@ -161,6 +161,38 @@ static void random_pattern_ranges_match_one_run(void **state)
     aa_pattern_free(&b2);
 }
 
+/* seed_iterations bounds a seed's descent and its refinement together (the clock-free budget
+ * seeds x max_iterations), where the refinement alone would run until it stalls. */
+static void seed_iterations_bound_the_refinement(void **state)
+{
+    (void)state;
+    aa_family fam;
+    assert_int_equal(aa_family_parse("P(4,4,1)", &fam, NULL), AA_OK);
+    aa_multistart_params mp;
+    aa_multistart_params_default(&mp);
+    mp.family = &fam;
+    mp.seed_count = 2;
+    mp.rng_seed = 3;
+    mp.max_seconds = 0;
+    mp.local.max_iterations = 60;
+    mp.perturb.rounds = AA_PERTURB_UNTIL_STALL;
+    aa_pattern best;
+    aa_multistart_result unbounded, bounded;
+    assert_int_equal(aa_multistart(&mp, &metric, NULL, NULL, &best, &unbounded, NULL), AA_OK);
+    aa_pattern_free(&best);
+    mp.seed_iterations = 100;
+    assert_int_equal(aa_multistart(&mp, &metric, NULL, NULL, &best, &bounded, NULL), AA_OK);
+    aa_pattern_free(&best);
+    for (size_t i = 0; i < 2; i++) {
+        assert_true(unbounded.per_seed[i].iterations > 100); /* the case is not vacuous */
+        assert_true(bounded.per_seed[i].iterations <= 100);
+        assert_true(bounded.per_seed[i].iterations > 60); /* the refinement did run */
+    }
+    assert_true(bounded.iterations <= 200);
+    aa_multistart_result_free(&unbounded);
+    aa_multistart_result_free(&bounded);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -168,6 +200,7 @@ int main(void)
         cmocka_unit_test(perturbed_range_split),
         cmocka_unit_test(screened_range_split),
         cmocka_unit_test(random_pattern_ranges_match_one_run),
+        cmocka_unit_test(seed_iterations_bound_the_refinement),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -123,9 +123,12 @@ typedef struct aa_perturb_params {
     double sigma;       /* pixels, default 0.01 */
     int stall;          /* default 30 */
     double max_seconds; /* the whole search; <= 0: none (each round keeps local's budget) */
+    /* Steps of the whole search (every round's descent), a clock-free budget; 0: none (each
+     * round keeps local's max_iterations). */
+    long max_iterations;
 } aa_perturb_params;
 #define AA_PERTURB_UNTIL_STALL 1000000000L
-/* rounds 0 (off), sigma 0.01, stall 30, no budget of its own. */
+/* rounds 0 (off), sigma 0.01, stall 30, no budgets of its own. */
 void aa_perturb_params_default(aa_perturb_params *pp);
 bool aa_perturbable(const aa_pattern *p);
 /* The families whose optimizations use the search: tiled (T > 1) without border samples, i.e.
@@ -183,6 +186,9 @@ typedef struct aa_multistart_params {
      * when the pattern allows it; perturb.rounds = 0 (the default) turns it off. Each seed's
      * rounds draw from their own stream, so the result stays deterministic per seed. */
     aa_perturb_params perturb;
+    /* > 0: a seed's descent and its refinement together take at most this many steps (the
+     * clock-free budget "seeds x max_iterations"); 0: the refinement has perturb's budgets. */
+    long seed_iterations;
 } aa_multistart_params;
 
 void aa_multistart_params_default(aa_multistart_params *p);

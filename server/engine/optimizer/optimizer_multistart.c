@@ -184,7 +184,11 @@ static void worker_main(void *arg)
             inner_ctx ic = {w, 0, 0};
             rc = aa_optimize(&seed, sh->metric, &local, inner_progress, &ic, &out, &r, &e);
             aa_pattern_free(&seed);
-            if (rc == AA_OK && p->perturb.rounds > 0 && aa_perturbable(&out)) {
+            aa_perturb_params pp = p->perturb;
+            if (p->seed_iterations > 0)
+                pp.max_iterations = p->seed_iterations - r.iterations;
+            if (rc == AA_OK && pp.rounds > 0 && aa_perturbable(&out) &&
+                (p->seed_iterations <= 0 || pp.max_iterations > 0)) {
                 /* Stream 2^32 + i: seed i's perturbations, apart from every seed's stream. */
                 aa_rng rng;
                 aa_rng_seed(&rng, p->rng_seed, (UINT64_C(1) << 32) + (uint64_t)(p->first_seed + i));
@@ -192,8 +196,8 @@ static void worker_main(void *arg)
                 aa_optimize_result rr;
                 ic.iterations_before = r.iterations;
                 ic.evaluations_before = r.evaluations;
-                rc = aa_optimize_perturbed(&out, sh->metric, &local, &p->perturb, &rng,
-                                           inner_progress, &ic, &refined, &rr, &e);
+                rc = aa_optimize_perturbed(&out, sh->metric, &local, &pp, &rng, inner_progress, &ic,
+                                           &refined, &rr, &e);
                 if (rc != AA_OK && rc != AA_ECANCELED) {
                     rc = AA_OK; /* the refinement failed: the seed's own optimum stands */
                 } else {

@@ -38,7 +38,7 @@ static int forward_progress(void *user, const aa_optimize_progress *p)
 
 void aa_perturb_params_default(aa_perturb_params *pp)
 {
-    *pp = (aa_perturb_params){0, 0.01, 30, 0};
+    *pp = (aa_perturb_params){0, 0.01, 30, 0, 0};
 }
 
 bool aa_family_perturbable(const aa_family *f)
@@ -109,6 +109,15 @@ int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metri
         if ((rc = jittered_neighbour(best, pp->sigma, metric->filter, rng, &trial, err)))
             break;
         aa_optimize_params round_params = *local;
+        if (pp->max_iterations > 0) {
+            long left = pp->max_iterations - result->iterations;
+            if (left <= 0) {
+                aa_pattern_free(&trial);
+                break;
+            }
+            if (round_params.max_iterations > left)
+                round_params.max_iterations = left;
+        }
         if (pp->max_seconds > 0) {
             double left = pp->max_seconds - result->seconds;
             if (left <= 0) {
