@@ -521,6 +521,11 @@ int cluster_driver_run(const cluster_config *cfg, const cluster_job *job, const 
     }
     if (!rc)
         rc = d.split->finish(job->params, prior, "slurm", most, result, err);
+    /* Any other failure after a submission (a retry sbatch refused, a merge error) ends the
+     * job too: its arrays must not run on. A cancel and a twice-failed shard have done this
+     * already; a daemon shutdown leaves them running on purpose. */
+    if (rc && rc != AA_ECANCELED && rc != CLUSTER_EDETACHED && rc != CLUSTER_ESHARD)
+        cancel_all(&d);
     json_decref(prior);
     json_decref(d.state);
     json_decref(d.task_spec);
