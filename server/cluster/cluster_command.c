@@ -23,8 +23,11 @@ typedef struct sink {
 
 static int sink_add(sink *s, const char *data, size_t n)
 {
-    if (s->len + n > CLUSTER_COMMAND_OUTPUT_MAX)
-        n = CLUSTER_COMMAND_OUTPUT_MAX - s->len; /* keep reading to drain, store no more */
+    /* Past the limit: keep reading to drain the pipe, store no more. */
+    if (s->len >= CLUSTER_COMMAND_OUTPUT_MAX)
+        return AA_OK;
+    if (n > CLUSTER_COMMAND_OUTPUT_MAX - s->len)
+        n = CLUSTER_COMMAND_OUTPUT_MAX - s->len;
     if (s->len + n + 1 > s->cap) {
         size_t cap = s->cap ? s->cap : 4096;
         while (cap < s->len + n + 1)
@@ -41,9 +44,15 @@ static int sink_add(sink *s, const char *data, size_t n)
     return AA_OK;
 }
 
+/* An empty output is "" rather than NULL. */
 static int sink_finish(sink *s)
 {
-    return s->buf ? AA_OK : sink_add(s, "", 0);
+    if (s->buf)
+        return AA_OK;
+    if (!(s->buf = calloc(1, 1)))
+        return AA_ENOMEM;
+    s->cap = 1;
+    return AA_OK;
 }
 
 int cluster_command_run(char *const argv[], double timeout_seconds, cluster_output *out,
