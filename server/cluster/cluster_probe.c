@@ -16,14 +16,22 @@ struct cluster_probe {
     pthread_t thread;
     bool has_thread, stopping;
     cluster_status status;
+    cluster_housekeeping_fn housekeeping;
+    void *user;
 };
 
 static void *probe_thread(void *arg)
 {
     cluster_probe *p = arg;
+    double last_housekeeping = -1e300;
     pthread_mutex_lock(&p->lock);
     while (!p->stopping) {
         pthread_mutex_unlock(&p->lock);
+        double now = aa_monotonic_seconds();
+        if (p->housekeeping && now - last_housekeeping >= CLUSTER_HOUSEKEEPING_INTERVAL) {
+            last_housekeeping = now;
+            p->housekeeping(p->user);
+        }
         char message[200];
         bool up = slurm_ping(message, sizeof message);
         pthread_mutex_lock(&p->lock);
@@ -40,7 +48,8 @@ static void *probe_thread(void *arg)
     return NULL;
 }
 
-cluster_probe *cluster_probe_start(bool configured, aa_error *err)
+cluster_probe *cluster_probe_start(bool configured, cluster_housekeeping_fn housekeeping,
+                                   void *user, aa_error *err)
 {
     cluster_probe *p = calloc(1, sizeof *p);
     if (!p) {
@@ -50,6 +59,8 @@ cluster_probe *cluster_probe_start(bool configured, aa_error *err)
     pthread_mutex_init(&p->lock, NULL);
     pthread_cond_init(&p->wake, NULL);
     p->status.configured = configured;
+    p->housekeeping = housekeeping;
+    p->user = user;
     p->status.answering = configured ? -1 : 0;
     snprintf(p->status.message, sizeof p->status.message, "%s",
              configured ? "Slurm is configured; the first scontrol ping has not answered yet"

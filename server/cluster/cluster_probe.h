@@ -18,9 +18,16 @@ typedef struct cluster_status {
     char message[240];
 } cluster_status;
 
+/* Housekeeping the probe thread runs at its first round and then every
+ * CLUSTER_HOUSEKEEPING_INTERVAL seconds (the job manager removes the shared files of deleted
+ * jobs, cluster_sweep.h); NULL: none. */
+#define CLUSTER_HOUSEKEEPING_INTERVAL 60.0
+typedef void (*cluster_housekeeping_fn)(void *user);
+
 /* configured false: no thread; the status says Slurm is not configured. NULL when out of
  * memory or no thread could start (err). */
-cluster_probe *cluster_probe_start(bool configured, aa_error *err);
+cluster_probe *cluster_probe_start(bool configured, cluster_housekeeping_fn housekeeping,
+                                   void *user, aa_error *err);
 void cluster_probe_status(cluster_probe *p, cluster_status *out);
 void cluster_probe_stop(cluster_probe *p); /* joins the thread; NULL is fine */
 

@@ -10,6 +10,7 @@
 #include <time.h>
 
 #include "cluster_driver.h"
+#include "cluster_sweep.h"
 #include "fair_share.h"
 #include "job_ctx_impl.h"
 #include "job_envelope.h"
@@ -629,6 +630,24 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
                      j->reason[0] ? j->reason : NULL, 0);
 }
 
+static bool job_known(void *user, long long id)
+{
+    job_manager *jm = user;
+    return job_store_owner(jm->store, id, NULL, NULL, NULL);
+}
+
+/* The probe thread's housekeeping: the shared files of jobs that retention deleted. */
+static void sweep_shared_dir(void *user)
+{
+    job_manager *jm = user;
+    size_t removed = 0;
+    aa_error err = {0};
+    if (cluster_sweep_orphans(jm->cfg.cluster.shared_dir, job_known, jm, &removed, &err))
+        fprintf(stderr, "aalabd: sweeping --slurm-shared-dir: %s\n", err.message);
+    if (removed)
+        fprintf(stderr, "aalabd: removed the shared files of %zu deleted job(s)\n", removed);
+}
+
 job_manager *job_manager_create(const char *state_dir, const job_manager_config *cfg, aa_error *err)
 {
     job_manager *jm = calloc(1, sizeof *jm);
@@ -655,7 +674,7 @@ job_manager *job_manager_create(const char *state_dir, const job_manager_config 
     if (!(jm->cfg.max_job_seconds > 0))
         jm->cfg.max_job_seconds = 86400;
     job_store_set_user_quota(jm->store, jm->cfg.user_store_bytes);
-    jm->probe = cluster_probe_start(jm->cfg.cluster.shared_dir[0] != 0, err);
+    jm->probe = cluster_probe_start(jm->cfg.cluster.shared_dir[0] != 0, sweep_shared_dir, jm, err);
     if (!jm->probe) {
         job_manager_destroy(jm);
         return NULL;
@@ -1042,6 +1061,11 @@ int job_manager_purge(job_manager *jm, long long id, long long caller)
     }
     /* A queued job that started meanwhile is still "running" in the store: refused. */
     int rc = job_store_delete(jm->store, id);
+    aa_error err = {0};
+    if (rc == AA_OK && jm->cfg.cluster.shared_dir[0] &&
+        cluster_remove_job_dir(jm->cfg.cluster.shared_dir, id, &err))
+        fprintf(stderr, "aalabd: job %lld purged, but its shared files stay: %s\n", id,
+                err.message);
     return rc == AA_OK ? JM_OK : rc == JOB_STORE_ENOENT ? JM_ENOENT : JM_EACTIVE;
 }
 

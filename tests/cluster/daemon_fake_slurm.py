@@ -82,6 +82,12 @@ def main():
         check(abs(j["best"]["e2"] - 0.2) < 1e-12 and j["progress"] == 1, j)
         check(len(j["trace"]) >= 1, j)
         check(len(lines(sbatch_log)) == 1 and "--partition=debug" in lines(sbatch_log)[0], lines(sbatch_log))
+        # Its shared files live as long as its record: a purge removes them.
+        job_dir = os.path.join(shared, "job-%d" % job["id"])
+        check(os.path.isdir(job_dir), "no %s after the job" % job_dir)
+        r = d.delete("/v1/jobs/%d?purge=1" % job["id"])
+        check(r.status in (200, 204), r)
+        check(not os.path.exists(job_dir), "%s is still there after the purge" % job_dir)
         local = d.post("/v1/jobs", {"kind": "sleep", "seconds": 0.05}).json()
         check(d.wait_job(local["id"])["executor"] == "local", local)
 
@@ -99,7 +105,12 @@ def main():
         job = submit(d, 1.5).json()
         wait(lambda: len(lines(sbatch_log)) == 3, "third sbatch")
         check(d.stop() == 0, "clean exit")
+        # The files of a job the daemon no longer has (deleted by retention, say) are swept.
+        orphan = os.path.join(shared, "job-999999", "stage-0")
+        os.makedirs(orphan)
+        open(os.path.join(orphan, "output-0.json"), "w").close()
         d.start()
+        wait(lambda: not os.path.exists(os.path.dirname(orphan)), "the orphan's files swept")
         j = d.wait_job(job["id"], timeout=60)
         check(j["state"] == "done" and j["result"]["steps"] == 100, j)
         check(len(lines(sbatch_log)) == 3 and len(lines(scancel_log)) == 1,
