@@ -5,7 +5,9 @@ a shard failing twice, Slurm not answering, --max-job-seconds.
 Every answer is checked against its schema (tests/e2e/response_check.py).
 usage: daemon_fake_slurm.py AALABD"""
 
+import atexit
 import os
+import shutil
 import signal
 import sys
 import tempfile
@@ -44,6 +46,7 @@ def submit(d, seconds, status=202, **extra):
 def main():
     binary = sys.argv[1]
     fake = tempfile.mkdtemp(prefix="aalab-fake-slurm-")
+    atexit.register(shutil.rmtree, fake, True)  # the fake queue and logs, whatever the outcome
     os.environ["FAKE_SLURM_DIR"] = fake
     os.environ["PATH"] = os.path.join(HERE, "fake_slurm") + ":" + os.environ.get("PATH", "/usr/bin:/bin")
     sbatch_log = os.path.join(fake, "sbatch.log")
