@@ -84,3 +84,10 @@ int proto_run_info_decode(const json_t *obj, proto_run_info *out, aa_error *err)
     }
     return AA_OK;
 }
+
+proto_run_info proto_run_info_make(const char *executor, size_t shards, bool reproducible)
+{
+    proto_run_info ri = {.shards = (long)shards, .reproducible = reproducible};
+    snprintf(ri.executor, sizeof ri.executor, "%s", executor);
+    return ri;
+}

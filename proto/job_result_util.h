@@ -26,6 +26,8 @@ typedef struct proto_run_info {
     long shards;      /* 0 encodes as 1 */
     bool reproducible;
 } proto_run_info;
+/* The run info of a finished job: executor, shards, reproducible. */
+proto_run_info proto_run_info_make(const char *executor, size_t shards, bool reproducible);
 /* Adds the three keys to o (false when out of memory). */
 bool proto_run_info_encode(json_t *o, const proto_run_info *ri);
 /* The three keys of a result; results stored before they existed lack them: local, 1 shard, not

@@ -344,8 +344,6 @@ static int shard_lost(driver *d, stage_run *r, size_t i, char *failure, size_t c
     slurm_describe_task(array, (long)i, slurm, sizeof slurm);
     cluster_shard_path(r->dir, "log", (long)i, "out", log, sizeof log);
     cluster_file_tail(log, LOG_TAIL_LINES, LOG_TAIL_BYTES, tail, sizeof tail);
-    /* The job fails: its other shards must not run on (or start) for nothing. */
-    cancel_all(d);
     snprintf(failure, cap,
              "shard %zu of stage %d failed twice (Slurm job %lld_%zu: %s); last lines of %s: %s", i,
              r->stage, array, i, slurm, log, tail[0] ? tail : "(empty or missing)");
@@ -521,10 +519,10 @@ int cluster_driver_run(const cluster_config *cfg, const cluster_job *job, const 
     }
     if (!rc)
         rc = d.split->finish(job->params, prior, "slurm", most, result, err);
-    /* Any other failure after a submission (a retry sbatch refused, a merge error) ends the
-     * job too: its arrays must not run on. A cancel and a twice-failed shard have done this
-     * already; a daemon shutdown leaves them running on purpose. */
-    if (rc && rc != AA_ECANCELED && rc != CLUSTER_EDETACHED && rc != CLUSTER_ESHARD)
+    /* A failed job (a shard failed twice, a retry sbatch refused, a merge error) must not leave
+     * its other shards running or starting. A cancel has done this already; a daemon shutdown
+     * leaves them running on purpose. */
+    if (rc && rc != AA_ECANCELED && rc != CLUSTER_EDETACHED)
         cancel_all(&d);
     json_decref(prior);
     json_decref(d.state);

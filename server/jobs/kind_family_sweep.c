@@ -256,9 +256,7 @@ static int finish(const void *params, const json_t *merged, const char *executor
                                          .seeds_per_config = (long)sp->per_config,
                                          .ranked = ranked,
                                          .ranked_count = count};
-        snprintf(r->run.executor, sizeof r->run.executor, "%s", executor);
-        r->run.shards = (long)shards;
-        r->run.reproducible = sp->common.reproducible;
+        r->run = proto_run_info_make(executor, shards, sp->common.reproducible);
         *result = r;
     } else {
         for (size_t i = 0; i < decoded; i++)
@@ -296,19 +294,5 @@ const job_split kind_family_sweep_split = {.stages = 1,
                                            .finish = finish,
                                            .best_of_output = best_of_output};
 
-int kind_family_sweep_run(void *params, job_ctx *ctx, void **result, aa_error *err)
-{
-    return job_split_run_local(&kind_family_sweep_split, params, ctx, result, err);
-}
-
-json_t *kind_family_sweep_encode_result(const void *result)
-{
-    return proto_encode_family_sweep_result(result);
-}
-
-void kind_family_sweep_free_result(void *result)
-{
-    if (result)
-        proto_family_sweep_result_free(result);
-    free(result);
-}
+JOB_KIND_SPLIT_RESULT(kind_family_sweep, kind_family_sweep_split, proto_encode_family_sweep_result,
+                      proto_family_sweep_result_free)

@@ -273,9 +273,7 @@ static int finish(const void *params, const json_t *merged, const char *executor
         free(r);
         return rc;
     }
-    snprintf(r->run.executor, sizeof r->run.executor, "%s", executor);
-    r->run.shards = (long)shards;
-    r->run.reproducible = op->common.reproducible;
+    r->run = proto_run_info_make(executor, shards, op->common.reproducible);
     *result = r;
     return AA_OK;
 }
@@ -298,19 +296,5 @@ const job_split kind_optimize_split = {.stages = 1,
                                        .finish = finish,
                                        .best_of_output = best_of_output};
 
-int kind_optimize_run(void *params, job_ctx *ctx, void **result, aa_error *err)
-{
-    return job_split_run_local(&kind_optimize_split, params, ctx, result, err);
-}
-
-json_t *kind_optimize_encode_result(const void *result)
-{
-    return proto_encode_optimize_result(result);
-}
-
-void kind_optimize_free_result(void *result)
-{
-    if (result)
-        proto_optimize_result_free(result);
-    free(result);
-}
+JOB_KIND_SPLIT_RESULT(kind_optimize, kind_optimize_split, proto_encode_optimize_result,
+                      proto_optimize_result_free)

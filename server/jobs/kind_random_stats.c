@@ -321,9 +321,7 @@ static int finish(const void *params, const json_t *merged, const char *executor
     r->distribution = sp->kind;
     r->count = (long)count;
     snprintf(r->family, sizeof r->family, "%s", sp->family.label);
-    snprintf(r->run.executor, sizeof r->run.executor, "%s", executor);
-    r->run.shards = (long)shards;
-    r->run.reproducible = sp->common.reproducible;
+    r->run = proto_run_info_make(executor, shards, sp->common.reproducible);
     *result = r;
     return AA_OK;
 }
@@ -345,19 +343,5 @@ const job_split kind_random_stats_split = {.stages = 2,
                                            .finish = finish,
                                            .best_of_output = best_of_output};
 
-int kind_random_stats_run(void *params, job_ctx *ctx, void **result, aa_error *err)
-{
-    return job_split_run_local(&kind_random_stats_split, params, ctx, result, err);
-}
-
-json_t *kind_random_stats_encode_result(const void *result)
-{
-    return proto_encode_random_stats_result(result);
-}
-
-void kind_random_stats_free_result(void *result)
-{
-    if (result)
-        proto_random_stats_result_free(result);
-    free(result);
-}
+JOB_KIND_SPLIT_RESULT(kind_random_stats, kind_random_stats_split, proto_encode_random_stats_result,
+                      proto_random_stats_result_free)

@@ -75,6 +75,25 @@ JOB_KIND_FUNCTIONS(kind_sleep);
         free(result);                                                                              \
     }
 
+/* run, encode_result and free_result of a kind that splits into shards (job_split.h): it runs
+ * locally through job_split_run_local, and its result is the proto struct its split's finish
+ * makes (encode_fn, free_fn). */
+#define JOB_KIND_SPLIT_RESULT(prefix, split, encode_fn, free_fn)                                   \
+    int prefix##_run(void *params, job_ctx *ctx, void **result, aa_error *err)                     \
+    {                                                                                              \
+        return job_split_run_local(&split, params, ctx, result, err);                              \
+    }                                                                                              \
+    json_t *prefix##_encode_result(const void *result)                                             \
+    {                                                                                              \
+        return encode_fn(result);                                                                  \
+    }                                                                                              \
+    void prefix##_free_result(void *result)                                                        \
+    {                                                                                              \
+        if (result)                                                                                \
+            free_fn(result);                                                                       \
+        free(result);                                                                              \
+    }
+
 /* How the optimizer kinds split into shards (job_split.h). */
 struct job_split;
 extern const struct job_split kind_optimize_split;

@@ -9,7 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "atomic_file.h"
+#include "cluster_layout.h"
 #include "job_split.h"
 #include "worker_report.h"
 #include "worker_task.h"
@@ -125,7 +125,7 @@ static int run(const worker_task *t)
         } else if (stop_requested) {
             fputs("aalab-worker: stopped by a signal; no output written\n", stderr);
             code = EXIT_TEMPFAIL;
-        } else if (atomic_write_json(t->output, file, "output", &err)) {
+        } else if (cluster_write_json(t->output, file, &err)) {
             complain("output", &err);
             code = EXIT_CANTCREAT;
         }

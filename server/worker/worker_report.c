@@ -7,7 +7,7 @@
 #include <time.h>
 
 #include "aa_core.h"
-#include "atomic_file.h"
+#include "cluster_layout.h"
 
 #define TRACE_WRITE_INTERVAL 2.0 /* seconds between rewrites of the trace file */
 #define POINT_MIN_INTERVAL 0.1   /* as the daemon's job trace: at most 10 points a second */
@@ -51,7 +51,7 @@ static int write_locked(worker_report *r, aa_error *err)
                           r->points ? r->points : json_array());
     if (!j)
         return aa_error_set(err, AA_ENOMEM, "trace", "out of memory");
-    int rc = atomic_write_json(r->trace_path, j, "trace", err);
+    int rc = cluster_write_json(r->trace_path, j, err);
     json_decref(j);
     r->last_write = aa_monotonic_seconds();
     return rc;
