@@ -25,6 +25,19 @@ json_t *split_harness_reparse(const json_t *v)
     return back;
 }
 
+void *split_harness_decode(const job_kind *kind, const char *spec_text)
+{
+    json_error_t je;
+    json_t *spec = json_loads(spec_text, JSON_REJECT_DUPLICATES, &je);
+    if (!spec)
+        return NULL;
+    void *params = NULL;
+    aa_error err = {0};
+    int rc = kind->decode(spec, &params, &err);
+    json_decref(spec);
+    return rc == AA_OK ? params : NULL;
+}
+
 json_t *split_harness_run(const job_kind *kind, void *params, size_t max_shards, int workers)
 {
     const job_split *split = kind->split;

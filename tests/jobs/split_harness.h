@@ -12,6 +12,8 @@
 #include "job_kind.h"
 #include "job_split.h"
 
+/* The kind's params decoded from a spec's JSON text; NULL if the text or the spec is invalid. */
+void *split_harness_decode(const job_kind *kind, const char *spec_text);
 /* The kind's encoded result ("slurm", shards = most shards of a stage); NULL on failure. */
 json_t *split_harness_run(const job_kind *kind, void *params, size_t max_shards, int workers);
 /* JSON text of v (compact, 17 significant digits), for exact comparisons; free() it. */
