@@ -15,34 +15,57 @@ struct cluster_probe {
     pthread_cond_t wake;
     pthread_t thread;
     bool has_thread, stopping;
+    bool housekeeping_due; /* cluster_probe_housekeep_soon: run it at the next round */
     cluster_status status;
     cluster_housekeeping_fn housekeeping;
     void *user;
+    double last_ping; /* monotonic seconds of the last scontrol ping */
 };
+
+/* Waits (p->lock held) up to seconds, or until stopped or housekeeping is due. */
+static void wait_for_next_round(cluster_probe *p, double seconds)
+{
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until);
+    long long ns = (long long)until.tv_nsec + (long long)(seconds * 1e9);
+    until.tv_sec += (time_t)(ns / 1000000000LL);
+    until.tv_nsec = (long)(ns % 1000000000LL);
+    while (!p->stopping && !p->housekeeping_due &&
+           pthread_cond_timedwait(&p->wake, &p->lock, &until) == 0)
+        ;
+}
 
 static void *probe_thread(void *arg)
 {
     cluster_probe *p = arg;
     double last_housekeeping = -1e300;
+    p->last_ping = -1e300;
     pthread_mutex_lock(&p->lock);
     while (!p->stopping) {
         pthread_mutex_unlock(&p->lock);
         double now = aa_monotonic_seconds();
-        if (p->housekeeping && now - last_housekeeping >= CLUSTER_HOUSEKEEPING_INTERVAL) {
+        pthread_mutex_lock(&p->lock);
+        bool due = p->housekeeping_due;
+        p->housekeeping_due = false;
+        pthread_mutex_unlock(&p->lock);
+        if (p->housekeeping && (due || now - last_housekeeping >= CLUSTER_HOUSEKEEPING_INTERVAL)) {
             last_housekeeping = now;
             p->housekeeping(p->user);
+        }
+        if (due && now - p->last_ping < CLUSTER_PROBE_INTERVAL) {
+            /* Woken for housekeeping only: the last answer is recent enough. */
+            pthread_mutex_lock(&p->lock);
+            wait_for_next_round(p, p->last_ping + CLUSTER_PROBE_INTERVAL - now);
+            continue;
         }
         char message[200];
         bool up = slurm_ping(message, sizeof message);
         pthread_mutex_lock(&p->lock);
+        p->last_ping = now;
         p->status.answering = up;
         snprintf(p->status.message, sizeof p->status.message, "%s%s",
                  up ? "" : "Slurm is configured but not answering: ", message);
-        struct timespec until;
-        clock_gettime(CLOCK_REALTIME, &until);
-        until.tv_sec += (time_t)CLUSTER_PROBE_INTERVAL;
-        while (!p->stopping && pthread_cond_timedwait(&p->wake, &p->lock, &until) == 0)
-            ;
+        wait_for_next_round(p, CLUSTER_PROBE_INTERVAL);
     }
     pthread_mutex_unlock(&p->lock);
     return NULL;
@@ -80,6 +103,16 @@ void cluster_probe_status(cluster_probe *p, cluster_status *out)
 {
     pthread_mutex_lock(&p->lock);
     *out = p->status;
+    pthread_mutex_unlock(&p->lock);
+}
+
+void cluster_probe_housekeep_soon(cluster_probe *p)
+{
+    if (!p)
+        return;
+    pthread_mutex_lock(&p->lock);
+    p->housekeeping_due = true;
+    pthread_cond_broadcast(&p->wake);
     pthread_mutex_unlock(&p->lock);
 }
 

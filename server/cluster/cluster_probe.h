@@ -29,6 +29,9 @@ typedef void (*cluster_housekeeping_fn)(void *user);
 cluster_probe *cluster_probe_start(bool configured, cluster_housekeeping_fn housekeeping,
                                    void *user, aa_error *err);
 void cluster_probe_status(cluster_probe *p, cluster_status *out);
+/* Asks the thread to run the housekeeping now rather than at its next interval (a purge: the
+ * handler does not unlink a job's shared files itself). No thread: nothing happens. */
+void cluster_probe_housekeep_soon(cluster_probe *p);
 void cluster_probe_stop(cluster_probe *p); /* joins the thread; NULL is fine */
 
 #endif

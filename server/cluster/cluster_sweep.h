@@ -1,7 +1,7 @@
 /* A job's files in the shared directory (DIR/job-<id>, cluster_layout.h) live as long as its
- * record: when the job is purged (DELETE ?purge=1) its directory goes at once, and when
- * retention (--keep-days) deletes it, the next sweep removes them. A failed job keeps its files
- * until then, since its error names the log of the shard that failed. */
+ * record: when the job is purged (DELETE ?purge=1) the probe thread sweeps at once, and when
+ * retention (--keep-days) deletes it, the next sweep (within a minute) removes them. A failed
+ * job keeps its files until then, since its error names the log of the shard that failed. */
 #ifndef AALAB_CLUSTER_SWEEP_H
 #define AALAB_CLUSTER_SWEEP_H
 

@@ -1061,11 +1061,10 @@ int job_manager_purge(job_manager *jm, long long id, long long caller)
     }
     /* A queued job that started meanwhile is still "running" in the store: refused. */
     int rc = job_store_delete(jm->store, id);
-    aa_error err = {0};
-    if (rc == AA_OK && jm->cfg.cluster.shared_dir[0] &&
-        cluster_remove_job_dir(jm->cfg.cluster.shared_dir, id, &err))
-        fprintf(stderr, "aalabd: job %lld purged, but its shared files stay: %s\n", id,
-                err.message);
+    /* Its shared files (possibly many, on a network file system) go in the probe thread's sweep,
+     * not in this HTTP handler. */
+    if (rc == AA_OK)
+        cluster_probe_housekeep_soon(jm->probe);
     return rc == AA_OK ? JM_OK : rc == JOB_STORE_ENOENT ? JM_ENOENT : JM_EACTIVE;
 }
 
