@@ -26,7 +26,15 @@
 
 typedef enum aa_scene_kind {
     AA_SCENE_HALF_PLANE,
-    AA_SCENE_CHECKERBOARD, /* perspective ground plane to the horizon */
+    /* Checkerboard: a ground plane seen from a pinhole camera at height 1 looking along the
+     * ground. The horizon is the image row y_h = cy - 0.6 u (above it the sky, value 1); a
+     * pixel below it at u_x = (x - cx) / u, v = (y - y_h) / u sees the ground point at depth
+     * Z = 1 / v and lateral X = u_x / v. The board, rotated by angle about the vertical axis,
+     * has square cells of 0.25 ground units: value parity(floor(gx / 0.25) + floor(gz / 0.25))
+     * with gx = X cos a + Z sin a, gz = -X sin a + Z cos a. Its cell edges are two pencils of
+     * straight lines meeting at vanishing points on the horizon; cells shrink towards the
+     * horizon and get below the pixel scale there (edge_histogram.h). */
+    AA_SCENE_CHECKERBOARD,
     AA_SCENE_SIEMENS_STAR,
     AA_SCENE_RINGS,  /* discs and rings of several radii */
     AA_SCENE_SLIVER, /* thin triangle, Hasselgren et al. Fig. 4 */
@@ -52,8 +60,9 @@ typedef struct aa_scene_params {
     bool mirror_y;     /* ... at (x, height - y) */
 } aa_scene_params;
 
-/* Defaults: 256 x 256, zoom 1, angle 0 (checkerboard 20, sliver 8, star 0), 16 wedges,
- * 16 frames, frame 0, offset 0. */
+/* Defaults: 256 x 256, zoom 1, angle 0 (checkerboard 20; every other scene 0, the sliver
+ * included: at 0 its short side is vertical, at x = cx + 0.9 u), 16 wedges, 16 frames, frame 0,
+ * offset 0. */
 aa_scene_params aa_scene_params_default(aa_scene_kind kind);
 
 /* Name <-> kind: "half-plane", "checkerboard", "siemens-star", "rings", "sliver", "spiral",

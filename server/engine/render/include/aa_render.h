@@ -9,5 +9,7 @@
 #include "../raster.h"
 #include "../reference.h"
 #include "../render.h"
+#include "../edge_histogram.h"
+#include "../predict.h"
 
 #endif

@@ -1,0 +1,64 @@
+/* Edge histograms of the built-in scenes: how much edge of each orientation a scene shows in the
+ * image, the input of the edge model (predict.h).
+ *
+ * Angle convention: the metric's (metric.h). θ is the angle of the edge's normal in pixel
+ * coordinates (x right, y down), p = x cos θ + y sin θ, taken modulo 180° because
+ * E1(θ + 180°) = E1(θ). Bin d (0..179) holds the normals with θ in [d − 0.5°, d + 0.5°) mod 180°,
+ * so axis-aligned edges fall on the centres of bins 0 and 90 and the model evaluates E1 at the
+ * bin centre d.
+ *
+ * Lengths are in pixels of unit-contrast edge: a step of contrast c counts c² times its length
+ * (the squared error of an edge scales with c²). Only the part inside the image counts.
+ *
+ * Every built-in scene is analytic: straight edges (half-plane, sliver, triangle) are clipped to
+ * the image exactly; arcs (rings, circle, star rim) are summed per degree of arc, 16 sub-arcs per
+ * degree tested against the image; the spiral's Archimedean arcs and the checkerboard's
+ * perspective grid lines are integrated along the curve in steps of at most 1/4 px.
+ *
+ * What the edge model does not cover:
+ *  - pixel-locked edges. A straight axis-aligned edge has the same offset against the sample
+ *    grid along its whole length, so its summed squared error is a sampled sum, not L·E1²; such
+ *    edges are listed in `locked` (up to AA_EDGE_MAX_LOCKED; any beyond go into the bins and are
+ *    counted in locked_excess) and the prediction evaluates them exactly (predict.h).
+ *  - detail below the pixel scale: where neighbouring edges are closer than 1 px (the star's
+ *    centre, the checkerboard towards its horizon) the edges are left out of the bins and the
+ *    area is reported in subpixel_area (px²); its error is not estimated.
+ * Mirroring (mirror_x, mirror_y) maps θ to 180° − θ and −θ and mirrors the locked positions. */
+#ifndef AA_EDGE_HISTOGRAM_H
+#define AA_EDGE_HISTOGRAM_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "aa_core.h"
+#include "scene.h"
+
+#define AA_EDGE_BINS 180
+#define AA_EDGE_MAX_LOCKED 256
+/* Spacing (px) between neighbouring edges below which a scene's detail is "below the pixel". */
+#define AA_EDGE_SUBPIXEL_SPACING 1.0
+
+typedef struct aa_locked_edge {
+    bool horizontal; /* normal at 90° (an edge along a row); else a vertical edge (normal 0°) */
+    double position; /* y of a horizontal edge, x of a vertical one (pixel coordinates) */
+    double length;   /* px × contrast² */
+} aa_locked_edge;
+
+typedef struct aa_edge_histogram {
+    double length[AA_EDGE_BINS]; /* unit-contrast px per bin, locked edges excluded */
+    double total;                /* sum of length[] plus the locked lengths */
+    size_t locked_count;
+    aa_locked_edge locked[AA_EDGE_MAX_LOCKED];
+    double locked_excess; /* locked length that did not fit in locked[] and went into the bins */
+    double subpixel_area; /* px² of image with detail below AA_EDGE_SUBPIXEL_SPACING */
+    int width, height;
+} aa_edge_histogram;
+
+/* Bin of a normal angle in degrees (any real): round to the nearest degree, modulo 180. */
+int aa_edge_bin(double theta_deg);
+
+/* The histogram of a prepared scene. Errors: AA_EINVAL (an animation scene's parameters are
+ * per frame: the current frame is used, so none here beyond a bad scene kind). */
+int aa_edge_histogram_of_scene(const aa_scene *s, aa_edge_histogram *h, aa_error *err);
+
+#endif

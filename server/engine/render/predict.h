@@ -1,0 +1,40 @@
+/* The edge model: a scene's rendered RMSE predicted from its edge histogram and the pattern's
+ * unweighted E1, with no fitted parameter and no rendering (issue 18).
+ *
+ * Along a straight edge whose offsets against the sample grid are spread evenly, the summed
+ * squared pixel error per unit length is the integral of (ghat - g)² over the edge offset, i.e.
+ * E1(θ)² by definition (metric.h), averaged over the kernels the edge meets. Hence
+ *   sum_sq ≈ Σ_d length[d] · mean_k E1_k(θ_d)²    (θ_d = d degrees, the bin centre)
+ *   rmse   ≈ 255 · sqrt(sum_sq / N),               N = width · height.
+ * E1 is unweighted (W ≡ 1) and computed with the reference filter of the render.
+ *
+ * Pixel-locked edges (axis-aligned, edge_histogram.h) have one offset along their whole length:
+ * for them the integral becomes the sum over the pixel columns (rows) the edge's footprint
+ * crosses, averaged over the tile's rows (columns) of kernels, evaluated exactly. Their part is
+ * reported in locked_sq. Detail below the pixel scale is not covered: its area share is
+ * reported, its error is not estimated. */
+#ifndef AA_PREDICT_H
+#define AA_PREDICT_H
+
+#include <stddef.h>
+
+#include "aa_core.h"
+#include "aa_pattern.h"
+#include "edge_histogram.h"
+
+typedef struct aa_prediction {
+    double rmse;                 /* 0..255 scale */
+    double sum_sq;               /* predicted sum over pixels of (pattern - reference)², 0..1 */
+    double bin_sq[AA_EDGE_BINS]; /* per-bin part of sum_sq (locked edges in bins 0 and 90) */
+    double e1_rms[AA_EDGE_BINS]; /* sqrt(mean_k E1_k(θ_d)²), 0 where the bin is empty */
+    double locked_sq;            /* part of sum_sq from pixel-locked edges */
+    double subpixel_area_share;  /* share of the image below the pixel scale: not covered */
+    size_t pixels;               /* N */
+} aa_prediction;
+
+/* f: the reference filter (NULL: the default). Errors: AA_EINVAL (empty pattern),
+ * AA_ENOMEM. */
+int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
+                    aa_prediction *out, aa_error *err);
+
+#endif
