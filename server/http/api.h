@@ -54,7 +54,13 @@ typedef struct api_response {
 } api_response;
 
 /* Requests the HTTP layer runs on the compute pool rather than on an HTTP thread. */
-typedef enum { API_CLASS_OTHER, API_CLASS_EVALUATE, API_CLASS_RENDER } api_request_class;
+/* API_CLASS_PREDICT runs in the evaluate share but is never answered from the evaluate cache. */
+typedef enum {
+    API_CLASS_OTHER,
+    API_CLASS_EVALUATE,
+    API_CLASS_RENDER,
+    API_CLASS_PREDICT
+} api_request_class;
 api_request_class api_classify(const char *method, const char *path);
 
 void api_handle(api_context *ctx, const api_request *req, api_response *resp);

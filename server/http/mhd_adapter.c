@@ -29,8 +29,9 @@
  * with MHD_add_connection to one of --http-threads libmicrohttpd daemons (round robin; each
  * has one epoll thread and no listen socket, since MHD_USE_NO_LISTEN_SOCKET rules out MHD's own
  * thread pool). Refused connections get a complete 429/503 JSON answer and are closed. The
- * counts are given back at MHD_CONNECTION_NOTIFY_CLOSED. POST /v1/evaluate (unless cached) and
- * POST /v1/render are suspended and run on the shared compute pool, which resumes them. */
+ * counts are given back at MHD_CONNECTION_NOTIFY_CLOSED. POST /v1/evaluate (unless cached), POST
+ * /v1/predict and POST /v1/render are suspended and run on the shared compute pool, which resumes
+ * them. */
 #define MAX_HTTP_DAEMONS 64
 
 struct http_listener {

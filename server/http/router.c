@@ -112,6 +112,7 @@ static const route routes[] = {
     {"POST", "/v1/families/enumerate", ARG_NONE, handle_enumerate, NULL},
     {"GET", "/v1/patterns/", ARG_JOB_EXPORT, NULL, handle_export},
     {"POST", "/v1/render", ARG_NONE, route_render, NULL},
+    {"POST", "/v1/predict", ARG_NONE, handle_predict, NULL},
     {"GET", "/v1/tiles/", ARG_TILE, NULL, route_tile},
     {"POST", "/v1/tokens", ARG_NONE, handle_tokens_post, NULL},
     {"GET", "/v1/tokens", ARG_NONE, handle_tokens_list, NULL},
@@ -149,6 +150,8 @@ api_request_class api_classify(const char *method, const char *path)
         return API_CLASS_OTHER;
     if (!strcmp(path, "/v1/evaluate"))
         return API_CLASS_EVALUATE;
+    if (!strcmp(path, "/v1/predict"))
+        return API_CLASS_PREDICT;
     if (!strcmp(path, "/v1/render"))
         return API_CLASS_RENDER;
     return API_CLASS_OTHER;

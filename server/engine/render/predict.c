@@ -2,6 +2,7 @@
 #include "predict.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -77,9 +78,15 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
     }
     aa_metric_workspace ws;
     aa_metric_workspace_init(&ws);
+    /* E1 wherever the scene has edges, locked ones included (their bins report it too). */
+    bool needed[AA_EDGE_BINS];
+    for (int d = 0; d < AA_EDGE_BINS; d++)
+        needed[d] = h->length[d] > 0;
+    for (size_t k = 0; k < h->locked_count; k++)
+        needed[h->locked[k].horizontal ? 90 : 0] = true;
     int rc = AA_OK;
     for (int d = 0; d < AA_EDGE_BINS && !rc; d++) {
-        if (!(h->length[d] > 0))
+        if (!needed[d])
             continue;
         double mean_sq = 0;
         for (size_t k = 0; k < p->kernel_count && !rc; k++) {

@@ -26,7 +26,7 @@ typedef struct aa_prediction {
     double rmse;                 /* 0..255 scale */
     double sum_sq;               /* predicted sum over pixels of (pattern - reference)², 0..1 */
     double bin_sq[AA_EDGE_BINS]; /* per-bin part of sum_sq (locked edges in bins 0 and 90) */
-    double e1_rms[AA_EDGE_BINS]; /* sqrt(mean_k E1_k(θ_d)²), 0 where the bin is empty */
+    double e1_rms[AA_EDGE_BINS]; /* sqrt(mean_k E1_k(θ_d)²), 0 where the scene has no edge */
     double locked_sq;            /* part of sum_sq from pixel-locked edges */
     double subpixel_area_share;  /* share of the image below the pixel scale: not covered */
     size_t pixels;               /* N */

@@ -1,0 +1,177 @@
+/* The POST /v1/predict request and answer (codec_predict.h). */
+#include "codec_predict.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "codec.h"
+
+static const char *const predict_keys[] = {"scene",    "size",      "pattern",
+                                           "patterns", "reference", NULL};
+
+void proto_predict_request_free(proto_predict_request *r)
+{
+    for (size_t i = 0; r->patterns && i < r->pattern_count; i++)
+        aa_pattern_free(&r->patterns[i]);
+    free(r->patterns);
+    free(r->names);
+    r->patterns = NULL;
+    r->names = NULL;
+    r->pattern_count = 0;
+}
+
+void proto_predict_pattern_field(const proto_predict_request *r, size_t i, char *out, size_t cap)
+{
+    if (r->single)
+        snprintf(out, cap, "pattern");
+    else
+        snprintf(out, cap, "patterns[%zu]", i);
+}
+
+static int decode_patterns(const json_t *body, proto_predict_request *out, aa_error *err)
+{
+    json_t *one = json_object_get(body, "pattern"), *many = json_object_get(body, "patterns");
+    if (one && many)
+        return aa_error_set(err, AA_EINVAL, "patterns", "give either pattern or patterns");
+    if (!one && !many)
+        return aa_error_set(err, AA_EINVAL, "pattern", "a pattern (or patterns) is required");
+    size_t n = 1;
+    if (many) {
+        if (!json_is_array(many) || json_array_size(many) == 0)
+            return aa_error_set(err, AA_EINVAL, "patterns",
+                                "patterns must be a non-empty array of patterns");
+        n = json_array_size(many);
+        if (n > PROTO_PREDICT_MAX_PATTERNS)
+            return aa_error_set(err, AA_ERANGE, "patterns", "at most %d patterns per request",
+                                PROTO_PREDICT_MAX_PATTERNS);
+    }
+    out->single = one != NULL;
+    out->patterns = calloc(n, sizeof *out->patterns);
+    out->names = calloc(n, sizeof *out->names);
+    if (!out->patterns || !out->names)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    for (size_t i = 0; i < n; i++) {
+        const json_t *pj = one ? one : json_array_get(many, i);
+        char field[32];
+        proto_predict_pattern_field(out, i, field, sizeof field);
+        int rc = proto_decode_pattern_or_name(pj, 0, &out->patterns[i], field, err);
+        if (rc)
+            return rc;
+        out->pattern_count = i + 1;
+        if (json_is_string(pj))
+            snprintf(out->names[i], sizeof out->names[i], "%s", json_string_value(pj));
+    }
+    return AA_OK;
+}
+
+int proto_decode_predict_request(const json_t *body, proto_predict_request *out, aa_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!json_is_object(body))
+        return aa_error_set(err, AA_EINVAL, "", "body must be a JSON object");
+    int rc = proto_check_keys(body, predict_keys, err, "");
+    if (!rc)
+        rc = proto_decode_scene_request(body, &out->scene, err);
+    if (!rc)
+        rc = decode_patterns(body, out, err);
+    if (!rc)
+        rc = proto_decode_reference(json_object_get(body, "reference"), &out->reference,
+                                    "reference", err);
+    if (rc)
+        proto_predict_request_free(out);
+    return rc;
+}
+
+/* The bin's whole length: binned plus locked edges on it. */
+static double bin_length(const aa_edge_histogram *h, int d)
+{
+    double l = h->length[d];
+    for (size_t k = 0; k < h->locked_count; k++)
+        if ((h->locked[k].horizontal ? 90 : 0) == d)
+            l += h->locked[k].length;
+    return l;
+}
+
+static double locked_length(const aa_edge_histogram *h)
+{
+    double l = 0;
+    for (size_t k = 0; k < h->locked_count; k++)
+        l += h->locked[k].length;
+    return l;
+}
+
+static json_t *encode_edges(const aa_edge_histogram *h)
+{
+    json_t *len = json_array();
+    for (int d = 0; len && d < AA_EDGE_BINS; d++)
+        if (json_array_append_new(len, json_real(bin_length(h, d))))
+            return json_decref(len), NULL;
+    if (!len)
+        return NULL;
+    double pixels = (double)h->width * (double)h->height;
+    return json_pack("{s:s, s:o, s:f, s:f, s:I, s:f, s:f}", "angle_convention",
+                     "normal angle in degrees, pixel coordinates (x right, y down), modulo 180; "
+                     "bin d holds [d-0.5, d+0.5)",
+                     "length", len, "total_length", h->total, "locked_length", locked_length(h),
+                     "locked_edges", (json_int_t)h->locked_count, "locked_excess_length",
+                     h->locked_excess, "subpixel_area_share", h->subpixel_area / pixels);
+}
+
+typedef struct bin_part {
+    int d;
+    double sq;
+} bin_part;
+
+static int by_share_desc(const void *a, const void *b)
+{
+    const bin_part *x = a, *y = b;
+    if (x->sq != y->sq)
+        return x->sq < y->sq ? 1 : -1;
+    return x->d - y->d;
+}
+
+static json_t *encode_angles(const aa_edge_histogram *h, const aa_prediction *p)
+{
+    bin_part parts[AA_EDGE_BINS];
+    size_t n = 0;
+    for (int d = 0; d < AA_EDGE_BINS; d++)
+        if (bin_length(h, d) > 0)
+            parts[n++] = (bin_part){d, p->bin_sq[d]};
+    qsort(parts, n, sizeof parts[0], by_share_desc);
+    json_t *a = json_array();
+    for (size_t i = 0; a && i < n; i++) {
+        int d = parts[i].d;
+        json_t *o = json_pack("{s:I, s:f, s:f, s:o}", "angle", (json_int_t)d, "length",
+                              bin_length(h, d), "e1_rms", p->e1_rms[d], "share",
+                              proto_real(p->sum_sq > 0 ? parts[i].sq / p->sum_sq : 0.0));
+        if (!o || json_array_append_new(a, o))
+            return json_decref(a), NULL;
+    }
+    return a;
+}
+
+json_t *proto_encode_predictions(const proto_predict_request *r, const aa_edge_histogram *h,
+                                 const aa_prediction *pred)
+{
+    json_t *list = json_array();
+    for (size_t i = 0; list && i < r->pattern_count; i++) {
+        const aa_pattern *p = &r->patterns[i];
+        const aa_prediction *q = &pred[i];
+        json_t *o = json_pack("{s:{s:s, s:s, s:f, s:I}, s:f, s:f, s:o, s:f, s:b, s:o}", "pattern",
+                              "name", r->names[i], "family", p->family, "samples_per_pixel",
+                              p->cost_spp, "kernels", (json_int_t)p->kernel_count, "predicted_rmse",
+                              q->rmse, "sum_squared_error", q->sum_sq, "locked_share",
+                              proto_real(q->sum_sq > 0 ? q->locked_sq / q->sum_sq : 0.0),
+                              "subpixel_area_share", q->subpixel_area_share,
+                              "subpixel_error_estimated", false, "angles", encode_angles(h, q));
+        if (!o || json_array_append_new(list, o))
+            return json_decref(list), NULL;
+    }
+    if (!list)
+        return NULL;
+    const aa_filter *f = r->reference.params.filter;
+    return json_pack("{s:o, s:{s:s}, s:o, s:o}", "scene", proto_encode_scene(&r->scene),
+                     "reference", "filter", f ? f->name : "mitchell", "edges", encode_edges(h),
+                     "predictions", list);
+}

@@ -1,0 +1,44 @@
+/* POST /v1/predict on the wire: the edge model's RMSE prediction (server/engine/render/predict.h)
+ * for one pattern or a list of patterns on one scene, without rendering.
+ *
+ * Request: {"scene": name | {...}, "size": [w, h], "pattern": name | {...} or
+ *           "patterns": [name | {...}, ...] (exactly one of the two; at most
+ *           PROTO_PREDICT_MAX_PATTERNS), "reference": {...}}
+ * scene, size and pattern as in POST /v1/render (codec_render.h); of "reference" only the filter
+ * matters (spp and seed are accepted, so that a render request's body predicts as is). */
+#ifndef AALAB_PROTO_CODEC_PREDICT_H
+#define AALAB_PROTO_CODEC_PREDICT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <jansson.h>
+
+#include "aa_render.h"
+#include "codec_scene.h"
+
+#define PROTO_PREDICT_MAX_PATTERNS 64
+
+typedef struct proto_predict_request {
+    aa_scene_params scene;
+    size_t pattern_count;
+    aa_pattern *patterns;           /* [pattern_count] */
+    char (*names)[64];              /* [pattern_count]: preset name, or "" */
+    proto_reference_spec reference; /* reference.params.filter points into it: no copies */
+    bool single;                    /* "pattern" (not "patterns") */
+} proto_predict_request;
+
+/* On error out holds nothing to free; on success free it with proto_predict_request_free.
+ * Errors name "pattern", "patterns", "patterns[i]...", "scene...", "size", "reference...". */
+int proto_decode_predict_request(const json_t *body, proto_predict_request *out, aa_error *err);
+void proto_predict_request_free(proto_predict_request *r);
+/* JSON field of pattern i as the request named it: "pattern" or "patterns[i]". */
+void proto_predict_pattern_field(const proto_predict_request *r, size_t i, char *out, size_t cap);
+
+/* {"scene", "reference": {"filter"}, "edges": {...}, "predictions": [...]}
+ * (proto/schemas/predict_response.json). pred[i] belongs to r->patterns[i]. NULL on allocation
+ * failure. */
+json_t *proto_encode_predictions(const proto_predict_request *r, const aa_edge_histogram *h,
+                                 const aa_prediction *pred);
+
+#endif
