@@ -32,6 +32,7 @@ ROUTES = [
     ("POST", r"/v1/families/enumerate", {200: "enumerate_response.json"}),
     ("GET", r"/v1/patterns/[^/]+/export", {200: "export_response.json"}),
     ("POST", r"/v1/render", {200: "render_response.json"}),
+    ("POST", r"/v1/predict", {200: "predict_response.json"}),
     ("GET", r"/v1/tiles/[^/]+", {200: None}),
     ("POST", r"/v1/tokens", {201: "tokens.json#/$defs/issued"}),
     ("GET", r"/v1/tokens", {200: "tokens.json#/$defs/list"}),
