@@ -302,6 +302,26 @@ case("token_revoke_unknown", 404, "id", method="DELETE", path="/v1/tokens/999999
 case("job_visibility_bad", 400, "visibility", path="/v1/jobs", body_json={"kind": "sleep", "seconds": 0, "visibility": "public"})
 case("job_visibility_not_string", 400, "visibility", path="/v1/jobs", body_json={"kind": "sleep", "seconds": 0, "visibility": 1})
 case("render_visibility_bad", 400, "visibility", path="/v1/render", body_json={"pattern": {"preset": "rgss"}, "size": [8, 8], "visibility": "world"})
+# --- POST /v1/predict: the render forms plus "patterns"
+PR = "/v1/predict"
+case("predict_ok_half_plane", 200, None, path=PR, body_json={"pattern": "rgss", "scene": {"name": "half-plane", "angle": 27}})
+case("predict_no_pattern", 400, "pattern", path=PR, body_json={"scene": "siemens-star"})
+case("predict_both_pattern_and_patterns", 400, "patterns", path=PR, body_json={"pattern": "rgss", "patterns": ["rgss"]})
+case("predict_patterns_empty", 400, "patterns", path=PR, body_json={"patterns": []})
+case("predict_patterns_not_array", 400, "patterns", path=PR, body_json={"patterns": "rgss"})
+case("predict_patterns_too_many", 400, "patterns", path=PR, body_json={"patterns": ["rgss"] * 65})
+case("predict_patterns_bad_preset", 400, "patterns[1]", path=PR, body_json={"patterns": ["rgss", "nope"]})
+case("predict_patterns_bad_kernel", 400, "patterns[0].kernels[0][0][1]", path=PR, body_json={"patterns": [{"kernels": [[[0, "x", 1]]]}]})
+case("predict_weights_sum_half", 400, "pattern.kernels[0]", path=PR, body_json={"pattern": {"kernels": [[[0, 0, 0.5]]]}})
+case("predict_unknown_key", 400, "crop", path=PR, body_json={"pattern": "rgss", "crop": {"x": 0}})
+case("predict_scene_unknown", 400, "scene", path=PR, body_json={"pattern": "rgss", "scene": "nope"})
+case("predict_scene_angle_nan", 400, "scene.angle", path=PR, body_json={"pattern": "rgss", "scene": {"name": "sliver", "angle": "8"}})
+case("predict_size_zero", 400, "size[0]", path=PR, body_json={"pattern": "rgss", "scene": "rings", "size": [0, 16]})
+case("predict_reference_spp", 400, "reference.spp", path=PR, body_json={"pattern": "rgss", "reference": {"spp": 3}})
+case("predict_reference_filter", 400, "reference.filter.name", path=PR, body_json={"pattern": "rgss", "reference": {"filter": "nope"}})
+case("predict_job_ref_unknown", 400, "pattern.job", path=PR, body_json={"pattern": {"job": 999999999}})
+case("predict_not_object", 400, None, path=PR, body_json=[1, 2])
+case("predict_get", 405, None, method="GET", path=PR)
 with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "cases.jsonl"), "w") as f:
     for c in C:
         f.write(json.dumps(c, separators=(",", ":")) + "\n")
