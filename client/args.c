@@ -46,7 +46,8 @@ typedef enum opt_id {
     OPT_STATE,
     OPT_KIND,
     OPT_LIMIT,
-    OPT_TRACE
+    OPT_TRACE,
+    OPT_ANGLE
 } opt_id;
 
 typedef struct opt_spec {
@@ -60,7 +61,8 @@ typedef struct opt_spec {
 /* The commands that print tables, so --csv has a meaning there. */
 #define TABLE_COMMANDS                                                                             \
     (BIT(CMD_EVAL) | BIT(CMD_PRESETS) | BIT(CMD_JOBS) | BIT(CMD_JOB) | BIT(CMD_WAIT) |             \
-     BIT(CMD_HEALTH) | BIT(CMD_FILTERS) | BIT(CMD_ACUITY) | BIT(CMD_ENUMERATE) | BIT(CMD_TOKEN))
+     BIT(CMD_HEALTH) | BIT(CMD_FILTERS) | BIT(CMD_ACUITY) | BIT(CMD_ENUMERATE) | BIT(CMD_TOKEN) |  \
+     BIT(CMD_PREDICT))
 
 static const opt_spec OPTIONS[] = {
     {"socket", 's', true, ALL_COMMANDS, OPT_SOCKET},
@@ -74,7 +76,7 @@ static const opt_spec OPTIONS[] = {
     {"detail", 0, false, BIT(CMD_EVAL), OPT_DETAIL},
     {"family", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_ENUMERATE), OPT_FAMILY},
     {"cost", 0, true, BIT(CMD_ENUMERATE), OPT_COST},
-    {"pattern", 'p', true, BIT(CMD_OPTIMIZE) | BIT(CMD_RENDER), OPT_PATTERN},
+    {"pattern", 'p', true, BIT(CMD_OPTIMIZE) | BIT(CMD_RENDER) | BIT(CMD_PREDICT), OPT_PATTERN},
     {"seeds", 0, true, BIT(CMD_OPTIMIZE), OPT_SEEDS},
     {"max-seconds", 0, true, BIT(CMD_OPTIMIZE), OPT_MAX_SECONDS},
     {"rng-seed", 0, true, BIT(CMD_OPTIMIZE), OPT_RNG_SEED},
@@ -90,8 +92,9 @@ static const opt_spec OPTIONS[] = {
     {"kind", 0, true, BIT(CMD_JOBS), OPT_KIND},
     {"limit", 0, true, BIT(CMD_JOBS), OPT_LIMIT},
     {"trace", 0, false, BIT(CMD_JOB) | BIT(CMD_WAIT), OPT_TRACE},
-    {"scene", 0, true, BIT(CMD_RENDER), OPT_SCENE},
-    {"size", 0, true, BIT(CMD_RENDER), OPT_SIZE},
+    {"scene", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT), OPT_SCENE},
+    {"size", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT), OPT_SIZE},
+    {"angle", 0, true, BIT(CMD_PREDICT), OPT_ANGLE},
     {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT), OPT_OUTPUT},
     {"image", 0, true, BIT(CMD_RENDER), OPT_IMAGE},
     {"format", 'f', true, BIT(CMD_EXPORT), OPT_FORMAT},
@@ -107,7 +110,7 @@ static const struct {
     {"jobs", CMD_JOBS},       {"job", CMD_JOB},           {"cancel", CMD_CANCEL},
     {"render", CMD_RENDER},   {"export", CMD_EXPORT},     {"health", CMD_HEALTH},
     {"filters", CMD_FILTERS}, {"acuity", CMD_ACUITY},     {"enumerate", CMD_ENUMERATE},
-    {"token", CMD_TOKEN},     {"wait", CMD_WAIT},
+    {"token", CMD_TOKEN},     {"wait", CMD_WAIT},         {"predict", CMD_PREDICT},
 };
 
 const char *cli_command_name(cli_command c)
@@ -317,6 +320,11 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
     case OPT_LABEL:
         a->label = v;
         break;
+    case OPT_ANGLE:
+        if (parse_double(v, -1e6, 1e6, &a->angle))
+            return fail(err, cap, "--angle wants degrees, got '%s'", v);
+        a->has_angle = true;
+        break;
     case OPT_CSV:
         a->csv = true;
         break;
@@ -408,6 +416,10 @@ static int check_command(cli_args *a, char *err, size_t cap)
             return fail(err, cap, "unexpected argument '%s'", a->target2);
         if (a->label && a->target)
             return fail(err, cap, "--label is for issuing a token ('aalab token --label TEXT')");
+        break;
+    case CMD_PREDICT:
+        if (!a->pattern)
+            return fail(err, cap, "'predict' needs --pattern NAME|FILE[,NAME|FILE...]");
         break;
     case CMD_RENDER:
         if (!a->pattern)

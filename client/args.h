@@ -24,7 +24,8 @@ typedef enum cli_command {
     CMD_ACUITY,
     CMD_ENUMERATE,
     CMD_TOKEN,
-    CMD_WAIT
+    CMD_WAIT,
+    CMD_PREDICT
 } cli_command;
 
 typedef struct cli_args {
@@ -73,6 +74,9 @@ typedef struct cli_args {
     int width, height;
     const char *output; /* -o */
     const char *image;  /* pattern | reference | difference */
+    /* predict: the scene's angle (degrees) */
+    double angle;
+    bool has_angle;
     /* export */
     const char *format;
 } cli_args;

@@ -59,8 +59,9 @@ static int decode_patterns(const json_t *body, proto_predict_request *out, aa_er
         if (rc)
             return rc;
         out->pattern_count = i + 1;
-        if (json_is_string(pj))
-            snprintf(out->names[i], sizeof out->names[i], "%s", json_string_value(pj));
+        const json_t *name = json_is_object(pj) ? json_object_get(pj, "preset") : pj;
+        if (json_is_string(name))
+            snprintf(out->names[i], sizeof out->names[i], "%s", json_string_value(name));
     }
     return AA_OK;
 }

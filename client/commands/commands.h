@@ -19,6 +19,7 @@ int cmd_jobs(cli_session *s);
 int cmd_job(cli_session *s);
 int cmd_cancel(cli_session *s);
 int cmd_render(cli_session *s);
+int cmd_predict(cli_session *s);
 int cmd_export(cli_session *s);
 int cmd_health(cli_session *s);
 int cmd_filters(cli_session *s);
@@ -32,6 +33,8 @@ void cmd_help(FILE *out, const char *command); /* command NULL: overview */
 int eval_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 int optimize_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 int render_request(const cli_args *a, json_t **req, char *err, size_t errcap);
+/* predict: --pattern A,B,... as "patterns", the scene by name (an object with --angle). */
+int predict_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 /* submit: the spec file (or stdin) as it is, checked to be an object with a kind. */
 int submit_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 /* --filter NAME[:B=..,C=..] | JSON; --acuity NAME | FILE.json | JSON. */
@@ -65,6 +68,8 @@ int jobs_query(const cli_args *a, char *buf, size_t cap);
 /* The line for DELETE /v1/jobs/ID's answer. */
 void cancel_print(FILE *out, const char *id, const json_t *resp);
 void render_print(FILE *out, const json_t *resp);
+/* One row per pattern (predicted RMSE, locked share, costliest angle), then the scene's edges. */
+void predict_print(FILE *out, const json_t *resp, bool csv);
 void health_print(FILE *out, const json_t *resp, bool csv);
 void filters_print(FILE *out, const json_t *resp, bool csv);
 void acuity_print(FILE *out, const json_t *resp, bool csv);

@@ -18,6 +18,7 @@ static const char OVERVIEW[] =
     "  wait ID               follow a job to its end with a progress bar, then show it\n"
     "  cancel ID             ask a queued or running job to stop (owner or root)\n"
     "  render ...            render a test tile to a PNG\n"
+    "  predict ...           predicted RMSE of patterns on a scene, without rendering\n"
     "  export ID             the best pattern of a job (json, utk, vulkan, d3d12)\n"
     "  health                daemon version, uptime, workers, queue\n"
     "  filters               reference filters the metric accepts\n"
@@ -92,6 +93,12 @@ static const struct {
                "                    [--size 256x256] [--image pattern|reference|difference]\n"
                "                    -o tile.png\n"
                "Prints the render statistics; -o - writes the PNG to stdout (stats to stderr).\n"},
+    {"predict", "usage: aalab predict --pattern NAME|FILE[,NAME|FILE...] [--scene siemens-star]\n"
+                "                     [--size 256x256] [--angle DEG] [--csv]\n"
+                "The edge model's RMSE (0..255) of each pattern on the scene, as a render would\n"
+                "measure it, from the scene's edge lengths per angle and the patterns' E1\n"
+                "(docs/predict.md). Pixel-locked edges are exact; detail below the pixel scale\n"
+                "is not predicted (its image share is printed).\n"},
     {"export", "usage: aalab export ID [--format json|utk|vulkan|d3d12] [-o FILE]\n"},
     {"health", "usage: aalab health\n"},
     {"filters", "usage: aalab filters\n"},
