@@ -89,7 +89,7 @@ static double bin_length(const aa_edge_histogram *h, int d)
 {
     double l = h->length[d];
     for (size_t k = 0; k < h->locked_count; k++)
-        if ((h->locked[k].horizontal ? 90 : 0) == d)
+        if (aa_locked_edge_bin(&h->locked[k]) == d)
             l += h->locked[k].length;
     return l;
 }

@@ -1,5 +1,5 @@
 /* Edge histograms: each analytic histogram's total against the scene's known edge length, the
- * angle convention, locked edges, mirroring. */
+ * angle convention, locked (lattice-direction) edges, mirroring. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -8,6 +8,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdlib.h>
 
 #include "aa_render.h"
 
@@ -67,8 +68,8 @@ static void test_half_plane(void **state)
     /* Default: the vertical edge x = 128 is pixel-locked, no bin holds it. */
     h = histogram_of(aa_scene_params_default(AA_SCENE_HALF_PLANE), &s);
     assert_int_equal(h.locked_count, 1);
-    assert_false(h.locked[0].horizontal);
-    assert_rel(h.locked[0].position, 128, 1e-12);
+    assert_int_equal(h.locked[0].q, 0);
+    assert_rel(h.locked[0].c / h.locked[0].p, 128, 1e-12);
     assert_rel(h.locked[0].length, 256, 1e-12);
     assert_rel(h.total, 256, 1e-12);
     /* 90°: a horizontal edge, 10 px below the centre (offset along the normal). */
@@ -76,8 +77,17 @@ static void test_half_plane(void **state)
     p.offset = 10;
     h = histogram_of(p, &s);
     assert_int_equal(h.locked_count, 1);
-    assert_true(h.locked[0].horizontal);
-    assert_rel(h.locked[0].position, 138, 1e-9);
+    assert_int_equal(h.locked[0].p, 0);
+    assert_rel(h.locked[0].c / h.locked[0].q, 138, 1e-9);
+    /* 45°: the normal (1, 1) is a lattice direction, locked too; 30° is not. */
+    p.angle_deg = 45;
+    p.offset = 0.37;
+    h = histogram_of(p, &s);
+    assert_int_equal(h.locked_count, 1);
+    assert_int_equal(abs(h.locked[0].p), 1);
+    assert_int_equal(h.locked[0].q, h.locked[0].p);
+    assert_int_equal(aa_locked_edge_bin(&h.locked[0]), 45);
+    assert_rel(h.total, sqrt(2.0) * (256 - 0.37 * sqrt(2.0)), 1e-9);
 }
 
 static double dist(double ax, double ay, double bx, double by)
@@ -100,7 +110,8 @@ static void test_sliver(void **state)
     /* At the default angle the short side x = 0.9 u is vertical: locked, 0.15 u long. */
     assert_int_equal(h.locked_count, 1);
     assert_rel(h.locked[0].length, 0.15 * 128, 1e-9);
-    assert_rel(h.locked[0].position, 128 + 0.9 * 128, 1e-9);
+    assert_int_equal(h.locked[0].q, 0);
+    assert_rel(h.locked[0].c / h.locked[0].p, 128 + 0.9 * 128, 1e-9);
     /* The long sides' normals: 90° plus their slopes' angles. */
     assert_true(h.length[aa_edge_bin(90 + atan2(-0.65, 1.8) * 180 / PI)] > 0);
     p.angle_deg = 8;
@@ -148,7 +159,7 @@ static void test_rings(void **state)
 }
 
 /* 2N rays from r_c = 1 / sector (where neighbours are 1 px apart) to R, and the dark half of the
- * rim; the four axis rays are locked. */
+ * rim; the rays at multiples of 45° are locked. */
 static void test_star(void **state)
 {
     (void)state;
@@ -156,8 +167,8 @@ static void test_star(void **state)
     aa_edge_histogram h = histogram_of(aa_scene_params_default(AA_SCENE_SIEMENS_STAR), &s);
     double R = 0.95 * 128, sector = PI / 16, r_c = 1 / sector;
     assert_rel(h.total, 32 * (R - r_c) + PI * R, 1e-9);
-    assert_int_equal(h.locked_count, 4);
-    for (size_t k = 0; k < 4; k++)
+    assert_int_equal(h.locked_count, 8); /* the rays at multiples of 45° */
+    for (size_t k = 0; k < 8; k++)
         assert_rel(h.locked[k].length, R - r_c, 1e-9);
     /* Pixel centres inside r_c: the disc's area within a perimeter's worth. */
     assert_true(fabs(h.subpixel_area - PI * r_c * r_c) <= 2 * PI * r_c);
@@ -191,7 +202,7 @@ static void test_checkerboard(void **state)
     aa_edge_histogram h = histogram_of(p, &s);
     size_t horizon = 0;
     for (size_t k = 0; k < h.locked_count; k++)
-        if (h.locked[k].horizontal && fabs(h.locked[k].position - s.horizon_y) < 1e-9) {
+        if (h.locked[k].p == 0 && fabs(h.locked[k].c / h.locked[k].q - s.horizon_y) < 1e-9) {
             horizon++;
             assert_rel(h.locked[k].length, 0.25 * 256, 1e-12);
         }
@@ -231,7 +242,7 @@ static void test_mirror(void **state)
     p.offset = 20.5;
     p.mirror_x = true;
     h = histogram_of(p, &s);
-    assert_rel(h.locked[0].position, 256 - 148.5, 1e-12);
+    assert_rel(h.locked[0].c / h.locked[0].p, 256 - 148.5, 1e-12);
 }
 
 int main(void)

@@ -75,8 +75,9 @@ static void test_long_edge_matches_render(void **state)
     check_scene(&sp, 0.85, 1.15, "half-27");
 }
 
-/* The default half-plane: a vertical edge on a pixel boundary. The integral model would be off;
- * the sampled sum is exact up to the reference's noise. */
+/* Locked edges: the default half-plane (a vertical edge on a pixel boundary), a row, a diagonal
+ * and a (2, 1) direction. The integral model would be off; the sampled sum over the lattice
+ * period is exact up to the reference's noise. */
 static void test_locked_edge_matches_render(void **state)
 {
     (void)state;
@@ -86,6 +87,13 @@ static void test_locked_edge_matches_render(void **state)
     sp.angle_deg = 90;
     sp.offset = 0.3;
     check_scene(&sp, 0.97, 1.03, "half-90");
+    /* A diagonal edge meets the grid at offsets 1/sqrt(2) apart: locked too. */
+    sp.angle_deg = 45;
+    sp.offset = 0.37;
+    check_scene(&sp, 0.97, 1.03, "half-45");
+    sp.angle_deg = 180 - atan(0.5) * 180 / 3.14159265358979323846; /* normal (-2, 1) */
+    sp.offset = -2.1;
+    check_scene(&sp, 0.97, 1.03, "half-153.4");
 }
 
 static void test_bookkeeping(void **state)
@@ -107,8 +115,8 @@ static void test_bookkeeping(void **state)
     aa_edge_histogram h;
     assert_int_equal(aa_scene_init(&s, &sp, NULL), AA_OK);
     assert_int_equal(aa_edge_histogram_of_scene(&s, &h, NULL), AA_OK);
-    assert_true(fabs(pred.bin_sq[45] - h.length[45] * pred.e1_rms[45] * pred.e1_rms[45]) <
-                1e-12 * pred.bin_sq[45]);
+    assert_true(fabs(pred.bin_sq[101] - h.length[101] * pred.e1_rms[101] * pred.e1_rms[101]) <
+                1e-12 * pred.bin_sq[101]);
     /* An empty pattern is an error naming the pattern. */
     aa_pattern empty = {0};
     aa_error err = {0};

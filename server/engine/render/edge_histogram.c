@@ -2,6 +2,7 @@
 #include "edge_histogram.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define PI 3.14159265358979323846
@@ -26,6 +27,41 @@ static void add_angle(aa_edge_histogram *h, double nx, double ny, double length)
     h->total += length;
 }
 
+static int gcd(int a, int b)
+{
+    a = abs(a);
+    b = abs(b);
+    while (b) {
+        int t = a % b;
+        a = b;
+        b = t;
+    }
+    return a;
+}
+
+/* The integer direction (p, q), |p|, |q| <= AA_EDGE_LOCK_MAX, of the unit normal (nx, ny), if
+ * it has one. */
+static bool lattice_direction(double nx, double ny, int *p, int *q)
+{
+    for (int a = -AA_EDGE_LOCK_MAX; a <= AA_EDGE_LOCK_MAX; a++)
+        for (int b = -AA_EDGE_LOCK_MAX; b <= AA_EDGE_LOCK_MAX; b++) {
+            if ((a == 0 && b == 0) || gcd(a, b) != 1)
+                continue;
+            double n = hypot(a, b);
+            if (fabs(nx - a / n) < AXIS_EPS && fabs(ny - b / n) < AXIS_EPS) {
+                *p = a;
+                *q = b;
+                return true;
+            }
+        }
+    return false;
+}
+
+int aa_locked_edge_bin(const aa_locked_edge *e)
+{
+    return aa_edge_bin(atan2(e->q, e->p) / DEG);
+}
+
 /* A straight piece with unit-free normal (nx, ny) and a point (px, py) on its line. */
 static void add_straight(aa_edge_histogram *h, double nx, double ny, double px, double py,
                          double length)
@@ -35,13 +71,14 @@ static void add_straight(aa_edge_histogram *h, double nx, double ny, double px, 
     double n = hypot(nx, ny);
     nx /= n;
     ny /= n;
-    bool vertical = fabs(ny) < AXIS_EPS, horizontal = fabs(nx) < AXIS_EPS;
-    if ((vertical || horizontal) && h->locked_count < AA_EDGE_MAX_LOCKED) {
-        h->locked[h->locked_count++] = (aa_locked_edge){horizontal, horizontal ? py : px, length};
+    int p, q;
+    bool lattice = lattice_direction(nx, ny, &p, &q);
+    if (lattice && h->locked_count < AA_EDGE_MAX_LOCKED) {
+        h->locked[h->locked_count++] = (aa_locked_edge){p, q, p * px + q * py, length};
         h->total += length;
         return;
     }
-    if (vertical || horizontal)
+    if (lattice)
         h->locked_excess += length;
     add_angle(h, nx, ny, length);
 }
@@ -275,12 +312,17 @@ static void mirror(aa_edge_histogram *h, bool mx, bool my)
             tmp[(AA_EDGE_BINS - d) % AA_EDGE_BINS] = h->length[d];
         memcpy(h->length, tmp, sizeof tmp);
     }
+    /* p x + q y = c with x -> W - x is (-p) x + q y = c - p W; likewise for y. */
     for (size_t k = 0; k < h->locked_count; k++) {
         aa_locked_edge *e = &h->locked[k];
-        if (e->horizontal && my)
-            e->position = h->height - e->position;
-        if (!e->horizontal && mx)
-            e->position = h->width - e->position;
+        if (mx) {
+            e->c -= e->p * (double)h->width;
+            e->p = -e->p;
+        }
+        if (my) {
+            e->c -= e->q * (double)h->height;
+            e->q = -e->q;
+        }
     }
 }
 

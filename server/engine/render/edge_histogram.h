@@ -16,14 +16,16 @@
  * perspective grid lines are integrated along the curve in steps of at most 1/4 px.
  *
  * What the edge model does not cover:
- *  - pixel-locked edges. A straight axis-aligned edge has the same offset against the sample
- *    grid along its whole length, so its summed squared error is a sampled sum, not L·E1²; such
- *    edges are listed in `locked` (up to AA_EDGE_MAX_LOCKED; any beyond go into the bins and are
- *    counted in locked_excess) and the prediction evaluates them exactly (predict.h).
+ *  - pixel-locked edges. A straight edge whose normal is an integer direction (p, q) with
+ *    |p|, |q| <= AA_EDGE_LOCK_MAX (0°, 90°, 45°, 26.57°, ...) meets the pixel grid at only a
+ *    lattice of offsets, spaced 1/sqrt(p² + q²) and repeating along the edge; its summed squared
+ *    error is a sampled sum, not L·E1². Such edges are listed in `locked` (up to
+ *    AA_EDGE_MAX_LOCKED; any beyond go into the bins and are counted in locked_excess) and the
+ *    prediction evaluates their sampled sums exactly (predict.h).
  *  - detail below the pixel scale: where neighbouring edges are closer than 1 px (the star's
  *    centre, the checkerboard towards its horizon) the edges are left out of the bins and the
  *    area is reported in subpixel_area (px²); its error is not estimated.
- * Mirroring (mirror_x, mirror_y) maps θ to 180° − θ and −θ and mirrors the locked positions. */
+ * Mirroring (mirror_x, mirror_y) maps θ to 180° − θ and −θ and mirrors the locked lines. */
 #ifndef AA_EDGE_HISTOGRAM_H
 #define AA_EDGE_HISTOGRAM_H
 
@@ -38,10 +40,13 @@
 /* Spacing (px) between neighbouring edges below which a scene's detail is "below the pixel". */
 #define AA_EDGE_SUBPIXEL_SPACING 1.0
 
+#define AA_EDGE_LOCK_MAX 5
+
+/* The line p x + q y = c (pixel coordinates); (p, q) coprime integers, the normal's direction. */
 typedef struct aa_locked_edge {
-    bool horizontal; /* normal at 90° (an edge along a row); else a vertical edge (normal 0°) */
-    double position; /* y of a horizontal edge, x of a vertical one (pixel coordinates) */
-    double length;   /* px × contrast² */
+    int p, q;
+    double c;
+    double length; /* px × contrast² */
 } aa_locked_edge;
 
 typedef struct aa_edge_histogram {
@@ -56,6 +61,8 @@ typedef struct aa_edge_histogram {
 
 /* Bin of a normal angle in degrees (any real): round to the nearest degree, modulo 180. */
 int aa_edge_bin(double theta_deg);
+/* The bin of a locked edge's normal. */
+int aa_locked_edge_bin(const aa_locked_edge *e);
 
 /* The histogram of a prepared scene. Errors: AA_EINVAL (an animation scene's parameters are
  * per frame: the current frame is used, so none here beyond a bad scene kind). */

@@ -6,63 +6,147 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "aa_core.h"
 #include "aa_metric.h"
 #include "raster.h"
 
 #define PI 3.14159265358979323846
 
-/* Error of one kernel's step response at edge offset a (projections p[], weights). */
-static double step_error(const aa_filter *f, const aa_kernel *k, bool horizontal, double a)
+/* The render's reference at a pixel whose output point is at offset a from a straight edge with
+ * unit normal (c, s): the separable filter h(x) h(y) (reference.h) integrated over the
+ * half-plane x c + y s <= a, i.e. the integral of h(x) g((a - x c) / |s|) over x. For an
+ * axis-aligned edge that is g(a), the profile E1 compares against; at other angles it is not
+ * (docs/predict.md). The integrand is a polynomial between the filter's knots and the points
+ * where (a - x c) / |s| crosses one, so a Gauss-Legendre rule per piece is exact for the
+ * piecewise-polynomial filters (degree 3 + 4 < 2 * REF_GL). */
+#define REF_GL 8
+
+typedef struct edge_reference {
+    const aa_filter *f;
+    double c, s;
+    double node[REF_GL], weight[REF_GL];
+} edge_reference;
+
+static int cmp_double(const void *x, const void *y)
 {
-    double sum = 0;
-    for (size_t n = 0; n < k->count; n++) {
-        double p = horizontal ? k->samples[n].y : k->samples[n].x;
-        if (p <= a)
-            sum += k->samples[n].w;
-    }
-    return sum - aa_filter_cdf(f, a);
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
 }
 
-/* Largest |projection| of any sample on either axis: the footprint's half-width. */
+static double reference_step(const edge_reference *r, double a)
+{
+    const aa_filter *f = r->f;
+    double c = r->c, s = fabs(r->s);
+    if (s < 1e-12 || fabs(c) < 1e-12)
+        return aa_filter_cdf(f, a);
+    double R = f->radius, br[2 * (AA_FILTER_MAX_PIECES + 1) + 2];
+    size_t n = 0;
+    br[n++] = -R;
+    br[n++] = R;
+    for (int k = 0; k <= f->pieces; k++) {
+        br[n++] = f->knot[k];
+        double x = (a - f->knot[k] * s) / c;
+        if (x > -R && x < R)
+            br[n++] = x;
+    }
+    qsort(br, n, sizeof br[0], cmp_double);
+    double sum = 0;
+    for (size_t k = 0; k + 1 < n; k++) {
+        double lo = fmax(br[k], -R), hi = fmin(br[k + 1], R);
+        if (!(hi > lo))
+            continue;
+        double mid = (lo + hi) / 2, half = (hi - lo) / 2;
+        for (int g = 0; g < REF_GL; g++) {
+            double x = mid + half * r->node[g];
+            sum += half * r->weight[g] * aa_filter_eval(f, x) * aa_filter_cdf(f, (a - x * c) / s);
+        }
+    }
+    return sum;
+}
+
+/* Error of one kernel at edge offset a: its step response (projections on the normal (nx, ny))
+ * minus the reference's, ref. */
+static double step_error(const aa_kernel *k, double nx, double ny, double a, double ref)
+{
+    double sum = 0;
+    for (size_t n = 0; n < k->count; n++)
+        if (nx * k->samples[n].x + ny * k->samples[n].y <= a)
+            sum += k->samples[n].w;
+    return sum - ref;
+}
+
+/* Largest distance of any sample from its output point: the footprint's half-width. */
 static double kernel_reach(const aa_pattern *p)
 {
     double reach = 0;
     for (size_t k = 0; k < p->kernel_count; k++)
         for (size_t n = 0; n < p->kernels[k].count; n++)
-            reach = fmax(reach,
-                         fmax(fabs(p->kernels[k].samples[n].x), fabs(p->kernels[k].samples[n].y)));
+            reach = fmax(reach, hypot(p->kernels[k].samples[n].x, p->kernels[k].samples[n].y));
     return reach;
 }
 
-/* Summed squared error per unit length of an axis-aligned edge at pixel coordinate c: the
- * columns (rows) the footprint reaches, averaged over the kernels along the edge. */
-static double locked_per_length(const aa_pattern *p, const aa_filter *f, const aa_locked_edge *e,
-                                int across_size, double reach)
+static long long floor_mod(long long v, long long m)
 {
-    double off = aa_output_offset(p->kernel_size), c = e->position, sum = 0;
-    int i0 = (int)fmax(0, floor(c - off - reach - f->radius) - 1);
-    int i1 = (int)fmin(across_size - 1, ceil(c - off + reach + f->radius) + 1);
-    int T = p->tile;
-    for (int i = i0; i <= i1; i++) {
-        double a = c - (i + off), s = 0;
-        if (T > 0) {
-            /* Kernel (i mod T, r) for a vertical edge, (r, i mod T) for a horizontal one. */
-            for (int r = 0; r < T; r++) {
-                size_t k = e->horizontal ? (size_t)(i % T) * T + r : (size_t)r * T + (i % T);
-                double d = step_error(f, &p->kernels[k], e->horizontal, a);
-                s += d * d;
-            }
-            s /= T;
-        } else {
-            for (size_t k = 0; k < p->kernel_count; k++) {
-                double d = step_error(f, &p->kernels[k], e->horizontal, a);
-                s += d * d;
-            }
-            s /= (double)p->kernel_count;
+    long long r = v % m;
+    return r < 0 ? r + m : r;
+}
+
+/* Summed squared error per unit length of the locked line p x + q y = c. The output points
+ * (i + off, j + off) meet it at offsets a = (c - p x - q y) / |(p, q)| and along-line integer
+ * coordinates m = p j - q i; the lattice step T (-q, p) (T the tile, keeping every pixel's
+ * kernel) advances m by T (p² + q²) and the along-line position by T |(p, q)|. So one period is
+ * the pixels with m in [m0, m0 + T (p² + q²)), exactly, and the sum over it divided by
+ * T |(p, q)| is the sum per unit length. */
+static double locked_per_length(const aa_pattern *p, const aa_filter *f, const aa_locked_edge *e,
+                                double reach)
+{
+    double norm = hypot(e->p, e->q), nx = e->p / norm, ny = e->q / norm, d = e->c / norm;
+    int T = p->tile > 0 ? p->tile : 1;
+    long long span = (long long)T * (e->p * e->p + e->q * e->q);
+    double period = T * norm, off = aa_output_offset(p->kernel_size);
+    double band = reach + f->radius + 1;
+    /* The period's parallelogram: from the foot of the perpendicular b along t = (-ny, nx). */
+    double bx = nx * d, by = ny * d, tx = -ny, ty = nx;
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (int cs = 0; cs < 2; cs++)
+        for (int ca = -1; ca <= 1; ca += 2) {
+            double x = bx + tx * (cs ? period + 1 : -1) + nx * ca * band;
+            double y = by + ty * (cs ? period + 1 : -1) + ny * ca * band;
+            x0 = fmin(x0, x);
+            x1 = fmax(x1, x);
+            y0 = fmin(y0, y);
+            y1 = fmax(y1, y);
         }
-        sum += s;
-    }
-    return sum;
+    long long i0 = (long long)floor(x0 - off) - 1, i1 = (long long)ceil(x1 - off) + 1;
+    long long j0 = (long long)floor(y0 - off) - 1, j1 = (long long)ceil(y1 - off) + 1;
+    /* m0: the along-line coordinate of the base point, rounded down. */
+    long long m0 = (long long)floor(e->p * (by - off) - e->q * (bx - off));
+    edge_reference ref = {.f = f, .c = nx, .s = ny};
+    aa_gauss_legendre(REF_GL, ref.node, ref.weight);
+    double sum = 0;
+    for (long long j = j0; j <= j1; j++)
+        for (long long i = i0; i <= i1; i++) {
+            long long m = (long long)e->p * j - (long long)e->q * i;
+            if (m < m0 || m >= m0 + span)
+                continue;
+            double a = d - (nx * (i + off) + ny * (j + off));
+            if (fabs(a) > band)
+                continue;
+            double g = reference_step(&ref, a);
+            if (p->tile > 0) {
+                size_t k = (size_t)(floor_mod(j, T) * T + floor_mod(i, T));
+                double err = step_error(&p->kernels[k], nx, ny, a, g);
+                sum += err * err;
+            } else {
+                double s = 0;
+                for (size_t k = 0; k < p->kernel_count; k++) {
+                    double err = step_error(&p->kernels[k], nx, ny, a, g);
+                    s += err * err;
+                }
+                sum += s / (double)p->kernel_count;
+            }
+        }
+    return sum / period;
 }
 
 int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
@@ -83,7 +167,7 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
     for (int d = 0; d < AA_EDGE_BINS; d++)
         needed[d] = h->length[d] > 0;
     for (size_t k = 0; k < h->locked_count; k++)
-        needed[h->locked[k].horizontal ? 90 : 0] = true;
+        needed[aa_locked_edge_bin(&h->locked[k])] = true;
     int rc = AA_OK;
     for (int d = 0; d < AA_EDGE_BINS && !rc; d++) {
         if (!needed[d])
@@ -105,9 +189,8 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
     double reach = kernel_reach(p);
     for (size_t k = 0; k < h->locked_count; k++) {
         const aa_locked_edge *e = &h->locked[k];
-        double part =
-            e->length * locked_per_length(p, f, e, e->horizontal ? h->height : h->width, reach);
-        out->bin_sq[e->horizontal ? 90 : 0] += part;
+        double part = e->length * locked_per_length(p, f, e, reach);
+        out->bin_sq[aa_locked_edge_bin(e)] += part;
         out->locked_sq += part;
     }
     for (int d = 0; d < AA_EDGE_BINS; d++)

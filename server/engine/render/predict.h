@@ -8,9 +8,10 @@
  *   rmse   ≈ 255 · sqrt(sum_sq / N),               N = width · height.
  * E1 is unweighted (W ≡ 1) and computed with the reference filter of the render.
  *
- * Pixel-locked edges (axis-aligned, edge_histogram.h) have one offset along their whole length:
- * for them the integral becomes the sum over the pixel columns (rows) the edge's footprint
- * crosses, averaged over the tile's rows (columns) of kernels, evaluated exactly. Their part is
+ * Pixel-locked edges (straight, with a small integer normal direction, edge_histogram.h) meet
+ * the pixel grid at a lattice of offsets only: for them the integral becomes the sum over one
+ * period of that lattice along the edge (which also cycles through the tile's kernels),
+ * evaluated exactly. Their part is
  * reported in locked_sq. Detail below the pixel scale is not covered: its area share is
  * reported, its error is not estimated. */
 #ifndef AA_PREDICT_H
@@ -25,7 +26,7 @@
 typedef struct aa_prediction {
     double rmse;                 /* 0..255 scale */
     double sum_sq;               /* predicted sum over pixels of (pattern - reference)², 0..1 */
-    double bin_sq[AA_EDGE_BINS]; /* per-bin part of sum_sq (locked edges in bins 0 and 90) */
+    double bin_sq[AA_EDGE_BINS]; /* per-bin part of sum_sq (locked edges in their bins) */
     double e1_rms[AA_EDGE_BINS]; /* sqrt(mean_k E1_k(θ_d)²), 0 where the scene has no edge */
     double locked_sq;            /* part of sum_sq from pixel-locked edges */
     double subpixel_area_share;  /* share of the image below the pixel scale: not covered */
