@@ -23,36 +23,6 @@ typedef struct bench_scene {
     bool long_edges; /* the criterion: rho >= 0.95, median within 0.9-1.1 */
 } bench_scene;
 
-static void rank(const double *v, size_t n, double *r)
-{
-    for (size_t i = 0; i < n; i++) {
-        double less = 0, equal = 0;
-        for (size_t j = 0; j < n; j++) {
-            less += v[j] < v[i];
-            equal += v[j] == v[i];
-        }
-        r[i] = less + (equal + 1) / 2.0;
-    }
-}
-
-static double spearman(const double *a, const double *b, size_t n)
-{
-    double ra[MAX_PRESETS], rb[MAX_PRESETS], ma = 0, mb = 0;
-    rank(a, n, ra);
-    rank(b, n, rb);
-    for (size_t i = 0; i < n; i++) {
-        ma += ra[i] / n;
-        mb += rb[i] / n;
-    }
-    double cov = 0, va = 0, vb = 0;
-    for (size_t i = 0; i < n; i++) {
-        cov += (ra[i] - ma) * (rb[i] - mb);
-        va += (ra[i] - ma) * (ra[i] - ma);
-        vb += (rb[i] - mb) * (rb[i] - mb);
-    }
-    return va > 0 && vb > 0 ? cov / sqrt(va * vb) : NAN;
-}
-
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -123,7 +93,7 @@ static int run_scene(const bench_scene *bs, int spp, double *worst_rho, double *
         subpixel = pred.subpixel_area_share;
         aa_pattern_free(&p);
     }
-    double rho = spearman(predicted, measured, n), lo = INFINITY, hi = -INFINITY;
+    double rho = aa_spearman(predicted, measured, n), lo = INFINITY, hi = -INFINITY;
     for (size_t i = 0; i < n; i++) {
         lo = fmin(lo, ratio[i]);
         hi = fmax(hi, ratio[i]);

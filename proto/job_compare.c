@@ -1,6 +1,7 @@
 #include "job_compare.h"
 
 #include <stdio.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -79,6 +80,11 @@ static json_t *encode_row(const proto_compare_row *r)
                   r->rmse, "max_dev", r->max_dev, "render_seconds", r->render_seconds,
                   "pixels_sampled", (json_int_t)r->pixels_sampled, "coverage_samples",
                   (json_int_t)r->coverage_samples, "stats", proto_encode_diff(&r->stats));
+    if (row && isfinite(r->predicted_rmse) &&
+        json_object_set_new(row, "predicted_rmse", json_real(r->predicted_rmse))) {
+        json_decref(row);
+        return NULL;
+    }
     if (row && r->have_tiles &&
         json_object_set_new(row, "tiles",
                             json_pack("{s:O*, s:O*}", "pattern", r->tile_pattern, "difference",
@@ -102,19 +108,38 @@ json_t *proto_encode_compare_result(const proto_compare_result *r)
         json_decref(rows);
         return NULL;
     }
-    return json_pack("{s:o, s:{s:I, s:I, s:s, s:o}, s:o}", "scene", proto_encode_scene(&r->scene),
-                     "reference", "spp", (json_int_t)r->reference_spp, "seed",
-                     (json_int_t)r->reference_seed, "filter", r->filter, "renders", renders, "rows",
-                     rows);
+    json_t *out = json_pack("{s:o, s:{s:I, s:I, s:s, s:o}, s:o}", "scene",
+                            proto_encode_scene(&r->scene), "reference", "spp",
+                            (json_int_t)r->reference_spp, "seed", (json_int_t)r->reference_seed,
+                            "filter", r->filter, "renders", renders, "rows", rows);
+    if (out && r->have_prediction &&
+        json_object_set_new(out, "prediction",
+                            json_pack("{s:o, s:f}", "spearman", proto_real(r->spearman_predicted),
+                                      "subpixel_area_share", r->subpixel_area_share))) {
+        json_decref(out);
+        return NULL;
+    }
+    return out;
 }
 
-static const char *const result_keys[] = {"scene", "reference", "rows", NULL};
+static const char *const result_keys[] = {"scene", "reference", "rows", "prediction", NULL};
+static const char *const prediction_keys[] = {"spearman", "subpixel_area_share", NULL};
 static const char *const reference_keys[] = {"spp", "seed", "filter", "renders", NULL};
 static const char *const render_keys[] = {
     "output_offset", "seconds", "supersampled", "input_pixels_sampled", "samples", "tile", NULL};
-static const char *const row_keys[] = {
-    "name",           "family",         "samples_per_pixel", "e2",    "rmse",  "max_dev",
-    "render_seconds", "pixels_sampled", "coverage_samples",  "stats", "tiles", NULL};
+static const char *const row_keys[] = {"name",
+                                       "family",
+                                       "samples_per_pixel",
+                                       "e2",
+                                       "rmse",
+                                       "predicted_rmse",
+                                       "max_dev",
+                                       "render_seconds",
+                                       "pixels_sampled",
+                                       "coverage_samples",
+                                       "stats",
+                                       "tiles",
+                                       NULL};
 static const char *const tiles_keys[] = {"pattern", "difference", NULL};
 
 static int decode_render(const json_t *j, proto_compare_render *r, const char *at, aa_error *err)
@@ -152,6 +177,9 @@ static int decode_row(const json_t *j, proto_compare_row *r, const char *at, aa_
         rc = proto_result_number(j, "e2", &r->e2, at, err);
     if (!rc)
         rc = proto_result_number(j, "rmse", &r->rmse, at, err);
+    r->predicted_rmse = NAN;
+    if (!rc && json_object_get(j, "predicted_rmse"))
+        rc = proto_result_number(j, "predicted_rmse", &r->predicted_rmse, at, err);
     if (!rc)
         rc = proto_result_number(j, "max_dev", &r->max_dev, at, err);
     if (!rc)
@@ -219,6 +247,22 @@ int proto_decode_compare_result(const json_t *j, proto_compare_result *r, aa_err
         snprintf(at, sizeof at, "rows[%zu]", i);
         r->row_count = i + 1;
         rc = decode_row(json_array_get(rows, i), &r->rows[i], at, err);
+    }
+    const json_t *pred = json_object_get(j, "prediction");
+    if (!rc && pred) {
+        r->have_prediction = true;
+        const json_t *rho = json_object_get(pred, "spearman");
+        if (!json_is_object(pred))
+            rc = aa_error_set(err, AA_EINVAL, "prediction", "must be an object");
+        if (!rc)
+            rc = proto_check_keys(pred, prediction_keys, err, "prediction");
+        if (!rc && json_is_null(rho))
+            r->spearman_predicted = NAN;
+        else if (!rc)
+            rc = proto_result_number(pred, "spearman", &r->spearman_predicted, "prediction", err);
+        if (!rc)
+            rc = proto_result_number(pred, "subpixel_area_share", &r->subpixel_area_share,
+                                     "prediction", err);
     }
     if (rc)
         proto_compare_result_free(r);

@@ -30,6 +30,7 @@ typedef struct proto_compare_row {
     char name[64];
     char family[48];
     double samples_per_pixel, e2, rmse, max_dev, render_seconds;
+    double predicted_rmse; /* the edge model's (docs/predict.md); NaN when absent */
     long long pixels_sampled, coverage_samples;
     aa_diff_stats stats;
     bool have_tiles;                        /* "tiles" present (the images were stored) */
@@ -44,13 +45,18 @@ typedef struct proto_compare_result {
     size_t render_count;
     proto_compare_row *rows;
     size_t row_count;
+    /* The edge model beside the renders: Spearman rho of predicted against measured RMSE over
+     * the rows (NaN: undefined) and the image share below the pixel scale it leaves out.
+     * have_prediction false: an older result without them. */
+    bool have_prediction;
+    double spearman_predicted, subpixel_area_share;
 } proto_compare_result;
 
 /* {"scene", "reference": {"spp", "seed", "filter", "renders": [{"output_offset", "seconds",
  * "supersampled", "input_pixels_sampled", "samples", "tile"?}]}, "rows": [{"name", "family",
- * "samples_per_pixel", "e2", "rmse", "max_dev", "render_seconds", "pixels_sampled",
- * "coverage_samples", "stats", "tiles"?: {"pattern"?, "difference"?}}]}; NULL when out of
- * memory. */
+ * "samples_per_pixel", "e2", "rmse", "predicted_rmse"?, "max_dev", "render_seconds",
+ * "pixels_sampled", "coverage_samples", "stats", "tiles"?: {"pattern"?, "difference"?}}],
+ * "prediction"?: {"spearman", "subpixel_area_share"}}; NULL when out of memory. */
 json_t *proto_encode_compare_result(const proto_compare_result *r);
 int proto_decode_compare_result(const json_t *j, proto_compare_result *out, aa_error *err);
 void proto_compare_result_free(proto_compare_result *r);

@@ -1,5 +1,6 @@
 /* compare: one scene rendered with several patterns against one reference; a row per pattern
- * with its E2 and its image error (RMSE and largest deviation, 8-bit levels). */
+ * with its E2 and its image error (RMSE and largest deviation, 8-bit levels), the edge model's
+ * predicted RMSE beside it and their rank correlation. */
 #include "job_views.h"
 
 #include "../cli.h"
@@ -16,6 +17,9 @@ void view_compare(FILE *out, const json_t *result, bool csv)
         view_kv_number(&kv, "reference spp", json_object_get(ref, "spp"), 0);
         view_kv_number(&kv, "reference seed", json_object_get(ref, "seed"), 0);
         view_kv_add(&kv, "reference filter", "%s", view_str(json_object_get(ref, "filter")));
+        const json_t *pred = json_object_get(result, "prediction");
+        if (pred)
+            view_kv_number(&kv, "predicted vs measured rho", json_object_get(pred, "spearman"), 3);
         view_kv_print(out, &kv);
         fputc('\n', out);
     }
@@ -25,6 +29,7 @@ void view_compare(FILE *out, const json_t *result, bool csv)
         {"spp", "samples_per_pixel", VIEW_MEASURE, 2},
         {"e2", "e2", VIEW_MEASURE, 6},
         {"rmse", "rmse", VIEW_MEASURE, 4},
+        {"predicted", "predicted_rmse", VIEW_MEASURE, 4},
         {"max_dev", "max_dev", VIEW_MEASURE, 2},
         {"render_seconds", "render_seconds", VIEW_MEASURE, 4},
         {"pixels_sampled", "pixels_sampled", VIEW_FIXED, 0},

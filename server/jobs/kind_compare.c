@@ -1,7 +1,11 @@
 /* Job kind "compare": one scene, a list of patterns (preset names, pattern objects, resolved
  * job results); one row per pattern with samples/pixel, E2, RMSE, max deviation and render
  * time, against one reference per output grid (odd / even kernel size). The table the
- * dashboard plots as error against run time. Spec and result: proto/job_compare.h. */
+ * dashboard plots as error against run time. Beside each measured RMSE the edge model's
+ * prediction (docs/predict.md; no render, microseconds to milliseconds), and Spearman's rho
+ * between the two over the rows: the validation of the model on every compare run. Spec and
+ * result: proto/job_compare.h. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -40,6 +44,14 @@ static int compare_run(void *params, job_ctx *ctx, proto_compare_result *out, aa
     int rc = aa_scene_init(&scene, &cp->common.scene, err);
     if (rc)
         return rc;
+    aa_edge_histogram *hist = malloc(sizeof *hist);
+    if (!hist)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    rc = aa_edge_histogram_of_scene(&scene, hist, err);
+    if (rc) {
+        free(hist);
+        return rc;
+    }
     reference_slot slot[2];
     memset(slot, 0, sizeof slot);
     aa_image img;
@@ -94,6 +106,10 @@ static int compare_run(void *params, job_ctx *ctx, proto_compare_result *out, aa
         snprintf(row->family, sizeof row->family, "%s", p->family);
         row->samples_per_pixel = p->cost_spp;
         row->rmse = row->stats.rmse;
+        aa_prediction pred;
+        row->predicted_rmse = NAN;
+        if (aa_predict_rmse(p, f, hist, &pred, NULL) == AA_OK && isfinite(pred.rmse))
+            row->predicted_rmse = pred.rmse;
         row->max_dev = row->stats.max_dev;
         row->pixels_sampled = (long long)rs.pixels_sampled;
         row->coverage_samples = (long long)rs.samples_evaluated;
@@ -106,6 +122,27 @@ static int compare_run(void *params, job_ctx *ctx, proto_compare_result *out, aa
         if (job_ctx_progress(ctx, units / steps, NULL))
             rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
     }
+    if (!rc) {
+        double *measured = malloc(out->row_count * sizeof *measured);
+        double *predicted = malloc(out->row_count * sizeof *predicted);
+        if (measured && predicted) {
+            size_t n = 0;
+            for (size_t i = 0; i < out->row_count; i++)
+                if (isfinite(out->rows[i].predicted_rmse)) {
+                    measured[n] = out->rows[i].rmse;
+                    predicted[n++] = out->rows[i].predicted_rmse;
+                }
+            out->have_prediction = true;
+            out->spearman_predicted = aa_spearman(predicted, measured, n);
+            out->subpixel_area_share =
+                hist->subpixel_area / ((double)hist->width * (double)hist->height);
+        } else {
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        }
+        free(measured);
+        free(predicted);
+    }
+    free(hist);
     for (int s = 0; s < 2; s++)
         aa_image_free(&slot[s].img);
     aa_image_free(&img);

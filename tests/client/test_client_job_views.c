@@ -299,11 +299,27 @@ static void compare_view(void **state)
     contains(text, "label       rgss vs \"flipquad\", 64x64\n");
     contains(text, "scene             siemens-star 64x64\n");
     contains(text, "reference filter  mitchell\n");
-    contains(text, "name      family      spp        e2     rmse  max_dev  render_seconds  "
-                   "pixels_sampled\n");
+    contains(text, "name      family      spp        e2     rmse  predicted  max_dev  "
+                   "render_seconds  pixels_sampled\n");
     contains(text, "\nrgss      P(1,1,4)   4.00  0.438987  ");
     contains(text, "\nflipquad  P(4,1+,2)  2.00  0.364318  ");
+    /* A result from before the edge model: no prediction, the column shows "-". */
+    contains(text, "17.1704          -");
+    assert_null(strstr(text, "predicted vs measured rho"));
     capture_free(&c);
+    /* With the prediction: its rho above the table, the row's value in the column. */
+    json_t *with = json_deep_copy(job);
+    json_t *res = (json_t *)result_of(with);
+    json_object_set_new(res, "prediction",
+                        json_pack("{s:f, s:f}", "spearman", 0.5, "subpixel_area_share", 0.001));
+    json_object_set_new(json_array_get(json_object_get(res, "rows"), 0), "predicted_rmse",
+                        json_real(16.25));
+    job_print(capture_begin(&c), with, false);
+    text = capture_end(&c);
+    contains(text, "predicted vs measured rho  0.500\n");
+    contains(text, "17.1704    16.2500");
+    capture_free(&c);
+    json_decref(with);
 
     csv_doc d;
     view_csv(&d, job_print, job, json_array_size(rows));

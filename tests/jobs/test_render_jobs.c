@@ -180,6 +180,14 @@ static void test_compare_rows(void **state)
     /* The explicit one-sample kernel is the centroid pattern: same image, same error. */
     assert_float_equal(json_real_value(json_object_get(json_array_get(rows, 3), "rmse")),
                        json_real_value(json_object_get(centroid, "rmse")), 1e-9);
+    /* The edge model beside every row, and its rank correlation with the renders. */
+    for (size_t i = 0; i < json_array_size(rows); i++)
+        assert_true(json_real_value(json_object_get(json_array_get(rows, i), "predicted_rmse")) >
+                    0);
+    json_t *prediction = json_object_get(res, "prediction");
+    assert_true(json_is_number(json_object_get(prediction, "spearman")));
+    assert_true(json_real_value(json_object_get(prediction, "spearman")) > 0.5);
+    assert_true(json_real_value(json_object_get(prediction, "subpixel_area_share")) > 0);
     const char *id = json_string_value(
         json_object_get(json_object_get(json_object_get(flipquad, "tiles"), "difference"), "id"));
     void *png;

@@ -9,6 +9,8 @@
 
 #include <cmocka.h>
 
+#include <math.h>
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -103,16 +105,21 @@ static void test_compare_result(void **state)
     rows[0].rmse = rows[0].stats.rmse;
     rows[0].max_dev = rows[0].stats.max_dev;
     rows[0].render_seconds = 0.01;
+    rows[0].predicted_rmse = 3.5;
     rows[0].pixels_sampled = 7;
     rows[0].coverage_samples = 14;
     rows[0].have_tiles = true;
     rows[0].tile_pattern = parse("{\"id\":\"p\"}");
     rows[1] = rows[0];
     strcpy(rows[1].name, "second");
+    rows[1].predicted_rmse = NAN; /* absent: an older result, or the model could not say */
     rows[1].have_tiles = false;
     rows[1].tile_pattern = NULL;
     r.rows = rows;
     r.row_count = 2;
+    r.have_prediction = true;
+    r.spearman_predicted = NAN; /* encoded as null */
+    r.subpixel_area_share = 0.25;
     json_t *j;
     ROUND_TRIP(proto_compare_result, proto_encode_compare_result, proto_decode_compare_result,
                proto_compare_result_free, &r, j);
@@ -120,6 +127,9 @@ static void test_compare_result(void **state)
     assert_non_null(json_object_get(json_object_get(row0, "tiles"), "pattern"));
     assert_null(json_object_get(json_object_get(row0, "tiles"), "difference"));
     assert_null(json_object_get(json_array_get(json_object_get(j, "rows"), 1), "tiles"));
+    assert_true(json_is_null(json_object_get(json_object_get(j, "prediction"), "spearman")));
+    assert_float_equal(json_real_value(json_object_get(row0, "predicted_rmse")), 3.5, 0);
+    assert_null(json_object_get(json_array_get(json_object_get(j, "rows"), 1), "predicted_rmse"));
     assert_int_equal(json_array_size(json_object_get(json_object_get(j, "reference"), "renders")),
                      2);
 

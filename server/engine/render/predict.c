@@ -200,3 +200,28 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
     out->subpixel_area_share = h->subpixel_area / (double)out->pixels;
     return AA_OK;
 }
+
+/* Rank of v[i] among v[0..n): 1 + the number below it + half the others equal to it. */
+static double rank_of(const double *v, size_t n, size_t i)
+{
+    double below = 0, equal = 0;
+    for (size_t j = 0; j < n; j++) {
+        below += v[j] < v[i];
+        equal += v[j] == v[i] && j != i;
+    }
+    return 1 + below + equal / 2;
+}
+
+double aa_spearman(const double *a, const double *b, size_t n)
+{
+    if (n < 2)
+        return NAN;
+    double mean = (n + 1) / 2.0, cov = 0, va = 0, vb = 0;
+    for (size_t i = 0; i < n; i++) {
+        double ra = rank_of(a, n, i) - mean, rb = rank_of(b, n, i) - mean;
+        cov += ra * rb;
+        va += ra * ra;
+        vb += rb * rb;
+    }
+    return va > 0 && vb > 0 ? cov / sqrt(va * vb) : NAN;
+}

@@ -38,4 +38,8 @@ typedef struct aa_prediction {
 int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
                     aa_prediction *out, aa_error *err);
 
+/* Spearman's rank correlation of a[] and b[] (ties get their mean rank); NaN when n < 2 or
+ * either side is constant. O(n²): meant for a handful of patterns. */
+double aa_spearman(const double *a, const double *b, size_t n);
+
 #endif
