@@ -2,7 +2,8 @@
 the daemon. For each scene the presets are rendered and predicted; the test checks the ratio
 measured/predicted per preset (the edge model has no fitted parameter: docs/predict.md), the
 Spearman rank correlation over the presets, that a list of patterns gives the same numbers as
-one pattern at a time, and that a render request's body predicts as is. Every answer is checked
+one pattern at a time, that a render request's body predicts as is, and that a compare job
+reports the same predictions beside its measured rows with their Spearman rho. Every answer is checked
 against its schema. Figures are printed as '# figure: ...' lines. argv[1] is the aalabd binary."""
 
 import os
@@ -68,6 +69,7 @@ def post(d, path, body, timeout=60):
 
 def main():
     d = aalabd_harness.Daemon(sys.argv[1], workers=1, tcp=False).start()
+    predicted_by_scene = {}
     try:
         for label, scene, lo, hi, rho_min in SCENES:
             t0 = time.time()
@@ -75,6 +77,7 @@ def main():
                                            "reference": REFERENCE})
             t_pred = time.time() - t0
             predicted = [p["predicted_rmse"] for p in pred["predictions"]]
+            predicted_by_scene[label] = predicted
             check([p["pattern"]["name"] for p in pred["predictions"]] == PRESETS,
                   "predictions in request order, named")
             measured = []
@@ -108,6 +111,27 @@ def main():
         board = post(d, "/v1/predict", {"scene": "checkerboard", "pattern": "rgss"})
         check(board["edges"]["subpixel_area_share"] > 0.01, "checkerboard sub-pixel share")
         check(board["predictions"][0]["subpixel_error_estimated"] is False, "not estimated")
+        # The compare job reports the prediction beside every measured row, and their rho.
+        job = d.request("POST", "/v1/jobs", {"kind": "compare", "scene": SCENES[0][1],
+                                             "reference": REFERENCE, "tiles": False,
+                                             "patterns": PRESETS})
+        check(job.status == 202, "compare submitted: %d %s" % (job.status, job.body[:200]))
+        jid = job.json()["id"]
+        deadline = time.time() + 120
+        while True:
+            j = d.request("GET", "/v1/jobs/%s" % jid).json()
+            if j["state"] not in ("queued", "running"):
+                break
+            check(time.time() < deadline, "compare job finished in time")
+            time.sleep(0.2)
+        check(j["state"] == "done", "compare job done: %s" % j.get("error"))
+        rows = j["result"]["rows"]
+        rho = j["result"]["prediction"]["spearman"]
+        for row, p in zip(rows, predicted_by_scene[SCENES[0][0]]):
+            check(abs(row["predicted_rmse"] - p) < 1e-9, "compare's prediction is /v1/predict's")
+        print("# figure: compare job on %s: predicted vs measured Spearman %.3f over %d rows"
+              % (SCENES[0][0], rho, len(rows)))
+        check(rho >= 0.9, "compare's Spearman %.3f" % rho)
         bad = d.request("POST", "/v1/predict", {"patterns": ["rgss", "nope"]})
         check(bad.status == 400 and bad.error_field() == "patterns[1]", "bad pattern named")
         reports = d.sanitizer_reports()
