@@ -245,6 +245,52 @@ static void test_mirror(void **state)
     assert_rel(h.locked[0].c / h.locked[0].p, 256 - 148.5, 1e-12);
 }
 
+/* The analytic histograms against the ones measured on the reference's gradients: same total
+ * within the filter's lobes and the reference's noise, same angles. */
+static void test_gradients_agree(void **state)
+{
+    (void)state;
+    aa_scene_params p = aa_scene_params_default(AA_SCENE_HALF_PLANE);
+    p.width = p.height = 96;
+    p.angle_deg = 30;
+    p.offset = 0.4;
+    /* Not the sliver: near its tip the two long sides cancel within the filter. */
+    const aa_scene_kind kinds[] = {AA_SCENE_HALF_PLANE, AA_SCENE_RINGS, AA_SCENE_ROTATING_TRIANGLE};
+    for (size_t k = 0; k < 3; k++) {
+        aa_scene_params q = p;
+        q.kind = kinds[k];
+        if (kinds[k] != AA_SCENE_HALF_PLANE) {
+            q.angle_deg = 0;
+            q.offset = 0;
+        }
+        aa_scene s;
+        aa_edge_histogram h = histogram_of(q, &s), g;
+        aa_image img;
+        assert_int_equal(aa_image_init(&img, 96, 96, NULL), AA_OK);
+        aa_reference_params rp = aa_reference_params_default();
+        rp.spp = 64;
+        assert_int_equal(aa_render_reference(&s, &rp, 0.5, &img, NULL, NULL, NULL), AA_OK);
+        assert_int_equal(aa_edge_histogram_from_image(&img, &g, NULL), AA_OK);
+        /* The border rows and columns are not measured: up to 2 px per crossing of the edge. */
+        double ratio = g.total / h.total;
+        if (!(ratio > 0.9 && ratio < 1.1))
+            fail_msg("%s: gradient total %.1f, analytic %.1f", aa_scene_kind_name(kinds[k]),
+                     g.total, h.total);
+        if (kinds[k] == AA_SCENE_HALF_PLANE) {
+            double near = 0;
+            for (int d = 27; d <= 33; d++)
+                near += g.length[d];
+            assert_true(near > 0.9 * g.total);
+        }
+        aa_image_free(&img);
+    }
+    aa_image tiny;
+    assert_int_equal(aa_image_init(&tiny, 2, 5, NULL), AA_OK);
+    aa_edge_histogram g;
+    assert_int_equal(aa_edge_histogram_from_image(&tiny, &g, NULL), AA_EINVAL);
+    aa_image_free(&tiny);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -252,7 +298,7 @@ int main(void)
         cmocka_unit_test(test_sliver), cmocka_unit_test(test_triangle_and_circle),
         cmocka_unit_test(test_rings),  cmocka_unit_test(test_star),
         cmocka_unit_test(test_spiral), cmocka_unit_test(test_checkerboard),
-        cmocka_unit_test(test_mirror),
+        cmocka_unit_test(test_mirror), cmocka_unit_test(test_gradients_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -33,6 +33,7 @@
 #include <stddef.h>
 
 #include "aa_core.h"
+#include "image.h"
 #include "scene.h"
 
 #define AA_EDGE_BINS 180
@@ -63,6 +64,16 @@ typedef struct aa_edge_histogram {
 int aa_edge_bin(double theta_deg);
 /* The bin of a locked edge's normal. */
 int aa_locked_edge_bin(const aa_locked_edge *e);
+
+/* The histogram measured on an image (the reference) from its gradients, as a check of the
+ * analytic ones: central differences at the interior pixels, |∇I| added to the bin of the
+ * gradient's direction (the edge normal) taken from the image blurred by a Gaussian of 1.5 px
+ * (central differences of a sharp step are biased towards the diagonals). For an isolated edge of
+ * contrast c the sum over the pixels it crosses is c·L·∫|g'|, slightly above c·L where the filter
+ * has negative lobes (Mitchell 1/3, 1/3), and a step of contrast c counts c, not c², times its
+ * length; neighbouring edges closer than the filter cancel. No locked edges, no sub-pixel area.
+ * Errors: AA_EINVAL (image smaller than 3 x 3). */
+int aa_edge_histogram_from_image(const aa_image *img, aa_edge_histogram *h, aa_error *err);
 
 /* The histogram of a prepared scene. Errors: AA_EINVAL (an animation scene's parameters are
  * per frame: the current frame is used, so none here beyond a bad scene kind). */
