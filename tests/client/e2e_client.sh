@@ -366,6 +366,10 @@ if jq -e '.render == true' <<<"$health" >/dev/null; then
   expect 0 "render a pattern file, the difference image" -- A render --pattern "$tmp/grid.json" --size 32x32 --image difference -o "$tmp/diff.png"
   expect 0 "render a job's pattern" -- A --json render --pattern "job:$id" --size 32x32
   expect 2 "render an unknown scene" -- A render --pattern quincunx --scene no-such-scene -o "$tmp/x.png"
+  expect 0 "predict two presets and a job's pattern" -- A predict --pattern "rgss,quincunx,job:$id" --scene half-plane --angle 27 --size 64x64
+  has "predicted RMSE" "predict prints the predicted RMSE"
+  has "edge length" "predict prints the scene's edge length"
+  expect 2 "predict an unknown preset" -- A predict --pattern rgss,no-such-preset
 elif expected render; then bad "this build should render (health.render is false)"
 else echo "skip render: no renderer in this build"; fi
 
