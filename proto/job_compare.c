@@ -85,6 +85,11 @@ static json_t *encode_row(const proto_compare_row *r)
         json_decref(row);
         return NULL;
     }
+    if (row && isfinite(r->subpixel_error_share) &&
+        json_object_set_new(row, "subpixel_error_share", json_real(r->subpixel_error_share))) {
+        json_decref(row);
+        return NULL;
+    }
     if (row && r->have_tiles &&
         json_object_set_new(row, "tiles",
                             json_pack("{s:O*, s:O*}", "pattern", r->tile_pattern, "difference",
@@ -132,6 +137,7 @@ static const char *const row_keys[] = {"name",
                                        "samples_per_pixel",
                                        "e2",
                                        "rmse",
+                                       "subpixel_error_share",
                                        "predicted_rmse",
                                        "max_dev",
                                        "render_seconds",
@@ -178,8 +184,11 @@ static int decode_row(const json_t *j, proto_compare_row *r, const char *at, aa_
     if (!rc)
         rc = proto_result_number(j, "rmse", &r->rmse, at, err);
     r->predicted_rmse = NAN;
+    r->subpixel_error_share = NAN;
     if (!rc && json_object_get(j, "predicted_rmse"))
         rc = proto_result_number(j, "predicted_rmse", &r->predicted_rmse, at, err);
+    if (!rc && json_object_get(j, "subpixel_error_share"))
+        rc = proto_result_number(j, "subpixel_error_share", &r->subpixel_error_share, at, err);
     if (!rc)
         rc = proto_result_number(j, "max_dev", &r->max_dev, at, err);
     if (!rc)

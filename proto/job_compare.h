@@ -31,6 +31,9 @@ typedef struct proto_compare_row {
     char family[48];
     double samples_per_pixel, e2, rmse, max_dev, render_seconds;
     double predicted_rmse; /* the edge model's (docs/predict.md); NaN when absent */
+    /* Measured share of the squared error on pixels below the pixel scale (the part the
+     * prediction leaves out); NaN when absent or undefined. */
+    double subpixel_error_share;
     long long pixels_sampled, coverage_samples;
     aa_diff_stats stats;
     bool have_tiles;                        /* "tiles" present (the images were stored) */

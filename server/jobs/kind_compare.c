@@ -110,6 +110,8 @@ static int compare_run(void *params, job_ctx *ctx, proto_compare_result *out, aa
         row->predicted_rmse = NAN;
         if (aa_predict_rmse(p, f, hist, &pred, NULL) == AA_OK && isfinite(pred.rmse))
             row->predicted_rmse = pred.rmse;
+        row->subpixel_error_share =
+            hist->subpixel_area > 0 ? aa_subpixel_error_share(&scene, &img, &slot[s].img) : NAN;
         row->max_dev = row->stats.max_dev;
         row->pixels_sampled = (long long)rs.pixels_sampled;
         row->coverage_samples = (long long)rs.samples_evaluated;

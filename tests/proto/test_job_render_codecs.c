@@ -106,6 +106,7 @@ static void test_compare_result(void **state)
     rows[0].max_dev = rows[0].stats.max_dev;
     rows[0].render_seconds = 0.01;
     rows[0].predicted_rmse = 3.5;
+    rows[0].subpixel_error_share = 0.125;
     rows[0].pixels_sampled = 7;
     rows[0].coverage_samples = 14;
     rows[0].have_tiles = true;
@@ -113,6 +114,7 @@ static void test_compare_result(void **state)
     rows[1] = rows[0];
     strcpy(rows[1].name, "second");
     rows[1].predicted_rmse = NAN; /* absent: an older result, or the model could not say */
+    rows[1].subpixel_error_share = NAN;
     rows[1].have_tiles = false;
     rows[1].tile_pattern = NULL;
     r.rows = rows;
@@ -129,6 +131,7 @@ static void test_compare_result(void **state)
     assert_null(json_object_get(json_array_get(json_object_get(j, "rows"), 1), "tiles"));
     assert_true(json_is_null(json_object_get(json_object_get(j, "prediction"), "spearman")));
     assert_float_equal(json_real_value(json_object_get(row0, "predicted_rmse")), 3.5, 0);
+    assert_float_equal(json_real_value(json_object_get(row0, "subpixel_error_share")), 0.125, 0);
     assert_null(json_object_get(json_array_get(json_object_get(j, "rows"), 1), "predicted_rmse"));
     assert_int_equal(json_array_size(json_object_get(json_object_get(j, "reference"), "renders")),
                      2);

@@ -427,3 +427,35 @@ int aa_edge_histogram_from_image(const aa_image *img, aa_edge_histogram *h, aa_e
     free(tmp);
     return AA_OK;
 }
+
+bool aa_scene_below_pixel(const aa_scene *s, double x, double y)
+{
+    if (s->p.mirror_x)
+        x = s->p.width - x;
+    if (s->p.mirror_y)
+        y = s->p.height - y;
+    if (s->p.kind == AA_SCENE_SIEMENS_STAR)
+        return hypot(x - s->cx, y - s->cy) < fmin(AA_EDGE_SUBPIXEL_SPACING / s->sector, s->radius);
+    if (s->p.kind == AA_SCENE_CHECKERBOARD && y > s->horizon_y) {
+        double s1, s2;
+        board_spacings(s, x, y, &s1, &s2);
+        return fmin(s1, s2) < AA_EDGE_SUBPIXEL_SPACING;
+    }
+    return false;
+}
+
+double aa_subpixel_error_share(const aa_scene *s, const aa_image *approx, const aa_image *ref)
+{
+    int W = s->p.width, H = s->p.height;
+    if (approx->width != W || approx->height != H || ref->width != W || ref->height != H)
+        return NAN;
+    double all = 0, below = 0;
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++) {
+            double d = (double)approx->px[(size_t)j * W + i] - ref->px[(size_t)j * W + i];
+            all += d * d;
+            if (d != 0 && aa_scene_below_pixel(s, i + 0.5, j + 0.5))
+                below += d * d;
+        }
+    return all > 0 ? below / all : NAN;
+}

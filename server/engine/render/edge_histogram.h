@@ -75,6 +75,15 @@ int aa_locked_edge_bin(const aa_locked_edge *e);
  * Errors: AA_EINVAL (image smaller than 3 x 3). */
 int aa_edge_histogram_from_image(const aa_image *img, aa_edge_histogram *h, aa_error *err);
 
+/* True where the scene has detail below the pixel scale at (x, y) (pixel coordinates, mirroring
+ * applied): the criterion of subpixel_area, i.e. the star within r_c of its centre, the
+ * checkerboard where a cell spacing is below AA_EDGE_SUBPIXEL_SPACING. */
+bool aa_scene_below_pixel(const aa_scene *s, double x, double y);
+/* The share of the squared error (approx - reference)² that falls on pixels whose centre is
+ * below the pixel scale: the part of a render's error the edge model leaves out, measured. NaN
+ * when the images are equal or their sizes differ from the scene's. */
+double aa_subpixel_error_share(const aa_scene *s, const aa_image *approx, const aa_image *ref);
+
 /* The histogram of a prepared scene. Errors: AA_EINVAL (an animation scene's parameters are
  * per frame: the current frame is used, so none here beyond a bad scene kind). */
 int aa_edge_histogram_of_scene(const aa_scene *s, aa_edge_histogram *h, aa_error *err);
