@@ -225,6 +225,31 @@ static void test_checkerboard(void **state)
     assert_true(h.locked_excess == 0);
 }
 
+/* Zoomed far in or out, every scene's histogram is bounded by the image (the work too: a
+ * spiral at zoom 1000 only integrates the arcs the image shows). */
+static void test_zoom_extremes(void **state)
+{
+    (void)state;
+    for (int k = 0; k < AA_SCENE_KIND_COUNT; k++)
+        for (int z = 0; z < 2; z++) {
+            aa_scene_params p = aa_scene_params_default((aa_scene_kind)k);
+            p.width = p.height = 512;
+            p.zoom = z ? 1000 : 0.001;
+            aa_scene s;
+            aa_edge_histogram h = histogram_of(p, &s);
+            assert_true(h.total >= 0 && isfinite(h.total));
+            assert_true(h.subpixel_area <= 512.0 * 512.0);
+        }
+    /* A spiral zoomed so far that the image shows a few nearly straight arcs: each arc crosses
+     * the 512 px image once or not at all, so the total is at most a few image widths. */
+    aa_scene_params p = aa_scene_params_default(AA_SCENE_SPIRAL);
+    p.width = p.height = 512;
+    p.zoom = 1000;
+    aa_scene s;
+    aa_edge_histogram h = histogram_of(p, &s);
+    assert_true(h.total < 4 * 512 * sqrt(2.0));
+}
+
 /* Mirroring maps a normal at θ to 180° - θ. */
 static void test_mirror(void **state)
 {
@@ -294,11 +319,12 @@ static void test_gradients_agree(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_bins),   cmocka_unit_test(test_half_plane),
-        cmocka_unit_test(test_sliver), cmocka_unit_test(test_triangle_and_circle),
-        cmocka_unit_test(test_rings),  cmocka_unit_test(test_star),
-        cmocka_unit_test(test_spiral), cmocka_unit_test(test_checkerboard),
-        cmocka_unit_test(test_mirror), cmocka_unit_test(test_gradients_agree),
+        cmocka_unit_test(test_bins),          cmocka_unit_test(test_half_plane),
+        cmocka_unit_test(test_sliver),        cmocka_unit_test(test_triangle_and_circle),
+        cmocka_unit_test(test_rings),         cmocka_unit_test(test_star),
+        cmocka_unit_test(test_spiral),        cmocka_unit_test(test_checkerboard),
+        cmocka_unit_test(test_mirror),        cmocka_unit_test(test_gradients_agree),
+        cmocka_unit_test(test_zoom_extremes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

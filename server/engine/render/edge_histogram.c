@@ -199,7 +199,10 @@ static bool spiral_rim_dark(const aa_scene *s, double phi)
 
 static void spiral(aa_edge_histogram *h, const aa_scene *s)
 {
-    double b = s->pitch / (2 * PI), R = s->radius;
+    /* Only the arcs within the image's reach from the centre are visible: this bounds the work
+     * by the image, whatever the zoom. */
+    double reach = hypot(fmax(s->cx, h->width - s->cx), fmax(s->cy, h->height - s->cy));
+    double b = s->pitch / (2 * PI), R = fmin(s->radius, reach);
     int steps = (int)ceil(2 * PI * hypot(R, b) / CURVE_STEP);
     double dphi = 2 * PI / steps;
     int m_max = (int)ceil(R / (b * PI)) + 1;
@@ -215,7 +218,7 @@ static void spiral(aa_edge_histogram *h, const aa_scene *s)
             double tx = b * c - d * sn, ty = b * sn + d * c;
             add_angle(h, -ty, tx, hypot(tx, ty) * dphi);
         }
-    add_circle(h, s, s->cx, s->cy, R, spiral_rim_dark);
+    add_circle(h, s, s->cx, s->cy, s->radius, spiral_rim_dark);
 }
 
 /* Checkerboard. With u = (x - cx) / unit, v = (y - horizon) / unit the ground coordinates are
