@@ -38,6 +38,8 @@ typedef struct text_buf {
     bool ok;
 } text_buf;
 
+static void put(text_buf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
 static void put(text_buf *b, const char *fmt, ...)
 {
     if (!b->ok)
