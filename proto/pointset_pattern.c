@@ -157,9 +157,13 @@ static int from_header_pattern(const proto_pointset *ps, const proto_points_opti
                                 ? "mirrored"
                                 : "kernels");
     }
+    /* The wire form of a pattern, not another point set or a job: no recursion, no lookup. */
+    const json_t *wire = json_object_get(ps->header, "pattern");
+    if (!json_is_object(wire) || json_object_get(wire, "points") || json_object_get(wire, "job"))
+        return header_error(err, ps, points_field,
+                            "pattern must be a preset, kernels, mirrored or tile pattern");
     aa_error e = {0};
-    int rc =
-        proto_decode_pattern(json_object_get(ps->header, "pattern"), o->flags, out, "pattern", &e);
+    int rc = proto_decode_pattern(wire, o->flags, out, "pattern", &e);
     if (rc) {
         char msg[sizeof e.message + sizeof e.field + 8];
         snprintf(msg, sizeof msg, "%s: %s", e.field, e.message);

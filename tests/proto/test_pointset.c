@@ -187,6 +187,12 @@ static void test_points_form_errors(void **state)
     expect_error("utk", "# aalab-pattern {\"pattern\":{\"kernels\":[[[0,0,1]]]}}\n0.25 0.25\n",
                  NULL, "pattern.points.text",
                  "line 1: aalab-pattern header: the points are not those");
+    expect_error(
+        "utk",
+        "# aalab-pattern {\"pattern\":{\"points\":{\"format\":\"utk\",\"text\":\"\"}}}"
+        "\n0.25 0.25\n",
+        NULL, "pattern.points.text",
+        "line 1: aalab-pattern header: pattern must be a preset, kernels, mirrored or tile");
 
     /* data: the index is in the field. */
     json_t *o = parse("{\"points\":{\"format\":\"json\",\"weights\":\"equal\","
@@ -238,6 +244,15 @@ static void test_coordinate_conventions(void **state)
     assert_true(ps.has_weights);
     assert_true(ps.points[0].w == 1.0);
     proto_pointset_free(&ps);
+    aa_pattern_free(&p);
+    /* Even K: the output point is the pixel's corner (1, 1) for pixel (0, 0). */
+    assert_int_equal(
+        decode_points("utk", "0.25 0.25\n", "{\"kernel\":2,\"weights\":\"equal\"}", &p, &err),
+        AA_OK);
+    assert_true(p.kernels[0].out_x == 1 && p.kernels[0].out_y == 1);
+    assert_int_equal(p.kernels[0].count, 4); /* the sample and its copies in the 2x2 block */
+    assert_true(p.kernels[0].samples[0].x == -0.75 && p.kernels[0].samples[0].y == -0.75);
+    assert_true(p.kernels[0].samples[3].x == 0.25 && p.kernels[0].samples[3].y == 0.25);
     aa_pattern_free(&p);
     /* kernels (s = 1) -> points: +0.5; a mirrored pixel -> its 2x2 tile / 2. */
     json_t *kj = parse("{\"kernels\":[[[-0.25,0.125,0.5],[0.25,-0.125,0.5]]]}");
