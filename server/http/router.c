@@ -148,7 +148,8 @@ api_request_class api_classify(const char *method, const char *path)
 {
     if (!method || !path || strcmp(method, "POST"))
         return API_CLASS_OTHER;
-    if (!strcmp(path, "/v1/evaluate"))
+    /* An export decodes and writes a posted pattern of up to --max-body: evaluate's share. */
+    if (!strcmp(path, "/v1/evaluate") || !strcmp(path, "/v1/patterns/export"))
         return API_CLASS_EVALUATE;
     if (!strcmp(path, "/v1/render"))
         return API_CLASS_RENDER;
