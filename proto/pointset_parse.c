@@ -80,6 +80,22 @@ static void quote_token(char *out, size_t cap, const char *s, size_t n)
     out[o < cap ? o : cap - 1] = 0;
 }
 
+/* At most max bytes of UTF-8 text s, cut at a character boundary (messages go into JSON). */
+static const char *utf8_prefix(char *buf, size_t cap, const char *s, size_t max)
+{
+    size_t n = strlen(s);
+    if (n > max)
+        n = max;
+    if (n >= cap)
+        n = cap - 1;
+    if (n < strlen(s))
+        while (n > 0 && ((unsigned char)s[n] & 0xC0) == 0x80)
+            n--;
+    memcpy(buf, s, n);
+    buf[n] = 0;
+    return buf;
+}
+
 /* A finite decimal number spanning exactly s[0..n). */
 static bool parse_number(const char *s, size_t n, double *out)
 {
@@ -146,11 +162,12 @@ static int comment_line(proto_pointset *ps, const char *s, size_t n, size_t line
                             "line %zu: the aalab-pattern header must come before the points", line);
     json_error_t je;
     json_t *h = json_loadb(s + hn, n - hn, JSON_REJECT_DUPLICATES, &je);
+    char cut[96];
     if (!h || !json_is_object(h)) {
         json_decref(h);
         return aa_error_set(err, AA_EINVAL, field,
-                            "line %zu: the aalab-pattern header is not a JSON object%s%.80s", line,
-                            h ? "" : ": ", h ? "" : je.text);
+                            "line %zu: the aalab-pattern header is not a JSON object%s%s", line,
+                            h ? "" : ": ", h ? "" : utf8_prefix(cut, sizeof cut, je.text, 80));
     }
     ps->header = h;
     ps->header_line = line;
@@ -364,6 +381,7 @@ static int json_point(const json_t *e, size_t i, bool by_index, proto_point *p, 
         static const char *const keys[] = {"x", "y", "w", NULL};
         const char *key;
         json_t *val;
+        char cut[48];
         json_object_foreach((json_t *)e, key, val)
         {
             bool ok = false;
@@ -371,9 +389,9 @@ static int json_point(const json_t *e, size_t i, bool by_index, proto_point *p, 
                 ok = ok || !strcmp(key, keys[k]);
             if (!ok)
                 return aa_error_set(err, AA_EINVAL, f,
-                                    "%sunknown key '%.40s' (a point has x, y "
+                                    "%sunknown key '%s' (a point has x, y "
                                     "and optionally w)",
-                                    where, key);
+                                    where, utf8_prefix(cut, sizeof cut, key, 40));
         }
         v[0] = json_object_get(e, "x");
         v[1] = json_object_get(e, "y");
@@ -467,9 +485,10 @@ int proto_pointset_parse(const char *text, size_t len, proto_points_format fmt, 
     if (fmt == PROTO_POINTS_JSON) {
         json_error_t je;
         json_t *j = json_loadb(text, len, JSON_REJECT_DUPLICATES, &je);
+        char cut[96];
         if (!j)
-            return aa_error_set(err, AA_EINVAL, field, "line %d: not valid JSON: %.80s", je.line,
-                                je.text);
+            return aa_error_set(err, AA_EINVAL, field, "line %d: not valid JSON: %s", je.line,
+                                utf8_prefix(cut, sizeof cut, je.text, 80));
         rc = proto_pointset_from_json(j, false, out, field, err);
         json_decref(j);
         return rc;

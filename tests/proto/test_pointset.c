@@ -144,6 +144,18 @@ static void test_parse_errors(void **state)
     aa_error err = {0};
     assert_int_not_equal(decode_points("xyw", "0.5 \xc3\xa9\n", NULL, &p, &err), AA_OK);
     assert_non_null(strstr(err.message, "'?\?' is not a number"));
+    /* Long multi-byte keys are cut at a character boundary: the message stays UTF-8. */
+    memset(&err, 0, sizeof err);
+    assert_int_not_equal(decode_points("json",
+                                       "[{\"a\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9"
+                                       "\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9"
+                                       "\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9"
+                                       "x\":1}]",
+                                       "{\"weights\":\"equal\"}", &p, &err),
+                         AA_OK);
+    json_t *msg = json_string(err.message);
+    assert_non_null(msg);
+    json_decref(msg);
     /* More than a tile's worth of points. */
     char *big = malloc(8 * (PROTO_POINTS_MAX + 1) + 1);
     assert_non_null(big);
