@@ -7,6 +7,9 @@
 #define PROTO_FIELD_MAX 96
 #define PROTO_MAX_KEYS 64 /* keys of one object, over all the lists of proto_check_keys_in */
 
+/* Drops a last UTF-8 character that truncation left incomplete (error fields and messages go
+ * into JSON, which must be UTF-8). */
+void proto_utf8_trim(char *s);
 /* Sets err with field prefix+sub and a fixed message; returns code. */
 int proto_fail(aa_error *err, int code, const char *prefix, const char *sub, const char *msg);
 /* Prepends prefix to err->field (engine errors are relative to the engine object). */

@@ -356,6 +356,7 @@ pts("header_pattern_mismatch", 400, "pattern.points.text", {"format": "utk", "te
 pts("header_pattern_recursive", 400, "pattern.points.text", {"format": "utk", "text": '# aalab-pattern {"pattern":{"points":{"format":"utk","text":"0.5 0.5"}}}\n0.5 0.5\n'})
 case("points_equal_ok", 200, None, body_json={"pattern": {"points": {"format": "utk", "text": "0.25 0.25\n0.75 0.75\n", "weights": "equal"}}}, check=OK)
 case("points_in_job_spec_bad", 400, "pattern.points.text", path="/v1/jobs", body_json={"kind": "optimize", "pattern": {"points": {"format": "csv", "text": "x\n"}}, "max_iterations": 1})
+case("unknown_key_long_multibyte", 400, "pattern.a" + "é" * 29, body_json={"pattern": {"preset": "rgss", "a" + "é" * 40: 1}})
 EXP = "/v1/patterns/export"
 case("export_post_no_format", 400, "format", path=EXP, body_json={"pattern": {"preset": "rgss"}})
 case("export_post_bad_format", 400, "format", path=EXP, body_json={"pattern": {"preset": "rgss"}, "format": "png"})

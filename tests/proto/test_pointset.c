@@ -156,6 +156,20 @@ static void test_parse_errors(void **state)
     json_t *msg = json_string(err.message);
     assert_non_null(msg);
     json_decref(msg);
+    /* So are unknown keys in a field path (proto_check_keys, the one unknown-key check). */
+    json_t *o = json_pack("{s:s,s:i}", "preset", "rgss",
+                          "a\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9"
+                          "\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9"
+                          "\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9"
+                          "\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9",
+                          1);
+    assert_non_null(o);
+    assert_int_equal(proto_decode_pattern(o, 0, &p, "pattern", &err), AA_EINVAL);
+    msg = json_string(err.field);
+    assert_non_null(msg);
+    json_decref(msg);
+    assert_true(!strncmp(err.field, "pattern.a\xc3\xa9", 10));
+    json_decref(o);
     /* More than a tile's worth of points. */
     char *big = malloc(8 * (PROTO_POINTS_MAX + 1) + 1);
     assert_non_null(big);
