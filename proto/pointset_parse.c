@@ -164,10 +164,11 @@ static int comment_line(proto_pointset *ps, const char *s, size_t n, size_t line
     json_t *h = json_loadb(s + hn, n - hn, JSON_REJECT_DUPLICATES, &je);
     char cut[96];
     if (!h || !json_is_object(h)) {
+        bool parsed = h != NULL;
         json_decref(h);
-        return aa_error_set(err, AA_EINVAL, field,
-                            "line %zu: the aalab-pattern header is not a JSON object%s%s", line,
-                            h ? "" : ": ", h ? "" : utf8_prefix(cut, sizeof cut, je.text, 80));
+        return aa_error_set(
+            err, AA_EINVAL, field, "line %zu: the aalab-pattern header is not a JSON object%s%s",
+            line, parsed ? "" : ": ", parsed ? "" : utf8_prefix(cut, sizeof cut, je.text, 80));
     }
     ps->header = h;
     ps->header_line = line;
@@ -251,7 +252,8 @@ static void csv_field(const char **s, size_t *n)
     }
 }
 
-#define CSV_MAX_COLUMNS 3
+/* Fields split per line: enough to name the first column that is not x, y or w. */
+#define CSV_MAX_COLUMNS 8
 
 /* Splits a line at commas into at most max fields; returns the count, or max + 1 if more. */
 static int csv_split(const char *s, size_t n, const char **f, size_t *fn, int max)
@@ -278,7 +280,7 @@ static int parse_csv(const char *text, size_t len, proto_pointset *ps, const cha
     line_reader r = {text, text + len, 0};
     const char *s;
     size_t n, cap = 0;
-    int col[CSV_MAX_COLUMNS] = {-1, -1, -1}; /* which of x, y, w each column is */
+    int col[CSV_MAX_COLUMNS]; /* which of x, y, w each column is */
     int columns = 0;
     size_t header_line = 0;
     while (next_line(&r, &s, &n)) {
@@ -298,9 +300,9 @@ static int parse_csv(const char *text, size_t len, proto_pointset *ps, const cha
             bool seen[3] = {false, false, false};
             if (c > CSV_MAX_COLUMNS)
                 return aa_error_set(err, AA_EINVAL, field,
-                                    "line %zu: more than 3 columns (the columns are x, y and "
+                                    "line %zu: more than %d columns (the columns are x, y and "
                                     "optionally w)",
-                                    r.line);
+                                    r.line, CSV_MAX_COLUMNS);
             for (int i = 0; i < c; i++) {
                 int which = -1;
                 for (int k = 0; k < 3; k++)
@@ -328,12 +330,12 @@ static int parse_csv(const char *text, size_t len, proto_pointset *ps, const cha
             continue;
         }
         if (c != columns)
-            return aa_error_set(err, AA_EINVAL, field,
-                                "line %zu: %s%d fields, but the header (line %zu) names %d", r.line,
-                                c > columns ? "more than " : "", c > columns ? columns : c,
-                                header_line, columns);
+            return aa_error_set(
+                err, AA_EINVAL, field, "line %zu: %s%d field%s, but the header (line %zu) names %d",
+                r.line, c > CSV_MAX_COLUMNS ? "more than " : "",
+                c > CSV_MAX_COLUMNS ? CSV_MAX_COLUMNS : c, c == 1 ? "" : "s", header_line, columns);
         double v[3] = {0, 0, 0};
-        for (int i = 0; i < c; i++) {
+        for (int i = 0; i < c && i < columns; i++) {
             if (!parse_number(f[i], fn[i], &v[col[i]])) {
                 char tok[32];
                 quote_token(tok, sizeof tok, f[i], fn[i]);

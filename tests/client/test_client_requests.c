@@ -326,7 +326,7 @@ static void point_set_files(void **state)
     path = write_temp_as("x,y,w\n0.25,0.25,0.5\n0.75\n", ".csv");
     a = (cli_args){.command = CMD_EVAL, .target = path};
     assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
-    if (!strstr(err, ": line 3: 1 fields, but the header (line 1) names 3"))
+    if (!strstr(err, ": line 3: 1 field, but the header (line 1) names 3"))
         fail_msg("'%s'", err);
     unlink(path);
     free(path);

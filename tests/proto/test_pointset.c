@@ -122,11 +122,14 @@ static void test_parse_errors(void **state)
     expect_error("xyw", "# only a comment\n", NULL, F, "no points");
     expect_error("csv", "x,y,z\n0,0,0\n", NULL, F, "line 1: unknown column 'z'");
     expect_error("csv", "x,x\n", NULL, F, "line 1: column x twice");
+    expect_error("csv", "x,y,w,z\n0,0,0,0\n", NULL, F, "line 1: unknown column 'z'");
+    expect_error("csv", "x,y,w,,\n", NULL, F, "line 1: unknown column ''");
     expect_error("csv", "x,w\n", NULL, F, "line 1: the header line must name columns x and y");
     expect_error("csv", "0.1,0.2\n", NULL, F, "line 1: unknown column '0.1'");
     expect_error("csv", "x,y\n0.1,0.2\n0.3\n", NULL, F,
-                 "line 3: 1 fields, but the header (line 1)");
-    expect_error("csv", "x,y\n0.1,0.2,0.3\n", NULL, F, "line 2: more than 2 fields");
+                 "line 3: 1 field, but the header (line 1) names 2");
+    expect_error("csv", "x,y\n0.1,0.2,0.3\n", NULL, F,
+                 "line 2: 3 fields, but the header (line 1) names 2");
     expect_error("csv", "x,y\n0.1,\n", NULL, F, "line 2: y: '' is not a number");
     expect_error("json", "[[0.1,0.2],[0.3]]", NULL, F, "point 1: a point is [x, y] or [x, y, w]");
     expect_error("json", "[[0.1,0.2],[0.3,0.4,1]]", NULL, F, "point 1: has w but point 0 has not");
