@@ -1,0 +1,423 @@
+"""Point-set files: read and write UTK, ``x y [w]`` text, CSV and JSON point sets.
+
+One coordinate convention for every format: points in the unit square [0, 1)² of the **whole
+tile** (UTK's convention): x to the right, y along the tile's y axis, one point per sample. A
+tile of T x T pixels maps file point (u, v) to tile coordinates (T·u, T·v), pixel (i, j)
+covering [i, i+1] x [j, j+1] (docs/api.md, Patterns). Weights, where a file has them, are the
+third number (``w``).
+
+Formats (the daemon's ``{"points": ...}`` pattern form reads the same):
+
+- ``utk``: UTK ``.dat`` text, one point ``x y`` per line; blank lines and lines starting with
+  ``#`` are ignored.
+- ``xyw``: ``x y`` or ``x y w`` per line (the same comment rule), every line the same arity.
+- ``csv``: a header line naming the columns ``x``, ``y`` and optionally ``w`` in any order
+  (another column is an error naming it), then one row per point; ``#`` lines before the
+  header are comments.
+- ``json``: an array of points, each ``[x, y]``, ``[x, y, w]`` or ``{"x":.., "y":.., "w":..}``,
+  or an object ``{"aalab": {...}, "points": [...]}``.
+
+aalab's own exports put what an exact round trip needs into a leading comment line that other
+tools ignore, ``# aalab-pattern {JSON}`` (in JSON files: the ``"aalab"`` member): tile, kernel
+size, border, per-kernel weights (for a pattern with no tile form, the wire form itself). Such
+a file read back gives the same pattern, E2 equal to 1e-12; it is kept in
+:attr:`PointSet.meta` and passed to the daemon unchanged by :meth:`PointSet.to_pattern`.
+Without it, the options of :meth:`PointSet.to_pattern` (tile, kernel, weights) decide.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import re
+from dataclasses import dataclass
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
+
+from .errors import AalabError
+
+FORMATS = ("utk", "xyw", "csv", "json")
+HEADER_PREFIX = "# aalab-pattern "
+WEIGHT_CHOICES = ("file", "filter", "equal")
+
+# File name suffix -> format (read and write guess from it).
+SUFFIXES = {".dat": "utk", ".utk": "utk", ".txt": "xyw", ".xyw": "xyw", ".pts": "xyw",
+            ".csv": "csv", ".json": "json"}
+
+# A decimal number as C's strtod reads it, without nan, inf, hex or Python's "1_000".
+_NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+class FormatError(AalabError):
+    """A point file that does not parse: ``field`` is ``pattern.points.text`` (or
+    ``pattern.points.data[i]`` for points given as data), the message names the line."""
+
+    def __init__(self, message: str, field: str = "pattern.points.text") -> None:
+        super().__init__("invalid_field", message, field)
+
+
+def _number(tok: str, where: str) -> float:
+    if not _NUMBER.match(tok):
+        raise FormatError("%s: %r is not a number" % (where, tok))
+    v = float(tok)
+    if not math.isfinite(v):
+        raise FormatError("%s: %r is not a finite number" % (where, tok))
+    return v
+
+
+@dataclass(frozen=True)
+class PointSet:
+    """Points of one tile in the unit square, with optional weights.
+
+    Attributes:
+        points: list of ``(x, y)`` in [0, 1)² of the whole tile (see the module docstring);
+            :attr:`xy` gives them as an N x 2 numpy array.
+        weights: one weight per point, or None when the file has none.
+        meta: the ``# aalab-pattern`` header (or JSON ``"aalab"`` member), None if absent.
+        format: the format read (``utk``, ``xyw``, ``csv``, ``json``).
+        text: the file's text as read (sent to the daemon unchanged), None for point sets
+            built from arrays.
+    """
+
+    points: Tuple[Tuple[float, float], ...]
+    weights: Optional[Tuple[float, ...]] = None
+    meta: Optional[Dict[str, Any]] = None
+    format: str = "json"
+    text: Optional[str] = None
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+    @property
+    def xy(self) -> Any:
+        """The points as an N x 2 float array (numpy needed)."""
+        import numpy as np
+        return np.asarray(self.points, dtype=float).reshape(-1, 2)
+
+    @property
+    def w(self) -> Any:
+        """The weights as a float array, None without weights (numpy needed)."""
+        import numpy as np
+        return None if self.weights is None else np.asarray(self.weights, dtype=float)
+
+    def to_pattern(self, tile: Optional[int] = None, kernel: Optional[int] = None,
+                   weights: Optional[str] = None) -> Dict[str, Any]:
+        """The daemon's pattern form ``{"points": {...}}`` for these points.
+
+        Args:
+            tile: T, the tile is T x T pixels; points are scaled by T (default 1).
+            kernel: K, each kernel reads K x K pixels (default 1).
+            weights: ``"file"`` (the file's w per point; the default), ``"filter"`` (each
+                kernel's samples weighted by the evaluation's reference filter) or
+                ``"equal"``. Without weights in the file and without an aalab header, choose
+                ``"filter"`` or ``"equal"``: ``"file"`` is then an error naming
+                ``pattern.points.weights``.
+
+        Options left None are not sent (the daemon's defaults, or the file's aalab header,
+        apply).
+        """
+        if weights is not None and weights not in WEIGHT_CHOICES:
+            raise AalabError("invalid_field", "weights must be one of %s" % ", ".join(WEIGHT_CHOICES),
+                             "pattern.points.weights")
+        if weights in (None, "file") and self.weights is None and self.meta is None:
+            raise AalabError("invalid_field", "the points have no weights; choose filter or equal",
+                             "pattern.points.weights")
+        if self.text is not None:
+            body: Dict[str, Any] = {"format": self.format, "text": self.text}
+        else:
+            data: List[List[float]] = [list(p) for p in self.points]
+            if self.weights is not None:
+                data = [[x, y, w] for (x, y), w in zip(self.points, self.weights)]
+            body = {"format": "json", "data": data}
+        for k, v in (("tile", tile), ("kernel", kernel), ("weights", weights)):
+            if v is not None:
+                body[k] = v
+        return {"points": body}
+
+
+def guess_format(path: PathLike) -> str:
+    """The format a file name suggests (``.dat`` utk, ``.txt``/``.xyw`` xyw, ``.csv``,
+    ``.json``); raises :class:`AalabError` for other suffixes."""
+    suffix = os.path.splitext(os.fspath(path))[1].lower()
+    try:
+        return SUFFIXES[suffix]
+    except KeyError:
+        raise AalabError("invalid_field", "%s: cannot tell the point format from the suffix "
+                         "%r; pass fmt= (one of %s)" % (os.fspath(path), suffix, ", ".join(FORMATS)),
+                         "format") from None
+
+
+def _header(line: str, where: str) -> Dict[str, Any]:
+    try:
+        meta = json.loads(line[len(HEADER_PREFIX):])
+    except ValueError as e:
+        raise FormatError("%s: the aalab-pattern header is not JSON: %s" % (where, e)) from None
+    if not isinstance(meta, dict):
+        raise FormatError("%s: the aalab-pattern header must be a JSON object" % where)
+    return meta
+
+
+def _text_lines(text: str, fmt: str):
+    """(line number, stripped line) of the data lines, and the aalab header if any."""
+    meta = None
+    rows = []
+    for n, raw in enumerate(text.splitlines(), 1):
+        line = raw.strip()
+        if not line:
+            continue
+        if line.startswith("#"):
+            if line.startswith(HEADER_PREFIX.rstrip()) and meta is None and not rows:
+                meta = _header(line, "line %d" % n)
+            continue
+        rows.append((n, line))
+    return rows, meta
+
+
+def _parse_plain(text: str, fmt: str) -> PointSet:
+    rows, meta = _text_lines(text, fmt)
+    arities = (2,) if fmt == "utk" else (2, 3)
+    expect = "2 numbers" if fmt == "utk" else "2 or 3 numbers"
+    pts: List[Tuple[float, float]] = []
+    ws: List[float] = []
+    first = None
+    for n, line in rows:
+        toks = line.split()
+        if len(toks) not in arities:
+            raise FormatError("line %d: expected %s" % (n, expect))
+        if first is None:
+            first = (n, len(toks))
+        elif len(toks) != first[1]:
+            raise FormatError("line %d: %d numbers, but line %d has %d (every line the same)"
+                              % (n, len(toks), first[0], first[1]))
+        v = [_number(t, "line %d" % n) for t in toks]
+        pts.append((v[0], v[1]))
+        if len(v) == 3:
+            ws.append(v[2])
+    if not pts:
+        raise FormatError("no points")
+    return PointSet(tuple(pts), tuple(ws) if ws else None, meta, fmt, text)
+
+
+def _parse_csv(text: str) -> PointSet:
+    meta = None
+    lines = text.splitlines()
+    i = 0
+    while i < len(lines) and (not lines[i].strip() or lines[i].lstrip().startswith("#")):
+        s = lines[i].strip()
+        if s.startswith(HEADER_PREFIX.rstrip()) and meta is None:
+            meta = _header(s, "line %d" % (i + 1))
+        i += 1
+    if i == len(lines):
+        raise FormatError("no header line naming the columns x, y (and w)")
+    reader = csv.reader(io.StringIO("\n".join(lines[i:])))
+    head = [c.strip().lower() for c in next(reader)]
+    for c in head:
+        if c not in ("x", "y", "w"):
+            raise FormatError("line %d: column %r: expected only the columns x, y and w"
+                              % (i + 1, c))
+    if len(set(head)) != len(head):
+        raise FormatError("line %d: a column is named twice" % (i + 1))
+    if "x" not in head or "y" not in head:
+        raise FormatError("line %d: the header must name the columns x and y" % (i + 1))
+    ix, iy, iw = head.index("x"), head.index("y"), head.index("w") if "w" in head else -1
+    pts: List[Tuple[float, float]] = []
+    ws: List[float] = []
+    for k, row in enumerate(reader):
+        n = i + 2 + k
+        if not row or all(not c.strip() for c in row):
+            continue
+        if len(row) != len(head):
+            raise FormatError("line %d: expected %d values like the header" % (n, len(head)))
+        where = "line %d" % n
+        pts.append((_number(row[ix].strip(), where), _number(row[iy].strip(), where)))
+        if iw >= 0:
+            ws.append(_number(row[iw].strip(), where))
+    if not pts:
+        raise FormatError("no points")
+    return PointSet(tuple(pts), tuple(ws) if iw >= 0 else None, meta, "csv", text)
+
+
+def _points_from_data(data: Any, field: str) -> Tuple[List[Tuple[float, float]],
+                                                      Optional[List[float]]]:
+    if not isinstance(data, list) or not data:
+        raise FormatError("expected a non-empty array of points", field)
+    pts: List[Tuple[float, float]] = []
+    ws: List[float] = []
+    has_w = None
+    for i, p in enumerate(data):
+        where = "%s[%d]" % (field, i)
+        if isinstance(p, dict):
+            extra = set(p) - {"x", "y", "w"}
+            if extra or "x" not in p or "y" not in p:
+                raise FormatError("point %d: expected the keys x, y and optionally w" % i, where)
+            vals = [p["x"], p["y"]] + ([p["w"]] if "w" in p else [])
+        elif isinstance(p, list) and len(p) in (2, 3):
+            vals = p
+        else:
+            raise FormatError("point %d: expected [x, y], [x, y, w] or {\"x\", \"y\", \"w\"}" % i,
+                              where)
+        for v in vals:
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise FormatError("point %d: coordinates and weights must be finite numbers" % i,
+                                  where)
+        if has_w is None:
+            has_w = len(vals) == 3
+        elif has_w != (len(vals) == 3):
+            raise FormatError("point %d: every point needs a weight if one has" % i, where)
+        pts.append((float(vals[0]), float(vals[1])))
+        if len(vals) == 3:
+            ws.append(float(vals[2]))
+    return pts, (ws if has_w else None)
+
+
+def _parse_json(text: str) -> PointSet:
+    try:
+        doc = json.loads(text)
+    except ValueError as e:
+        raise FormatError("not JSON: %s" % e) from None
+    meta = None
+    data = doc
+    if isinstance(doc, dict):
+        extra = set(doc) - {"aalab", "points"}
+        if extra or "points" not in doc:
+            raise FormatError("a JSON point file is an array of points or "
+                              "{\"aalab\": {...}, \"points\": [...]}; unexpected %s"
+                              % (", ".join(sorted(extra)) or "object without points"))
+        meta = doc.get("aalab")
+        if meta is not None and not isinstance(meta, dict):
+            raise FormatError("\"aalab\" must be an object")
+        data = doc["points"]
+    pts, ws = _points_from_data(data, "points")
+    return PointSet(tuple(pts), tuple(ws) if ws is not None else None, meta, "json", text)
+
+
+def loads(text: str, fmt: str) -> PointSet:
+    """Parses the text of a point file in format ``fmt`` (one of :data:`FORMATS`).
+
+    Raises :class:`FormatError` naming the line (``line 3: expected 2 or 3 numbers``) or the
+    point (``points[3]``)."""
+    if fmt not in FORMATS:
+        raise AalabError("invalid_field", "format must be one of %s" % ", ".join(FORMATS),
+                         "pattern.points.format")
+    if fmt == "csv":
+        return _parse_csv(text)
+    if fmt == "json":
+        return _parse_json(text)
+    return _parse_plain(text, fmt)
+
+
+def read(path: PathLike, fmt: Optional[str] = None) -> PointSet:
+    """Reads a point file; ``fmt`` defaults to the suffix's format (:func:`guess_format`).
+    Errors name the file and the line."""
+    fmt = fmt or guess_format(path)
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    try:
+        return loads(text, fmt)
+    except FormatError as e:
+        raise FormatError("%s: %s" % (os.fspath(path), e.message), e.field) from None
+
+
+def _fmt_num(v: float) -> str:
+    return repr(float(v))  # the shortest text that reads back to the same double
+
+
+def _as_rows(points: Any, weights: Any) -> Tuple[List[Tuple[float, float]], Optional[List[float]]]:
+    if isinstance(points, PointSet):
+        return list(points.points), (list(points.weights) if points.weights is not None
+                                     and weights is None else weights)
+    rows = points.tolist() if hasattr(points, "tolist") else list(points)
+    pts: List[Tuple[float, float]] = []
+    ws: List[float] = []
+    for i, r in enumerate(rows):
+        r = list(r)
+        if len(r) not in (2, 3):
+            raise AalabError("invalid_field", "point %d: expected (x, y) or (x, y, w)" % i,
+                             "points[%d]" % i)
+        for v in r:
+            if not math.isfinite(float(v)):
+                raise AalabError("invalid_field", "point %d: not a finite number" % i,
+                                 "points[%d]" % i)
+        pts.append((float(r[0]), float(r[1])))
+        if len(r) == 3:
+            ws.append(float(r[2]))
+    if ws and len(ws) != len(pts):
+        raise AalabError("invalid_field", "every point needs a weight if one has", "points")
+    if weights is not None:
+        w = weights.tolist() if hasattr(weights, "tolist") else list(weights)
+        if len(w) != len(pts):
+            raise AalabError("invalid_field", "%d weights for %d points" % (len(w), len(pts)),
+                             "weights")
+        return pts, [float(x) for x in w]
+    return pts, (ws or None)
+
+
+def dumps(points: Any, fmt: str, weights: Optional[Sequence[float]] = None,
+          meta: Optional[Dict[str, Any]] = None) -> str:
+    """The text of a point file.
+
+    Args:
+        points: a :class:`PointSet`, an N x 2 (or N x 3 with weights) array, or a sequence of
+            ``(x, y)`` / ``(x, y, w)``, in the unit square of the whole tile.
+        fmt: ``utk``, ``xyw``, ``csv`` or ``json``.
+        weights: one per point (overrides a third column); UTK has no weight column, so
+            weights there need ``meta`` to carry them or are refused.
+        meta: the ``# aalab-pattern`` header (JSON: the ``"aalab"`` member); for a
+            :class:`PointSet` its own meta is kept unless given.
+
+    Numbers are written with the fewest digits that read back to the same double.
+    """
+    if fmt not in FORMATS:
+        raise AalabError("invalid_field", "format must be one of %s" % ", ".join(FORMATS),
+                         "format")
+    if meta is None and isinstance(points, PointSet):
+        meta = points.meta
+    pts, ws = _as_rows(points, weights)
+    if fmt == "json":
+        data = [[x, y, w] for (x, y), w in zip(pts, ws)] if ws is not None else \
+            [[x, y] for x, y in pts]
+        doc: Any = {"aalab": meta, "points": data} if meta is not None else data
+        return json.dumps(doc, allow_nan=False) + "\n"
+    out = io.StringIO()
+    if meta is not None:
+        out.write(HEADER_PREFIX + json.dumps(meta, separators=(",", ":"), allow_nan=False) + "\n")
+    if fmt == "utk":
+        if ws is not None and meta is None:
+            raise AalabError("invalid_field", "UTK files have no weight column: write xyw, csv "
+                             "or json, or drop the weights", "format")
+        for x, y in pts:
+            out.write("%s %s\n" % (_fmt_num(x), _fmt_num(y)))
+    elif fmt == "xyw":
+        for i, (x, y) in enumerate(pts):
+            out.write(" ".join(_fmt_num(v) for v in ((x, y, ws[i]) if ws is not None else (x, y)))
+                      + "\n")
+    else:
+        w = csv.writer(out, lineterminator="\n")
+        w.writerow(["x", "y", "w"] if ws is not None else ["x", "y"])
+        for i, (x, y) in enumerate(pts):
+            w.writerow([_fmt_num(v) for v in ((x, y, ws[i]) if ws is not None else (x, y))])
+    return out.getvalue()
+
+
+def write(path: PathLike, points: Any, fmt: Optional[str] = None,
+          weights: Optional[Sequence[float]] = None, meta: Optional[Dict[str, Any]] = None) -> str:
+    """Writes a point file (:func:`dumps`); ``fmt`` defaults to the suffix's format. Returns the
+    path written."""
+    fmt = fmt or guess_format(path)
+    text = dumps(points, fmt, weights=weights, meta=meta)
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+    return os.fspath(path)
+
+
+def data_points(points: Iterable[Any]) -> List[List[float]]:
+    """Points given as an array or sequence, checked, as the JSON ``data`` list of the daemon's
+    points form (``[x, y]`` or ``[x, y, w]`` each)."""
+    pts, ws = _as_rows(points, None)
+    if ws is not None:
+        return [[x, y, w] for (x, y), w in zip(pts, ws)]
+    return [[x, y] for x, y in pts]
