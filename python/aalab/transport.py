@@ -23,6 +23,7 @@ from urllib.parse import quote, urlencode
 from .errors import AalabError, DaemonUnreachable
 
 SYSTEM_SOCKET = "/run/aalab/aalabd.sock"
+TMP_DIR = "/tmp"  # where aalabd puts /tmp/aalab-UID without $XDG_RUNTIME_DIR
 
 
 def _is_socket(path: str) -> bool:
@@ -49,7 +50,7 @@ def resolve_socket(explicit: Optional[str] = None) -> Tuple[str, List[str]]:
     # aalabd's last resort without root and $XDG_RUNTIME_DIR; trusted only if the directory is
     # ours, so that another user cannot plant a socket there.
     uid = os.geteuid()
-    d = "/tmp/aalab-%d" % uid
+    d = os.path.join(TMP_DIR, "aalab-%d" % uid)
     path = os.path.join(d, "aalabd.sock")
     try:
         st = os.lstat(d)
