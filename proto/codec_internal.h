@@ -14,4 +14,8 @@ int proto_prefix_error(aa_error *err, const char *prefix);
 /* A finite JSON number (integer or real). */
 int proto_number(const json_t *j, double *out, aa_error *err, const char *prefix, const char *sub);
 
+/* The "points" form's object (codec_points.c); weight_filter NULL = the default filter. */
+int proto_decode_points_form(const json_t *j, unsigned flags, const aa_filter *weight_filter,
+                             aa_pattern *out, const char *prefix, aa_error *err);
+
 #endif

@@ -111,6 +111,7 @@ static const route routes[] = {
     {"GET", "/v1/usage", ARG_NONE, handle_usage, NULL},
     {"POST", "/v1/families/enumerate", ARG_NONE, handle_enumerate, NULL},
     {"GET", "/v1/patterns/", ARG_JOB_EXPORT, NULL, handle_export},
+    {"POST", "/v1/patterns/export", ARG_NONE, handle_export_post, NULL},
     {"POST", "/v1/render", ARG_NONE, route_render, NULL},
     {"GET", "/v1/tiles/", ARG_TILE, NULL, route_tile},
     {"POST", "/v1/tokens", ARG_NONE, handle_tokens_post, NULL},
