@@ -60,15 +60,6 @@ class FormatError(AalabError):
         super().__init__("invalid_field", message, field)
 
 
-def _number(tok: str, where: str) -> float:
-    if not _NUMBER.match(tok):
-        raise FormatError("%s: %r is not a number" % (where, tok))
-    v = float(tok)
-    if not math.isfinite(v):
-        raise FormatError("%s: %r is not a finite number" % (where, tok))
-    return v
-
-
 @dataclass(frozen=True)
 class PointSet:
     """Points of one tile in the unit square, with optional weights.
@@ -105,12 +96,15 @@ class PointSet:
         return None if self.weights is None else np.asarray(self.weights, dtype=float)
 
     def to_pattern(self, tile: Optional[int] = None, kernel: Optional[int] = None,
-                   weights: Optional[str] = None) -> Dict[str, Any]:
+                   weights: Optional[str] = None, border: Optional[bool] = None
+                   ) -> Dict[str, Any]:
         """The daemon's pattern form ``{"points": {...}}`` for these points.
 
         Args:
             tile: T, the tile is T x T pixels; points are scaled by T (default 1).
             kernel: K, each kernel reads K x K pixels (default 1).
+            border: samples on the boundary of a kernel's block are read too (the ``+`` of
+                P(s,r+,n); default false).
             weights: ``"file"`` (the file's w per point; the default), ``"filter"`` (each
                 kernel's samples weighted by the evaluation's reference filter) or
                 ``"equal"``. Without weights in the file and without an aalab header, choose
@@ -118,7 +112,8 @@ class PointSet:
                 ``pattern.points.weights``.
 
         Options left None are not sent (the daemon's defaults, or the file's aalab header,
-        apply).
+        apply; stated options must agree with the header). Points read from a file are sent as
+        the file's text, so the daemon parses exactly what was read.
         """
         if weights is not None and weights not in WEIGHT_CHOICES:
             raise AalabError("invalid_field", "weights must be one of %s" % ", ".join(WEIGHT_CHOICES),
@@ -133,7 +128,8 @@ class PointSet:
             if self.weights is not None:
                 data = [[x, y, w] for (x, y), w in zip(self.points, self.weights)]
             body = {"format": "json", "data": data}
-        for k, v in (("tile", tile), ("kernel", kernel), ("weights", weights)):
+        for k, v in (("tile", tile), ("kernel", kernel), ("border", border),
+                     ("weights", weights)):
             if v is not None:
                 body[k] = v
         return {"points": body}
@@ -151,148 +147,220 @@ def guess_format(path: PathLike) -> str:
                          "format") from None
 
 
-def _header(line: str, where: str) -> Dict[str, Any]:
-    try:
-        meta = json.loads(line[len(HEADER_PREFIX):])
-    except ValueError as e:
-        raise FormatError("%s: the aalab-pattern header is not JSON: %s" % (where, e)) from None
-    if not isinstance(meta, dict):
-        raise FormatError("%s: the aalab-pattern header must be a JSON object" % where)
-    return meta
+MAX_POINTS = 4096  # points of one file (one tile), the daemon's limit
+_BLANKS = " \t\r\f\v"
 
 
-def _text_lines(text: str, fmt: str):
-    """(line number, stripped line) of the data lines, and the aalab header if any."""
-    meta = None
-    rows = []
-    for n, raw in enumerate(text.splitlines(), 1):
-        line = raw.strip()
-        if not line:
-            continue
-        if line.startswith("#"):
-            if line.startswith(HEADER_PREFIX.rstrip()) and meta is None and not rows:
-                meta = _header(line, "line %d" % n)
-            continue
-        rows.append((n, line))
-    return rows, meta
+def _lines(text: str):
+    """(1-based line number, line without surrounding blanks), every line."""
+    for n, raw in enumerate(text.split("\n"), 1):
+        yield n, raw.strip(_BLANKS)
+
+
+class _Header:
+    """The aalab header: once, before the first point (the daemon's rule)."""
+
+    def __init__(self) -> None:
+        self.meta: Optional[Dict[str, Any]] = None
+        self.line = 0
+
+    def comment(self, line: str, n: int, points: int) -> None:
+        if not line.startswith(HEADER_PREFIX):
+            return
+        if self.meta is not None:
+            raise FormatError("line %d: a second aalab-pattern header (the first is on line %d)"
+                              % (n, self.line))
+        if points:
+            raise FormatError("line %d: the aalab-pattern header must come before the points" % n)
+        try:
+            meta = json.loads(line[len(HEADER_PREFIX):])
+        except ValueError as e:
+            raise FormatError("line %d: the aalab-pattern header is not a JSON object: %s"
+                              % (n, e)) from None
+        if not isinstance(meta, dict):
+            raise FormatError("line %d: the aalab-pattern header is not a JSON object" % n)
+        self.meta, self.line = meta, n
+
+
+def _token(tok: str, where: str, column: str = "") -> float:
+    col = column + ": " if column else ""
+    if not _NUMBER.match(tok) or not math.isfinite(float(tok)):
+        raise FormatError("%s: %s'%s' is not a number" % (where, col, tok[:24] +
+                                                           ("..." if len(tok) > 24 else "")))
+    return float(tok)
 
 
 def _parse_plain(text: str, fmt: str) -> PointSet:
-    rows, meta = _text_lines(text, fmt)
-    arities = (2,) if fmt == "utk" else (2, 3)
-    expect = "2 numbers" if fmt == "utk" else "2 or 3 numbers"
+    utk = fmt == "utk"
+    expect = "2 numbers (x y)" if utk else "2 or 3 numbers (x y [w])"
+    header = _Header()
     pts: List[Tuple[float, float]] = []
     ws: List[float] = []
-    first = None
-    for n, line in rows:
+    arity, arity_line = 0, 0
+    for n, line in _lines(text):
+        if not line:
+            continue
+        if line.startswith("#"):
+            header.comment(line, n, len(pts))
+            continue
         toks = line.split()
-        if len(toks) not in arities:
+        if len(toks) > 3:
             raise FormatError("line %d: expected %s" % (n, expect))
-        if first is None:
-            first = (n, len(toks))
-        elif len(toks) != first[1]:
-            raise FormatError("line %d: %d numbers, but line %d has %d (every line the same)"
-                              % (n, len(toks), first[0], first[1]))
-        v = [_number(t, "line %d" % n) for t in toks]
+        v = [_token(t, "line %d" % n) for t in toks]
+        if len(v) < 2 or (utk and len(v) != 2):
+            raise FormatError("line %d: expected %s" % (n, expect))
+        if arity and len(v) != arity:
+            raise FormatError("line %d: %d numbers, but line %d has %d (every line gives x y, "
+                              "or every line x y w)" % (n, len(v), arity_line, arity))
+        if not arity:
+            arity, arity_line = len(v), n
+        if len(pts) == MAX_POINTS:
+            raise FormatError("line %d: more than %d points" % (n, MAX_POINTS))
         pts.append((v[0], v[1]))
         if len(v) == 3:
             ws.append(v[2])
     if not pts:
-        raise FormatError("no points")
-    return PointSet(tuple(pts), tuple(ws) if ws else None, meta, fmt, text)
+        raise FormatError("no points (one point per line: x y)")
+    return PointSet(tuple(pts), tuple(ws) if arity == 3 else None, header.meta, fmt, text)
+
+
+def _csv_fields(line: str) -> List[str]:
+    out = []
+    for f in line.split(","):
+        f = f.strip(_BLANKS)
+        if len(f) >= 2 and f[0] == '"' and f[-1] == '"':
+            f = f[1:-1]
+        out.append(f)
+    return out
 
 
 def _parse_csv(text: str) -> PointSet:
-    meta = None
-    lines = text.splitlines()
-    i = 0
-    while i < len(lines) and (not lines[i].strip() or lines[i].lstrip().startswith("#")):
-        s = lines[i].strip()
-        if s.startswith(HEADER_PREFIX.rstrip()) and meta is None:
-            meta = _header(s, "line %d" % (i + 1))
-        i += 1
-    if i == len(lines):
-        raise FormatError("no header line naming the columns x, y (and w)")
-    reader = csv.reader(io.StringIO("\n".join(lines[i:])))
-    head = [c.strip().lower() for c in next(reader)]
-    for c in head:
-        if c not in ("x", "y", "w"):
-            raise FormatError("line %d: column %r: expected only the columns x, y and w"
-                              % (i + 1, c))
-    if len(set(head)) != len(head):
-        raise FormatError("line %d: a column is named twice" % (i + 1))
-    if "x" not in head or "y" not in head:
-        raise FormatError("line %d: the header must name the columns x and y" % (i + 1))
-    ix, iy, iw = head.index("x"), head.index("y"), head.index("w") if "w" in head else -1
+    header = _Header()
+    cols: List[str] = []
+    head_line = 0
     pts: List[Tuple[float, float]] = []
     ws: List[float] = []
-    for k, row in enumerate(reader):
-        n = i + 2 + k
-        if not row or all(not c.strip() for c in row):
+    for n, line in _lines(text):
+        if not line:
             continue
-        if len(row) != len(head):
-            raise FormatError("line %d: expected %d values like the header" % (n, len(head)))
-        where = "line %d" % n
-        pts.append((_number(row[ix].strip(), where), _number(row[iy].strip(), where)))
-        if iw >= 0:
-            ws.append(_number(row[iw].strip(), where))
+        if line.startswith("#"):
+            header.comment(line, n, len(pts))
+            continue
+        f = _csv_fields(line)
+        if not cols:
+            if len(f) > 3:
+                raise FormatError("line %d: more than 3 columns (the columns are x, y and "
+                                  "optionally w)" % n)
+            for c in f:
+                name = c.lower()
+                if name not in ("x", "y", "w"):
+                    raise FormatError("line %d: unknown column '%s' (the columns are x, y and "
+                                      "optionally w, named in a header line)" % (n, c[:24]))
+                if name in cols:
+                    raise FormatError("line %d: column %s twice" % (n, name))
+                cols.append(name)
+            if "x" not in cols or "y" not in cols:
+                raise FormatError("line %d: the header line must name columns x and y" % n)
+            head_line = n
+            continue
+        if len(f) != len(cols):
+            raise FormatError("line %d: %s%d fields, but the header (line %d) names %d"
+                              % (n, "more than " if len(f) > len(cols) else "",
+                                 min(len(f), len(cols)) if len(f) > len(cols) else len(f),
+                                 head_line, len(cols)))
+        v = {c: _token(x, "line %d" % n, c) for c, x in zip(cols, f)}
+        if len(pts) == MAX_POINTS:
+            raise FormatError("line %d: more than %d points" % (n, MAX_POINTS))
+        pts.append((v["x"], v["y"]))
+        if "w" in v:
+            ws.append(v["w"])
+    if not cols:
+        raise FormatError("no header line: a CSV point set starts with x,y or x,y,w")
     if not pts:
-        raise FormatError("no points")
-    return PointSet(tuple(pts), tuple(ws) if iw >= 0 else None, meta, "csv", text)
+        raise FormatError("no points (one point per line: x,y after a header line)")
+    return PointSet(tuple(pts), tuple(ws) if "w" in cols else None, header.meta, "csv", text)
 
 
-def _points_from_data(data: Any, field: str) -> Tuple[List[Tuple[float, float]],
-                                                      Optional[List[float]]]:
-    if not isinstance(data, list) or not data:
-        raise FormatError("expected a non-empty array of points", field)
+def _points_from_data(data: Any, field: str, by_index: bool
+                      ) -> Tuple[List[Tuple[float, float]], Optional[List[float]]]:
+    """Points of a JSON array, checked as the daemon does: errors name ``field[i]`` (by_index,
+    the ``data`` key) or ``field`` with ``point i:`` in the message (a JSON text)."""
+    if not isinstance(data, list):
+        raise FormatError("must be an array of points ([x, y], [x, y, w] or {\"x\",\"y\",\"w\"})",
+                          field)
+    if len(data) > MAX_POINTS:
+        raise FormatError("more than %d points" % MAX_POINTS, field)
     pts: List[Tuple[float, float]] = []
     ws: List[float] = []
-    has_w = None
+    has_w = False
     for i, p in enumerate(data):
-        where = "%s[%d]" % (field, i)
-        if isinstance(p, dict):
-            extra = set(p) - {"x", "y", "w"}
-            if extra or "x" not in p or "y" not in p:
-                raise FormatError("point %d: expected the keys x, y and optionally w" % i, where)
-            vals = [p["x"], p["y"]] + ([p["w"]] if "w" in p else [])
-        elif isinstance(p, list) and len(p) in (2, 3):
-            vals = p
+        f, where = ("%s[%d]" % (field, i), "") if by_index else (field, "point %d: " % i)
+        if isinstance(p, list):
+            if len(p) not in (2, 3):
+                raise FormatError("%sa point is [x, y] or [x, y, w]" % where, f)
+            vals = dict(zip("xyw", p))
+        elif isinstance(p, dict):
+            for k in p:
+                if k not in ("x", "y", "w"):
+                    raise FormatError("%sunknown key '%s' (a point has x, y and optionally w)"
+                                      % (where, str(k)[:40]), f)
+            if "x" not in p or "y" not in p:
+                raise FormatError("%sa point needs x and y" % where, f)
+            vals = dict(p)
         else:
-            raise FormatError("point %d: expected [x, y], [x, y, w] or {\"x\", \"y\", \"w\"}" % i,
-                              where)
-        for v in vals:
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise FormatError("point %d: coordinates and weights must be finite numbers" % i,
-                                  where)
-        if has_w is None:
-            has_w = len(vals) == 3
-        elif has_w != (len(vals) == 3):
-            raise FormatError("point %d: every point needs a weight if one has" % i, where)
-        pts.append((float(vals[0]), float(vals[1])))
-        if len(vals) == 3:
-            ws.append(float(vals[2]))
+            raise FormatError("%sa point is [x, y], [x, y, w] or {\"x\":..,\"y\":..,\"w\":..}"
+                              % where, f)
+        for k in ("x", "y", "w"):
+            v = vals.get(k)
+            if k in vals and (isinstance(v, bool) or not isinstance(v, (int, float))
+                              or not math.isfinite(v)):
+                raise FormatError("%s%s must be a finite number" % (where, k), f)
+        w_here = "w" in vals
+        if i == 0:
+            has_w = w_here
+        elif w_here != has_w:
+            raise FormatError("%s%s (give w for every point or for none)"
+                              % (where, "has w but point 0 has not" if w_here
+                                 else "has no w but point 0 has"), f)
+        pts.append((float(vals["x"]), float(vals["y"])))
+        if w_here:
+            ws.append(float(vals["w"]))
+    if not pts:
+        raise FormatError("no points", field)
     return pts, (ws if has_w else None)
 
 
 def _parse_json(text: str) -> PointSet:
     try:
-        doc = json.loads(text)
+        doc = json.loads(text, object_pairs_hook=_no_duplicates)
     except ValueError as e:
-        raise FormatError("not JSON: %s" % e) from None
+        line = getattr(e, "lineno", 1)
+        raise FormatError("line %d: not valid JSON: %s" % (line, getattr(e, "msg", e))) from None
     meta = None
     data = doc
+    field = "pattern.points.text"
     if isinstance(doc, dict):
-        extra = set(doc) - {"aalab", "points"}
-        if extra or "points" not in doc:
-            raise FormatError("a JSON point file is an array of points or "
-                              "{\"aalab\": {...}, \"points\": [...]}; unexpected %s"
-                              % (", ".join(sorted(extra)) or "object without points"))
+        for k in doc:
+            if k not in ("aalab", "points"):
+                raise FormatError("unknown key '%s' (the object form is {\"aalab\": {...}, "
+                                  "\"points\": [...]})" % k[:40], field + "." + k)
+        if "points" not in doc:
+            raise FormatError("the object form needs points", field + ".points")
         meta = doc.get("aalab")
         if meta is not None and not isinstance(meta, dict):
-            raise FormatError("\"aalab\" must be an object")
+            raise FormatError("must be an object", field + ".aalab")
         data = doc["points"]
-    pts, ws = _points_from_data(data, "points")
+    pts, ws = _points_from_data(data, field, False)
     return PointSet(tuple(pts), tuple(ws) if ws is not None else None, meta, "json", text)
+
+
+def _no_duplicates(pairs: List[Tuple[str, Any]]) -> Dict[str, Any]:
+    d: Dict[str, Any] = {}
+    for k, v in pairs:
+        if k in d:
+            raise ValueError("duplicate key %r" % k)
+        d[k] = v
+    return d
 
 
 def loads(text: str, fmt: str) -> PointSet:
