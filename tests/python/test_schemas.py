@@ -1,0 +1,48 @@
+"""The package reads the daemon's JSON Schemas (proto/schemas): the installed copy is the
+repository's, every schema is valid draft 2020-12, and every job kind's example from
+GET /v1/kinds runs through Client.submit with its result valid against the kind's result
+schema (the job-kind contract)."""
+
+import os
+
+import jsonschema
+import pytest
+
+import aalab
+from aalab import schemas
+
+REPO_SCHEMAS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "proto",
+                            "schemas")
+
+
+def test_package_schemas_are_the_repository_s():
+    s = schemas.default()
+    repo = schemas.Schemas(REPO_SCHEMAS)
+    assert s.names() == repo.names() and len(s.names()) >= 30
+    assert s.raw == repo.raw, "the installed package's schemas are stale: pip install ./python"
+    for name in s.names():
+        jsonschema.Draft202012Validator.check_schema(s.raw[name])
+
+
+def test_validate_reports_the_path():
+    s = schemas.default()
+    s.validate("error.json", {"error": {"code": "x", "message": "m", "field": ""}})
+    with pytest.raises(aalab.AalabError) as e:
+        s.validate("evaluate_response.json", {"e2": "high"})
+    assert e.value.code == "protocol" and "e2" in e.value.message
+    assert s.errors("tokens.json#/$defs/revoked", {"id": 1, "revoked": True}) == []
+    with pytest.raises(aalab.AalabError):
+        s.validator("nope.json")
+
+
+def test_every_kind_example_meets_its_result_schema(client):
+    s = schemas.default()
+    jobs = []
+    for kind in client.kinds():
+        example = kind["examples"][0]
+        assert s.errors("kinds/%s.spec.json" % kind["name"], example) == []
+        jobs.append((kind["name"], client.submit(example)))
+    for name, job in jobs:
+        job.wait(progress=False, timeout=120, poll=0.1)
+        assert job.state == "done", (name, job.info.get("error"))
+        assert s.errors("kinds/%s.result.json" % name, job.result) == [], name
