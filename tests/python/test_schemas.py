@@ -24,6 +24,15 @@ def test_package_schemas_are_the_repository_s():
         jsonschema.Draft202012Validator.check_schema(s.raw[name])
 
 
+@pytest.mark.skipif(not os.environ.get("AALAB_TEST_INSTALLED"),
+                    reason="AALAB_TEST_INSTALLED unset: the package may be used from python/")
+def test_the_installed_package_is_tested():
+    # scripts/test.sh's python stage: the tests import the venv's copy, schemas included.
+    pkg = os.path.dirname(aalab.__file__)
+    assert "site-packages" in pkg, pkg
+    assert schemas.schema_dir() == os.path.join(pkg, "schemas")
+
+
 def test_validate_reports_the_path():
     s = schemas.default()
     s.validate("error.json", {"error": {"code": "x", "message": "m", "field": ""}})
