@@ -28,6 +28,15 @@ __version__ = "0.1.0"
 
 pattern = as_pattern
 
+
+def __getattr__(name: str):
+    # aalab.plot imports matplotlib: loaded on first use, so that "import aalab" needs nothing
+    # beyond the standard library.
+    if name == "plot":
+        import importlib
+        return importlib.import_module(".plot", __name__)
+    raise AttributeError("module 'aalab' has no attribute %r" % name)
+
 __all__ = ["Client", "Job", "AalabError", "DaemonUnreachable", "FormatError", "PointSet",
            "Evaluation", "Render", "Trace", "Enumeration", "Argmax", "as_pattern", "pattern",
            "JOB_STATES", "ENDED", "__version__"]
