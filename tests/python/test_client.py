@@ -289,3 +289,39 @@ def test_client_options():
     with pytest.raises(aalab.DaemonUnreachable) as e:
         c.presets()
     assert isinstance(e.value, ConnectionError) and isinstance(e.value, aalab.AalabError)
+
+
+def test_timeout_when_the_daemon_does_not_answer(tmp_path):
+    path = str(tmp_path / "silent.sock")
+    s = socket.socket(socket.AF_UNIX)
+    s.bind(path)
+    s.listen(1)
+    try:
+        with pytest.raises(aalab.AalabError) as e:
+            aalab.Client(path, timeout=0.3).health()
+        assert e.value.code == "timeout" and "timeout" in e.value.message
+    finally:
+        s.close()
+
+
+def test_without_numpy_pillow_and_tqdm(daemon):
+    # The optional packages hidden: lists instead of arrays, PNG bytes instead of images, no bar.
+    code = """
+import sys
+for m in ("numpy", "PIL", "matplotlib", "tqdm"):
+    sys.modules[m] = None
+import aalab
+c = aalab.Client(sys.argv[1])
+e = c.evaluate("flipquad", detail=True)
+assert isinstance(e.per_angle, list) and len(e.per_angle) == 4, type(e.per_angle)
+r = c.render("rgss", size=16, reference=16)
+assert all(isinstance(r.images[k], bytes) and r.images[k][:4] == b"\\x89PNG"
+           for k in ("pattern", "reference", "difference"))
+j = c.submit({"kind": "sleep", "seconds": 0.1}).wait(progress=True, poll=0.05)
+assert j.state == "done" and isinstance(j.trace.seconds, list)
+print("ok")
+"""
+    out = subprocess.run([sys.executable, "-c", code, daemon.socket_path], capture_output=True,
+                         text=True, timeout=60)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stdout + out.stderr
+    assert out.stderr == ""  # no progress bar without tqdm
