@@ -70,7 +70,10 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
     }
     aa_pattern p;
     aa_error err = {0};
-    int rc = proto_decode_pattern(pj, AA_PATTERN_NORMALIZE, &p, "pattern", &err);
+    /* Exactly as stored; normalised only if its weights drifted off a sum of 1. */
+    int rc = proto_decode_pattern(pj, 0, &p, "pattern", &err);
+    if (rc)
+        rc = proto_decode_pattern(pj, AA_PATTERN_NORMALIZE, &p, "pattern", &err);
     json_decref(pj);
     if (rc) {
         api_reply_wire(resp, WIRE_INTERNAL, err.field, "the job's pattern does not decode: %s",
