@@ -55,3 +55,21 @@ def test_every_kind_example_meets_its_result_schema(client):
         job.wait(progress=False, timeout=120, poll=0.1)
         assert job.state == "done", (name, job.info.get("error"))
         assert s.errors("kinds/%s.result.json" % name, job.result) == [], name
+
+
+def test_requests_the_package_builds_meet_the_request_schemas(tmp_path):
+    import numpy as np
+    from aalab import formats
+    s = schemas.default()
+    f = tmp_path / "p.csv"
+    formats.write(f, [[0.25, 0.25, 0.5], [0.75, 0.75, 0.5]])
+    # (pattern argument, weights option): points without w need filter or equal.
+    patterns = [("rgss", None), ({"mirrored": [[0.5, 0.1, 1.0]]}, None),
+                (np.array([[0.5, 0.5]]), "equal"), (f, None),
+                (formats.loads("0.5 0.5\n", "utk"), "filter")]
+    for p, weights in patterns:
+        body = {"pattern": aalab.as_pattern(p, weights=weights), "detail": True}
+        assert s.errors("evaluate_request.json", body) == [], p
+        assert s.errors("export_request.json", {"pattern": body["pattern"], "format": "csv"}) == []
+    bad = {"pattern": {"points": {"format": "svg", "text": ""}}}
+    assert s.errors("evaluate_request.json", bad)
