@@ -133,7 +133,9 @@ class Client:
         """E2 of a pattern (``POST /v1/evaluate``).
 
         Args:
-            pattern: a preset name, wire dict, Job, points or file (:mod:`aalab.patterns`).
+            pattern: a preset name, wire dict, Job, points or file (:mod:`aalab.patterns`);
+                points without weights need a choice:
+                ``evaluate(aalab.pattern(xy, weights="equal"))`` (or ``"filter"``).
             filter: reference filter, a name (``"mitchell"``) or a dict (``{"name":
                 "mitchell", "B": 1/3, "C": 1/3}``); default Mitchell-Netravali B = C = 1/3.
             acuity: acuity table, a name (``"naiman"``, ``"uniform"``) or a dict with

@@ -127,11 +127,15 @@ def pattern(p: Mapping[str, Any], kernel: int = 0, ax: Any = None, title: Option
 
     Args:
         p: a wire pattern with ``kernels``, ``mirrored`` or ``kernels_expanded`` (every pattern
-            the daemon returns has the latter: ``Client.preset("flipquad")["pattern"]``,
-            ``Job.best_pattern``).
+            the daemon returns has the latter: ``Job.best_pattern``), or a document holding one
+            under ``"pattern"`` (``Client.preset("flipquad")``, titled with its name).
         kernel: which kernel sits in the centre (kernels form); the mirrored form always shows
             its pixel with the mirrored neighbours.
     """
+    if isinstance(p.get("pattern"), Mapping):  # a preset answer or an export document
+        if title is None and p.get("name"):
+            title = str(p["name"])
+        p = p["pattern"]
     fig, ax = _figure(ax, figsize, dpi)
     for j in (-1, 0, 1):
         for i in (-1, 0, 1):

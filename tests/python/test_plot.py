@@ -56,8 +56,9 @@ def test_polar(c, tmp_path, no_global_state):
 
 def test_pattern(c, tmp_path, no_global_state):
     check_png(plot.pattern(c.preset("flipquad")["pattern"]), tmp_path / "fq.png", (4.5, 4.5))
-    check_png(plot.pattern(c.preset("quincunx")["pattern"], figsize=(4, 4)), tmp_path / "q.png",
-              (4, 4))
+    fig = plot.pattern(c.preset("quincunx"), figsize=(4, 4))
+    assert fig.axes[0].get_title() == "quincunx"
+    check_png(fig, tmp_path / "q.png", (4, 4))
     # Negative weights are drawn hollow; a tile pattern draws from kernels_expanded.
     neg = {"kernels": [[[0.0, 0.0, 1.2], [0.4, 0.4, -0.2]]]}
     fig = plot.pattern(neg)
