@@ -150,7 +150,7 @@ def pattern(p: Mapping[str, Any], kernel: int = 0, ax: Any = None, title: Option
         for x, y, w, prim in dots:
             if prim != primary:
                 continue
-            s = max(12.0, smax * abs(w) / wmax)
+            s = max(30.0, smax * abs(w) / wmax)
             colour = COLOURS[0] if prim else "#8aa9db"
             if w < 0:
                 ax.scatter([x], [y], s=s, facecolors="none", edgecolors=colour, linewidths=1.4,
@@ -188,9 +188,13 @@ def _fmt_weight(w: float) -> str:
 TraceLike = Union[Job, Trace]
 
 
-def _trace_of(item: TraceLike) -> Tuple[np.ndarray, np.ndarray, Optional[str]]:
+def _trace_of(item: TraceLike) -> Tuple[np.ndarray, np.ndarray, Optional[str], int]:
+    """Seconds, best E2, a label and how many of the points are the trace's own (the rest
+    holds the last best to the job's end)."""
     if isinstance(item, Trace):
-        return np.asarray(item.seconds, float), np.asarray(item.best_e2, float), None
+        xs, ys = np.asarray(item.seconds, float), np.asarray(item.best_e2, float)
+        keep = np.isfinite(xs) & np.isfinite(ys)
+        return xs[keep], ys[keep], None, int(keep.sum())
     if isinstance(item, Job):
         info = item.info
         t = Trace.from_answer(info.get("trace"))
@@ -199,6 +203,7 @@ def _trace_of(item: TraceLike) -> Tuple[np.ndarray, np.ndarray, Optional[str]]:
         xs, ys = xs[keep], ys[keep]
         o = np.argsort(xs, kind="stable")
         xs, ys = xs[o], ys[o]
+        points = len(xs)
         # Hold the last best to the job's end, as the dashboard does (its own clock is not
         # known; wall-clock end - start bounds it).
         r = info.get("result") or {}
@@ -208,7 +213,7 @@ def _trace_of(item: TraceLike) -> Tuple[np.ndarray, np.ndarray, Optional[str]]:
         if len(xs) and end is not None and end > xs[-1]:
             xs, ys = np.append(xs, end), np.append(ys, ys[-1])
         label = info.get("label") or "job %d %s" % (item.job_id, info.get("family") or info["kind"])
-        return xs, ys, label
+        return xs, ys, label, points
     raise TypeError("trace() takes Jobs or Traces, not %s" % type(item).__name__)
 
 
@@ -227,19 +232,25 @@ def trace(items: Union[TraceLike, Sequence[TraceLike], Mapping[str, TraceLike]],
     pairs = list(items.items()) if isinstance(items, Mapping) else [(None, it) for it in items]
     fig, ax = _figure(ax, figsize, dpi)
     for k, (label, it) in enumerate(pairs):
-        xs, ys, own = _trace_of(it)
-        if log:
-            keep = (xs > 0) & (ys > 0)
-            xs, ys = xs[keep], ys[keep]
-        if not len(xs):
+        xs, ys, own, points = _trace_of(it)
+        keep = (xs > 0) & (ys > 0) if log else np.ones(len(xs), bool)
+        if not keep.any():
             continue
         c = COLOURS[k % len(COLOURS)]
-        ax.step(xs, ys, where="post", color=c, linestyle=DASHES[k % len(DASHES)],
+        ax.step(xs[keep], ys[keep], where="post", color=c, linestyle=DASHES[k % len(DASHES)],
                 label=label or own or "trace %d" % k)
-        ax.plot(xs, ys, MARKERS[k % len(MARKERS)], color=c, markersize=3.5)
+        mark = keep[:points]  # the trace's own points, not the hold to the job's end
+        ax.plot(xs[:points][mark], ys[:points][mark], MARKERS[k % len(MARKERS)], color=c,
+                markersize=3.5)
     if log:
+        from matplotlib.ticker import FuncFormatter, LogLocator
         ax.set_xscale("log")
         ax.set_yscale("log")
+        # E2 spans less than a decade: label 1-2-5 steps in plain numbers, not 2×10^-1.
+        ax.yaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+        ax.yaxis.set_minor_locator(LogLocator(subs=(3.0, 4.0, 6.0, 7.0, 8.0, 9.0)))
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: "%g" % v))
+        ax.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
     ax.set_xlabel("run time (s, job's own clock)")
     ax.set_ylabel("best E2")
     ax.grid(True, which="both", alpha=0.3)
