@@ -204,9 +204,8 @@ class Client:
             spec["family"] = family
         if pattern is not None:
             spec["pattern"] = as_pattern(pattern)
-        for k in ("filter",):
-            if k in options:
-                options[k] = _filter(options[k])
+        if "filter" in options:
+            options["filter"] = _filter(options["filter"])
         if "acuity" in options:
             options["acuity"] = _acuity(options["acuity"])
         spec.update(options)
