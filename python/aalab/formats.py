@@ -394,33 +394,47 @@ def _fmt_num(v: float) -> str:
     return repr(float(v))  # the shortest text that reads back to the same double
 
 
+def _finite(v: Any, what: str, field: str) -> float:
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        f = float("nan")
+    if isinstance(v, bool) or not math.isfinite(f):
+        raise AalabError("invalid_field", "%s: not a finite number" % what, field)
+    return f
+
+
 def _as_rows(points: Any, weights: Any) -> Tuple[List[Tuple[float, float]], Optional[List[float]]]:
+    """Points (and weights) given as a PointSet, an array or a sequence, checked: finite
+    numbers, 2 or 3 per point, the same on every point, weights (if given) one per point."""
     if isinstance(points, PointSet):
-        return list(points.points), (list(points.weights) if points.weights is not None
-                                     and weights is None else weights)
-    rows = points.tolist() if hasattr(points, "tolist") else list(points)
+        rows: List[Any] = [list(p) for p in points.points]
+        if weights is None and points.weights is not None:
+            weights = points.weights
+    else:
+        rows = points.tolist() if hasattr(points, "tolist") else list(points)
     pts: List[Tuple[float, float]] = []
     ws: List[float] = []
     for i, r in enumerate(rows):
-        r = list(r)
+        r = list(r) if isinstance(r, (list, tuple)) or hasattr(r, "tolist") else [r]
         if len(r) not in (2, 3):
             raise AalabError("invalid_field", "point %d: expected (x, y) or (x, y, w)" % i,
                              "points[%d]" % i)
-        for v in r:
-            if not math.isfinite(float(v)):
-                raise AalabError("invalid_field", "point %d: not a finite number" % i,
-                                 "points[%d]" % i)
-        pts.append((float(r[0]), float(r[1])))
-        if len(r) == 3:
-            ws.append(float(r[2]))
-    if ws and len(ws) != len(pts):
-        raise AalabError("invalid_field", "every point needs a weight if one has", "points")
+        v = [_finite(x, "point %d" % i, "points[%d]" % i) for x in r]
+        if i and (len(v) == 3) != bool(ws):
+            raise AalabError("invalid_field", "point %d: every point needs a weight if one has"
+                             % i, "points[%d]" % i)
+        pts.append((v[0], v[1]))
+        if len(v) == 3:
+            ws.append(v[2])
+    if not pts:
+        raise AalabError("invalid_field", "no points", "points")
     if weights is not None:
         w = weights.tolist() if hasattr(weights, "tolist") else list(weights)
         if len(w) != len(pts):
             raise AalabError("invalid_field", "%d weights for %d points" % (len(w), len(pts)),
                              "weights")
-        return pts, [float(x) for x in w]
+        return pts, [_finite(x, "weight %d" % i, "weights[%d]" % i) for i, x in enumerate(w)]
     return pts, (ws or None)
 
 

@@ -205,3 +205,25 @@ def test_points_without_header(client):
         client.evaluate({"points": {"format": "json", "data": [[0.1, 0.2], [0.3]],
                                     "weights": "equal"}})
     assert e.value.field == "pattern.points.data[1]"
+
+
+def test_points_given_as_arrays_are_checked():
+    with pytest.raises(aalab.AalabError) as e:
+        formats.dumps([[0, 0, 1], [0, 0]], "xyw")
+    assert e.value.field == "points[1]" and "weight" in e.value.message
+    with pytest.raises(aalab.AalabError) as e:
+        formats.dumps([[0, "a"]], "xyw")
+    assert e.value.field == "points[0]"
+    with pytest.raises(aalab.AalabError) as e:
+        formats.dumps([[0, 0]], "xyw", weights=[float("inf")])
+    assert e.value.field == "weights[0]"
+    with pytest.raises(aalab.AalabError) as e:
+        formats.dumps([[0, 0]], "xyw", weights=[1, 2])
+    assert e.value.field == "weights"
+    with pytest.raises(aalab.AalabError):
+        formats.dumps([], "csv")
+    ps = formats.loads("0.5 0.5 1\n", "xyw")
+    assert formats.dumps(ps, "csv", weights=[0.25]) == "x,y,w\n0.5,0.5,0.25\n"
+    with pytest.raises(aalab.AalabError) as e:
+        aalab.as_pattern([[0.1, 0.2], [0.3, 0.4, 1.0]])
+    assert e.value.field == "pattern.points.data[1]"
