@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
@@ -229,13 +228,16 @@ class Client:
     def export(self, source: Any, fmt: str = "json",
                path: Optional[Union[str, "os.PathLike[str]"]] = None
                ) -> Union[Dict[str, Any], str]:
-        """A pattern exported in ``fmt``: the best pattern of a job (a :class:`Job` or job
-        id), or with a daemon that exports any pattern, a preset name, wire dict or points.
+        """A pattern exported in ``fmt``: the best pattern of a job (a :class:`Job` or job id:
+        ``GET /v1/patterns/{id}/export``) or any other pattern argument, a preset name, wire
+        dict, points or file (``POST /v1/patterns/export``).
 
-        JSON formats (``json``, ``vulkan``, ``d3d12``) return a dict, the point formats
-        (``utk``, ``xyw``, ``csv``) the file text (unit square of the whole tile, with the
-        ``# aalab-pattern`` header that makes a round trip exact). With ``path`` the text (or
-        the JSON) is written there too."""
+        Formats: ``json`` (aalab's pattern JSON), ``utk``, ``xyw``, ``csv`` (point-set text in
+        the unit square of the whole tile, with the ``# aalab-pattern`` header line that makes
+        a round trip exact: E2 equal to 1e-12 when read back), ``points-json`` (the same as
+        ``{"aalab": {...}, "points": [...]}``), ``vulkan``, ``d3d12`` (programmable sample
+        positions, or ``representable: false`` with a reason). JSON formats return a dict,
+        text formats a str. With ``path`` the answer is also written there, byte for byte."""
         job_id = getattr(source, "job_id", None)
         if job_id is None and isinstance(source, int) and not isinstance(source, bool):
             job_id = source
@@ -257,12 +259,11 @@ class Client:
             out = resp.json()
             if self.validate and job_id is not None and fmt in ("json", "vulkan", "d3d12"):
                 _schemas.default().validate("export_response.json", out)
-            text = json.dumps(out, indent=1) + "\n"
         else:
-            out = text = resp.body.decode("utf-8")
+            out = resp.body.decode("utf-8")
         if path is not None:
-            with open(path, "w", encoding="utf-8") as f:
-                f.write(text)
+            with open(path, "wb") as f:
+                f.write(resp.body)
         return out
 
     # -- rendering ----------------------------------------------------------------------------
