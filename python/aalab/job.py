@@ -181,10 +181,10 @@ class Job:
     def export(self, fmt: str = "json", path: Optional[str] = None) -> Union[Dict[str, Any], str]:
         """The job's best pattern exported (``GET /v1/patterns/{id}/export``).
 
-        ``fmt``: ``json`` (the pattern document), ``vulkan`` / ``d3d12`` (programmable sample
-        positions, where representable), or a point format (``utk``, and with the point
-        formats of the daemon ``xyw``, ``csv``, ``points-json``: text in the unit square of the
-        whole tile with the ``# aalab-pattern`` header for an exact round trip). JSON formats
-        return a dict, text formats a str; with ``path`` the answer is also written there.
+        ``fmt``: ``json`` (the pattern document), ``utk``, ``xyw``, ``csv`` (point-set text in
+        the unit square of the whole tile, with the ``# aalab-pattern`` header for an exact
+        round trip), ``points-json``, ``vulkan``, ``d3d12`` (:meth:`Client.export`). JSON
+        formats return a dict, text formats a str; with ``path`` the answer is also written
+        there.
         """
         return self._client.export(self, fmt, path)
