@@ -27,6 +27,19 @@ void proto_utf8_trim(char *s)
         s[i - 1] = 0;
 }
 
+const char *proto_utf8_prefix(char *buf, size_t cap, const char *s, size_t max)
+{
+    size_t n = strlen(s);
+    if (n > max)
+        n = max;
+    if (n >= cap)
+        n = cap - 1;
+    memcpy(buf, s, n);
+    buf[n] = 0;
+    proto_utf8_trim(buf);
+    return buf;
+}
+
 void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub)
 {
     int n; /* a path longer than cap is cut short on purpose (checking n tells -O3 gcc so) */

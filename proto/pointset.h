@@ -61,6 +61,9 @@ int proto_pointset_parse(const char *text, size_t len, proto_points_format fmt, 
 int proto_pointset_from_json(const json_t *j, bool by_index, proto_pointset *out, const char *field,
                              aa_error *err);
 void proto_pointset_free(proto_pointset *ps);
+/* Appends a point (growing the arrays; *cap is their capacity). AA_ENOMEM on failure. The
+ * caller bounds the count by PROTO_POINTS_MAX. */
+int proto_pointset_push(proto_pointset *ps, size_t *cap, proto_point p, size_t where);
 
 /* Where the weights of a point set come from (without an aalab header, or to override it). */
 typedef enum proto_weights_rule {
