@@ -234,6 +234,11 @@ def _csv_fields(line: str) -> List[str]:
     return out
 
 
+# As the C codec (proto/pointset_parse.c): a line splits into at most this many fields, beyond
+# which it says "more than".
+_CSV_MAX_COLUMNS = 8
+
+
 def _parse_csv(text: str) -> PointSet:
     header = _Header()
     cols: List[str] = []
@@ -248,9 +253,9 @@ def _parse_csv(text: str) -> PointSet:
             continue
         f = _csv_fields(line)
         if not cols:
-            if len(f) > 3:
-                raise FormatError("line %d: more than 3 columns (the columns are x, y and "
-                                  "optionally w)" % n)
+            if len(f) > _CSV_MAX_COLUMNS:
+                raise FormatError("line %d: more than %d columns (the columns are x, y and "
+                                  "optionally w)" % (n, _CSV_MAX_COLUMNS))
             for c in f:
                 name = c.lower()
                 if name not in ("x", "y", "w"):
@@ -264,10 +269,11 @@ def _parse_csv(text: str) -> PointSet:
             head_line = n
             continue
         if len(f) != len(cols):
-            raise FormatError("line %d: %s%d fields, but the header (line %d) names %d"
-                              % (n, "more than " if len(f) > len(cols) else "",
-                                 min(len(f), len(cols)) if len(f) > len(cols) else len(f),
-                                 head_line, len(cols)))
+            many = len(f) > _CSV_MAX_COLUMNS
+            count = _CSV_MAX_COLUMNS if many else len(f)
+            raise FormatError("line %d: %s%d field%s, but the header (line %d) names %d"
+                              % (n, "more than " if many else "", count,
+                                 "" if count == 1 else "s", head_line, len(cols)))
         v = {c: _token(x, "line %d" % n, c) for c, x in zip(cols, f)}
         if len(pts) == MAX_POINTS:
             raise FormatError("line %d: more than %d points" % (n, MAX_POINTS))
@@ -342,8 +348,8 @@ def _parse_json(text: str) -> PointSet:
     if isinstance(doc, dict):
         for k in doc:
             if k not in ("aalab", "points"):
-                raise FormatError("unknown key '%s' (the object form is {\"aalab\": {...}, "
-                                  "\"points\": [...]})" % k[:40], field + "." + k)
+                # As the daemon's proto_check_keys: the field names the key.
+                raise FormatError("unknown field", field + "." + k)
         if "points" not in doc:
             raise FormatError("the object form needs points", field + ".points")
         meta = doc.get("aalab")

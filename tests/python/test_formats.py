@@ -34,7 +34,7 @@ def test_header():
     assert formats.loads("# aalab-patternless comment\n0 0\n", "utk").meta is None
 
 
-@pytest.mark.parametrize("text,fmt,message", [
+BAD_TEXTS = [
     ("0.1\n", "utk", "line 1: expected 2 numbers (x y)"),
     ("0.1 0.2 0.3\n", "utk", "line 1: expected 2 numbers (x y)"),
     ("0 0\n\n1 2 3 4\n", "xyw", "line 3: expected 2 or 3 numbers (x y [w])"),
@@ -47,12 +47,14 @@ def test_header():
     ('# aalab-pattern {}\n# aalab-pattern {}\n0 0\n', "utk", "line 2: a second aalab-pattern"),
     ("# aalab-pattern [1]\n0 0\n", "utk", "line 1: the aalab-pattern header is not a JSON object"),
     ("x,y,z\n0,0,0\n", "csv", "line 1: unknown column 'z'"),
-    ("x,y,w,q\n", "csv", "line 1: more than 3 columns"),
+    ("x,y,w,q\n", "csv", "line 1: unknown column 'q'"),
+    ("a,b,c,d,e,f,g,h,i\n", "csv", "line 1: more than 8 columns"),
     ("x,x\n", "csv", "line 1: column x twice"),
     ("x,w\n", "csv", "line 1: the header line must name columns x and y"),
     ("0.1,0.2\n", "csv", "line 1: unknown column '0.1'"),
-    ("x,y\n0.1\n", "csv", "line 2: 1 fields, but the header (line 1) names 2"),
-    ("x,y\n0,1,2\n", "csv", "line 2: more than 2 fields, but the header (line 1) names 2"),
+    ("x,y\n0.1\n", "csv", "line 2: 1 field, but the header (line 1) names 2"),
+    ("x,y\n0,1,2\n", "csv", "line 2: 3 fields, but the header (line 1) names 2"),
+    ("x,y\n0,1,2,3,4,5,6,7,8\n", "csv", "line 2: more than 8 fields, but the header (line 1) names 2"),
     ("y,x\n0,a\n", "csv", "line 2: x: 'a' is not a number"),
     ("\n", "csv", "no header line"),
     ("[[0, 0], [1]]", "json", "point 1: a point is [x, y] or [x, y, w]"),
@@ -60,14 +62,32 @@ def test_header():
     ('[[0, 0, 1], [0, 0]]', "json", "point 1: has no w but point 0 has"),
     ('[[0, true]]', "json", "point 0: y must be a finite number"),
     ('[]', "json", "no points"),
-    ('{"points": [[0, 0]], "x": 1}', "json", "unknown key 'x'"),
+    ('{"points": [[0, 0]], "x": 1}', "json", "unknown field"),
     ('[[0, 0]', "json", "line 1: not valid JSON"),
-])
+]
+
+
+@pytest.mark.parametrize("text,fmt,message", BAD_TEXTS)
 def test_errors_name_the_line(text, fmt, message):
     with pytest.raises(formats.FormatError) as e:
         formats.loads(text, fmt)
     assert e.value.message.startswith(message), e.value.message
     assert e.value.field.startswith("pattern.points.text") and e.value.code == "invalid_field"
+
+
+@pytest.mark.parametrize("text,fmt,message", BAD_TEXTS)
+def test_daemon_gives_the_same_errors(client, text, fmt, message):
+    # The package's reader and the daemon's C codec (proto/pointset_parse.c) agree word for word.
+    with pytest.raises(formats.FormatError) as local:
+        formats.loads(text, fmt)
+    with pytest.raises(aalab.AalabError) as remote:
+        client.evaluate({"points": {"format": fmt, "text": text, "weights": "equal"}})
+    assert remote.value.status == 400
+    if message.endswith("not valid JSON"):  # the rest is the JSON parser's own words
+        assert remote.value.message.startswith(message)
+    else:
+        assert remote.value.message == local.value.message
+    assert remote.value.field == local.value.field
 
 
 def test_csv_and_json_forms():
