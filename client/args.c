@@ -47,6 +47,10 @@ typedef enum opt_id {
     OPT_KIND,
     OPT_LIMIT,
     OPT_TRACE,
+    OPT_POINTS_FORMAT,
+    OPT_TILE,
+    OPT_KERNEL,
+    OPT_WEIGHTS,
     OPT_ANGLE
 } opt_id;
 
@@ -63,6 +67,9 @@ typedef struct opt_spec {
     (BIT(CMD_EVAL) | BIT(CMD_PRESETS) | BIT(CMD_JOBS) | BIT(CMD_JOB) | BIT(CMD_WAIT) |             \
      BIT(CMD_HEALTH) | BIT(CMD_FILTERS) | BIT(CMD_ACUITY) | BIT(CMD_ENUMERATE) | BIT(CMD_TOKEN) |  \
      BIT(CMD_PREDICT))
+
+/* The commands that take a pattern argument, which may be a point-set file. */
+#define PATTERN_COMMANDS (BIT(CMD_EVAL) | BIT(CMD_OPTIMIZE) | BIT(CMD_RENDER) | BIT(CMD_CONVERT))
 
 static const opt_spec OPTIONS[] = {
     {"socket", 's', true, ALL_COMMANDS, OPT_SOCKET},
@@ -95,9 +102,13 @@ static const opt_spec OPTIONS[] = {
     {"scene", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT), OPT_SCENE},
     {"size", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT), OPT_SIZE},
     {"angle", 0, true, BIT(CMD_PREDICT), OPT_ANGLE},
-    {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT), OPT_OUTPUT},
+    {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT) | BIT(CMD_CONVERT), OPT_OUTPUT},
     {"image", 0, true, BIT(CMD_RENDER), OPT_IMAGE},
-    {"format", 'f', true, BIT(CMD_EXPORT), OPT_FORMAT},
+    {"format", 'f', true, BIT(CMD_EXPORT) | BIT(CMD_CONVERT), OPT_FORMAT},
+    {"points-format", 0, true, PATTERN_COMMANDS, OPT_POINTS_FORMAT},
+    {"tile", 0, true, PATTERN_COMMANDS, OPT_TILE},
+    {"kernel", 0, true, PATTERN_COMMANDS, OPT_KERNEL},
+    {"weights", 0, true, PATTERN_COMMANDS, OPT_WEIGHTS},
     {"label", 0, true, BIT(CMD_TOKEN), OPT_LABEL},
 };
 
@@ -110,7 +121,8 @@ static const struct {
     {"jobs", CMD_JOBS},       {"job", CMD_JOB},           {"cancel", CMD_CANCEL},
     {"render", CMD_RENDER},   {"export", CMD_EXPORT},     {"health", CMD_HEALTH},
     {"filters", CMD_FILTERS}, {"acuity", CMD_ACUITY},     {"enumerate", CMD_ENUMERATE},
-    {"token", CMD_TOKEN},     {"wait", CMD_WAIT},         {"predict", CMD_PREDICT},
+    {"token", CMD_TOKEN},     {"wait", CMD_WAIT},         {"convert", CMD_CONVERT},
+    {"predict", CMD_PREDICT},
 };
 
 const char *cli_command_name(cli_command c)
@@ -217,7 +229,10 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
     static const char *const METHODS[] = {"auto", "laine-aila", "minimax", "smooth", NULL};
     static const char *const EXECUTORS[] = {"local", "slurm", NULL};
     static const char *const IMAGES[] = {"pattern", "reference", "difference", NULL};
-    static const char *const FORMATS[] = {"json", "utk", "vulkan", "d3d12", NULL};
+    static const char *const FORMATS[] = {"json",        "utk",    "xyw",   "csv",
+                                          "points-json", "vulkan", "d3d12", NULL};
+    static const char *const POINTS_FORMATS[] = {"utk", "xyw", "csv", "json", NULL};
+    static const char *const WEIGHTS[] = {"file", "filter", "equal", NULL};
     static const char *const STATES[] = {"queued",    "running",     "done", "failed",
                                          "cancelled", "interrupted", NULL};
     long l;
@@ -354,8 +369,31 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
         break;
     case OPT_FORMAT:
         if (!one_of(v, FORMATS))
-            return fail(err, cap, "--format wants json, utk, vulkan or d3d12, got '%s'", v);
+            return fail(err, cap,
+                        "--format wants json, utk, xyw, csv, points-json, vulkan or d3d12, got "
+                        "'%s'",
+                        v);
         a->format = v;
+        break;
+    case OPT_POINTS_FORMAT:
+        if (!one_of(v, POINTS_FORMATS))
+            return fail(err, cap, "--points-format wants utk, xyw, csv or json, got '%s'", v);
+        a->points_format = v;
+        break;
+    case OPT_TILE:
+        if (parse_long(v, 1, 16, &l))
+            return fail(err, cap, "--tile wants the tile size in pixels, 1..16, got '%s'", v);
+        a->tile = (int)l;
+        break;
+    case OPT_KERNEL:
+        if (parse_long(v, 1, 8, &l))
+            return fail(err, cap, "--kernel wants the kernel size in pixels, 1..8, got '%s'", v);
+        a->kernel = (int)l;
+        break;
+    case OPT_WEIGHTS:
+        if (!one_of(v, WEIGHTS))
+            return fail(err, cap, "--weights wants file, filter or equal, got '%s'", v);
+        a->weights = v;
         break;
     }
     return 0;
@@ -384,6 +422,7 @@ static int check_command(cli_args *a, char *err, size_t cap)
     case CMD_NONE:
         return fail(err, cap, "no command given (try 'aalab help')");
     case CMD_EVAL:
+    case CMD_CONVERT:
     case CMD_SUBMIT:
     case CMD_JOB:
     case CMD_WAIT:
@@ -391,16 +430,22 @@ static int check_command(cli_args *a, char *err, size_t cap)
     case CMD_EXPORT:
         if (!a->target)
             return fail(err, cap, "'%s' needs %s", name,
-                        a->command == CMD_EVAL     ? "a preset NAME or a FILE.json"
+                        a->command == CMD_EVAL || a->command == CMD_CONVERT
+                            ? "a preset NAME, a pattern FILE.json or a point-set file"
                         : a->command == CMD_SUBMIT ? "a job spec FILE.json (or - for stdin)"
                                                    : "a job ID");
-        if (a->command != CMD_EVAL && a->command != CMD_SUBMIT && !job_id_valid(a->target))
+        if (a->command != CMD_EVAL && a->command != CMD_CONVERT && a->command != CMD_SUBMIT &&
+            !job_id_valid(a->target))
             return fail(err, cap, "'%s' wants a job ID (letters, digits, '-', '_'), got '%s'", name,
                         a->target);
         break;
     case CMD_OPTIMIZE:
         if (!a->family == !a->pattern)
             return fail(err, cap, "'optimize' needs exactly one of --family or --pattern");
+        if (a->family && (a->points_format || a->tile || a->kernel || a->weights))
+            return fail(err, cap,
+                        "--points-format, --tile, --kernel and --weights read a point-set "
+                        "--pattern, not a --family");
         break;
     case CMD_ENUMERATE:
         if (!a->family)
@@ -432,10 +477,10 @@ static int check_command(cli_args *a, char *err, size_t cap)
     }
     if (a->csv && a->json)
         return fail(err, cap, "give --csv or --json, not both");
-    bool takes_argument = a->command == CMD_EVAL || a->command == CMD_SUBMIT ||
-                          a->command == CMD_JOB || a->command == CMD_WAIT ||
-                          a->command == CMD_CANCEL || a->command == CMD_EXPORT ||
-                          a->command == CMD_PRESETS || a->command == CMD_TOKEN;
+    bool takes_argument =
+        a->command == CMD_EVAL || a->command == CMD_CONVERT || a->command == CMD_SUBMIT ||
+        a->command == CMD_JOB || a->command == CMD_WAIT || a->command == CMD_CANCEL ||
+        a->command == CMD_EXPORT || a->command == CMD_PRESETS || a->command == CMD_TOKEN;
     if (a->target && !takes_argument)
         return fail(err, cap, "'%s' takes no argument, got '%s'", name, a->target);
     return 0;

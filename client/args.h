@@ -25,6 +25,7 @@ typedef enum cli_command {
     CMD_ENUMERATE,
     CMD_TOKEN,
     CMD_WAIT,
+    CMD_CONVERT,
     CMD_PREDICT
 } cli_command;
 
@@ -35,7 +36,8 @@ typedef struct cli_args {
     bool json;
     bool csv;         /* tables as RFC 4180 CSV (commands that print tables) */
     double timeout_s; /* per request, default 30 */
-    /* positional: eval NAME|FILE, submit FILE|-, job/wait/cancel/export ID, help COMMAND */
+    /* positional: eval/convert NAME|FILE, submit FILE|-, job/wait/cancel/export ID,
+     * help COMMAND */
     const char *target;
     /* token: the second positional of "token revoke ID" */
     const char *target2;
@@ -77,8 +79,13 @@ typedef struct cli_args {
     /* predict: the scene's angle (degrees) */
     double angle;
     bool has_angle;
-    /* export */
+    /* export, convert: json | utk | xyw | csv | points-json | vulkan | d3d12 */
     const char *format;
+    /* point-set pattern files (eval, optimize, render, convert): how to read them */
+    const char *points_format; /* utk | xyw | csv | json; NULL: from the file's extension */
+    int tile;                  /* --tile T, 0: not given */
+    int kernel;                /* --kernel K, 0: not given */
+    const char *weights;       /* file | filter | equal; NULL: not given */
 } cli_args;
 
 /* Returns 0, or -1 with a one-line reason in err (exit code 1 then). argv[0] is the program. */

@@ -144,6 +144,12 @@ int cli_call_raw(cli_session *s, const char *method, const char *path, http_resp
     return exchange(s, method, path, NULL, resp);
 }
 
+int cli_call_raw_body(cli_session *s, const char *method, const char *path, const json_t *body,
+                      http_response *resp)
+{
+    return exchange(s, method, path, body, resp);
+}
+
 const char *fmt_number(char *buf, size_t cap, const json_t *v, int decimals)
 {
     if (json_is_real(v) && decimals == FMT_FULL && isfinite(json_real_value(v))) {

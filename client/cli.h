@@ -31,6 +31,9 @@ int cli_show(cli_session *s, const char *method, const char *path, const json_t 
              cli_view view);
 /* Same, but keeps the raw 2xx body (PNG, export text) in *resp. */
 int cli_call_raw(cli_session *s, const char *method, const char *path, http_response *resp);
+/* cli_call_raw with a JSON body (borrowed). */
+int cli_call_raw_body(cli_session *s, const char *method, const char *path, const json_t *body,
+                      http_response *resp);
 
 /* Prints a JSON document for scripts (indent 2, sorted as received, newline). */
 void cli_print_json(FILE *out, const json_t *doc);

@@ -45,6 +45,8 @@ static command_fn command_for(cli_command c)
         return cmd_token;
     case CMD_WAIT:
         return cmd_wait;
+    case CMD_CONVERT:
+        return cmd_convert;
     default:
         return NULL;
     }

@@ -18,13 +18,19 @@
 #define PROTO_MAX_ANGLES AA_MAX_ANGLES
 
 /* Pattern: {"preset":"name"} | {"kernels":[[[x,y,w],...],...]} | {"mirrored":[[x,y,w],...]} |
- * {"tile":{"size":T,"kernel":K,"border":bool,"samples":[[x,y],...],"weights":[[w,...],...]?}},
+ * {"tile":{"size":T,"kernel":K,"border":bool,"samples":[[x,y],...],"weights":[[w,...],...]?}} |
+ * {"points":{"format":"utk"|"xyw"|"csv"|"json","text":"..."|"data":[...],"tile":T,...}},
  * optional "normalize":true (ORed into flags as AA_PATTERN_NORMALIZE). The informational keys
  * written by proto_encode_pattern ("family", "cost_spp", "form", "kernels_expanded", "name")
  * are accepted and ignored so that an encoded pattern decodes back. field_prefix (may be NULL
  * or "") is prepended to every error field. On error *out holds nothing to free. */
 int proto_decode_pattern(const json_t *j, unsigned flags, aa_pattern *out, const char *field_prefix,
                          aa_error *err);
+/* The same where the request has its own reference filter: the "points" form's "weights":
+ * "filter" weights by it (NULL: the default Mitchell filter, as proto_decode_pattern).
+ * {"points":{...}} is a point-set file (proto/pointset.h). */
+int proto_decode_pattern_filtered(const json_t *j, unsigned flags, const aa_filter *weight_filter,
+                                  aa_pattern *out, const char *field_prefix, aa_error *err);
 /* {"name":"mitchell","B":..,"C":..,"radius":..} / {"name":"gaussian","sigma":..,"radius":..} /
  * {"name":"lanczos","a":..}; NULL j -> the default Mitchell filter. */
 int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefix, aa_error *err);

@@ -7,11 +7,20 @@
 #define PROTO_FIELD_MAX 96
 #define PROTO_MAX_KEYS 64 /* keys of one object, over all the lists of proto_check_keys_in */
 
+/* Drops a last UTF-8 character that truncation left incomplete (error fields and messages go
+ * into JSON, which must be UTF-8). */
+void proto_utf8_trim(char *s);
+/* At most max bytes of s into buf (cap bytes), cut at a UTF-8 character boundary; returns buf. */
+const char *proto_utf8_prefix(char *buf, size_t cap, const char *s, size_t max);
 /* Sets err with field prefix+sub and a fixed message; returns code. */
 int proto_fail(aa_error *err, int code, const char *prefix, const char *sub, const char *msg);
 /* Prepends prefix to err->field (engine errors are relative to the engine object). */
 int proto_prefix_error(aa_error *err, const char *prefix);
 /* A finite JSON number (integer or real). */
 int proto_number(const json_t *j, double *out, aa_error *err, const char *prefix, const char *sub);
+
+/* The "points" form's object (codec_points.c); weight_filter NULL = the default filter. */
+int proto_decode_points_form(const json_t *j, unsigned flags, const aa_filter *weight_filter,
+                             aa_pattern *out, const char *prefix, aa_error *err);
 
 #endif

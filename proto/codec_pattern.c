@@ -249,14 +249,21 @@ static int decode_tile(const json_t *j, unsigned flags, aa_pattern *out, const c
 int proto_decode_pattern(const json_t *j, unsigned flags, aa_pattern *out, const char *field_prefix,
                          aa_error *err)
 {
+    return proto_decode_pattern_filtered(j, flags, NULL, out, field_prefix, err);
+}
+
+int proto_decode_pattern_filtered(const json_t *j, unsigned flags, const aa_filter *weight_filter,
+                                  aa_pattern *out, const char *field_prefix, aa_error *err)
+{
     memset(out, 0, sizeof *out);
     const char *prefix = field_prefix ? field_prefix : "";
     if (!json_is_object(j))
         return proto_fail(err, AA_EINVAL, prefix, "",
-                          "a pattern is an object with one of preset, kernels, mirrored, tile");
-    static const char *const keys[] = {"preset",           "kernels", "mirrored", "tile",
-                                       "normalize",        "family",  "cost_spp", "form",
-                                       "kernels_expanded", "name",    NULL};
+                          "a pattern is an object with one of preset, kernels, mirrored, tile, "
+                          "points");
+    static const char *const keys[] = {"preset", "kernels",          "mirrored", "tile",
+                                       "points", "normalize",        "family",   "cost_spp",
+                                       "form",   "kernels_expanded", "name",     NULL};
     int rc = proto_check_keys(j, keys, err, prefix);
     if (rc)
         return rc;
@@ -267,19 +274,19 @@ int proto_decode_pattern(const json_t *j, unsigned flags, aa_pattern *out, const
         if (json_is_true(norm))
             flags |= AA_PATTERN_NORMALIZE;
     }
-    static const char *const forms[] = {"preset", "kernels", "mirrored", "tile"};
+    static const char *const forms[] = {"preset", "kernels", "mirrored", "tile", "points"};
     const char *form = NULL;
-    for (size_t i = 0; i < 4; i++) {
+    for (size_t i = 0; i < 5; i++) {
         if (json_object_get(j, forms[i])) {
             if (form)
                 return proto_fail(err, AA_EINVAL, prefix, forms[i],
-                                  "give exactly one of preset, kernels, mirrored, tile");
+                                  "give exactly one of preset, kernels, mirrored, tile, points");
             form = forms[i];
         }
     }
     if (!form)
         return proto_fail(err, AA_EINVAL, prefix, "",
-                          "a pattern needs one of preset, kernels, mirrored, tile");
+                          "a pattern needs one of preset, kernels, mirrored, tile, points");
     const json_t *v = json_object_get(j, form);
     if (!strcmp(form, "preset")) {
         if (!json_is_string(v))
@@ -299,6 +306,8 @@ int proto_decode_pattern(const json_t *j, unsigned flags, aa_pattern *out, const
         return decode_kernels(v, flags, out, prefix, err);
     if (!strcmp(form, "mirrored"))
         return decode_mirrored(v, flags, out, prefix, err);
+    if (!strcmp(form, "points"))
+        return proto_decode_points_form(v, flags, weight_filter, out, prefix, err);
     return decode_tile(v, flags, out, prefix, err);
 }
 

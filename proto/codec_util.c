@@ -5,6 +5,41 @@
 #include <stdio.h>
 #include <string.h>
 
+void proto_utf8_trim(char *s)
+{
+    size_t i = strlen(s), cont = 0;
+    while (i > 0 && cont < 4 && ((unsigned char)s[i - 1] & 0xC0) == 0x80) {
+        i--;
+        cont++;
+    }
+    if (i == 0) {
+        if (cont)
+            s[0] = 0;
+        return;
+    }
+    unsigned char lead = (unsigned char)s[i - 1];
+    size_t need = lead < 0x80           ? 1
+                  : (lead >> 5) == 0x6  ? 2
+                  : (lead >> 4) == 0xE  ? 3
+                  : (lead >> 3) == 0x1E ? 4
+                                        : 1;
+    if (cont + 1 < need)
+        s[i - 1] = 0;
+}
+
+const char *proto_utf8_prefix(char *buf, size_t cap, const char *s, size_t max)
+{
+    size_t n = strlen(s);
+    if (n > max)
+        n = max;
+    if (n >= cap)
+        n = cap - 1;
+    memcpy(buf, s, n);
+    buf[n] = 0;
+    proto_utf8_trim(buf);
+    return buf;
+}
+
 void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub)
 {
     int n; /* a path longer than cap is cut short on purpose (checking n tells -O3 gcc so) */
@@ -16,8 +51,10 @@ void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub
         n = snprintf(out, cap, "%s%s", prefix, sub);
     else
         n = snprintf(out, cap, "%s.%s", prefix, sub);
-    if (cap > 0 && (n < 0 || (size_t)n >= cap))
+    if (cap > 0 && (n < 0 || (size_t)n >= cap)) {
         out[cap - 1] = '\0';
+        proto_utf8_trim(out); /* fields go into JSON answers: never half a character */
+    }
 }
 
 json_t *proto_real(double v)
@@ -78,6 +115,7 @@ int proto_check_keys(const json_t *obj, const char *const *allowed, aa_error *er
         if (!ok) {
             char sub[80];
             snprintf(sub, sizeof sub, "%.60s", key);
+            proto_utf8_trim(sub);
             return proto_fail(err, AA_EINVAL, prefix, sub, "unknown field");
         }
     }

@@ -21,7 +21,8 @@ int proto_decode_optimize_spec(const json_t *spec, proto_optimize_spec *s, aa_er
     if (!rc && s->have_family == (pattern != NULL))
         rc = aa_error_set(err, AA_EINVAL, "family", "give exactly one of family and pattern");
     if (!rc && pattern)
-        rc = proto_decode_pattern(pattern, 0, &s->pattern, "pattern", err);
+        rc = proto_decode_pattern_filtered(pattern, 0, &s->common.filter, &s->pattern, "pattern",
+                                           err);
     json_int_t seeds = s->have_family ? 64 : 1;
     if (!rc)
         rc = proto_spec_integer(spec, "seeds", 1, 100000, &seeds, err);

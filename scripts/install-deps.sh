@@ -2,7 +2,8 @@
 # Installs every Debian 12 package aalab needs to build, run and test (passwd and procps: the
 # multi-user tests create users with useradd and end their processes with pkill;
 # python3-jsonschema: the e2e tests validate every answer against proto/schemas; slurm-wlm and
-# munge: tests/slurm starts a real one-node Slurm cluster), then the dashboard test
+# munge: tests/slurm starts a real one-node Slurm cluster; python3-venv ... python3-tqdm: the
+# Python package's venv, offline build and pytest stage, tests/python), then the dashboard test
 # dependencies (npm ci in tests/web). Idempotent and quiet: when everything is present it only
 # checks and returns. Needs root (or sudo) only when something is missing.
 set -eu
@@ -13,7 +14,9 @@ PACKAGES="build-essential cmake pkg-config git ca-certificates
   libmicrohttpd-dev libjansson-dev libsqlite3-dev libpng-dev libcurl4-openssl-dev libsystemd-dev libssl-dev
   liblbfgs-dev libcmocka-dev clang libclang-rt-14-dev clang-format
   curl jq python3 python3-jsonschema sqlite3 wrk chromium systemd
-  passwd procps slurm-wlm munge"
+  passwd procps slurm-wlm munge
+  python3-venv python3-setuptools python3-wheel python3-pytest python3-numpy python3-matplotlib
+  python3-pil python3-tqdm"
 
 missing=""
 for p in $PACKAGES; do

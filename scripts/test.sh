@@ -4,6 +4,8 @@
 #   1. the whole ctest suite in a normal (RelWithDebInfo) build        build/ci
 #   1b. "slurm": the tests labelled slurm (a real one-node Slurm cluster, tests/slurm), build/ci;
 #      SKIP with the reason printed where the cluster cannot start (not root, no slurmd)
+#   1c. "python": the Python package (python/) installed in a venv over Debian's python3-*
+#      packages, its pytest suite (tests/python) against build/ci's aalabd, docs/examples
 #   2. the whole ctest suite with AddressSanitizer + UBSan            build/ci-sanitize
 #   3. ThreadSanitizer: tests/tsan.sh's selection, then the end-to-end tests  build/ci-tsan
 #   4. tests labelled "fuzz" (60 s per target) in a clang libFuzzer build   build/ci-fuzz
@@ -71,6 +73,21 @@ slurm() {
   rm -f "$log"
   [ "$rc" -eq 0 ] || return 1
   [ "$skipped" -eq 0 ] || return 77
+}
+
+python_stage() {
+  # pip install offline (--no-index, Debian's setuptools: --no-build-isolation) into a venv that
+  # sees Debian's numpy, matplotlib, tqdm, pytest, jsonschema; /usr/bin/python3, never a pyenv
+  # python3 on PATH. The tests start build/ci's aalabd themselves and run docs/examples.
+  build build/ci -DCMAKE_BUILD_TYPE=RelWithDebInfo || return 1
+  local venv=$repo/build/ci-python
+  rm -rf "$venv" python/build python/aalab.egg-info
+  /usr/bin/python3 -m venv --system-site-packages "$venv" &&
+    "$venv/bin/pip" install -q --no-index --no-build-isolation --disable-pip-version-check \
+      ./python || return 1
+  rm -rf python/build python/aalab.egg-info
+  (cd tests/python && AALAB_DAEMON="$repo/build/ci/server/aalabd" AALAB_TEST_INSTALLED=1 \
+     "$venv/bin/python" -m pytest -q -p no:cacheprovider .)
 }
 
 sanitize() {
@@ -158,6 +175,7 @@ scripts/install-deps.sh || { echo "install-deps failed"; exit 1; }
 stage release release
 stage normal normal
 stage slurm slurm
+stage python python_stage
 stage sanitize sanitize
 stage tsan tsan
 stage fuzz fuzz

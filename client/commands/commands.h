@@ -27,6 +27,7 @@ int cmd_acuity(cli_session *s);
 int cmd_enumerate(cli_session *s);
 int cmd_token(cli_session *s);
 int cmd_wait(cli_session *s);
+int cmd_convert(cli_session *s);
 void cmd_help(FILE *out, const char *command); /* command NULL: overview */
 
 /* Request bodies. Return 0 with *req (new reference), or -1 with err (a usage error). */
@@ -51,6 +52,12 @@ int job_submit_built(cli_session *s, const char *name, job_request_builder build
 /* Polls GET /v1/jobs/ID until it ends (a bar on stderr when it is a terminal), then prints the
  * job as `aalab job` does (nothing with -q); exit 0 if done, 5 if failed/cancelled/interrupted. */
 int job_wait(cli_session *s, const char *id);
+
+/* convert: pattern (the wire form, not a job reference) in an export format, written by the
+ * codec as the daemon's POST /v1/patterns/export writes it. 0 with *text (malloc'd, *len
+ * bytes), or -1 with err. */
+int convert_text(const json_t *pattern, const char *format, char **text, size_t *len, char *err,
+                 size_t errcap);
 
 /* Writes len bytes to path, or to out when path is NULL or "-"; returns an exit code. */
 int write_output(FILE *out, FILE *err, const char *path, const char *data, size_t len);

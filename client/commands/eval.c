@@ -122,7 +122,7 @@ int eval_request(const cli_args *a, json_t **req, char *err, size_t errcap)
 {
     json_t *pattern, *extras;
     *req = NULL;
-    if (pattern_argument_load(a->target, &pattern, &extras, err, errcap))
+    if (pattern_argument_load(a->target, a, &pattern, &extras, err, errcap))
         return -1;
     json_t *r = extras ? extras : json_object();
     json_object_set_new(r, "pattern", pattern);

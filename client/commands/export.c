@@ -1,4 +1,5 @@
-/* aalab export ID --format utk|json|vulkan|d3d12 [-o FILE] */
+/* aalab export ID --format json|utk|xyw|csv|points-json|vulkan|d3d12 [-o FILE]: the daemon's
+ * answer as it is (GET /v1/patterns/ID/export). */
 #include "commands.h"
 
 #include <errno.h>

@@ -19,7 +19,9 @@ static const char OVERVIEW[] =
     "  cancel ID             ask a queued or running job to stop (owner or root)\n"
     "  render ...            render a test tile to a PNG\n"
     "  predict ...           predicted RMSE of patterns on a scene, without rendering\n"
-    "  export ID             the best pattern of a job (json, utk, vulkan, d3d12)\n"
+    "  export ID             the best pattern of a job (json, utk, xyw, csv, points-json,\n"
+    "                        vulkan, d3d12)\n"
+    "  convert PATTERN       a preset, pattern or point-set file in another format\n"
     "  health                daemon version, uptime, workers, queue\n"
     "  filters               reference filters the metric accepts\n"
     "  acuity                acuity tables (angle weights)\n"
@@ -36,7 +38,13 @@ static const char OVERVIEW[] =
     "      --timeout S       per-request timeout in seconds (default 30)\n"
     "  -V, --version         print the client's version\n"
     "\n"
-    "A pattern argument is a preset NAME, a FILE.json, or job:ID (a job's best pattern).\n"
+    "A pattern argument is a preset NAME, a FILE.json, job:ID (a job's best pattern), or a\n"
+    "point-set file: .dat (UTK, x y), .txt or .xyw (x y [w]), .csv (header x,y[,w]), .json\n"
+    "array of points, points in [0,1) of the whole tile; --points-format utk|xyw|csv|json\n"
+    "for other names, --tile T (default 1), --kernel K (default 1) and --weights\n"
+    "file|filter|equal (default file: a w per point) say how to read them ('aalab help\n"
+    "convert'). Files exported by aalab carry a '# aalab-pattern' line that restores the\n"
+    "exact pattern.\n"
     "\n"
     "exit codes: 0 ok, 1 usage or invalid local file, 2 server answered 4xx,\n"
     "            3 server answered 5xx, 4 cannot connect, 5 job failed/cancelled (--wait, wait)\n";
@@ -45,19 +53,24 @@ static const struct {
     const char *command;
     const char *text;
 } DETAILS[] = {
-    {"eval", "usage: aalab eval NAME|FILE.json [--filter NAME[:B=..,C=..]|JSON]\n"
+    {"eval", "usage: aalab eval NAME|FILE.json|POINTS [--filter NAME[:B=..,C=..]|JSON]\n"
              "                  [--acuity naiman|uniform|FILE.json|JSON] [--angles A,B,...]\n"
-             "                  [--detail]\n"
+             "                  [--detail] [--points-format F] [--tile T] [--kernel K]\n"
+             "                  [--weights file|filter|equal]\n"
              "FILE.json holds a pattern ({\"kernels\":...}, {\"mirrored\":...}, {\"tile\":...})\n"
              "or a whole evaluate request ({\"pattern\":P, ...}); options override its fields.\n"
-             "--detail adds the per-kernel, per-angle table (angle_deg, weight, e1, weighted).\n"},
+             "--detail adds the per-kernel, per-angle table (angle_deg, weight, e1, weighted).\n"
+             "POINTS is a point-set file ('aalab help convert'); --weights filter weighs its\n"
+             "samples by --filter.\n"},
     {"presets", "usage: aalab presets [NAME]\n"},
-    {"optimize", "usage: aalab optimize --family 'P(4,1+,2)' | --pattern NAME|FILE.json\n"
+    {"optimize", "usage: aalab optimize --family 'P(4,1+,2)' | --pattern NAME|FILE.json|POINTS\n"
                  "                      [--seeds N] [--max-seconds S] [--max-iterations N]\n"
                  "                      [--rng-seed K] [--mode weights|positions|both]\n"
                  "                      [--method auto|laine-aila|minimax|smooth]\n"
                  "                      [--executor local|slurm]\n"
                  "                      [--wait] [--poll S] [-q]\n"
+                 "                      [--points-format F] [--tile T] [--kernel K]\n"
+                 "                      [--weights file|filter|equal]\n"
                  "Prints the job id. With --wait, follows the job with a progress bar on\n"
                  "stderr, prints the finished job and exits 5 if it failed or was cancelled.\n"
                  "-q prints the bare id (ID=$(aalab optimize -q ...)); with --wait it then\n"
@@ -89,7 +102,7 @@ static const struct {
              "5 if it failed, was cancelled or interrupted; Ctrl-C stops waiting, not the job.\n"},
     {"cancel", "usage: aalab cancel ID\n"
                "Asks the job to stop; it ends 'cancelled' at its next check ('aalab wait ID').\n"},
-    {"render", "usage: aalab render --pattern NAME|FILE.json [--scene siemens-star]\n"
+    {"render", "usage: aalab render --pattern NAME|FILE.json|POINTS [--scene siemens-star]\n"
                "                    [--size 256x256] [--image pattern|reference|difference]\n"
                "                    -o tile.png\n"
                "Prints the render statistics; -o - writes the PNG to stdout (stats to stderr).\n"},
@@ -99,7 +112,30 @@ static const struct {
                 "measure it, from the scene's edge lengths per angle and the patterns' E1\n"
                 "(docs/predict.md). Pixel-locked edges are exact; detail below the pixel scale\n"
                 "is not predicted (its image share is printed).\n"},
-    {"export", "usage: aalab export ID [--format json|utk|vulkan|d3d12] [-o FILE]\n"},
+    {"export", "usage: aalab export ID [--format json|utk|xyw|csv|points-json|vulkan|d3d12]\n"
+               "                    [-o FILE]\n"
+               "The best pattern of a job: json, aalab's pattern JSON (the default); utk, xyw,\n"
+               "csv, points-json, point sets in [0,1) of the whole tile that read back as the\n"
+               "same pattern ('aalab help convert'); vulkan, d3d12, programmable sample\n"
+               "positions where the API can express the pattern.\n"},
+    {"convert", "usage: aalab convert NAME|FILE.json|POINTS|job:ID\n"
+                "                     [--format json|utk|xyw|csv|points-json|vulkan|d3d12]\n"
+                "                     [-o FILE] [--points-format utk|xyw|csv|json] [--tile T]\n"
+                "                     [--kernel K] [--weights file|filter|equal]\n"
+                "Writes a pattern in another format (default json) with the daemon's own\n"
+                "writer, locally (job:ID asks the daemon). Point sets have one convention:\n"
+                "points in [0,1) of the whole tile, x right, y along the tile's y axis:\n"
+                "  utk   .dat: 'x y' per line, '#' comments\n"
+                "  xyw   .txt, .xyw: 'x y' or 'x y w' per line\n"
+                "  csv   .csv: a header line naming x, y and optionally w\n"
+                "  json  .json: [[x,y],...], [[x,y,w],...] or {\"x\":..,\"y\":..,\"w\":..}\n"
+                "Reading one: --tile T scales the points to a T x T pixel tile (default 1),\n"
+                "--kernel K as in the tile form; --weights file takes each point's w (kernel 1),\n"
+                "filter weighs each kernel's samples by the reference filter, equal by 1/n.\n"
+                "aalab's exports start with '# aalab-pattern {...}' (json: {\"aalab\":...}),\n"
+                "which restores the exported pattern exactly; other tools skip it.\n"
+                "e.g. aalab convert flipquad --format csv -o flipquad.csv\n"
+                "     aalab eval points.dat --tile 2 --weights filter\n"},
     {"health", "usage: aalab health\n"},
     {"filters", "usage: aalab filters\n"},
     {"acuity", "usage: aalab acuity\n"},

@@ -17,7 +17,7 @@ int optimize_request(const cli_args *a, json_t **req, char *err, size_t errcap)
         json_object_set_new(r, "family", json_string(a->family));
     } else {
         json_t *pattern;
-        if (pattern_argument_load(a->pattern, &pattern, NULL, err, errcap)) {
+        if (pattern_argument_load(a->pattern, a, &pattern, NULL, err, errcap)) {
             json_decref(r);
             return -1;
         }

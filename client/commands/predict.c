@@ -24,7 +24,7 @@ int predict_request(const cli_args *a, json_t **req, char *err, size_t errcap)
     char *save = NULL;
     for (char *item = strtok_r(list, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
         json_t *p;
-        if (pattern_argument_load(item, &p, NULL, err, errcap)) {
+        if (pattern_argument_load(item, a, &p, NULL, err, errcap)) {
             json_decref(patterns);
             free(list);
             return -1;

@@ -13,7 +13,7 @@
 int render_request(const cli_args *a, json_t **req, char *err, size_t errcap)
 {
     json_t *pattern;
-    if (pattern_argument_load(a->pattern, &pattern, NULL, err, errcap))
+    if (pattern_argument_load(a->pattern, a, &pattern, NULL, err, errcap))
         return -1;
     /* The short wire form: "scene" by name and "size":[w,h] beside it (the renderer also takes
      * a scene object with more parameters; see proto/codec_scene.h). */

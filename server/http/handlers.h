@@ -44,6 +44,7 @@ void handle_job_patch(api_context *ctx, const api_request *req, api_response *re
 void handle_usage(api_context *ctx, const api_request *req, api_response *resp);
 void handle_enumerate(api_context *ctx, const api_request *req, api_response *resp);
 void handle_export(api_context *ctx, const api_request *req, api_response *resp, const char *id);
+void handle_export_post(api_context *ctx, const api_request *req, api_response *resp);
 void handle_tokens_post(api_context *ctx, const api_request *req, api_response *resp);
 void handle_tokens_list(api_context *ctx, const api_request *req, api_response *resp);
 void handle_token_delete(api_context *ctx, const api_request *req, api_response *resp,

@@ -110,10 +110,11 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
         else
             lp = json_number_value(lj);
     }
-    if (!rc)
-        rc = proto_decode_pattern(pj, 0, &pattern, "pattern", &err);
+    /* The filter first: a "points" pattern may take its weights from it. */
     if (!rc)
         rc = proto_decode_filter(json_object_get(body, "filter"), &filter, "filter", &err);
+    if (!rc)
+        rc = proto_decode_pattern_filtered(pj, 0, &filter, &pattern, "pattern", &err);
     if (!rc)
         rc = proto_decode_acuity(json_object_get(body, "acuity"), &acuity, "acuity", &err);
     if (!rc)

@@ -1,10 +1,11 @@
-/* GET /v1/patterns/{job}/export?format=json|utk|vulkan|d3d12: a job's best pattern as JSON,
- * as a UTK point set (text, one "x y" per line in the unit square of the tile), and as
- * Vulkan (VK_EXT_sample_locations) or D3D12 (SetSamplePositions) programmable sample positions
- * where representable: every pixel of the tile must hold the same power-of-two number of
- * samples (1..16); D3D12 also needs a 1x1 or 2x2 tile and positions on its 1/16 grid in
- * [-8, 7]. Both APIs resolve with equal weights, so kernel weights are reported, not applied. */
-#include <math.h>
+/* Pattern exports, formatted by the proto codec (proto/pointset.h) that the client shares:
+ *   GET  /v1/patterns/{job}/export?format=F   a job's best pattern
+ *   POST /v1/patterns/export {"pattern","format","filter"?}   any pattern: a preset, a posted
+ *        pattern of any form, a job reference {"job": ID}
+ * F: json (aalab's pattern JSON, the default), utk, xyw, csv (text/plain point sets with the
+ * "# aalab-pattern" header that reads back exactly), points-json (the point-set JSON), vulkan,
+ * d3d12 (programmable sample positions, or representable false with a reason). Formatting is
+ * bounded by the codec's limits (4096 tile samples): no handler blocks. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,128 +14,35 @@
 #include "handlers.h"
 #include "job_access.h"
 #include "job_manager.h"
+#include "pointset.h"
 
-typedef struct pixel_samples {
-    int count;
-    int first; /* index into the sorted order */
-} pixel_samples;
+static const char *const export_keys[] = {"pattern", "format", "filter", NULL};
 
-/* Tile samples bucketed by the pixel that owns them (floor of the coordinates). Returns the
- * per-pixel sample count if all pixels agree and it is a power of two <= 16, else 0 with why. */
-static int uniform_pixel_count(const aa_pattern *p, size_t *order, const char **why)
+/* Answers p in format (already validated); job > 0 is named in the json answer. */
+static void reply_export(api_response *resp, const aa_pattern *p, proto_export_kind kind,
+                         proto_points_format points, long long job)
 {
-    int T = p->tile;
-    if (T <= 0) {
-        *why = "the pattern has no repeating tile";
-        return 0;
+    if (kind == PROTO_EXPORT_PATTERN) {
+        json_t *o = job > 0 ? json_pack("{s:I}", "job", (json_int_t)job) : json_object();
+        if (o)
+            json_object_set_new(o, "pattern", proto_encode_pattern(p));
+        api_reply_json(resp, 200, o);
+        return;
     }
-    size_t n = 0;
-    int per = -1;
-    for (int j = 0; j < T; j++) {
-        for (int i = 0; i < T; i++) {
-            int c = 0;
-            for (size_t s = 0; s < p->tile_count; s++) {
-                if ((int)floor(p->tile_samples[s].x) == i &&
-                    (int)floor(p->tile_samples[s].y) == j) {
-                    order[n++] = s;
-                    c++;
-                }
-            }
-            if (per < 0)
-                per = c;
-            if (c != per) {
-                *why = "pixels of the tile hold different numbers of samples";
-                return 0;
-            }
-        }
+    if (kind != PROTO_EXPORT_POINTS) {
+        api_reply_json(resp, 200, proto_export_gpu(p, kind == PROTO_EXPORT_D3D12));
+        return;
     }
-    if (per < 1 || per > 16 || (per & (per - 1))) {
-        *why = "samples per pixel must be 1, 2, 4, 8 or 16";
-        return 0;
+    size_t len = 0;
+    aa_error err = {0};
+    char *text = proto_export_points(p, points, &len, &err);
+    if (!text) {
+        api_reply_aa_error(resp, &err);
+        return;
     }
-    return per;
-}
-
-static json_t *export_gpu(const aa_pattern *p, bool d3d12)
-{
-    json_t *o = json_pack("{s:s,s:s,s:o}", "api", d3d12 ? "d3d12" : "vulkan", "family", p->family,
-                          "cost_spp", proto_real(p->cost_spp));
-    size_t *order = malloc((p->tile_count ? p->tile_count : 1) * sizeof *order);
-    const char *why = NULL;
-    int per = order ? uniform_pixel_count(p, order, &why) : 0;
-    if (per && d3d12 && p->tile > 2) {
-        per = 0;
-        why = "D3D12 programmable sample positions cover at most a 2x2 pixel quad";
-    }
-    json_t *locs = json_array();
-    for (int k = 0; per && k < p->tile * p->tile * per; k++) {
-        const aa_point *s = &p->tile_samples[order[k]];
-        double fx = s->x - floor(s->x), fy = s->y - floor(s->y);
-        if (d3d12) {
-            /* 1/16 pixel units relative to the pixel centre, range -8..7. */
-            long X = lround((fx - 0.5) * 16), Y = lround((fy - 0.5) * 16);
-            if (X > 7 || Y > 7 || fabs((fx - 0.5) * 16 - X) > 1e-9 ||
-                fabs((fy - 0.5) * 16 - Y) > 1e-9) {
-                per = 0;
-                why = "a position is not on D3D12's 1/16 pixel grid within [-8, 7]";
-                break;
-            }
-            json_array_append_new(locs,
-                                  json_pack("{s:I,s:I}", "X", (json_int_t)X, "Y", (json_int_t)Y));
-        } else {
-            json_array_append_new(locs, json_pack("{s:f,s:f}", "x", fx, "y", fy));
-        }
-    }
-    free(order);
-    json_object_set_new(o, "representable", json_boolean(per > 0));
-    if (!per) {
-        json_decref(locs);
-        json_object_set_new(o, "reason", json_string(why ? why : "not representable"));
-        return o;
-    }
-    char bits[40];
-    snprintf(bits, sizeof bits, d3d12 ? "%d" : "VK_SAMPLE_COUNT_%d_BIT", per);
-    if (d3d12) {
-        json_object_set_new(o, "NumSamplesPerPixel", json_integer(per));
-        json_object_set_new(o, "NumPixels", json_integer(p->tile * p->tile));
-        json_object_set_new(o, "SamplePositions", locs);
-    } else {
-        json_object_set_new(o, "sampleLocationsPerPixel", json_string(bits));
-        json_object_set_new(o, "sampleLocationGridSize",
-                            json_pack("{s:i,s:i}", "width", p->tile, "height", p->tile));
-        json_object_set_new(o, "sampleLocationsCount", json_integer(p->tile * p->tile * per));
-        json_object_set_new(o, "pSampleLocations", locs);
-    }
-    json_object_set_new(o, "note",
-                        json_string("pixel-major order (rows of the tile, then samples); the "
-                                    "API resolves with equal weights, kernel weights are not "
-                                    "applied; y grows with the tile's y axis"));
-    return o;
-}
-
-static char *export_utk(const aa_pattern *p, size_t *len)
-{
-    size_t cap = 128 + (p->tile_count + 64) * 64, n = 0;
-    char *out = malloc(cap);
-    if (!out)
-        return NULL;
-    n += (size_t)snprintf(out + n, cap - n, "# aalab %s, cost %.17g spp, tile %d\n", p->family,
-                          p->cost_spp, p->tile);
-    if (p->tile > 0) {
-        for (size_t i = 0; i < p->tile_count; i++)
-            n += (size_t)snprintf(out + n, cap - n, "%.17g %.17g\n", p->tile_samples[i].x / p->tile,
-                                  p->tile_samples[i].y / p->tile);
-    } else {
-        /* No tile: the first kernel's samples around the pixel centre. */
-        const aa_kernel *k = &p->kernels[0];
-        out = realloc(out, cap + k->count * 64);
-        cap += k->count * 64;
-        for (size_t i = 0; out && i < k->count; i++)
-            n += (size_t)snprintf(out + n, cap - n, "%.17g %.17g\n", k->samples[i].x + 0.5,
-                                  k->samples[i].y + 0.5);
-    }
-    *len = n;
-    return out;
+    api_reply_owned(resp, 200, text, len);
+    resp->content_type =
+        points == PROTO_POINTS_JSON ? "application/json" : "text/plain; charset=utf-8";
 }
 
 void handle_export(api_context *ctx, const api_request *req, api_response *resp,
@@ -142,12 +50,11 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
 {
     char fmt[16];
     const char *format = api_query_get(req->query, "format", fmt, sizeof fmt);
-    if (!format)
-        format = "json";
-    if (strcmp(format, "json") && strcmp(format, "utk") && strcmp(format, "vulkan") &&
-        strcmp(format, "d3d12")) {
-        api_reply_wire(resp, WIRE_INVALID_FIELD, "format",
-                       "format must be json, utk, vulkan or d3d12");
+    proto_export_kind kind = PROTO_EXPORT_PATTERN;
+    proto_points_format points = PROTO_POINTS_UTK;
+    if (format && !proto_export_format_parse(format, &kind, &points)) {
+        api_reply_wire(resp, WIRE_INVALID_FIELD, "format", "format must be %s",
+                       PROTO_EXPORT_FORMATS);
         return;
     }
     long long id = api_parse_job_id(id_text);
@@ -163,30 +70,55 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
     }
     aa_pattern p;
     aa_error err = {0};
-    int rc = proto_decode_pattern(pj, AA_PATTERN_NORMALIZE, &p, "pattern", &err);
+    /* Exactly as stored; normalised only if its weights drifted off a sum of 1. */
+    int rc = proto_decode_pattern(pj, 0, &p, "pattern", &err);
+    if (rc)
+        rc = proto_decode_pattern(pj, AA_PATTERN_NORMALIZE, &p, "pattern", &err);
     json_decref(pj);
     if (rc) {
         api_reply_wire(resp, WIRE_INTERNAL, err.field, "the job's pattern does not decode: %s",
                        err.message);
         return;
     }
-    if (!strcmp(format, "json")) {
-        api_reply_json(
-            resp, 200,
-            json_pack("{s:I,s:o}", "job", (json_int_t)id, "pattern", proto_encode_pattern(&p)));
-    } else if (!strcmp(format, "utk")) {
-        size_t len = 0;
-        char *text = export_utk(&p, &len);
-        if (!text) {
-            api_reply_wire(resp, WIRE_OUT_OF_MEMORY, "", "out of memory");
-        } else {
-            resp->status = 200;
-            resp->content_type = "text/plain; charset=utf-8";
-            resp->body = text;
-            resp->body_len = len;
-        }
-    } else {
-        api_reply_json(resp, 200, export_gpu(&p, !strcmp(format, "d3d12")));
+    reply_export(resp, &p, kind, points, id);
+    aa_pattern_free(&p);
+}
+
+void handle_export_post(api_context *ctx, const api_request *req, api_response *resp)
+{
+    json_t *body = api_parse_body(req, resp);
+    if (!body)
+        return;
+    if (api_reject_unknown(body, export_keys, "", resp)) {
+        json_decref(body);
+        return;
     }
+    aa_error err = {0};
+    proto_export_kind kind = PROTO_EXPORT_PATTERN;
+    proto_points_format points = PROTO_POINTS_UTK;
+    const json_t *fj = json_object_get(body, "format");
+    int rc = AA_OK;
+    if (!fj)
+        rc = aa_error_set(&err, AA_EINVAL, "format", "is required: %s", PROTO_EXPORT_FORMATS);
+    else if (!json_is_string(fj) ||
+             !proto_export_format_parse(json_string_value(fj), &kind, &points))
+        rc = aa_error_set(&err, AA_EINVAL, "format", "must be %s", PROTO_EXPORT_FORMATS);
+    if (!rc && !json_object_get(body, "pattern"))
+        rc = aa_error_set(&err, AA_EINVAL, "pattern", "pattern is required");
+    if (!rc)
+        rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
+    aa_filter filter;
+    if (!rc)
+        rc = proto_decode_filter(json_object_get(body, "filter"), &filter, "filter", &err);
+    aa_pattern p;
+    if (!rc)
+        rc = proto_decode_pattern_filtered(json_object_get(body, "pattern"), 0, &filter, &p,
+                                           "pattern", &err);
+    json_decref(body);
+    if (rc) {
+        api_reply_aa_error(resp, &err);
+        return;
+    }
+    reply_export(resp, &p, kind, points, 0);
     aa_pattern_free(&p);
 }

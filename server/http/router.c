@@ -111,6 +111,7 @@ static const route routes[] = {
     {"GET", "/v1/usage", ARG_NONE, handle_usage, NULL},
     {"POST", "/v1/families/enumerate", ARG_NONE, handle_enumerate, NULL},
     {"GET", "/v1/patterns/", ARG_JOB_EXPORT, NULL, handle_export},
+    {"POST", "/v1/patterns/export", ARG_NONE, handle_export_post, NULL},
     {"POST", "/v1/render", ARG_NONE, route_render, NULL},
     {"POST", "/v1/predict", ARG_NONE, handle_predict, NULL},
     {"GET", "/v1/tiles/", ARG_TILE, NULL, route_tile},
@@ -148,7 +149,8 @@ api_request_class api_classify(const char *method, const char *path)
 {
     if (!method || !path || strcmp(method, "POST"))
         return API_CLASS_OTHER;
-    if (!strcmp(path, "/v1/evaluate"))
+    /* An export decodes and writes a posted pattern of up to --max-body: evaluate's share. */
+    if (!strcmp(path, "/v1/evaluate") || !strcmp(path, "/v1/patterns/export"))
         return API_CLASS_EVALUATE;
     if (!strcmp(path, "/v1/predict"))
         return API_CLASS_PREDICT;

@@ -194,6 +194,32 @@ for f in vulkan d3d12; do
   jq -e 'has("representable")' <<<"$out" >/dev/null && ok "$f export says whether it is representable" || bad "$f export: ${out:0:300}"
 done
 expect 2 "export of an unknown job" -- A export 999999 --format json
+# point sets: every export format reads back as the same pattern (the same E2, to the digit)
+expect 0 "eval the job's best pattern" -- A --json eval "job:$id"
+e2_job=$(jq -r '."e2"' <<<"$out")
+for f in utk xyw csv points-json; do
+  ext=$f; [ "$f" = utk ] && ext=dat; [ "$f" = points-json ] && ext=json
+  expect 0 "export $f -o FILE" -- A export "$id" --format "$f" -o "$tmp/pts.$ext"
+  expect 0 "eval the $f export" -- A --json eval "$tmp/pts.$ext"
+  [ "$(jq -r '."e2"' <<<"$out")" = "$e2_job" ] && ok "$f round trip: E2 $e2_job" ||
+    bad "$f round trip: E2 $(jq -r '."e2"' <<<"$out"), wanted $e2_job"
+done
+expect 0 "convert job:ID asks the daemon" -- A convert "job:$id" --format csv -o "$tmp/conv.csv"
+cmp -s "$tmp/conv.csv" "$tmp/pts.csv" && ok "convert job:ID = export csv" || bad "convert job:ID differs from export"
+expect 0 "convert a preset locally" -- A convert quincunx --format xyw
+has "# aalab-pattern" "convert writes the aalab-pattern header"
+A convert quincunx --format csv -o "$tmp/q.csv" 2>/dev/null
+expect 0 "convert a point set back to JSON" -- A convert "$tmp/q.csv" --format json
+jq -e '.pattern.family == "P(1,1+,2)"' <<<"$out" >/dev/null && ok "quincunx csv -> json" || bad "csv -> json: ${out:0:300}"
+printf '# a UTK file\n0.25 0.25\n0.75 0.75\n' >"$tmp/two.dat"
+expect 0 "eval a UTK file with equal weights" -- A --json eval "$tmp/two.dat" --weights equal
+near "$(jq -r '."e2"' <<<"$out")" "$(A --json eval "$tmp/two.dat" --weights equal --tile 1 | jq -r '."e2"')" 0 "--tile 1 is the default"
+expect 1 "a UTK file without weights needs --weights" -- A eval "$tmp/two.dat"
+grep -qF -- "--weights: the points have no weights; choose filter or equal" "$tmp/err" && ok "names --weights" || bad "no --weights hint: $err"
+printf '0.25 0.25\n0.75\n' >"$tmp/bad.dat"
+expect 1 "a bad line is a local error" -- A eval "$tmp/bad.dat" --weights equal
+grep -qF "bad.dat: line 2: expected 2 numbers (x y)" "$tmp/err" && ok "names the line" || bad "line not named: $err"
+expect 1 "--tile on a preset is a usage error" -- A eval rgss --tile 2
 expect 2 "job of an unknown id" -- A job 999999
 expect 0 "a job spec may name another job's pattern {\"job\":ID}" -- \
   A --json submit - --wait --poll 0.05 <<<"{\"kind\":\"sleep\",\"seconds\":0,\"pattern\":{\"job\":\"$id\"}}"

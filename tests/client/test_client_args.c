@@ -165,6 +165,43 @@ static void export_formats(void **state)
     assert_int_equal(PARSE(&a, "export", "5", "--format", "png"), -1);
 }
 
+/* Point sets: export's new formats, convert, and how to read a point-set pattern argument. */
+static void point_set_options(void **state)
+{
+    cli_args a;
+    char err[256] = "";
+    assert_int_equal(PARSE(&a, "export", "5", "--format", "csv"), 0);
+    assert_string_equal(a.format, "csv");
+    assert_int_equal(PARSE(&a, "export", "5", "--format", "points-json"), 0);
+    assert_int_equal(PARSE(&a, "convert", "flipquad", "--format", "xyw", "-o", "fq.txt"), 0);
+    assert_int_equal(a.command, CMD_CONVERT);
+    assert_string_equal(a.target, "flipquad");
+    assert_string_equal(a.format, "xyw");
+    assert_string_equal(a.output, "fq.txt");
+    assert_int_equal(PARSE(&a, "convert"), -1);
+    assert_non_null(strstr(err, "'convert' needs a preset NAME"));
+    assert_int_equal(PARSE(&a, "eval", "p.dat", "--tile", "4", "--kernel", "2", "--weights",
+                           "filter", "--points-format", "xyw"),
+                     0);
+    assert_int_equal(a.tile, 4);
+    assert_int_equal(a.kernel, 2);
+    assert_string_equal(a.weights, "filter");
+    assert_string_equal(a.points_format, "xyw");
+    assert_int_equal(PARSE(&a, "render", "--pattern", "p.csv", "--tile", "2", "-o", "t.png"), 0);
+    assert_int_equal(PARSE(&a, "optimize", "--pattern", "p.csv", "--weights", "equal"), 0);
+    assert_int_equal(PARSE(&a, "eval", "p.dat", "--tile", "17"), -1);
+    assert_string_equal(err, "--tile wants the tile size in pixels, 1..16, got '17'");
+    assert_int_equal(PARSE(&a, "eval", "p.dat", "--kernel", "0"), -1);
+    assert_int_equal(PARSE(&a, "eval", "p.dat", "--weights", "some"), -1);
+    assert_string_equal(err, "--weights wants file, filter or equal, got 'some'");
+    assert_int_equal(PARSE(&a, "eval", "p.dat", "--points-format", "dat"), -1);
+    assert_int_equal(PARSE(&a, "export", "5", "--tile", "2"), -1);
+    assert_non_null(strstr(err, "does not apply to 'export'"));
+    assert_int_equal(PARSE(&a, "eval", "rgss", "--format", "csv"), -1);
+    assert_int_equal(PARSE(&a, "optimize", "--family", "P(4,1+,2)", "--tile", "2"), -1);
+    assert_non_null(strstr(err, "not a --family"));
+}
+
 static void render_size_and_output(void **state)
 {
     cli_args a;
@@ -362,6 +399,7 @@ int main(void)
         cmocka_unit_test(unknown_things),
         cmocka_unit_test(job_ids),
         cmocka_unit_test(export_formats),
+        cmocka_unit_test(point_set_options),
         cmocka_unit_test(render_size_and_output),
         cmocka_unit_test(help_forms),
         cmocka_unit_test(double_dash_ends_options),

@@ -1,4 +1,5 @@
 /* Request bodies built from the command line: the wire format, exactly. */
+#define _DEFAULT_SOURCE /* mkstemps */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -22,6 +23,19 @@ static char *write_temp(const char *text)
     char *path = malloc(strlen(dir) + 32);
     sprintf(path, "%s/aalab-test-XXXXXX", dir);
     int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    assert_int_equal(write(fd, text, strlen(text)), (ssize_t)strlen(text));
+    close(fd);
+    return path;
+}
+
+/* A temporary file whose name ends in suffix (point sets are read by extension). */
+static char *write_temp_as(const char *text, const char *suffix)
+{
+    const char *dir = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
+    char *path = malloc(strlen(dir) + strlen(suffix) + 32);
+    sprintf(path, "%s/aalab-test-XXXXXX%s", dir, suffix);
+    int fd = mkstemps(path, (int)strlen(suffix));
     assert_true(fd >= 0);
     assert_int_equal(write(fd, text, strlen(text)), (ssize_t)strlen(text));
     close(fd);
@@ -130,7 +144,7 @@ static void bad_files_are_local_errors(void **state)
 {
     static const char *const CASES[][2] = {
         {"{\"kernels\":[[[0,0,1]]],\"kernels\":[]}", "duplicate"},
-        {"[1,2]", "JSON object"},
+        {"[1,2]", "a point is [x, y]"}, /* an array is a point set */
         {"{\"kernels\":[[[0,0,1]]]", ""},
         {"{\"pattern\":[1]}", "pattern"},
         {"{}", "pattern"},
@@ -290,6 +304,92 @@ static void submit_specs(void **state)
     free(path);
 }
 
+/* A point-set file becomes the points form, read by extension or --points-format; the codec
+ * names a bad line locally, as the daemon would. */
+static void point_set_files(void **state)
+{
+    char err[400] = "";
+    json_t *req;
+    char *path = write_temp_as("# UTK\n0.25 0.25\n0.75 0.75\n", ".dat");
+    cli_args a = {.command = CMD_EVAL, .target = path, .tile = 1, .weights = "equal"};
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"points\":{\"format\":\"utk\",\"text\":\"# UTK\\n0.25 "
+                     "0.25\\n0.75 0.75\\n\",\"tile\":1,\"weights\":\"equal\"}}}");
+    json_decref(req);
+    a.weights = NULL; /* weights from the file, which has none */
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
+    if (!strstr(err, "--weights: the points have no weights; choose filter or equal"))
+        fail_msg("'%s'", err);
+    unlink(path);
+    free(path);
+
+    path = write_temp_as("x,y,w\n0.25,0.25,0.5\n0.75\n", ".csv");
+    a = (cli_args){.command = CMD_EVAL, .target = path};
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
+    if (!strstr(err, ": line 3: 1 field, but the header (line 1) names 3"))
+        fail_msg("'%s'", err);
+    unlink(path);
+    free(path);
+
+    /* a JSON array of points goes as data */
+    path = write_temp_as("[[0.25,0.25,0.5],[0.75,0.75,0.5]]", ".json");
+    a = (cli_args){.command = CMD_EVAL, .target = path};
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"points\":{\"format\":\"json\",\"data\":[[0.25,0.25,0.5],"
+                     "[0.75,0.75,0.5]]}}}");
+    json_decref(req);
+    unlink(path);
+    free(path);
+
+    /* any name with --points-format */
+    path = write_temp_as("0.5 0.5 1\n", ".points");
+    a = (cli_args){.command = CMD_RENDER, .pattern = path, .points_format = "xyw"};
+    assert_int_equal(render_request(&a, &req, err, sizeof err), 0);
+    json_decref(req);
+    a.points_format = NULL; /* without it, not a point set: JSON expected */
+    assert_int_equal(render_request(&a, &req, err, sizeof err), -1);
+    unlink(path);
+    free(path);
+
+    /* point-set options on a preset or a pattern file are usage errors */
+    a = (cli_args){.command = CMD_EVAL, .target = "rgss", .tile = 2};
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
+    assert_non_null(strstr(err, "apply to point-set files"));
+    path = write_temp_as("{\"preset\":\"rgss\"}", ".json");
+    a = (cli_args){.command = CMD_EVAL, .target = path, .weights = "equal"};
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
+    assert_non_null(strstr(err, "apply to point sets"));
+    unlink(path);
+    free(path);
+}
+
+/* convert writes with the codec: an exported file converts back to the same pattern. */
+static void convert_round_trip(void **state)
+{
+    char err[400] = "";
+    json_t *pattern = json_pack("{s:s}", "preset", "flipquad");
+    char *text;
+    size_t len;
+    assert_int_equal(convert_text(pattern, "csv", &text, &len, err, sizeof err), 0);
+    assert_true(!strncmp(text, "# aalab-pattern {", 17));
+    char *path = write_temp_as(text, ".csv");
+    free(text);
+    cli_args a = {.command = CMD_CONVERT, .target = path};
+    json_t *back, *extras;
+    assert_int_equal(pattern_argument_load(path, &a, &back, &extras, err, sizeof err), 0);
+    char *j1, *j2;
+    assert_int_equal(convert_text(pattern, "json", &j1, &len, err, sizeof err), 0);
+    assert_int_equal(convert_text(back, "json", &j2, &len, err, sizeof err), 0);
+    assert_string_equal(j1, j2);
+    free(j1);
+    free(j2);
+    assert_int_equal(convert_text(pattern, "png", &text, &len, err, sizeof err), -1);
+    json_decref(back);
+    json_decref(pattern);
+    unlink(path);
+    free(path);
+}
+
 static void file_or_preset(void **state)
 {
     assert_false(pattern_argument_is_file("quincunx"));
@@ -315,6 +415,8 @@ int main(void)
         cmocka_unit_test(optimize_bodies),
         cmocka_unit_test(render_bodies),
         cmocka_unit_test(submit_specs),
+        cmocka_unit_test(point_set_files),
+        cmocka_unit_test(convert_round_trip),
         cmocka_unit_test(file_or_preset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -31,6 +31,7 @@ ROUTES = [
     ("GET", r"/v1/usage", {200: "usage_response.json"}),
     ("POST", r"/v1/families/enumerate", {200: "enumerate_response.json"}),
     ("GET", r"/v1/patterns/[^/]+/export", {200: "export_response.json"}),
+    ("POST", r"/v1/patterns/export", {200: "export_response.json"}),
     ("POST", r"/v1/render", {200: "render_response.json"}),
     ("POST", r"/v1/predict", {200: "predict_response.json"}),
     ("GET", r"/v1/tiles/[^/]+", {200: None}),
@@ -38,10 +39,11 @@ ROUTES = [
     ("GET", r"/v1/tokens", {200: "tokens.json#/$defs/list"}),
     ("DELETE", r"/v1/tokens/[^/]+", {200: "tokens.json#/$defs/revoked"}),
 ]
-# Not JSON: the dashboard's static files (TCP only), PNG tiles, the utk export.
+# Not JSON: the dashboard's static files (TCP only), PNG tiles, the utk, xyw and csv exports.
 NOT_JSON = [
     ("GET", r"/v1/tiles/[^/]+", "image/png"),
     ("GET", r"/v1/patterns/[^/]+/export", "text/plain"),
+    ("POST", r"/v1/patterns/export", "text/plain"),
 ]
 STATIC = re.compile(r"^/(?!v1(/|$))")
 

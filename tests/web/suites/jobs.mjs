@@ -32,12 +32,12 @@ export default async function jobsSuite({ page, base, api, step, shot, daemon, c
     assert(await page.$('#jd-trace canvas'), 'no trace chart canvas');
     const dots = await page.$$eval('#jd-pattern g.dot-primary', (g) => g.length);
     assert(dots === 4, `best pattern (RGSS) should draw 4 samples, found ${dots}`);
-    for (const format of ['json', 'utk', 'vulkan', 'd3d12']) {
+    for (const format of ['json', 'utk', 'xyw', 'csv', 'vulkan', 'd3d12']) {
       await page.click(`#jd-export button[data-format="${format}"]`);
       await page.waitForFunction((f) => document.getElementById('jd-download').download.includes(`.${f === 'utk' ? 'dat' : f}`), format, { timeout: 5000 });
       const text = await page.textContent('#jd-export-text');
       const ref = await fetch(`${base}/v1/patterns/${id}/export?format=${format}`, auth).then((x) => x.text());
-      if (format === 'utk') assert(text === ref, `UTK export shown differs from the API's`);
+      if (['utk', 'xyw', 'csv'].includes(format)) assert(text === ref, `${format} export shown differs from the API's`);
       else assert(JSON.stringify(JSON.parse(text)) === JSON.stringify(JSON.parse(ref)), `${format} export shown differs from the API's`);
     }
     await shot('jobs-detail');

@@ -285,13 +285,15 @@ async function exportPattern(id, format) {
     try {
       out = JSON.stringify(JSON.parse(text), null, 1);
     } catch {
-      /* not JSON (UTK point set): show as it is */
+      /* not JSON (a UTK, x y w or CSV point set): show as it is */
     }
     $('jd-export-text').textContent = out;
     const a = $('jd-download');
     if (a.href) URL.revokeObjectURL(a.href);
     a.href = URL.createObjectURL(new Blob([text], { type }));
-    a.download = `aalab-job-${id}.${format === 'json' ? 'json' : format === 'utk' ? 'dat' : `${format}.txt`}`;
+    // Point sets keep their usual extensions, so that `aalab eval FILE` reads them back.
+    const ext = { json: 'json', utk: 'dat', xyw: 'xyw', csv: 'csv' }[format] || `${format}.txt`;
+    a.download = `aalab-job-${id}.${ext}`;
     a.textContent = `Download ${a.download}`;
     a.hidden = false;
   } catch (e) {

@@ -1,0 +1,42 @@
+"""aalab: a Python client of the aalab daemon (evaluate, optimize and render antialiasing sample
+patterns), point-set files (:mod:`aalab.formats`) and figures (:mod:`aalab.plot`, matplotlib).
+
+Quick start::
+
+    import aalab
+    c = aalab.Client()                         # finds the socket as the aalab command does
+    print(c.evaluate("rgss").e2)               # 0.439 (Laine & Aila Table 2)
+    job = c.optimize(family="P(4,1+,2)", seeds=4, max_iterations=200).wait()
+    print(job.best_e2, job.trace.best_e2[-1])
+
+Conventions: E2 is dimensionless; angles are in degrees; run times are seconds of the job's own
+clock. Wire-form coordinates are pixels, x right and y up (kernels relative to the output point,
+the pixel [-0.5, 0.5]²); point files use the unit square of the whole tile
+(:mod:`aalab.formats`). The standard library is the only requirement; numpy gives arrays,
+tqdm progress bars, Pillow decoded tiles, matplotlib the plots, jsonschema answer validation.
+Importing the package does not connect to anything.
+"""
+
+from .client import JOB_STATES, Client
+from .errors import AalabError, DaemonUnreachable
+from .formats import FormatError, PointSet
+from .job import ENDED, Job
+from .patterns import as_pattern
+from .results import Argmax, Enumeration, Evaluation, Render, Trace
+
+__version__ = "0.1.0"
+
+pattern = as_pattern
+
+
+def __getattr__(name: str):
+    # aalab.plot imports matplotlib: loaded on first use, so that "import aalab" needs nothing
+    # beyond the standard library.
+    if name == "plot":
+        import importlib
+        return importlib.import_module(".plot", __name__)
+    raise AttributeError("module 'aalab' has no attribute %r" % name)
+
+__all__ = ["Client", "Job", "AalabError", "DaemonUnreachable", "FormatError", "PointSet",
+           "Evaluation", "Render", "Trace", "Enumeration", "Argmax", "as_pattern", "pattern",
+           "JOB_STATES", "ENDED", "__version__"]
