@@ -210,6 +210,19 @@ static inline double closed_gamma(const aa_filter *f, double a, double *gamma)
     return v;
 }
 
+/* Gamma(a) alone (the E1-only sweep). */
+static inline double closed_gamma_value(const aa_filter *f, double a)
+{
+    int j = (int)((a + f->radius) * f->closed_inv_width);
+    j = j < 0 ? 0 : (j >= f->closed_pieces ? f->closed_pieces - 1 : j);
+    double s = a - f->closed_mid[j];
+    const double *c = f->closed_gamma[j];
+    double v = c[AA_FILTER_CLOSED_DEGREE];
+    for (int k = AA_FILTER_CLOSED_DEGREE - 1; k >= 0; k--)
+        v = v * s + c[k];
+    return v;
+}
+
 /* Sums of the closed form over ws->proj (sorted). The line is cut at -r and r: left of -r the
  * integrand is c^2, right of r (c - 1)^2 (no cancellation); in between E1^2's share is
  * V + sum (c - 1/2)^2 len + 2 sum w Gamma(p), whose terms cancel down to E1^2. They are summed
@@ -250,18 +263,23 @@ static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace
     double r = f->radius, c = 0, lo = 0;
     compensated acc = {f->closed_var, 0, f->closed_var * f->closed_var};
     if (pr[0].p > -r && pr[n - 1].p < r && !want_prefix) {
-        /* Every sample inside the support: the common case, no region tests. */
+        /* Every sample inside the support: the common case, no region tests. Two accumulators
+         * (constant pieces, Gamma terms) keep two dependency chains in flight. */
         double a = -r;
+        compensated gam = {0, 0, 0};
         for (size_t k = 0; k < n; k++) {
-            double p = pr[k].p, u = (c - 0.5) + lo, gamma;
+            double p = pr[k].p, u = (c - 0.5) + lo;
             add_term(&acc, u * u * (p - a));
-            add_term(&acc, 2 * pr[k].w * closed_gamma(f, p, &gamma));
+            add_term(&gam, 2 * pr[k].w * closed_gamma_value(f, p));
             add_weight(&c, &lo, pr[k].w);
             a = p;
         }
         double u = (c - 0.5) + lo;
         add_term(&acc, u * u * (r - a));
-        return (closed_sums){acc.sum + acc.comp, sqrt(acc.sq)};
+        double spread2 = acc.sq + gam.sq;
+        add_term(&acc, gam.sum);
+        acc.comp += gam.comp;
+        return (closed_sums){acc.sum + acc.comp, sqrt(spread2)};
     }
     /* General case; also the prefix integrals P_k = integral_{-inf}^{p_k} (ghat - g) for the
      * weight gradient: the running integral of the constant parts minus Gamma(p_k). */
