@@ -543,7 +543,8 @@ static void test_cancellation_cases(void **state)
     aa_metric_workspace_free(&ws);
 }
 
-/* The E1 that aa_e1_gradient_at_angle reports is the same number. */
+/* The E1 that aa_e1_gradient_at_angle reports is the same number, and both methods give the
+ * same gradient (the quadrature's prefix integrals against the closed form's). */
 static void test_gradient_e1_matches(void **state)
 {
     (void)state;
@@ -551,17 +552,32 @@ static void test_gradient_e1_matches(void **state)
     aa_metric_workspace ws;
     aa_metric_workspace_init(&ws);
     aa_sample s[64];
-    double dx[64], dy[64], dw[64];
+    double dx[64], dy[64], dw[64], qx[64], qy[64], qw[64], worst = 0;
     for (int k = 0; k < 300; k++) {
         size_t n = rng_int(1, 64);
-        random_kernel(s, n, 1.5);
-        double th = rng_uniform(0, PI_D), a = NAN, b = NAN;
-        assert_int_equal(aa_e1_at_angle(&filters[F_MITCHELL].engine, s, n, th, &ws, &a), AA_OK);
-        assert_int_equal(
-            aa_e1_gradient_at_angle(&filters[F_MITCHELL].engine, s, n, th, &ws, &b, dx, dy, dw),
-            AA_OK);
+        const filter_pair *fp = &filters[k % 3 == 0 ? F_MITCHELL : (k % 3 == 1 ? F_BOX : F_TENT)];
+        random_kernel(s, n, k % 5 == 0 ? 4.0 : 1.5);
+        double th = rng_uniform(0, PI_D), a = NAN, b = NAN, c = NAN, ct, st;
+        assert_int_equal(aa_e1_at_angle(&fp->engine, s, n, th, &ws, &a), AA_OK);
+        assert_int_equal(aa_e1_gradient_at_angle(&fp->engine, s, n, th, &ws, &b, dx, dy, dw),
+                         AA_OK);
         assert_true(fabs(a - b) <= 1e-14 * a);
+        aa_metric_direction(th, &ct, &st);
+        assert_int_equal(aa_e1_gradient_at_direction(&fp->engine, s, n, ct, st, AA_E1_QUADRATURE,
+                                                     &ws, &c, qx, qy, qw),
+                         AA_OK);
+        double scale = 0;
+        for (size_t i = 0; i < n; i++)
+            scale = fmax(scale, fmax(fabs(qx[i]) + fabs(qy[i]), fabs(qw[i])));
+        for (size_t i = 0; i < n; i++) {
+            double e = fmax(fabs(dx[i] - qx[i]) + fabs(dy[i] - qy[i]), fabs(dw[i] - qw[i]));
+            worst = fmax(worst, e / fmax(scale, 1e-300));
+        }
     }
+    print_message("gradient, closed form vs quadrature: max difference %.3g of the largest "
+                  "component\n",
+                  worst);
+    assert_true(worst <= 1e-11);
     aa_metric_workspace_free(&ws);
 }
 
