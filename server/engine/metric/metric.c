@@ -256,66 +256,62 @@ static inline void add_weight(double *c, double *lo, double w)
     *c = x;
 }
 
-static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace *ws,
-                               bool want_prefix)
+static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace *ws)
 {
     const aa_projection *pr = ws->proj;
-    double r = f->radius, c = 0, lo = 0;
+    double *prefix = ws->tail, r = f->radius, c = 0, lo = 0, lin = 0;
     compensated acc = {f->closed_var, 0, f->closed_var * f->closed_var};
-    if (pr[0].p > -r && pr[n - 1].p < r && !want_prefix) {
-        /* Every sample inside the support: the common case, no region tests. Two accumulators
-         * (constant pieces, Gamma terms) keep two dependency chains in flight. */
-        double a = -r;
-        compensated gam = {0, 0, 0};
-        for (size_t k = 0; k < n; k++) {
-            double p = pr[k].p, u = (c - 0.5) + lo;
-            add_term(&acc, u * u * (p - a));
-            add_term(&gam, 2 * pr[k].w * closed_gamma_value(f, p));
-            add_weight(&c, &lo, pr[k].w);
-            a = p;
-        }
-        double u = (c - 0.5) + lo;
-        add_term(&acc, u * u * (r - a));
-        double spread2 = acc.sq + gam.sq;
-        add_term(&acc, gam.sum);
-        acc.comp += gam.comp;
-        return (closed_sums){acc.sum + acc.comp, sqrt(spread2)};
-    }
-    /* General case; also the prefix integrals P_k = integral_{-inf}^{p_k} (ghat - g) for the
+    compensated gam = {0, 0, 0}; /* the Gamma terms: a second dependency chain */
+    /* The sorted samples fall into three runs: p <= -r, inside, p >= r. One loop each, no
+     * region tests inside them. ws->tail[k] gets P_k = integral_{-inf}^{p_k} (ghat - g) for the
      * weight gradient: the running integral of the constant parts minus Gamma(p_k). */
-    double a = fmin(pr[0].p, -r), lin = 0;
-    for (size_t k = 0; k <= n; k++) {
-        double b = k < n ? pr[k].p : fmax(a, r);
-        if (a < b && a < -r) {
-            double e = fmin(b, -r), cc = c + lo;
-            add_term(&acc, cc * cc * (e - a));
-            lin += cc * (e - a);
-            a = e;
-        }
-        if (a < b && a < r) {
-            double e = fmin(b, r), u = (c - 0.5) + lo;
-            add_term(&acc, u * u * (e - a));
-            lin += u * (e - a);
-            a = e;
-        }
-        if (a < b) {
-            double d = (c - 1) + lo;
-            add_term(&acc, d * d * (b - a));
-            lin += d * (b - a);
-            a = b;
-        }
-        if (k == n)
-            break;
-        double big = 0, gamma;
-        if (b > -r && b < r) {
-            big = closed_gamma(f, b, &gamma);
-            add_term(&acc, 2 * pr[k].w * big);
-        }
-        if (want_prefix)
-            ws->tail[k] = lin - big;
+    size_t i0 = 0, i1 = n;
+    while (i0 < n && !(pr[i0].p > -r))
+        i0++;
+    while (i1 > i0 && !(pr[i1 - 1].p < r))
+        i1--;
+    double a = i0 > 0 ? pr[0].p : -r;
+    for (size_t k = 0; k < i0; k++) {
+        double cc = c + lo, len = pr[k].p - a;
+        add_term(&acc, cc * cc * len);
+        lin += cc * len;
+        prefix[k] = lin;
         add_weight(&c, &lo, pr[k].w);
+        a = pr[k].p;
     }
-    return (closed_sums){acc.sum + acc.comp, sqrt(acc.sq)};
+    if (i0 > 0) {
+        double cc = c + lo, len = -r - a;
+        add_term(&acc, cc * cc * len);
+        lin += cc * len;
+        a = -r;
+    }
+    for (size_t k = i0; k < i1; k++) {
+        double p = pr[k].p, u = (c - 0.5) + lo, len = p - a;
+        add_term(&acc, u * u * len);
+        lin += u * len;
+        double big = closed_gamma_value(f, p);
+        add_term(&gam, 2 * pr[k].w * big);
+        prefix[k] = lin - big;
+        add_weight(&c, &lo, pr[k].w);
+        a = p;
+    }
+    double u = (c - 0.5) + lo, len = r - a;
+    add_term(&acc, u * u * len);
+    lin += u * len;
+    a = r;
+    for (size_t k = i1; k < n; k++) {
+        double d = (c - 1) + lo, l = pr[k].p - a;
+        add_term(&acc, d * d * l);
+        lin += d * l;
+        prefix[k] = lin;
+        add_weight(&c, &lo, pr[k].w);
+        a = pr[k].p;
+    }
+    /* Beyond the last sample the integrand is (c - 1)^2 = 0 when the weights sum to 1. */
+    double spread2 = acc.sq + gam.sq;
+    add_term(&acc, gam.sum);
+    acc.comp += gam.comp;
+    return (closed_sums){acc.sum + acc.comp, sqrt(spread2)};
 }
 
 static bool closed_acceptable(const closed_sums *cs, size_t n)
@@ -331,7 +327,7 @@ static double e1_squared(const aa_filter *f, const aa_sample *s, size_t n, doubl
 {
     project_sorted(s, n, ct, st, ws);
     if (method != AA_E1_QUADRATURE && f->closed_pieces > 0) {
-        closed_sums cs = closed_form(f, n, ws, want_prefix);
+        closed_sums cs = closed_form(f, n, ws);
         ws->closed_condition = cs.spread / cs.e1sq;
         if (method == AA_E1_CLOSED || closed_acceptable(&cs, n)) {
             ws->closed_calls++;
