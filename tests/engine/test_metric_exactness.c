@@ -543,6 +543,32 @@ static void test_cancellation_cases(void **state)
     aa_metric_workspace_free(&ws);
 }
 
+/* The sorted order a workspace remembers between calls (metric.h) never changes a result: the
+ * same kernel at angles in any order, and other kernels of the same size in between, give the
+ * same bits as a fresh workspace. */
+static void test_order_reuse_is_invisible(void **state)
+{
+    (void)state;
+    rng_state = 8080;
+    aa_metric_workspace shared, fresh;
+    aa_metric_workspace_init(&shared);
+    aa_sample s[3][48];
+    for (int k = 0; k < 3; k++)
+        random_kernel(s[k], 48, 2.0);
+    for (int i = 0; i < 600; i++) {
+        int k = (int)rng_int(0, 2);
+        double th = i % 3 ? rng_uniform(0, PI_D) : (i % 36) * (PI_D / 36), a = NAN, b = NAN;
+        assert_int_equal(aa_e1_at_angle(&filters[F_MITCHELL].engine, s[k], 48, th, &shared, &a),
+                         AA_OK);
+        aa_metric_workspace_init(&fresh);
+        assert_int_equal(aa_e1_at_angle(&filters[F_MITCHELL].engine, s[k], 48, th, &fresh, &b),
+                         AA_OK);
+        aa_metric_workspace_free(&fresh);
+        assert_true(a == b);
+    }
+    aa_metric_workspace_free(&shared);
+}
+
 /* The E1 that aa_e1_gradient_at_angle reports is the same number, and both methods give the
  * same gradient (the quadrature's prefix integrals against the closed form's). */
 static void test_gradient_e1_matches(void **state)
@@ -636,6 +662,7 @@ int main(void)
         cmocka_unit_test(test_cancellation_cases),
         cmocka_unit_test(test_non_finite_angle),
         cmocka_unit_test(test_gradient_e1_matches),
+        cmocka_unit_test(test_order_reuse_is_invisible),
     };
     int failed = cmocka_run_group_tests(tests, setup_filters, NULL);
     print_message("worst relative error of E1 (automatic method) over every case: %.3g\n",
