@@ -320,8 +320,9 @@ static bool closed_acceptable(const closed_sums *cs, size_t n)
     return cs->spread * AA_E1_CLOSED_SAFETY * 0x1.0p-52 <= AA_E1_CLOSED_REL_ERROR * cs->e1sq;
 }
 
-/* Projects, sorts and returns E1^2 by the method; *prefix_ok says whether ws->tail holds the
- * prefix integrals (when want_prefix). */
+/* Projects, sorts and returns E1^2 by the method. With want_prefix, ws->tail[k] holds the prefix
+ * integral P_k of the k-th sorted sample afterwards (the closed form always fills it; the
+ * quadrature sweep only when asked). */
 static double e1_squared(const aa_filter *f, const aa_sample *s, size_t n, double ct, double st,
                          aa_e1_method method, aa_metric_workspace *ws, bool want_prefix)
 {

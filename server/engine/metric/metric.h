@@ -46,7 +46,7 @@ typedef struct aa_metric_workspace {
     const void *order_of; /* samples whose sorted order proj holds (NULL: none) */
     size_t order_n;
     long closed_calls, fallback_calls; /* how often the closed form was conditioned enough */
-    double closed_condition;           /* of the last closed form: magnitude of its terms / E1^2 */
+    double closed_condition; /* of the last closed form: sqrt(sum of its squared terms) / E1^2 */
 } aa_metric_workspace;
 
 void aa_metric_workspace_init(aa_metric_workspace *ws);
