@@ -2,7 +2,9 @@
  * optimisation of positions and weights per family, printed beside the published best E2.
  * Flags: --family-seconds S (default 60), --p16-seconds S (default 600), --quick (8 s per family,
  * 30 s for P(16,16,4)), --workers W (default 2), --seed K, --only LABEL, --method
- * auto|laine-aila|minimax|smooth (default auto: the step rule optimize jobs choose). */
+ * auto|laine-aila|minimax|smooth (default auto: the step rule optimize jobs choose),
+ * --acuity-knots FILE (a folded acuity table, one "degrees W" pair per line, instead of the
+ * default naiman table). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,7 +34,7 @@ int main(int argc, char **argv)
     bool method_auto = true;
     int workers = 2;
     unsigned long long rng_seed = 1;
-    const char *only = NULL;
+    const char *only = NULL, *knots_file = NULL;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             family_seconds = 4;
@@ -52,6 +54,8 @@ int main(int argc, char **argv)
                 fprintf(stderr, "--method: auto, laine-aila, minimax or smooth\n");
                 return 2;
             }
+        } else if (!strcmp(argv[i], "--acuity-knots") && i + 1 < argc) {
+            knots_file = argv[++i];
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             only = argv[++i];
         } else {
@@ -66,9 +70,26 @@ int main(int argc, char **argv)
     aa_acuity acuity;
     aa_filter_default(&filter);
     aa_acuity_naiman(&acuity);
+    if (knots_file) {
+        double knots[AA_ACUITY_MAX_KNOTS][2];
+        size_t count = 0;
+        FILE *in = fopen(knots_file, "r");
+        while (in && count < AA_ACUITY_MAX_KNOTS &&
+               fscanf(in, "%lf %lf", &knots[count][0], &knots[count][1]) == 2)
+            count++;
+        if (in)
+            fclose(in);
+        aa_error err = {0};
+        if (!count || aa_acuity_from_knots(&acuity, (const double(*)[2])knots, count, &err)) {
+            fprintf(stderr, "--acuity-knots %s: no valid table (%s)\n", knots_file, err.message);
+            return 2;
+        }
+    }
     aa_metric_params metric = {&filter, &acuity, NULL, 0, 0};
-    printf("bench_families: multi-start descent, Opt W+P, %d workers, rng_seed %llu, method %s\n",
-           workers, rng_seed, method_auto ? "auto" : aa_optimize_method_name(method));
+    printf("bench_families: multi-start descent, Opt W+P, %d workers, rng_seed %llu, method %s, "
+           "acuity %s\n",
+           workers, rng_seed, method_auto ? "auto" : aa_optimize_method_name(method),
+           knots_file ? knots_file : "naiman");
     printf("%-14s %8s %8s %9s %8s %7s %9s  %s\n", "family", "best_e2", "seconds", "published",
            "diff", "seeds", "ratio", "method");
     int short_count = 0, total = 0;

@@ -1,6 +1,8 @@
-/* E1/E2 benchmark: ns per kernel-angle of the exact evaluation (aa_e1_at_angle) for 4, 16 and 64
- * samples, beside an in-run baseline that evaluates the same integral by a straightforward dense
- * quadrature: the midpoint rule with N uniform points over the span [min(p, -r), max(p, r)],
+/* E1/E2 benchmark: ns per kernel-angle of the exact evaluation (the closed form with its
+ * quadrature fallback, aa_e1_at_direction AUTO) for 4, 16 and 64 samples, beside the previous
+ * method as the engine ran it (cos/sin per call, sort from the input order, piecewise
+ * Gauss-Legendre) and an in-run baseline that evaluates the same integral by a straightforward
+ * dense quadrature: the midpoint rule with N uniform points over the span [min(p, -r), max(p, r)],
  * ghat by a pointer walk over the sorted projections, g by aa_filter_cdf. N is chosen per sample
  * count so that the baseline's median relative error (measured here against the exact value) is
  * about 1e-6; the achieved error is printed. Then whole-pattern E2 (aa_evaluate on the default 36
@@ -8,6 +10,7 @@
  * kernels, weights from the filter), each beside the dense-quadrature estimate for the same
  * kernel-angles. Figures vary with the machine; the ratios are the point. */
 #include <math.h>
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -90,8 +93,43 @@ static void random_kernel(aa_sample *s, size_t n)
 
 typedef struct size_result {
     size_t n;
-    double exact_ns, dense_ns;
+    double exact_ns, old_ns, dense_ns;
 } size_result;
+
+/* One call as the engine made it before issue 15: cos/sin per call, the sort from the input
+ * order, the piecewise Gauss-Legendre sweep. */
+static void e1_old(const aa_filter *f, const aa_sample *s, size_t n, double theta,
+                   aa_metric_workspace *ws, double *e)
+{
+    double c, sn;
+    aa_metric_direction(theta, &c, &sn);
+    ws->order_of = NULL;
+    aa_e1_at_direction(f, s, n, c, sn, AA_E1_QUADRATURE, ws, e);
+}
+
+/* ns per kernel-angle over every kernel at every angle (kernel-major, as aa_evaluate does). */
+static double time_calls(const aa_filter *f, const aa_sample *ks, size_t n, bool old,
+                         aa_metric_workspace *ws, const double *dc, const double *ds)
+{
+    volatile double sink = 0.0;
+    long calls = 0;
+    double t0 = now_s(), t1;
+    do {
+        for (size_t k = 0; k < KERNELS; k++)
+            for (int a = 0; a < ANGLES; a++) {
+                double e = 0.0;
+                if (old)
+                    e1_old(f, ks + k * n, n, a * (PI_D / ANGLES), ws, &e);
+                else
+                    aa_e1_at_direction(f, ks + k * n, n, dc[a], ds[a], AA_E1_AUTO, ws, &e);
+                sink += e;
+                calls++;
+            }
+        t1 = now_s();
+    } while (t1 - t0 < 0.3);
+    (void)sink;
+    return 1e9 * (t1 - t0) / (double)calls;
+}
 
 static size_result bench_size(const aa_filter *f, size_t n, long n_points)
 {
@@ -100,28 +138,24 @@ static size_result bench_size(const aa_filter *f, size_t n, long n_points)
         random_kernel(ks + k * n, n);
     aa_metric_workspace ws;
     aa_metric_workspace_init(&ws);
+    double dc[ANGLES], ds[ANGLES];
+    for (int a = 0; a < ANGLES; a++)
+        aa_metric_direction(a * (PI_D / ANGLES), &dc[a], &ds[a]);
+    double exact_ns = time_calls(f, ks, n, false, &ws, dc, ds);
+    double share = (double)ws.closed_calls / (double)(ws.closed_calls + ws.fallback_calls);
+    double old_ns = time_calls(f, ks, n, true, &ws, dc, ds);
     volatile double sink = 0.0;
-    long calls = 0;
-    double t0 = now_s(), t1;
-    do {
-        for (size_t k = 0; k < KERNELS; k++)
-            for (int a = 0; a < ANGLES; a++) {
-                double e = 0.0;
-                aa_e1_at_angle(f, ks + k * n, n, a * (PI_D / ANGLES), &ws, &e);
-                sink += e;
-                calls++;
-            }
-        t1 = now_s();
-    } while (t1 - t0 < 0.3);
-    double exact_ns = 1e9 * (t1 - t0) / (double)calls;
 
-    /* baseline on a few kernel-angles (it is slow), with its error against the exact value */
+    /* baseline on a few kernel-angles (it is slow), with its error against the exact value;
+     * also the largest difference between the closed form and the old method */
     enum { SAMPLES = 5 };
-    double errs[SAMPLES], dense_time = 0.0;
+    double errs[SAMPLES], dense_time = 0.0, diff = 0.0;
     for (int i = 0; i < SAMPLES; i++) {
         const aa_sample *s = ks + (size_t)i * n;
-        double theta = (7 * i + 3) * (PI_D / ANGLES), exact = 0.0;
+        double theta = (7 * i + 3) * (PI_D / ANGLES), exact = 0.0, old = 0.0;
         aa_e1_at_angle(f, s, n, theta, &ws, &exact);
+        e1_old(f, s, n, theta, &ws, &old);
+        diff = fmax(diff, fabs(exact - old) / old);
         double d0 = now_s();
         double dense = e1_dense_midpoint(f, s, n, theta, n_points);
         dense_time += now_s() - d0;
@@ -130,14 +164,33 @@ static size_result bench_size(const aa_filter *f, size_t n, long n_points)
     }
     qsort(errs, SAMPLES, sizeof errs[0], cmp_double);
     double dense_ns = 1e9 * dense_time / SAMPLES;
-    printf("E1 per kernel-angle, %2zu samples: exact %9.1f ns | dense midpoint (N = 2^%d) "
-           "%12.0f ns, median rel. error %.1e (max %.1e) | ratio %.0fx\n",
-           n, exact_ns, (int)lround(log2((double)n_points)), dense_ns, errs[SAMPLES / 2],
-           errs[SAMPLES - 1], dense_ns / exact_ns);
+    printf("E1 per kernel-angle, %2zu samples: closed form %7.1f ns (closed form taken %5.1f%%, "
+           "else quadrature) | previous method %7.1f ns (%.2fx) | dense midpoint (N = 2^%d) "
+           "%10.0f ns, median rel. error %.1e (max %.1e) (%.0fx) | closed vs previous: max rel. "
+           "difference %.1e\n",
+           n, exact_ns, 100 * share, old_ns, old_ns / exact_ns, (int)lround(log2((double)n_points)),
+           dense_ns, errs[SAMPLES / 2], errs[SAMPLES - 1], dense_ns / exact_ns, diff);
     aa_metric_workspace_free(&ws);
     free(ks);
     (void)sink;
-    return (size_result){n, exact_ns, dense_ns};
+    return (size_result){n, exact_ns, old_ns, dense_ns};
+}
+
+/* Whole-pattern E2 the way aa_evaluate computed it before (per-call cos/sin, sort from the
+ * input order, quadrature). */
+static double e2_old(const aa_pattern *p, const aa_acuity *acuity, const aa_filter *f,
+                     aa_metric_workspace *ws)
+{
+    double angles[AA_MAX_ANGLES], e2 = 0.0;
+    size_t na = aa_acuity_default_angles(acuity, angles, AA_MAX_ANGLES);
+    for (size_t k = 0; k < p->kernel_count; k++)
+        for (size_t a = 0; a < na; a++) {
+            double e1 = 0.0;
+            e1_old(f, p->kernels[k].samples, p->kernels[k].count, angles[a] * (PI_D / 180), ws,
+                   &e1);
+            e2 = fmax(e2, aa_acuity_weight(acuity, angles[a]) * e1);
+        }
+    return e2;
 }
 
 static void bench_pattern(const char *label, const aa_pattern *p, const aa_filter *f,
@@ -159,13 +212,37 @@ static void bench_pattern(const char *label, const aa_pattern *p, const aa_filte
         t1 = now_s();
     } while (t1 - t0 < 0.3);
     double us = 1e6 * (t1 - t0) / (double)runs;
-    size_t ka = p->kernel_count * ANGLES;
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    double e2o = 0.0;
+    runs = 0;
+    t0 = now_s();
+    do {
+        e2o = e2_old(p, acuity, f, &ws);
+        runs++;
+        t1 = now_s();
+    } while (t1 - t0 < 0.3);
+    double old_us = 1e6 * (t1 - t0) / (double)runs;
+    /* the share of kernel-angles the closed form took */
+    aa_metric_workspace_free(&ws);
+    aa_metric_workspace_init(&ws);
+    double angles[AA_MAX_ANGLES];
+    size_t na = aa_acuity_default_angles(acuity, angles, AA_MAX_ANGLES);
+    for (size_t k = 0; k < p->kernel_count; k++)
+        for (size_t a = 0; a < na; a++) {
+            double e1;
+            aa_e1_at_angle(f, p->kernels[k].samples, p->kernels[k].count, angles[a] * (PI_D / 180),
+                           &ws, &e1);
+        }
+    double share = (double)ws.closed_calls / (double)(ws.closed_calls + ws.fallback_calls);
+    aa_metric_workspace_free(&ws);
+    size_t ka = p->kernel_count * na;
     double dense_us = 1e-3 * dense_ns_per_kernel_angle * (double)ka;
-    printf("whole-pattern E2 %-22s %s: E2 = %.6f, %zu kernels x 36 angles, %.1f us per "
-           "evaluation (%.0f ns per kernel-angle) | dense-quadrature estimate %.0f us | ratio "
-           "%.0fx\n",
-           label, p->family, e2, p->kernel_count, us, 1e3 * us / (double)ka, dense_us,
-           dense_us / us);
+    printf("whole-pattern E2 %-18s %s: E2 = %.6f (previous %.6f), %zu kernels x %zu angles: "
+           "%.1f us per evaluation (%.0f ns per kernel-angle, closed form taken %.0f%%) | "
+           "previous method %.1f us (%.2fx) | dense-quadrature estimate %.0f us (%.0fx)\n",
+           label, p->family, e2, e2o, p->kernel_count, na, us, 1e3 * us / (double)ka, 100 * share,
+           old_us, old_us / us, dense_us, dense_us / us);
 }
 
 int main(void)

@@ -307,6 +307,107 @@ static void test_invalid_parameters(void **state)
     assert_int_equal(aa_filter_gaussian(&f, -1.0, 2.0, NULL), AA_EINVAL);
 }
 
+/* ---------- closed-form tables (docs/metric.md 2b), against the formulas written there ----------
+ */
+
+/* Gamma of the radius-2 Mitchell-Netravali cubic at t >= 0 (docs/metric.md 2b). */
+static long double doc_mitchell_gamma2(long double B, long double C, long double t)
+{
+    long double K1_1 = ((12 - 9 * B - 6 * C) / 4 + (-18 + 12 * B + 6 * C) / 3 + (6 - 2 * B)) / 6;
+#define L1(x)                                                                                      \
+    (((12 - 9 * B - 6 * C) * powl(x, 5) / 20 + (-18 + 12 * B + 6 * C) * powl(x, 4) / 12 +          \
+      (6 - 2 * B) * (x) * (x) / 2) /                                                               \
+     6)
+#define P2(x)                                                                                      \
+    (((-B - 6 * C) * powl(x, 4) / 4 + (6 * B + 30 * C) * powl(x, 3) / 3 +                          \
+      (-12 * B - 48 * C) * (x) * (x) / 2 + (8 * B + 24 * C) * (x)) /                               \
+     6)
+#define M2(x)                                                                                      \
+    (((-B - 6 * C) * powl(x, 5) / 20 + (6 * B + 30 * C) * powl(x, 4) / 12 +                        \
+      (-12 * B - 48 * C) * powl(x, 3) / 6 + (8 * B + 24 * C) * (x) * (x) / 2) /                    \
+     6)
+    long double T = 17.0L / 20 - B / 12 + C / 15;
+    if (t <= 1)
+        return L1(t) - T;
+    return L1(1.0L) + (K1_1 - P2(1.0L)) * (t - 1) + M2(t) - M2(1.0L) - T;
+#undef L1
+#undef P2
+#undef M2
+}
+
+/* Gamma from the engine's table, in long double (the table's coefficients are doubles). */
+static long double table_gamma(const aa_filter *f, double a)
+{
+    int j = (int)((a + f->radius) * f->closed_inv_width);
+    j = j < 0 ? 0 : (j >= f->closed_pieces ? f->closed_pieces - 1 : j);
+    long double s = (long double)a - f->closed_mid[j], v = 0;
+    for (int k = AA_FILTER_CLOSED_DEGREE; k >= 0; k--)
+        v = v * s + f->closed_gamma[j][k];
+    return v;
+}
+
+static void test_closed_form_tables(void **state)
+{
+    (void)state;
+    aa_error err;
+    aa_filter f;
+    double worst = 0;
+    /* Mitchell-Netravali family, several (B, C, r). */
+    const double bcr[][3] = {{1.0 / 3, 1.0 / 3, 2}, {0, 0.5, 2},     {1, 0, 2},
+                             {1.5, -0.25, 2},       {0.7, 0.1, 0.6}, {-0.5, 1.2, 5}};
+    for (size_t i = 0; i < sizeof bcr / sizeof bcr[0]; i++) {
+        long double B = bcr[i][0], C = bcr[i][1], r = bcr[i][2];
+        assert_int_equal(aa_filter_mitchell(&f, bcr[i][0], bcr[i][1], bcr[i][2], &err), AA_OK);
+        assert_int_equal(f.closed_pieces, 4);
+        for (int k = 0; k <= 200; k++) {
+            double a = -bcr[i][2] + 2 * bcr[i][2] * k / 200.0;
+            long double want = r / 2 * doc_mitchell_gamma2(B, C, fabsl(2 * (long double)a / r));
+            long double got = table_gamma(&f, a);
+            double e = (double)(fabsl(got - want) / r);
+            worst = fmax(worst, e);
+            assert_true(e <= 4e-16);
+        }
+        /* V = (r/2) V_2, V_2 = 2 int_0^2 K^2 by 20-point Gauss-Legendre per unit (exact). */
+        ref_filter rf;
+        ref_filter_mitchell(&rf, B, C, r);
+        long double node[20], weight[20], v = 0;
+        ref_gauss_legendre(20, node, weight);
+        for (int piece = 0; piece < 2; piece++)
+            for (int q = 0; q < 20; q++) {
+                long double x = (piece + 0.5L + 0.5L * node[q]) * r / 2;
+                long double g = ref_filter_cdf(&rf, x) - 0.5L;
+                v += 2 * weight[q] * 0.5L * (r / 2) * g * g;
+            }
+        assert_true(fabsl(f.closed_var - v) <= 4e-16L * r);
+    }
+    /* Box and tent: the closed forms of docs/metric.md. */
+    const double radii[] = {0.5, 1, 3.25};
+    for (size_t i = 0; i < 3; i++) {
+        long double r = radii[i];
+        assert_int_equal(aa_filter_box(&f, radii[i], &err), AA_OK);
+        for (int k = 0; k <= 100; k++) {
+            double a = -radii[i] + 2 * radii[i] * k / 100.0;
+            long double want = ((long double)a * a - r * r) / (4 * r);
+            assert_true(fabsl(table_gamma(&f, a) - want) <= 4e-16L * r);
+        }
+        assert_true(fabsl(f.closed_var - r / 6) <= 4e-16L * r);
+        assert_int_equal(aa_filter_tent(&f, radii[i], &err), AA_OK);
+        for (int k = 0; k <= 100; k++) {
+            double a = -radii[i] + 2 * radii[i] * k / 100.0;
+            long double x = fabsl((long double)a);
+            long double want = -(r * r - x * x) / (2 * r) + (r * r * r - x * x * x) / (6 * r * r);
+            assert_true(fabsl(table_gamma(&f, a) - want) <= 4e-16L * r);
+        }
+        assert_true(fabsl(f.closed_var - 4 * r / 15) <= 4e-16L * r);
+    }
+    /* No tables for the Gaussian and Lanczos: they keep the quadrature. */
+    assert_int_equal(aa_filter_gaussian(&f, 0.5, 2, &err), AA_OK);
+    assert_int_equal(f.closed_pieces, 0);
+    assert_int_equal(aa_filter_lanczos(&f, 2, &err), AA_OK);
+    assert_int_equal(f.closed_pieces, 0);
+    print_message("closed-form Gamma tables vs docs/metric.md formulas: max error %.3g r\n", worst);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -316,6 +417,7 @@ int main(void)
         cmocka_unit_test(test_pieces),
         cmocka_unit_test(test_mitchell_radius),
         cmocka_unit_test(test_invalid_parameters),
+        cmocka_unit_test(test_closed_form_tables),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

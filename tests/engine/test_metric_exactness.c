@@ -15,6 +15,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,7 +54,18 @@ typedef struct stats {
     double max_rel;
     double max_slack;
     char worst[160];
+    /* The two methods on their own (aa_e1_at_direction): the quadrature (always held to the
+     * same tolerance: the independent check) and the closed form without its fallback (only
+     * measured: where it cancels, the automatic choice must have fallen back). */
+    double max_rel_quadrature;
+    double max_rel_closed_raw;
+    size_t closed_rejected;  /* cases where the automatic choice fell back */
+    double max_rel_accepted; /* worst closed-form error among the cases it was accepted for */
+    double max_error_per_condition; /* closed-form error of E1 / (eps * its condition number) */
 } stats;
+
+/* The worst error of the automatic method over every test of this file, printed at the end. */
+static double worst_overall;
 
 static uint64_t rng_state;
 
@@ -161,6 +173,29 @@ static void check_case(const filter_pair *fp, const aa_sample *s, size_t n, doub
     double got = NAN;
     int rc = aa_e1_at_angle(&fp->engine, s, n, theta, ws, &got);
     double rel = (double)(fabsl((long double)got - ref) / ref);
+    double ct, stn, quad = NAN, closed = NAN;
+    aa_metric_direction(theta, &ct, &stn);
+    long fallbacks = ws->fallback_calls;
+    int rc2 = aa_e1_at_direction(&fp->engine, s, n, ct, stn, AA_E1_AUTO, ws, &got);
+    bool rejected = ws->fallback_calls != fallbacks;
+    int rc3 = aa_e1_at_direction(&fp->engine, s, n, ct, stn, AA_E1_QUADRATURE, ws, &quad);
+    int rc4 = aa_e1_at_direction(&fp->engine, s, n, ct, stn, AA_E1_CLOSED, ws, &closed);
+    double cond = ws->closed_condition;
+    double rel_quad = (double)(fabsl((long double)quad - ref) / ref);
+    double rel_closed = (double)(fabsl((long double)closed - ref) / ref);
+    if (rel_quad > st->max_rel_quadrature)
+        st->max_rel_quadrature = rel_quad;
+    if (rel_closed > st->max_rel_closed_raw)
+        st->max_rel_closed_raw = rel_closed;
+    if (fp->engine.closed_pieces > 0 && cond > 0 &&
+        rel_closed / (0x1.0p-52 * cond) > st->max_error_per_condition)
+        st->max_error_per_condition = rel_closed / (0x1.0p-52 * cond);
+    if (rejected)
+        st->closed_rejected++;
+    else if (fp->engine.closed_pieces > 0 && rel_closed > st->max_rel_accepted)
+        st->max_rel_accepted = rel_closed;
+    if (rel > worst_overall)
+        worst_overall = rel;
     double extent = 0.0;
     for (size_t i = 0; i < n; i++)
         extent = fmax(extent, fmax(fabs(s[i].x), fabs(s[i].y)));
@@ -174,10 +209,11 @@ static void check_case(const filter_pair *fp, const aa_sample *s, size_t n, doub
     }
     if (slack > st->max_slack)
         st->max_slack = slack;
-    if (rc != AA_OK || !(rel <= REL_TOL + slack)) {
+    if (rc != AA_OK || rc2 != AA_OK || rc3 != AA_OK || rc4 != AA_OK || !(rel <= REL_TOL + slack) ||
+        !(rel_quad <= REL_TOL + slack)) {
         print_error("E1 mismatch (%s, filter %s, n=%zu, theta=%.17g): engine %.17g, reference "
-                    "%.20Lg, rel %.3g (tolerance %.3g), rc %d\n",
-                    what, fp->label, n, theta, got, ref, rel, REL_TOL + slack, rc);
+                    "%.20Lg, rel %.3g (quadrature %.3g, tolerance %.3g), rc %d\n",
+                    what, fp->label, n, theta, got, ref, rel, rel_quad, REL_TOL + slack, rc);
         for (size_t i = 0; i < n && i < 8; i++)
             print_error("  sample %zu: %.17g %.17g %.17g\n", i, s[i].x, s[i].y, s[i].w);
         fail();
@@ -215,8 +251,11 @@ static void random_kernel(aa_sample *s, size_t n, double extent)
 static void print_stats(const char *title, const stats *st)
 {
     print_message("%s: %zu cases, max relative error %.3g (worst: %s), max projection slack "
-                  "%.3g\n",
-                  title, st->cases, st->max_rel, st->worst, st->max_slack);
+                  "%.3g; quadrature alone %.3g; closed form alone %.3g, %.3g where accepted, "
+                  "fell back in %zu cases; closed-form error / (eps condition) <= %.3g\n",
+                  title, st->cases, st->max_rel, st->worst, st->max_slack, st->max_rel_quadrature,
+                  st->max_rel_closed_raw, st->max_rel_accepted, st->closed_rejected,
+                  st->max_error_per_condition);
 }
 
 static void test_random_kernels_default_filter(void **state)
@@ -398,7 +437,140 @@ static void test_stiff_cases(void **state)
     aa_metric_workspace_free(&ws);
 }
 
-/* The E1 that aa_e1_gradient_at_angle reports is the same number. */
+/* ---------- cases aimed at the closed form's cancellation ---------- */
+
+/* x with g(x) = q on the reference, by bisection in long double. */
+static double ref_quantile(const ref_filter *rf, long double q)
+{
+    long double lo = -rf->radius, hi = rf->radius;
+    for (int i = 0; i < 200 && hi - lo > 0; i++) {
+        long double mid = 0.5L * (lo + hi);
+        if (ref_filter_cdf(rf, mid) < q)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return (double)(0.5L * (lo + hi));
+}
+
+/* n equal weights at the quantiles (i + 1/2) / n of the filter: the best step approximation
+ * of g with n equal steps, E1 ~ radius^(1/2) / n, far below the closed form's terms. */
+static void quantile_kernel(const ref_filter *rf, aa_sample *s, size_t n, double scale_y)
+{
+    for (size_t i = 0; i < n; i++)
+        s[i] = (aa_sample){ref_quantile(rf, ((long double)i + 0.5L) / (long double)n),
+                           scale_y * rng_uniform(-1.0, 1.0), 1.0 / (double)n};
+}
+
+static void swap_xy(aa_sample *s, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        double t = s[i].x;
+        s[i].x = s[i].y;
+        s[i].y = t;
+    }
+}
+
+static void test_cancellation_cases(void **state)
+{
+    (void)state;
+    rng_state = 1515;
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    aa_sample *s = calloc(1024, sizeof *s);
+    stats st = {0};
+    aa_error err;
+    static filter_pair narrow[3];
+    /* Nearly perfect kernels (E1 < 1e-6): filters 1e-7 .. 1e-12 wide, samples at their
+     * quantiles; theta = 0 and 90 degrees keep the projections exact. */
+    narrow[0].label = "box r=1e-7";
+    assert_int_equal(aa_filter_box(&narrow[0].engine, 1e-7, &err), AA_OK);
+    ref_filter_box(&narrow[0].ref, 1e-7L);
+    narrow[1].label = "mitchell r=1e-9";
+    assert_int_equal(aa_filter_mitchell(&narrow[1].engine, 1.0 / 3, 1.0 / 3, 1e-9, &err), AA_OK);
+    ref_filter_mitchell(&narrow[1].ref, 1.0L / 3, 1.0L / 3, 1e-9L);
+    narrow[2].label = "catmull-rom r=1e-12";
+    assert_int_equal(aa_filter_mitchell(&narrow[2].engine, 0, 0.5, 1e-12, &err), AA_OK);
+    ref_filter_mitchell(&narrow[2].ref, 0.0L, 0.5L, 1e-12L);
+    const size_t sizes[] = {1024, 256, 4};
+    size_t tiny = 0;
+    for (int fi = 0; fi < 3; fi++) {
+        size_t n = sizes[fi];
+        quantile_kernel(&narrow[fi].ref, s, n, 0.0);
+        double x[1024], y[1024], w[1024];
+        for (size_t i = 0; i < n; i++)
+            x[i] = s[i].x, y[i] = s[i].y, w[i] = s[i].w;
+        long double e1 = ref_e1_at_angle(&narrow[fi].ref, x, y, w, n, 0.0);
+        tiny += e1 < 1e-6L;
+        check_case(&narrow[fi], s, n, 0.0, &ws, &st, "nearly perfect (E1 < 1e-6)");
+        swap_xy(s, n);
+        check_case(&narrow[fi], s, n, PI_D / 2, &ws, &st, "nearly perfect (E1 < 1e-6)");
+    }
+    assert_int_equal(tiny, 3);
+    /* Quantile kernels of the reference filters of radius 2 (E1 ~ 1e-2 .. 1e-4). */
+    for (int k = 0; k < 12; k++) {
+        const filter_pair *fp = &filters[(int[]){F_MITCHELL, F_CATMULL_ROM, F_BOX, F_TENT}[k % 4]];
+        size_t n = (size_t[]){16, 64, 256}[k % 3] * (k >= 9 ? 4 : 1);
+        quantile_kernel(&fp->ref, s, n, 1.0);
+        check_case(fp, s, n, 0.0, &ws, &st, "quantile kernel");
+        swap_xy(s, n);
+        check_case(fp, s, n, PI_D / 2, &ws, &st, "quantile kernel");
+    }
+    /* Every sample beyond +-2 (outside the support), on one side or both, at any angle: the
+     * samples are placed along the edge normal with a random offset along the edge. */
+    for (int k = 0; k < 60; k++) {
+        const filter_pair *fp = &filters[(int[]){F_MITCHELL, F_NOTCH, F_BOX, F_TENT}[k % 4]];
+        double r = fp->ref.radius, th = k % 3 == 0 ? exact_angles[k % 3] : rng_uniform(0, PI_D);
+        size_t n = rng_int(1, 16);
+        double far = (double[]){2.0 + 1e-9, 2.5, 10.0, 1e3}[k % 4];
+        random_weights(s, n);
+        for (size_t i = 0; i < n; i++) {
+            double side = (k % 5 == 0) ? 1.0 : (k % 5 == 1 ? -1.0 : (rng_int(0, 1) ? 1.0 : -1.0));
+            double p = side * fmax(r, 2.0) * (1.0 + 1e-12) + side * rng_uniform(0.0, far - 2.0);
+            double q = rng_uniform(-1.0, 1.0);
+            s[i].x = p * cos(th) - q * sin(th);
+            s[i].y = p * sin(th) + q * cos(th);
+        }
+        check_case(fp, s, n, th, &ws, &st, "all beyond +-2");
+    }
+    print_stats("cancellation cases (nearly perfect, quantile kernels, all beyond +-2)", &st);
+    /* The detection is needed: some of these cancel beyond 1e-12 in the closed form alone, and
+     * the automatic choice fell back there. */
+    assert_true(st.max_rel_closed_raw > REL_TOL);
+    assert_true(st.closed_rejected > 0);
+    assert_true(st.max_rel_accepted <= REL_TOL);
+    free(s);
+    aa_metric_workspace_free(&ws);
+}
+
+/* The sorted order a workspace remembers between calls (metric.h) never changes a result: the
+ * same kernel at angles in any order, and other kernels of the same size in between, give the
+ * same bits as a fresh workspace. */
+static void test_order_reuse_is_invisible(void **state)
+{
+    (void)state;
+    rng_state = 8080;
+    aa_metric_workspace shared, fresh;
+    aa_metric_workspace_init(&shared);
+    aa_sample s[3][48];
+    for (int k = 0; k < 3; k++)
+        random_kernel(s[k], 48, 2.0);
+    for (int i = 0; i < 600; i++) {
+        int k = (int)rng_int(0, 2);
+        double th = i % 3 ? rng_uniform(0, PI_D) : (i % 36) * (PI_D / 36), a = NAN, b = NAN;
+        assert_int_equal(aa_e1_at_angle(&filters[F_MITCHELL].engine, s[k], 48, th, &shared, &a),
+                         AA_OK);
+        aa_metric_workspace_init(&fresh);
+        assert_int_equal(aa_e1_at_angle(&filters[F_MITCHELL].engine, s[k], 48, th, &fresh, &b),
+                         AA_OK);
+        aa_metric_workspace_free(&fresh);
+        assert_true(a == b);
+    }
+    aa_metric_workspace_free(&shared);
+}
+
+/* The E1 that aa_e1_gradient_at_angle reports is the same number, and both methods give the
+ * same gradient (the quadrature's prefix integrals against the closed form's). */
 static void test_gradient_e1_matches(void **state)
 {
     (void)state;
@@ -406,17 +578,32 @@ static void test_gradient_e1_matches(void **state)
     aa_metric_workspace ws;
     aa_metric_workspace_init(&ws);
     aa_sample s[64];
-    double dx[64], dy[64], dw[64];
+    double dx[64], dy[64], dw[64], qx[64], qy[64], qw[64], worst = 0;
     for (int k = 0; k < 300; k++) {
         size_t n = rng_int(1, 64);
-        random_kernel(s, n, 1.5);
-        double th = rng_uniform(0, PI_D), a = NAN, b = NAN;
-        assert_int_equal(aa_e1_at_angle(&filters[F_MITCHELL].engine, s, n, th, &ws, &a), AA_OK);
-        assert_int_equal(
-            aa_e1_gradient_at_angle(&filters[F_MITCHELL].engine, s, n, th, &ws, &b, dx, dy, dw),
-            AA_OK);
+        const filter_pair *fp = &filters[k % 3 == 0 ? F_MITCHELL : (k % 3 == 1 ? F_BOX : F_TENT)];
+        random_kernel(s, n, k % 5 == 0 ? 4.0 : 1.5);
+        double th = rng_uniform(0, PI_D), a = NAN, b = NAN, c = NAN, ct, st;
+        assert_int_equal(aa_e1_at_angle(&fp->engine, s, n, th, &ws, &a), AA_OK);
+        assert_int_equal(aa_e1_gradient_at_angle(&fp->engine, s, n, th, &ws, &b, dx, dy, dw),
+                         AA_OK);
         assert_true(fabs(a - b) <= 1e-14 * a);
+        aa_metric_direction(th, &ct, &st);
+        assert_int_equal(aa_e1_gradient_at_direction(&fp->engine, s, n, ct, st, AA_E1_QUADRATURE,
+                                                     &ws, &c, qx, qy, qw),
+                         AA_OK);
+        double scale = 0;
+        for (size_t i = 0; i < n; i++)
+            scale = fmax(scale, fmax(fabs(qx[i]) + fabs(qy[i]), fabs(qw[i])));
+        for (size_t i = 0; i < n; i++) {
+            double e = fmax(fabs(dx[i] - qx[i]) + fabs(dy[i] - qy[i]), fabs(dw[i] - qw[i]));
+            worst = fmax(worst, e / fmax(scale, 1e-300));
+        }
     }
+    print_message("gradient, closed form vs quadrature: max difference %.3g of the largest "
+                  "component\n",
+                  worst);
+    assert_true(worst <= 1e-11);
     aa_metric_workspace_free(&ws);
 }
 
@@ -472,8 +659,13 @@ int main(void)
         cmocka_unit_test(test_random_kernels_other_filters),
         cmocka_unit_test(test_random_mitchell_family),
         cmocka_unit_test(test_stiff_cases),
+        cmocka_unit_test(test_cancellation_cases),
         cmocka_unit_test(test_non_finite_angle),
         cmocka_unit_test(test_gradient_e1_matches),
+        cmocka_unit_test(test_order_reuse_is_invisible),
     };
-    return cmocka_run_group_tests(tests, setup_filters, NULL);
+    int failed = cmocka_run_group_tests(tests, setup_filters, NULL);
+    print_message("worst relative error of E1 (automatic method) over every case: %.3g\n",
+                  worst_overall);
+    return failed;
 }

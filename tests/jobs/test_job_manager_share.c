@@ -87,7 +87,7 @@ static json_t *wait_final(job_manager *jm, long long id, int *paused_seen, doubl
 static void test_pause_keeps_the_result(void **state)
 {
     (void)state;
-    static const char spec[] = "{\"kind\":\"optimize\",\"family\":\"P(1,1,5)\",\"seeds\":24,"
+    static const char spec[] = "{\"kind\":\"optimize\",\"family\":\"P(1,1,5)\",\"seeds\":96,"
                                "\"max_seconds\":600,\"rng_seed\":7}";
     char dir1[] = "/tmp/aalab-share-XXXXXX";
     job_manager *jm = open_manager(dir1, 1, 3600, 86400);

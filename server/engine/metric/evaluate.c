@@ -76,8 +76,17 @@ int aa_evaluate(const aa_pattern *p, const aa_metric_params *params, aa_evaluati
     out->angle_count = na;
     out->e2 = -1;
     out->lp_norm = NAN;
-    for (size_t a = 0; a < na; a++)
+    /* Directions once per call; each kernel then runs through the angles in order, so its
+     * sort starts from the previous angle's order (metric.h). */
+    double *dir_c = malloc(2 * na * sizeof *dir_c), *dir_s = dir_c ? dir_c + na : NULL;
+    if (!dir_c) {
+        aa_evaluation_free(out);
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    for (size_t a = 0; a < na; a++) {
         out->weight[a] = aa_acuity_weight(params->acuity, angles[a]);
+        aa_metric_direction(angles[a] * DEG2RAD, &dir_c[a], &dir_s[a]);
+    }
 
     aa_metric_workspace ws;
     aa_metric_workspace_init(&ws);
@@ -86,8 +95,8 @@ int aa_evaluate(const aa_pattern *p, const aa_metric_params *params, aa_evaluati
         const aa_kernel *ker = &p->kernels[k];
         for (size_t a = 0; a < na; a++) {
             double e1;
-            rc = aa_e1_at_angle(params->filter, ker->samples, ker->count, angles[a] * DEG2RAD, &ws,
-                                &e1);
+            rc = aa_e1_at_direction(params->filter, ker->samples, ker->count, dir_c[a], dir_s[a],
+                                    AA_E1_AUTO, &ws, &e1);
             if (rc) {
                 aa_error_set(err, rc, "", "out of memory");
                 break;
@@ -113,6 +122,7 @@ int aa_evaluate(const aa_pattern *p, const aa_metric_params *params, aa_evaluati
         }
     }
     aa_metric_workspace_free(&ws);
+    free(dir_c);
     if (rc) {
         aa_evaluation_free(out);
         return rc;

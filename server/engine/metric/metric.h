@@ -5,11 +5,18 @@
  * ghat(a) = sum_{p_i <= a} w_i and the reference's is the filter CDF g(a). Then
  *   E1(theta) = sqrt( integral (ghat(a) - g(a))^2 da ),
  *   E2 = max over kernels and angles of W(theta) E1(theta).
- * Between consecutive breakpoints (sorted projections and filter knots) ghat is constant and g
- * a polynomial of degree d, so each piece is integrated with (d+1)-point Gauss-Legendre, exact
- * for the degree-2d integrand; every term is >= 0, so the sum has relative error of a few ulp
- * times the number of pieces (measured in tests/engine: <= 1e-12 against long-double adaptive
- * quadrature), plus the filter table's stated CDF error for tabulated filters.
+ * Two methods (docs/metric.md section 2):
+ *  - closed form (piecewise-polynomial filters): with gamma = g - 1/2, Gamma its antiderivative
+ *    from -r and V = integral gamma^2, E1^2 = (exterior terms) + sum over the constant pieces
+ *    of (c_k - 1/2)^2 len_k + 2 sum_i w_i Gamma(p_i) + V: one polynomial per sample, no
+ *    quadrature. Its terms cancel when E1^2 is small beside them (many samples, nearly perfect
+ *    kernels); it carries an error estimate and falls back to the quadrature when the estimate
+ *    exceeds AA_E1_CLOSED_REL_ERROR (measured in tests/engine: <= 1e-12 either way).
+ *  - quadrature: between consecutive breakpoints (sorted projections and filter knots) ghat is
+ *    constant and g a polynomial of degree d, so each piece is integrated with (d+1)-point
+ *    Gauss-Legendre, exact for the degree-2d integrand; every term is >= 0, so the sum has
+ *    relative error of a few ulp times the number of pieces, plus the filter table's stated
+ *    CDF error for tabulated filters (Gaussian, Lanczos: always this method).
  *
  * Gradients (derived in docs/metric.md; L&A eq. 6 writes sqrt(E1) for E1):
  *   dE1/dp_i = w_i (2 g(p_i) - 2 S_i - w_i) / (2 E1),  S_i = sum of w_j sorted before i,
@@ -28,24 +35,51 @@
 #include "aa_pattern.h"
 
 /* Scratch memory for the per-angle computation; reuse it across calls to avoid allocation.
- * One workspace per thread. */
+ * One workspace per thread. It also remembers the sorted order of the last kernel it saw
+ * (identified by its sample pointer and count): the next angle of the same kernel starts its
+ * insertion sort from that order, nearly linear for neighbouring angles. The result never
+ * depends on it (ties are ordered by input index either way). */
 typedef struct aa_metric_workspace {
     size_t capacity;
     struct aa_projection *proj;
-    double *tail; /* suffix integrals for the weight gradient */
+    double *tail;         /* prefix integrals for the weight gradient */
+    const void *order_of; /* samples whose sorted order proj holds (NULL: none) */
+    size_t order_n;
+    long closed_calls, fallback_calls; /* how often the closed form was conditioned enough */
+    double closed_condition; /* of the last closed form: sqrt(sum of its squared terms) / E1^2 */
 } aa_metric_workspace;
 
 void aa_metric_workspace_init(aa_metric_workspace *ws);
 void aa_metric_workspace_free(aa_metric_workspace *ws);
 
+/* How E1 is computed. AUTO: the closed form where the filter has one (piecewise polynomial)
+ * and its estimated rounding error is below AA_E1_CLOSED_REL_ERROR relative, else the
+ * quadrature. QUADRATURE: always the piecewise Gauss-Legendre sweep (the previous method, kept
+ * as the independent check). CLOSED: the closed form without the fallback (benchmarks and the
+ * tests that measure its error; filters without tables still use the quadrature). */
+typedef enum aa_e1_method { AA_E1_AUTO, AA_E1_QUADRATURE, AA_E1_CLOSED } aa_e1_method;
+/* The closed form is used when its estimated relative error of E1, 4 eps sqrt(sum of its squared
+ * terms) / E1^2, is at most this: a quarter of the tests' tolerance (metric.c). */
+#define AA_E1_CLOSED_REL_ERROR 2.5e-13
+
+/* cos and sin of theta with the axis and diagonal directions exact (samples that tie at 0, 45,
+ * 90 ... degrees tie in floating point too). Precompute once per angle. */
+void aa_metric_direction(double theta, double *c, double *s);
+
 /* E1 at one angle (radians). Returns AA_OK, AA_EINVAL (no samples, non-finite angle) or
  * AA_ENOMEM. Precondition: the weights sum to 1 (otherwise E1 is infinite; not checked). */
 int aa_e1_at_angle(const aa_filter *f, const aa_sample *s, size_t n, double theta,
                    aa_metric_workspace *ws, double *e1);
+/* The same for a direction from aa_metric_direction, with a method. */
+int aa_e1_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct, double st,
+                       aa_e1_method method, aa_metric_workspace *ws, double *e1);
 /* E1 and its gradient. dx, dy, dw may each be NULL; arrays of n. */
 int aa_e1_gradient_at_angle(const aa_filter *f, const aa_sample *s, size_t n, double theta,
                             aa_metric_workspace *ws, double *e1, double *dx, double *dy,
                             double *dw);
+int aa_e1_gradient_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct,
+                                double st, aa_e1_method method, aa_metric_workspace *ws, double *e1,
+                                double *dx, double *dy, double *dw);
 
 typedef struct aa_metric_params {
     const aa_filter *filter;

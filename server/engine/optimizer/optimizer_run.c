@@ -10,6 +10,7 @@
 void opt_run_free(opt_run *r)
 {
     free(r->theta);
+    free(r->dir_c);
     free(r->weight);
     free(r->value);
     free(r->cur_value);
@@ -44,6 +45,8 @@ int opt_run_init(opt_run *r, const opt_state *st, const aa_metric_params *metric
             maxk = st->work.kernels[k].count;
     r->angle_count = n;
     r->theta = malloc(n * sizeof *r->theta);
+    r->dir_c = malloc(2 * n * sizeof *r->dir_c);
+    r->dir_s = r->dir_c ? r->dir_c + n : NULL;
     r->weight = malloc(n * sizeof *r->weight);
     r->value = malloc(n * st->work.kernel_count * sizeof *r->value);
     r->cur_value = malloc(n * st->work.kernel_count * sizeof *r->cur_value);
@@ -53,8 +56,8 @@ int opt_run_init(opt_run *r, const opt_state *st, const aa_metric_params *metric
     r->dir_x = calloc(st->point_count + 1, sizeof *r->dir_x);
     r->dir_y = calloc(st->point_count + 1, sizeof *r->dir_y);
     r->dir_w = calloc(st->weight_count + 1, sizeof *r->dir_w);
-    if (!r->theta || !r->weight || !r->value || !r->cur_value || !r->gx || !r->gy || !r->gw ||
-        !r->dir_x || !r->dir_y || !r->dir_w)
+    if (!r->theta || !r->dir_c || !r->weight || !r->value || !r->cur_value || !r->gx || !r->gy ||
+        !r->gw || !r->dir_x || !r->dir_y || !r->dir_w)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     for (size_t a = 0; a < n; a++) {
         char field[32];
@@ -63,6 +66,7 @@ int opt_run_init(opt_run *r, const opt_state *st, const aa_metric_params *metric
             return aa_error_set(err, AA_EINVAL, field, "angle must be finite");
         }
         r->theta[a] = deg[a] * (3.14159265358979323846 / 180.0);
+        aa_metric_direction(r->theta[a], &r->dir_c[a], &r->dir_s[a]);
         r->weight[a] = aa_acuity_weight(metric->acuity, deg[a]);
     }
     return AA_OK;
@@ -77,8 +81,8 @@ int opt_run_eval_e2(opt_run *r, opt_state *st, double *e2)
             return AA_ECANCELED;
         for (size_t a = 0; a < r->angle_count; a++) {
             double e1;
-            int rc = aa_e1_at_angle(r->metric->filter, ker->samples, ker->count, r->theta[a],
-                                    &r->ws, &e1);
+            int rc = aa_e1_at_direction(r->metric->filter, ker->samples, ker->count, r->dir_c[a],
+                                        r->dir_s[a], AA_E1_AUTO, &r->ws, &e1);
             if (rc)
                 return rc;
             double v = r->weight[a] * e1;
@@ -99,9 +103,9 @@ int opt_run_add_term_gradient(opt_run *r, const opt_state *st, size_t k, size_t 
     bool want_pos = r->params->mode != AA_OPTIMIZE_WEIGHTS;
     bool want_w = r->params->mode != AA_OPTIMIZE_POSITIONS;
     double e1;
-    int rc = aa_e1_gradient_at_angle(r->metric->filter, ker->samples, ker->count, r->theta[a],
-                                     &r->ws, &e1, want_pos ? r->gx : NULL, want_pos ? r->gy : NULL,
-                                     want_w ? r->gw : NULL);
+    int rc = aa_e1_gradient_at_direction(
+        r->metric->filter, ker->samples, ker->count, r->dir_c[a], r->dir_s[a], AA_E1_AUTO, &r->ws,
+        &e1, want_pos ? r->gx : NULL, want_pos ? r->gy : NULL, want_w ? r->gw : NULL);
     if (rc || !(e1 > 0))
         return rc; /* E1 = 0: a minimum of this term, its gradient is not defined */
     for (size_t i = 0; i < ker->count; i++) {

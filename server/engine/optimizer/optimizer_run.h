@@ -27,6 +27,7 @@ typedef struct opt_run {
     const aa_optimize_params *params;
     size_t angle_count;
     double *theta;                 /* radians */
+    double *dir_c, *dir_s;         /* aa_metric_direction of each theta */
     double *weight;                /* W(theta) */
     double *value;                 /* W E1 per kernel x angle, kernel-major, of the last eval */
     double *cur_value;             /* the same of the loop's cur (opt_loop_accept keeps it) */

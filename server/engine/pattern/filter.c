@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "aa_core.h"
+#include "filter_closed.h"
 
 #define PI 3.14159265358979323846
 
@@ -265,6 +266,9 @@ int aa_filter_mitchell(aa_filter *f, double B, double C, double radius, aa_error
     f->radius = radius;
     double h = radius / 2, knots[5] = {-2 * h, -h, 0, h, 2 * h};
     build_table(f, knots, 4, 4);
+    long double h_coef[4][4];
+    aa_filter_mitchell_coefficients(f, h_coef);
+    aa_filter_build_closed(f, (const long double(*)[4])h_coef, 4);
     return AA_OK;
 }
 
@@ -279,6 +283,8 @@ int aa_filter_box(aa_filter *f, double radius, aa_error *err)
     f->radius = radius;
     double knots[2] = {-radius, radius};
     build_table(f, knots, 1, 1);
+    const long double h_coef[1][4] = {{0.5L / radius, 0, 0, 0}};
+    aa_filter_build_closed(f, h_coef, 1);
     return AA_OK;
 }
 
@@ -293,6 +299,9 @@ int aa_filter_tent(aa_filter *f, double radius, aa_error *err)
     f->radius = radius;
     double knots[3] = {-radius, 0, radius};
     build_table(f, knots, 2, 2);
+    long double r = radius;
+    const long double h_coef[2][4] = {{1 / r, 1 / (r * r), 0, 0}, {1 / r, -1 / (r * r), 0, 0}};
+    aa_filter_build_closed(f, h_coef, 2);
     return AA_OK;
 }
 

@@ -16,6 +16,9 @@
 
 #define AA_FILTER_MAX_PIECES 192
 #define AA_FILTER_MAX_DEGREE 15
+/* Closed-form tables (piecewise-polynomial filters): at most 4 pieces, Gamma of degree <= 5. */
+#define AA_FILTER_CLOSED_MAX_PIECES 4
+#define AA_FILTER_CLOSED_DEGREE 5
 
 typedef enum aa_filter_kind {
     AA_FILTER_MITCHELL, /* Mitchell-Netravali (B, C), support [-radius, radius], default radius 2 */
@@ -43,6 +46,18 @@ typedef struct aa_filter {
     /* (degree+1)-point Gauss-Legendre rule on [-1, 1]: exact for (c - g)^2 on a piece. */
     double rule_node[AA_FILTER_MAX_DEGREE + 1];
     double rule_weight[AA_FILTER_MAX_DEGREE + 1];
+    /* Closed form of E1 (docs/metric.md section 2b), piecewise-polynomial filters only
+     * (Mitchell-Netravali family, box, tent); closed_pieces = 0 for the Gaussian and Lanczos.
+     * With gamma(a) = g(a) - 1/2 (odd) and Gamma(a) = integral_{-radius}^{a} gamma (even,
+     * Gamma(+-radius) = 0), piece j = floor((a + radius) * closed_inv_width) holds
+     * Gamma(a) = sum_k closed_gamma[j][k] s^k, s = a - closed_mid[j]; the coefficients are
+     * the exact polynomial integrals of h done in long double, rounded once to double.
+     * closed_var = integral_{-radius}^{radius} gamma^2 (exact, long double, rounded once). */
+    int closed_pieces;
+    double closed_inv_width;
+    double closed_var;
+    double closed_mid[AA_FILTER_CLOSED_MAX_PIECES];
+    double closed_gamma[AA_FILTER_CLOSED_MAX_PIECES][AA_FILTER_CLOSED_DEGREE + 1];
 } aa_filter;
 
 /* Constructors. Return AA_OK or AA_EINVAL (with err->field naming "B", "C", "sigma", "radius"
