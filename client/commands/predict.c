@@ -109,20 +109,13 @@ void predict_print(FILE *out, const json_t *resp, bool csv)
 
 int cmd_predict(cli_session *s)
 {
-    json_t *req, *resp;
+    json_t *req;
     char err[512];
     if (predict_request(s->args, &req, err, sizeof err)) {
         fprintf(s->err, "aalab predict: %s\n", err);
         return EXIT_USAGE;
     }
-    int code = cli_call(s, "POST", "/v1/predict", req, &resp);
+    int code = cli_show(s, "POST", "/v1/predict", req, predict_print);
     json_decref(req);
-    if (code != EXIT_OK)
-        return code;
-    if (s->args->json)
-        cli_print_json(s->out, resp);
-    else
-        predict_print(s->out, resp, s->args->csv);
-    json_decref(resp);
-    return EXIT_OK;
+    return code;
 }
