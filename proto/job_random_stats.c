@@ -83,9 +83,9 @@ static int decode_stage(const json_t *j, const char *field, proto_stats_stage *s
 
 int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result *r, aa_error *err)
 {
-    static const char *const keys[] = {"family", "distribution", "count", "random", "best_random",
-                                       "opt_w",  "opt_wp",       "best",  "e2",     "executor",
-                                       "shards", "reproducible", NULL};
+    static const char *const keys[] = {"family", "distribution", "count",  "random", "best_random",
+                                       "opt_w",  "opt_wp",       "best",   "e2",     "executor",
+                                       "shards", "reproducible", "acuity", NULL};
     static const char *const random_keys[] = {"min", "avg", "max", NULL};
     memset(r, 0, sizeof *r);
     const json_t *random = json_object_get(j, "random");

@@ -45,7 +45,8 @@ static const struct {
     const char *text;
 } DETAILS[] = {
     {"eval", "usage: aalab eval NAME|FILE.json [--filter NAME[:B=..,C=..]|JSON]\n"
-             "                  [--acuity naiman|uniform|FILE.json|JSON] [--angles A,B,...]\n"
+             "                  [--acuity naiman|naiman-envelope|uniform|FILE.json|JSON] [--angles "
+             "A,B,...]\n"
              "                  [--detail]\n"
              "FILE.json holds a pattern ({\"kernels\":...}, {\"mirrored\":...}, {\"tile\":...})\n"
              "or a whole evaluate request ({\"pattern\":P, ...}); options override its fields.\n"

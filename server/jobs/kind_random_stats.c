@@ -321,7 +321,7 @@ static int finish(const void *params, const json_t *merged, const char *executor
     r->distribution = sp->kind;
     r->count = (long)count;
     snprintf(r->family, sizeof r->family, "%s", sp->family.label);
-    r->run = proto_run_info_make(executor, shards, sp->common.reproducible);
+    r->run = proto_run_info_make(executor, shards, sp->common.reproducible, &sp->common.acuity);
     *result = r;
     return AA_OK;
 }

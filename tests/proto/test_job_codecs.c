@@ -216,7 +216,13 @@ static void test_optimize_result(void **state)
     json_decref(j);
     ROUND_TRIP_ONLY(proto_optimize_result, proto_encode_optimize_result,
                     proto_decode_optimize_result, proto_optimize_result_free, &r);
-    r.run = (proto_run_info){"slurm", 7, true};
+    r.run = (proto_run_info){"slurm", 7, true, "naiman-envelope", 1};
+    j = proto_encode_optimize_result(&r);
+    assert_string_equal(json_string_value(json_object_get(json_object_get(j, "acuity"), "name")),
+                        "naiman-envelope");
+    assert_int_equal(json_integer_value(json_object_get(json_object_get(j, "acuity"), "version")),
+                     1);
+    json_decref(j);
     ROUND_TRIP_ONLY(proto_optimize_result, proto_encode_optimize_result,
                     proto_decode_optimize_result, proto_optimize_result_free, &r);
     r.have_grid = true;
@@ -243,8 +249,11 @@ static void test_sweep_and_stats_result(void **state)
         {2, {{1, 1, 0, 0}, {0, 0, 0, 0}, 0}, 0.5, INFINITY, false, {0}},
     };
     preset_pattern("rgss", &rows[0].best);
-    proto_family_sweep_result s = {0.75, 2, 1, rows, 2, {"slurm", 3, true}};
+    proto_family_sweep_result s = {0.75, 2, 1, rows, 2, {"slurm", 3, true, "custom", 0}};
     json_t *j = proto_encode_family_sweep_result(&s);
+    json_t *custom = json_pack("{s:s}", "name", "custom");
+    assert_true(json_equal(json_object_get(j, "acuity"), custom));
+    json_decref(custom);
     assert_true(
         json_is_null(json_object_get(json_array_get(json_object_get(j, "ranked"), 1), "best")));
     assert_true(

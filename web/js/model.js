@@ -58,9 +58,15 @@ export function filtersFrom(resp) {
   });
 }
 
-/* GET /v1/acuity: {tables: [{name, folded, knots, ...}], default}. */
+/* GET /v1/acuity: {tables: [{name, version, description, folded, knots, ...}], default}. */
 export function acuityFrom(resp) {
-  return { names: list(resp && resp.tables).map((t) => t.name), default: str(resp && resp.default) };
+  const tables = list(resp && resp.tables).map((t) => ({ name: str(t.name), version: num(t.version), description: str(t.description) }));
+  return { names: tables.map((t) => t.name), tables, default: str(resp && resp.default) };
+}
+
+/* The selector's label of a table: its name and version ("naiman v2"). */
+export function acuityLabel(t) {
+  return t.version != null ? `${t.name} v${t.version}` : t.name;
 }
 
 /* POST /v1/evaluate: {e2, argmax: {kernel, angle_deg}, mean, kernel_count, angle_count, family,

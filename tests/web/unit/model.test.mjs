@@ -9,7 +9,7 @@ import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import {
   normEvaluation, normJob, jobsFrom, traceCurve, sweepRows, randomStatsRow, comparisonRows, animationTable, convergenceTable,
-  renderImages, renderStats, presetsFrom, normPreset, filtersFrom, acuityFrom, wirePattern, jobPattern, familySeries,
+  renderImages, renderStats, presetsFrom, normPreset, filtersFrom, acuityFrom, acuityLabel, wirePattern, jobPattern, familySeries,
   executionText,
 } from '../../../web/js/model.js';
 import { traceAxes, tickLabels } from '../../../web/js/trace-axes.js';
@@ -59,6 +59,13 @@ test('presets, filters and acuity tables', () => {
   const acuity = acuityFrom(load('acuity'));
   assert.deepEqual(acuity.names, load('acuity').tables.map((t) => t.name));
   assert.equal(acuity.default, 'naiman');
+  // Both Naiman tables, by name and version, each with its one-sentence description.
+  const naiman = acuity.tables.find((t) => t.name === 'naiman');
+  const envelope = acuity.tables.find((t) => t.name === 'naiman-envelope');
+  assert.equal(naiman.version, 2);
+  assert.equal(envelope.version, 1);
+  assert.equal(acuityLabel(naiman), 'naiman v2');
+  assert.ok(naiman.description.length > 20 && envelope.description.length > 20);
 });
 
 test('job list: summaries carry kind, state, family and best E2; no detail needed', () => {
