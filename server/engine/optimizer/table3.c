@@ -22,6 +22,7 @@ void aa_table3_params_default(aa_table3_params *p)
     p->count = 1000;
     p->opt_w_seconds = 60;
     p->opt_wp_seconds = 60;
+    p->opt_wp_method = -1;
 }
 
 void aa_table3_cell_free(aa_table3_cell *c)
@@ -65,17 +66,18 @@ static int relay_opt(void *user, const aa_optimize_progress *op)
 /* Stream of Opt W+P's iterated local search: apart from every pattern's stream (rng_seed, i). */
 #define PERTURB_STREAM (UINT64_C(1) << 32)
 
-static int opt_stage(const aa_pattern *start, const aa_metric_params *metric,
-                     aa_optimize_mode mode, const aa_table3_params *tp, uint64_t rng_seed,
-                     relay *rl, aa_pattern *out, aa_optimize_result *r, aa_optimize_method *method,
-                     aa_error *err)
+static int opt_stage(const aa_pattern *start, const aa_metric_params *metric, aa_optimize_mode mode,
+                     const aa_table3_params *tp, uint64_t rng_seed, relay *rl, aa_pattern *out,
+                     aa_optimize_result *r, aa_optimize_method *method, aa_error *err)
 {
     double seconds = mode == AA_OPTIMIZE_BOTH ? tp->opt_wp_seconds : tp->opt_w_seconds;
     long iterations = mode == AA_OPTIMIZE_BOTH ? tp->max_iterations : 0;
     aa_optimize_params op;
     aa_optimize_params_default(&op);
     op.mode = mode;
-    op.method = *method = aa_auto_method(aa_pattern_tiled_without_border(start), mode);
+    op.method = *method = mode == AA_OPTIMIZE_BOTH && tp->opt_wp_method >= 0
+                              ? (aa_optimize_method)tp->opt_wp_method
+                              : aa_auto_method(aa_pattern_tiled_without_border(start), mode);
     op.max_seconds = seconds;
     op.max_iterations = iterations > 0 ? iterations : 1000000;
     op.stall_iterations = 2000;
@@ -113,10 +115,9 @@ int aa_table3_cell_run(const aa_family *family, aa_seed_kind kind, const aa_metr
     memset(out, 0, sizeof *out);
     out->opt_w = out->opt_wp = NAN;
     relay rl = {progress, user, 0, params->count};
-    int rc = aa_random_patterns_range_radius(family, kind, params->poisson_radius, metric,
-                                             rng_seed, 0, params->count, relay_random, &rl, NULL,
-                                             &out->best_random, &out->best_index, &out->random,
-                                             err);
+    int rc = aa_random_patterns_range_radius(
+        family, kind, params->poisson_radius, metric, rng_seed, 0, params->count, relay_random, &rl,
+        NULL, &out->best_random, &out->best_index, &out->random, err);
     if (rc)
         return rc;
     aa_pattern w;

@@ -29,6 +29,7 @@ typedef struct aa_table3_params {
     double opt_w_seconds;  /* Opt W budget, default 60 (it converges in seconds); <= 0: none */
     double opt_wp_seconds; /* Opt W+P budget, default 60; <= 0: none (then max_iterations) */
     long max_iterations;   /* Opt W+P steps, descent and search together; 0: none */
+    int opt_wp_method;     /* an aa_optimize_method for Opt W+P; -1 (default): aa_auto_method */
     aa_clock clock;
 } aa_table3_params;
 void aa_table3_params_default(aa_table3_params *p);

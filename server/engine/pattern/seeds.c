@@ -75,6 +75,23 @@ static int nrooks(size_t n, int T, aa_rng *rng, aa_point *out)
     return AA_OK;
 }
 
+const char *aa_seed_generator_name(aa_seed_kind kind)
+{
+    switch (kind) {
+    case AA_SEED_POISSON:
+        return AA_POISSON_GENERATOR;
+    case AA_SEED_JITTERED:
+        return "jittered-grid";
+    case AA_SEED_NROOKS:
+        return "n-rooks";
+    case AA_SEED_LLOYD:
+        return "lloyd-torus";
+    case AA_SEED_UNIFORM:
+    default:
+        return "uniform";
+    }
+}
+
 double aa_poisson_default_radius(double spp)
 {
     return AA_POISSON_RADIUS_FACTOR / sqrt(spp);

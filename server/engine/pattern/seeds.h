@@ -20,6 +20,9 @@
 #define AA_POISSON_DARTS_PER_POINT 400
 #define AA_POISSON_GENERATOR "dart-throwing-torus"
 double aa_poisson_default_radius(double spp);
+/* The generator behind a distribution, as results record it: "dart-throwing-torus" (poisson),
+ * "jittered-grid", "n-rooks", "lloyd-torus", "uniform". */
+const char *aa_seed_generator_name(aa_seed_kind kind);
 
 /* Writes count points in [0, tile)^2 to out. Returns AA_OK, AA_EINVAL (count 0, tile < 1) or
  * AA_ENOMEM (Lloyd's scratch). Deterministic for the rng state. Poisson uses the default radius. */
