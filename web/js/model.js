@@ -207,6 +207,29 @@ export function randomStatsRow(result) {
   };
 }
 
+/* table3 result, as L&A Table 3 over seeds: {family, count, seeds, rows: [{distribution,
+ * generator: {name, radius?}, columns: {min|avg|max|opt_w|opt_wp: {mean, sd, paper}},
+ * per_seed}], best, e2, acuity}. Columns in the paper's order. */
+export const TABLE3_COLUMNS = [['min', 'Min'], ['avg', 'Avg'], ['max', 'Max'], ['opt_w', 'Opt W'], ['opt_wp', 'Opt W+P']];
+export function table3Rows(result) {
+  const r = result || {};
+  return {
+    family: str(r.family),
+    count: r.count,
+    seeds: list(r.seeds),
+    acuity: r.acuity ? (r.acuity.version != null ? `${r.acuity.name} v${r.acuity.version}` : str(r.acuity.name)) : '',
+    rows: list(r.rows).map((row) => ({
+      distribution: str(row.distribution),
+      generator: row.generator ? str(row.generator.name) : '',
+      radius: row.generator ? num(row.generator.radius) : null,
+      cols: TABLE3_COLUMNS.map(([k]) => {
+        const c = (row.columns || {})[k] || {};
+        return { mean: num(c.mean), sd: num(c.sd), paper: num(c.paper) };
+      }),
+    })),
+  };
+}
+
 /* compare result rows: [{name, family, samples_per_pixel, e2, rmse, max_dev, render_seconds,
  * pixels_sampled, coverage_samples, stats, tiles}]. */
 export function comparisonRows(result) {
