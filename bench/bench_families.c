@@ -2,13 +2,15 @@
  * optimisation of positions and weights per family, printed beside the published best E2.
  * Flags: --family-seconds S (default 60), --p16-seconds S (default 600), --quick (8 s per family,
  * 30 s for P(16,16,4)), --workers W (default 2), --seed K, --only LABEL, --method
- * auto|laine-aila|minimax|smooth (default auto: the step rule optimize jobs choose),
- * --acuity-knots FILE (a folded acuity table, one "degrees W" pair per line, instead of the
- * default naiman table). */
+ * auto|laine-aila|minimax|smooth (default auto: the step rule optimize jobs choose), --acuity
+ * NAME (default naiman, version 2; naiman-envelope is version 1), --cpu-clock (budgets in the
+ * process's CPU seconds divided by the workers, for a machine shared with other work). */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "aa_metric.h"
 #include "aa_pattern.h"
@@ -27,14 +29,24 @@ static const bench_case cases[] = {
     {"P(16,16,4)", 0.161},
 };
 
+/* The process's CPU seconds per worker: a budget that other work on the machine does not eat. */
+static double cpu_per_worker(void *user)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ((double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec) / *(const int *)user;
+}
+
 int main(int argc, char **argv)
 {
+    const char *acuity_name = "naiman";
+    bool cpu_clock = false;
     double family_seconds = 60, p16_seconds = 600;
     aa_optimize_method method = AA_METHOD_LAINE_AILA;
     bool method_auto = true;
     int workers = 2;
     unsigned long long rng_seed = 1;
-    const char *only = NULL, *knots_file = NULL;
+    const char *only = NULL;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             family_seconds = 4;
@@ -54,14 +66,16 @@ int main(int argc, char **argv)
                 fprintf(stderr, "--method: auto, laine-aila, minimax or smooth\n");
                 return 2;
             }
-        } else if (!strcmp(argv[i], "--acuity-knots") && i + 1 < argc) {
-            knots_file = argv[++i];
+        } else if (!strcmp(argv[i], "--acuity") && i + 1 < argc) {
+            acuity_name = argv[++i];
+        } else if (!strcmp(argv[i], "--cpu-clock")) {
+            cpu_clock = true;
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             only = argv[++i];
         } else {
             fprintf(stderr,
                     "usage: %s [--quick] [--family-seconds S] [--p16-seconds S] [--workers W] "
-                    "[--seed K] [--only LABEL]\n",
+                    "[--seed K] [--only LABEL] [--acuity NAME] [--cpu-clock]\n",
                     argv[0]);
             return 2;
         }
@@ -69,27 +83,16 @@ int main(int argc, char **argv)
     aa_filter filter;
     aa_acuity acuity;
     aa_filter_default(&filter);
-    aa_acuity_naiman(&acuity);
-    if (knots_file) {
-        double knots[AA_ACUITY_MAX_KNOTS][2];
-        size_t count = 0;
-        FILE *in = fopen(knots_file, "r");
-        while (in && count < AA_ACUITY_MAX_KNOTS &&
-               fscanf(in, "%lf %lf", &knots[count][0], &knots[count][1]) == 2)
-            count++;
-        if (in)
-            fclose(in);
-        aa_error err = {0};
-        if (!count || aa_acuity_from_knots(&acuity, (const double(*)[2])knots, count, &err)) {
-            fprintf(stderr, "--acuity-knots %s: no valid table (%s)\n", knots_file, err.message);
-            return 2;
-        }
+    aa_error aerr = {0};
+    if (aa_acuity_by_name(&acuity, acuity_name, &aerr)) {
+        fprintf(stderr, "--acuity: %s\n", aerr.message);
+        return 2;
     }
     aa_metric_params metric = {&filter, &acuity, NULL, 0, 0};
     printf("bench_families: multi-start descent, Opt W+P, %d workers, rng_seed %llu, method %s, "
-           "acuity %s\n",
-           workers, rng_seed, method_auto ? "auto" : aa_optimize_method_name(method),
-           knots_file ? knots_file : "naiman");
+           "acuity %s version %d%s\n",
+           workers, rng_seed, method_auto ? "auto" : aa_optimize_method_name(method), acuity.name,
+           acuity.version, cpu_clock ? ", budgets in CPU seconds per worker" : "");
     printf("%-14s %8s %8s %9s %8s %7s %9s  %s\n", "family", "best_e2", "seconds", "published",
            "diff", "seeds", "ratio", "method");
     int short_count = 0, total = 0;
@@ -109,6 +112,8 @@ int main(int argc, char **argv)
         mp.workers = workers;
         mp.rng_seed = rng_seed;
         mp.max_seconds = big ? p16_seconds : family_seconds;
+        if (cpu_clock)
+            mp.local.clock = (aa_clock){cpu_per_worker, &workers};
         mp.seed_count = 100000; /* the time budget ends the search */
         /* As optimize jobs do by default ("method":"auto"). */
         mp.local.method =

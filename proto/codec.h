@@ -34,7 +34,7 @@ int proto_decode_pattern_filtered(const json_t *j, unsigned flags, const aa_filt
 /* {"name":"mitchell","B":..,"C":..,"radius":..} / {"name":"gaussian","sigma":..,"radius":..} /
  * {"name":"lanczos","a":..}; NULL j -> the default Mitchell filter. */
 int proto_decode_filter(const json_t *j, aa_filter *out, const char *field_prefix, aa_error *err);
-/* {"name":"naiman"|"uniform"} or {"knots":[[deg,W],...]}; NULL j -> naiman. */
+/* {"name":"naiman"|"naiman-envelope"|"uniform"} or {"knots":[[deg,W],...]}; NULL j -> naiman. */
 int proto_decode_acuity(const json_t *j, aa_acuity *out, const char *field_prefix, aa_error *err);
 /* [deg,...] -> malloc'd array (*out, *count); NULL j -> *out = NULL, *count = 0. */
 int proto_decode_angles(const json_t *j, double **out, size_t *count, const char *field_prefix,
@@ -49,6 +49,9 @@ json_t *proto_encode_pattern(const aa_pattern *p);
 json_t *proto_encode_evaluation(const aa_evaluation *e, const aa_pattern *p, bool detail);
 json_t *proto_encode_filter(const aa_filter *f);
 json_t *proto_encode_acuity(const aa_acuity *a);
+/* Which table a result used, so stored results stay interpretable when the default table
+ * changes: {"name":"naiman","version":2} for a named table, {"name":"custom"} for knots. */
+json_t *proto_encode_acuity_ref(const aa_acuity *a);
 
 /* "prefix.sub" (or "prefix[..]" when sub starts with '['), written to out. */
 void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub);

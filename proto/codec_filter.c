@@ -252,6 +252,13 @@ json_t *proto_encode_acuity(const aa_acuity *a)
     return json_pack("{s:s,s:b,s:o}", "name", a->name, "folded", a->folded, "knots", knots);
 }
 
+json_t *proto_encode_acuity_ref(const aa_acuity *a)
+{
+    if (a->version <= 0)
+        return json_pack("{s:s}", "name", "custom");
+    return json_pack("{s:s,s:i}", "name", a->name, "version", a->version);
+}
+
 json_t *proto_encode_evaluation(const aa_evaluation *e, const aa_pattern *p, bool detail)
 {
     json_t *o =

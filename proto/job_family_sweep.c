@@ -138,8 +138,8 @@ static int decode_row(const json_t *j, proto_sweep_row *row, aa_error *err)
 int proto_decode_family_sweep_result(const json_t *j, proto_family_sweep_result *r, aa_error *err)
 {
     static const char *const keys[] = {
-        "cost", "configurations", "seeds_per_config", "ranked",       "best",
-        "e2",   "executor",       "shards",           "reproducible", NULL};
+        "cost",     "configurations", "seeds_per_config", "ranked", "best", "e2",
+        "executor", "shards",         "reproducible",     "acuity", NULL};
     memset(r, 0, sizeof *r);
     long long configurations = 0, per_config = 0;
     const json_t *ranked = json_object_get(j, "ranked");

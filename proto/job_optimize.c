@@ -79,7 +79,7 @@ json_t *proto_encode_optimize_result(const proto_optimize_result *r)
 
 static const char *const result_keys[] = {
     "best",   "e2",       "argmax", "seeds_run", "iterations", "evaluations",  "seconds", "family",
-    "method", "per_seed", "grid",   "executor",  "shards",     "reproducible", NULL};
+    "method", "per_seed", "grid",   "executor",  "shards",     "reproducible", "acuity",  NULL};
 static const char *const seed_keys[] = {"seed", "distribution", "initial_e2",
                                         "e2",   "iterations",   NULL};
 

@@ -1,12 +1,13 @@
 #include "job_random_stats.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "codec_internal.h"
 #include "job_result_util.h"
 
-static const char *const kind_keys[] = {"family", "count", "distribution", NULL};
+static const char *const kind_keys[] = {"family", "count", "distribution", "poisson_radius", NULL};
 
 int proto_decode_random_stats_spec(const json_t *spec, proto_random_stats_spec *s, aa_error *err)
 {
@@ -33,6 +34,12 @@ int proto_decode_random_stats_spec(const json_t *spec, proto_random_stats_spec *
     if (!rc && aa_seed_kind_parse(dist, &s->kind))
         rc = aa_error_set(err, AA_EINVAL, "distribution",
                           "must be uniform, jittered, n-rooks, poisson or lloyd");
+    /* The family's samples per pixel; above ~0.83/sqrt(spp) dart throwing jams. */
+    double spp = s->family.mirrored ? 1 : s->family.cost;
+    s->poisson_radius = aa_poisson_default_radius(spp);
+    if (!rc)
+        rc = proto_spec_number(spec, "poisson_radius", 0.001, 0.8 / sqrt(spp), &s->poisson_radius,
+                               err);
     if (rc)
         proto_random_stats_spec_free(s);
     return rc;
@@ -59,6 +66,11 @@ json_t *proto_encode_random_stats_result(const proto_random_stats_result *r)
                   proto_real(r->max), "best_random", proto_encode_pattern(&r->best_random), "opt_w",
                   encode_stage(&r->opt_w), "opt_wp", encode_stage(&r->opt_wp), "best",
                   proto_encode_pattern(&r->opt_wp.pattern), "e2", proto_real(r->opt_wp.e2));
+    json_t *gen = o ? json_pack("{s:s}", "name", aa_seed_generator_name(r->distribution)) : NULL;
+    if (gen && r->distribution == AA_SEED_POISSON && !isnan(r->radius))
+        json_object_set_new(gen, "radius", proto_real(r->radius));
+    if (o && gen)
+        json_object_set_new(o, "generator", gen);
     if (o && !proto_run_info_encode(o, &r->run)) {
         json_decref(o);
         o = NULL;
@@ -83,9 +95,10 @@ static int decode_stage(const json_t *j, const char *field, proto_stats_stage *s
 
 int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result *r, aa_error *err)
 {
-    static const char *const keys[] = {"family", "distribution", "count", "random", "best_random",
-                                       "opt_w",  "opt_wp",       "best",  "e2",     "executor",
-                                       "shards", "reproducible", NULL};
+    static const char *const keys[] = {"family",      "distribution", "count",  "random",
+                                       "best_random", "opt_w",        "opt_wp", "best",
+                                       "e2",          "executor",     "shards", "reproducible",
+                                       "acuity",      "generator",    NULL};
     static const char *const random_keys[] = {"min", "avg", "max", NULL};
     memset(r, 0, sizeof *r);
     const json_t *random = json_object_get(j, "random");
@@ -115,6 +128,12 @@ int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result 
         rc = decode_stage(json_object_get(j, "opt_w"), "opt_w", &r->opt_w, err);
     if (!rc)
         rc = decode_stage(json_object_get(j, "opt_wp"), "opt_wp", &r->opt_wp, err);
+    r->radius = NAN;
+    const json_t *gen = json_object_get(j, "generator");
+    if (!rc && gen && (!json_is_object(gen) || !json_is_string(json_object_get(gen, "name"))))
+        rc = aa_error_set(err, AA_EINVAL, "generator", "expected {\"name\",\"radius\"?}");
+    if (!rc && json_object_get(gen, "radius"))
+        rc = proto_result_real(gen, "radius", &r->radius, err);
     if (!rc)
         rc = proto_run_info_decode(j, &r->run, err);
     if (family)

@@ -10,8 +10,9 @@
 typedef struct proto_random_stats_spec {
     proto_optimizer_spec common; /* max_seconds default 30: half for Opt W, half for Opt W+P */
     aa_family family;
-    size_t count;      /* default 1000 */
-    aa_seed_kind kind; /* default uniform */
+    size_t count;          /* default 1000 */
+    aa_seed_kind kind;     /* default uniform */
+    double poisson_radius; /* px; the default for the family's density when not given */
 } proto_random_stats_spec;
 
 int proto_decode_random_stats_spec(const json_t *spec, proto_random_stats_spec *out, aa_error *err);
@@ -27,6 +28,7 @@ typedef struct proto_stats_stage {
 typedef struct proto_random_stats_result {
     char family[48];
     aa_seed_kind distribution;
+    double radius; /* Poisson disk radius in px ("generator"); NaN: none recorded */
     long count;
     double min, avg, max; /* E2 of the random patterns */
     aa_pattern best_random;
@@ -35,7 +37,8 @@ typedef struct proto_random_stats_result {
 } proto_random_stats_result;
 
 /* {"family","distribution","count","random":{"min","avg","max"},"best_random","opt_w":{"e2",
- * "pattern","method"},"opt_wp":{...},"best","e2","executor","shards","reproducible"}: Opt W+P is
+ * "pattern","method"},"opt_wp":{...},"best","e2","generator":{"name","radius"?},"executor",
+ * "shards","reproducible"}: Opt W+P is
  * also the result's "best" and "e2". NULL when out of memory. */
 json_t *proto_encode_random_stats_result(const proto_random_stats_result *r);
 int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result *out,

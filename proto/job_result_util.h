@@ -6,6 +6,7 @@
 #include <jansson.h>
 
 #include "aa_core.h"
+#include "aa_metric.h"
 #include "aa_optimizer.h"
 #include "aa_pattern.h"
 
@@ -25,13 +26,21 @@ typedef struct proto_run_info {
     char executor[8]; /* "" encodes as "local" */
     long shards;      /* 0 encodes as 1 */
     bool reproducible;
+    /* The acuity table the job used ("acuity": {"name","version"} or {"name":"custom"}); name ""
+     * (results stored before it was recorded) encodes nothing. */
+    char acuity_name[24];
+    int acuity_version; /* 0: custom */
 } proto_run_info;
-/* The run info of a finished job: executor, shards, reproducible. */
-proto_run_info proto_run_info_make(const char *executor, size_t shards, bool reproducible);
-/* Adds the three keys to o (false when out of memory). */
+/* The run info of a finished job: executor, shards, reproducible, the acuity table (may be NULL).
+ */
+proto_run_info proto_run_info_make(const char *executor, size_t shards, bool reproducible,
+                                   const aa_acuity *acuity);
+/* Adds the keys to o (false when out of memory). */
 bool proto_run_info_encode(json_t *o, const proto_run_info *ri);
-/* The three keys of a result; results stored before they existed lack them: local, 1 shard, not
- * reproducible. */
+/* The keys of a result; results stored before they existed lack them: local, 1 shard, not
+ * reproducible, no acuity. */
 int proto_run_info_decode(const json_t *obj, proto_run_info *out, aa_error *err);
+/* {"name":"naiman","version":2} or {"name":"custom"} at obj["acuity"] into name / version. */
+int proto_acuity_ref_decode(const json_t *obj, char *name, size_t cap, int *version, aa_error *err);
 
 #endif

@@ -30,6 +30,8 @@ SUMMARY = {
                      ' | @tsv'),
     "random-stats": ('.["result"] | [.["random"]["min"], .["random"]["avg"], .["random"]["max"],'
                      ' .["opt_w"]["e2"], .["opt_wp"]["e2"]] | @tsv'),
+    "table3": ('.["result"]["rows"][] | [.["distribution"], .["columns"]["opt_w"]["mean"],'
+               ' .["columns"]["opt_w"]["sd"], .["columns"]["opt_wp"]["mean"]] | @tsv'),
     "compare": ('.["result"]["rows"][] | [.["name"], .["samples_per_pixel"], .["e2"], .["rmse"]]'
                 ' | @tsv'),
     "animation": '.["result"]["frames"][] | [.["frame"], .["rmse"], .["max_dev"]] | @tsv',

@@ -32,8 +32,8 @@ void filters_print(FILE *out, const json_t *resp, bool csv)
 
 void acuity_print(FILE *out, const json_t *resp, bool csv)
 {
-    const char *headers[] = {"name", "default", "knots (deg:W)"};
-    table *t = table_new(3, headers);
+    const char *headers[] = {"name", "version", "default", "knots (deg:W)"};
+    table *t = table_new(4, headers);
     if (!t)
         return;
     size_t i;
@@ -52,12 +52,22 @@ void acuity_print(FILE *out, const json_t *resp, bool csv)
                 break;
             used += (size_t)n;
         }
-        const char *cells[] = {fmt_string(json_object_get(a, "name")),
-                               json_is_true(json_object_get(a, "default")) ? "yes" : "", knots};
+        char version[32];
+        const char *cells[] = {
+            fmt_string(json_object_get(a, "name")),
+            fmt_number(version, sizeof version, json_object_get(a, "version"), 0),
+            json_is_true(json_object_get(a, "default")) ? "yes" : "", knots};
         table_add_row(t, cells);
     }
     table_write(t, out, csv);
     table_free(t);
+    /* What each table is, one sentence each (text only: CSV stays one table). */
+    json_array_foreach(list_member(resp, "tables"), i, a)
+    {
+        const char *d = json_string_value(json_object_get(a, "description"));
+        if (!csv && d)
+            fprintf(out, "%s%s: %s\n", i ? "" : "\n", fmt_string(json_object_get(a, "name")), d);
+    }
 }
 
 /* Four per-side counts as "0 0 0 1". */

@@ -54,9 +54,9 @@ static const struct {
     const char *text;
 } DETAILS[] = {
     {"eval", "usage: aalab eval NAME|FILE.json|POINTS [--filter NAME[:B=..,C=..]|JSON]\n"
-             "                  [--acuity naiman|uniform|FILE.json|JSON] [--angles A,B,...]\n"
-             "                  [--detail] [--points-format F] [--tile T] [--kernel K]\n"
-             "                  [--weights file|filter|equal]\n"
+             "                  [--acuity naiman|naiman-envelope|uniform|FILE.json|JSON]\n"
+             "                  [--angles A,B,...] [--detail] [--points-format F] [--tile T]\n"
+             "                  [--kernel K] [--weights file|filter|equal]\n"
              "FILE.json holds a pattern ({\"kernels\":...}, {\"mirrored\":...}, {\"tile\":...})\n"
              "or a whole evaluate request ({\"pattern\":P, ...}); options override its fields.\n"
              "--detail adds the per-kernel, per-angle table (angle_deg, weight, e1, weighted).\n"
@@ -91,7 +91,8 @@ static const struct {
     {"job", "usage: aalab job ID [--trace] [--csv]\n"
             "The job's state, its kind's result (optimize: E2 and a row per seed;\n"
             "family-sweep: the configurations ranked by E2; random-stats: min, avg, max,\n"
-            "Opt W, Opt W+P as in Laine & Aila's Table 3; compare, animation,\n"
+            "Opt W, Opt W+P as in Laine & Aila's Table 3; table3: that table over\n"
+            "seeds, mean with a ± column (sd) beside the paper's row; compare, animation,\n"
             "reference-convergence: their tables), the best pattern (x, y and weight of\n"
             "each sample, kernels numbered from 0) and a summary of the trace.\n"
             "--trace: the best E2 against run time (seconds, iterations, evaluations).\n"

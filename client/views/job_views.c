@@ -5,9 +5,13 @@
 #include <string.h>
 
 static const job_view VIEWS[] = {
-    {"optimize", view_optimize},         {"family-sweep", view_family_sweep},
-    {"random-stats", view_random_stats}, {"compare", view_compare},
-    {"animation", view_animation},       {"reference-convergence", view_reference_convergence},
+    {"optimize", view_optimize},
+    {"family-sweep", view_family_sweep},
+    {"random-stats", view_random_stats},
+    {"table3", view_table3},
+    {"compare", view_compare},
+    {"animation", view_animation},
+    {"reference-convergence", view_reference_convergence},
 };
 
 static const job_view GENERIC = {"", view_generic};

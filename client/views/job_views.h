@@ -22,6 +22,7 @@ const job_view *job_view_find(const char *kind);
 void view_optimize(FILE *out, const json_t *result, bool csv);
 void view_family_sweep(FILE *out, const json_t *result, bool csv);
 void view_random_stats(FILE *out, const json_t *result, bool csv);
+void view_table3(FILE *out, const json_t *result, bool csv);
 void view_compare(FILE *out, const json_t *result, bool csv);
 void view_animation(FILE *out, const json_t *result, bool csv);
 void view_reference_convergence(FILE *out, const json_t *result, bool csv);

@@ -49,6 +49,14 @@ void view_kv_execution(view_kv *kv, const json_t *result)
                 json_is_true(json_object_get(result, "reproducible"))
                     ? "reproducible"
                     : "best effort (time budget)");
+    /* Which acuity table the E2 values use (results since issue 17). */
+    const json_t *acuity = json_object_get(result, "acuity");
+    const json_t *version = json_object_get(acuity, "version");
+    const char *name = json_string_value(json_object_get(acuity, "name"));
+    if (name && json_is_integer(version))
+        view_kv_add(kv, "acuity", "%s version %lld", name, (long long)json_integer_value(version));
+    else if (name)
+        view_kv_add(kv, "acuity", "%s", name);
 }
 
 const char *view_str(const json_t *v)

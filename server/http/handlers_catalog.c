@@ -71,19 +71,41 @@ void handle_filters(api_context *ctx, const api_request *req, api_response *resp
     api_reply_json(resp, 200, json_pack("{s:o}", "filters", a));
 }
 
+/* One sentence per named table (aa_acuity_names): what the dashboard and the client show. */
+static const char *acuity_description(const char *name)
+{
+    if (!strcmp(name, "naiman"))
+        return "Version 2 of the Naiman acuity reconstructed from the published E2 values "
+               "(the default): W(0°) = 3.93 and W(45°) = 2.50 pinned, the knots in "
+               "between lowered so that L&A Table 3 is reproduced as well as every fixed pattern.";
+    if (!strcmp(name, "naiman-envelope"))
+        return "Version 1 of that reconstruction: the knots between 0° and 45° just "
+               "under the largest values the published fixed patterns allow (same fixed-pattern "
+               "E2, P(16,16,4) optima about 5-8 % above L&A Table 3).";
+    return "W = 1 at every angle: the plain, unweighted E1.";
+}
+
 void handle_acuity(api_context *ctx, const api_request *req, api_response *resp)
 {
-    aa_acuity n, u;
-    aa_acuity_naiman(&n);
-    aa_acuity_uniform(&u);
-    double angles[AA_MAX_ANGLES];
-    size_t count = aa_acuity_default_angles(&n, angles, AA_MAX_ANGLES);
-    json_t *defaults = json_array();
-    for (size_t i = 0; i < count; i++)
-        json_array_append_new(defaults, json_real(angles[i]));
-    json_t *tn = proto_encode_acuity(&n);
-    json_object_set_new(tn, "default_angles", defaults);
-    json_object_set_new(tn, "default", json_true());
-    json_t *tu = proto_encode_acuity(&u);
-    api_reply_json(resp, 200, json_pack("{s:[o,o],s:s}", "tables", tn, tu, "default", "naiman"));
+    json_t *tables = json_array();
+    for (size_t t = 0; aa_acuity_names[t]; t++) {
+        aa_acuity a;
+        if (aa_acuity_by_name(&a, aa_acuity_names[t], NULL))
+            continue;
+        json_t *o = proto_encode_acuity(&a);
+        json_object_set_new(o, "version", json_integer(a.version));
+        json_object_set_new(o, "description", json_string(acuity_description(a.name)));
+        if (t == 0) {
+            double angles[AA_MAX_ANGLES];
+            size_t count = aa_acuity_default_angles(&a, angles, AA_MAX_ANGLES);
+            json_t *defaults = json_array();
+            for (size_t i = 0; i < count; i++)
+                json_array_append_new(defaults, json_real(angles[i]));
+            json_object_set_new(o, "default_angles", defaults);
+            json_object_set_new(o, "default", json_true());
+        }
+        json_array_append_new(tables, o);
+    }
+    api_reply_json(resp, 200,
+                   json_pack("{s:o,s:s}", "tables", tables, "default", aa_acuity_names[0]));
 }

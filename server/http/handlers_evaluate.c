@@ -143,6 +143,8 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
         api_reply_aa_error(resp, &err);
     } else {
         json_t *o = proto_encode_evaluation(&ev, &pattern, detail);
+        if (o)
+            json_object_set_new(o, "acuity", proto_encode_acuity_ref(&acuity));
         api_reply_json(resp, 200, o);
         if (resp->status == 200 && !has_ref)
             eval_cache_put(cache, req->body, req->body_len, resp->body, resp->body_len);

@@ -41,6 +41,19 @@ static const job_kind table[] = {
      .free_result = kind_random_stats_free_result,
      .best_of = kind_random_stats_best_of,
      .split = &kind_random_stats_split},
+    {.name = "table3",
+     .summary = "Laine & Aila's Table 3 over K rng_seeds: per distribution, Min, Avg and Max E2 "
+                "of random patterns, exact Opt W and Opt W+P of the best, as mean +- sd beside "
+                "the paper's values.",
+     .decode = kind_table3_decode,
+     .free_params = kind_table3_free,
+     .spec_family = kind_table3_family,
+     .max_seconds = kind_table3_max_seconds,
+     .run = kind_table3_run,
+     .encode_result = kind_table3_encode_result,
+     .free_result = kind_table3_free_result,
+     .best_of = kind_table3_best_of,
+     .split = &kind_table3_split},
     {.name = "compare",
      .summary = "Renders one scene with several patterns and tabulates samples per pixel, E2, "
                 "RMSE and max deviation against a supersampled reference.",

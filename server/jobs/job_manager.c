@@ -752,10 +752,11 @@ void job_manager_kind_names(const job_manager *jm, char *buf, size_t cap)
 static int slurm_refusal(job_manager *jm, const job_kind *kind, aa_error *err)
 {
     if (!kind->split)
-        return aa_error_set(err, AA_EINVAL, "executor",
-                            "kind %s cannot run on Slurm (optimize, family-sweep and random-stats "
-                            "can)",
-                            kind->name);
+        return aa_error_set(
+            err, AA_EINVAL, "executor",
+            "kind %s cannot run on Slurm (optimize, family-sweep, random-stats and table3 "
+            "can)",
+            kind->name);
     cluster_status st;
     cluster_probe_status(jm->probe, &st);
     if (!st.configured)

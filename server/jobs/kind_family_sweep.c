@@ -256,7 +256,7 @@ static int finish(const void *params, const json_t *merged, const char *executor
                                          .seeds_per_config = (long)sp->per_config,
                                          .ranked = ranked,
                                          .ranked_count = count};
-        r->run = proto_run_info_make(executor, shards, sp->common.reproducible);
+        r->run = proto_run_info_make(executor, shards, sp->common.reproducible, &sp->common.acuity);
         *result = r;
     } else {
         for (size_t i = 0; i < decoded; i++)

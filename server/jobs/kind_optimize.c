@@ -273,7 +273,7 @@ static int finish(const void *params, const json_t *merged, const char *executor
         free(r);
         return rc;
     }
-    r->run = proto_run_info_make(executor, shards, op->common.reproducible);
+    r->run = proto_run_info_make(executor, shards, op->common.reproducible, &op->common.acuity);
     *result = r;
     return AA_OK;
 }

@@ -146,8 +146,9 @@ static int run_patterns(const proto_random_stats_spec *sp, const json_t *shard,
     random_progress rp = {ctx, count};
     aa_pattern best;
     aa_random_stats rs;
-    rc = aa_random_patterns_range(&sp->family, sp->kind, &metric, sp->common.rng_seed, first, count,
-                                  random_patterns_progress, &rp, e2, &best, &best_index, &rs, err);
+    rc = aa_random_patterns_range_radius(
+        &sp->family, sp->kind, sp->poisson_radius, &metric, sp->common.rng_seed, first, count,
+        random_patterns_progress, &rp, e2, &best, &best_index, &rs, err);
     json_t *list = rc ? NULL : json_array();
     for (size_t i = 0; list && i < count; i++)
         if (json_array_append_new(list, proto_real(e2[i]))) {
@@ -319,9 +320,10 @@ static int finish(const void *params, const json_t *merged, const char *executor
         return rc;
     }
     r->distribution = sp->kind;
+    r->radius = sp->kind == AA_SEED_POISSON && !sp->family.mirrored ? sp->poisson_radius : NAN;
     r->count = (long)count;
     snprintf(r->family, sizeof r->family, "%s", sp->family.label);
-    r->run = proto_run_info_make(executor, shards, sp->common.reproducible);
+    r->run = proto_run_info_make(executor, shards, sp->common.reproducible, &sp->common.acuity);
     *result = r;
     return AA_OK;
 }

@@ -17,6 +17,7 @@
 JOB_KIND_FUNCTIONS(kind_optimize);
 JOB_KIND_FUNCTIONS(kind_family_sweep);
 JOB_KIND_FUNCTIONS(kind_random_stats);
+JOB_KIND_FUNCTIONS(kind_table3);
 JOB_KIND_FUNCTIONS(kind_compare);
 JOB_KIND_FUNCTIONS(kind_animation);
 JOB_KIND_FUNCTIONS(kind_reference_convergence);
@@ -99,18 +100,22 @@ struct job_split;
 extern const struct job_split kind_optimize_split;
 extern const struct job_split kind_family_sweep_split;
 extern const struct job_split kind_random_stats_split;
+extern const struct job_split kind_table3_split;
 
 const char *kind_optimize_family(const void *params);
 const char *kind_family_sweep_family(const void *params);
 const char *kind_random_stats_family(const void *params);
+const char *kind_table3_family(const void *params);
 
 double kind_optimize_max_seconds(const void *params);
 double kind_family_sweep_max_seconds(const void *params);
 double kind_random_stats_max_seconds(const void *params);
+double kind_table3_max_seconds(const void *params);
 
 json_t *kind_optimize_best_of(const json_t *result, double *e2);
 json_t *kind_family_sweep_best_of(const json_t *result, double *e2);
 json_t *kind_random_stats_best_of(const json_t *result, double *e2);
+json_t *kind_table3_best_of(const json_t *result, double *e2);
 json_t *kind_sleep_best_of(const json_t *result, double *e2);
 /* The sleep kind's split (kind_sleep_split.c): the test kind the Slurm executor tests drive. */
 extern const struct job_split kind_sleep_split;

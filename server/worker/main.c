@@ -35,7 +35,8 @@ static void on_stop_signal(int sig)
 static void usage(FILE *f)
 {
     fputs("usage: aalab-worker TASK.json\n"
-          "Runs one shard of an aalab job (optimize, family-sweep, random-stats) described by\n"
+          "Runs one shard of an aalab job (optimize, family-sweep, random-stats, table3) described "
+          "by\n"
           "TASK.json (format aalab-task/1) and writes the shard's output and trace files named\n"
           "in it atomically (temporary file in the same directory, fsync, rename). Threads:\n"
           "$SLURM_CPUS_PER_TASK, or 1.\n"

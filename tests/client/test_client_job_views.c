@@ -385,11 +385,60 @@ static void reference_convergence_view(void **state)
     json_decref(job);
 }
 
+/* table3: the paper's table with a ± column after each figure, the means and sds as the API,
+ * the generators and the acuity table; CSV the same columns. */
+static void table3_view(void **state)
+{
+    json_t *job = fixture("job_table3.json");
+    const json_t *r = result_of(job), *rows = json_object_get(r, "rows");
+    const char *columns[] = {"min", "avg", "max", "opt_w", "opt_wp"};
+    capture c;
+    job_print(capture_begin(&c), job, false);
+    const char *text = capture_end(&c);
+    contains(text,
+             "distribution     min      ±     avg      ±     max      ±   opt_w      ±  opt_wp"
+             "      ±\n");
+    for (size_t i = 0; i < json_array_size(rows); i++) {
+        const json_t *row = json_array_get(rows, i), *cols = json_object_get(row, "columns");
+        char want[256], v[32];
+        int n = snprintf(want, sizeof want, "%-12s",
+                         json_string_value(json_object_get(row, "distribution")));
+        for (int k = 0; k < 5; k++)
+            for (int m = 0; m < 2; m++) {
+                fixed(v, sizeof v,
+                      json_object_get(json_object_get(cols, columns[k]), m ? "sd" : "mean"), 4);
+                n += snprintf(want + n, sizeof want - (size_t)n, "  %6s", v);
+            }
+        contains(text, want);
+    }
+    contains(
+        text,
+        "generators  poisson: dart-throwing-torus (radius 0.5162 px); jittered: jittered-grid");
+    contains(text, "acuity      naiman version 2");
+    contains(text, "± = sample standard deviation over the seeds");
+    capture_free(&c);
+
+    csv_doc d;
+    view_csv(&d, job_print, job, json_array_size(rows));
+    for (size_t i = 0; i < json_array_size(rows); i++) {
+        const json_t *row = json_array_get(rows, i);
+        assert_string_equal(csv_get(&d, i + 1, "distribution"),
+                            json_string_value(json_object_get(row, "distribution")));
+        for (int k = 0; k < 5; k++)
+            assert_same_number(
+                csv_get(&d, i + 1, columns[k]),
+                json_object_get(json_object_get(json_object_get(row, "columns"), columns[k]),
+                                "mean"));
+    }
+    csv_free(&d);
+    json_decref(job);
+}
+
 static void every_kind_has_a_view(void **state)
 {
-    const char *kinds[] = {"optimize", "family-sweep", "random-stats",
+    const char *kinds[] = {"optimize", "family-sweep", "random-stats",         "table3",
                            "compare",  "animation",    "reference-convergence"};
-    for (size_t i = 0; i < 6; i++) {
+    for (size_t i = 0; i < 7; i++) {
         const job_view *v = job_view_find(kinds[i]);
         assert_string_equal(v->kind, kinds[i]);
         assert_true(v->print != view_generic);
@@ -486,11 +535,17 @@ static void cancel_line(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(optimize_view),         cmocka_unit_test(family_sweep_view),
-        cmocka_unit_test(random_stats_view),     cmocka_unit_test(compare_view),
-        cmocka_unit_test(animation_view),        cmocka_unit_test(reference_convergence_view),
-        cmocka_unit_test(every_kind_has_a_view), cmocka_unit_test(trace_points),
-        cmocka_unit_test(pattern_csv),           cmocka_unit_test(job_list),
+        cmocka_unit_test(optimize_view),
+        cmocka_unit_test(family_sweep_view),
+        cmocka_unit_test(random_stats_view),
+        cmocka_unit_test(table3_view),
+        cmocka_unit_test(compare_view),
+        cmocka_unit_test(animation_view),
+        cmocka_unit_test(reference_convergence_view),
+        cmocka_unit_test(every_kind_has_a_view),
+        cmocka_unit_test(trace_points),
+        cmocka_unit_test(pattern_csv),
+        cmocka_unit_test(job_list),
         cmocka_unit_test(cancel_line),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

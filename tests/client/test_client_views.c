@@ -185,9 +185,15 @@ static void catalog_views(void **state)
     capture_free(&c);
     json_decref(r);
 
-    r = doc("{\"tables\":[{\"name\":\"naiman\",\"default\":true,\"knots\":[[0,3.93],[45,2.5]]}]}");
+    r = doc("{\"tables\":[{\"name\":\"naiman\",\"version\":2,\"default\":true,"
+            "\"description\":\"Version 2.\",\"knots\":[[0,3.93],[45,2.5]]},"
+            "{\"name\":\"naiman-envelope\",\"version\":1,\"description\":\"Version 1.\","
+            "\"knots\":[[0,3.93]]}]}");
     acuity_print(capture_begin(&c), r, false);
-    contains(capture_end(&c), "naiman  yes      0:3.93 45:2.5\n");
+    text = capture_end(&c);
+    contains(text, "naiman                 2  yes      0:3.93 45:2.5\n");
+    contains(text, "naiman-envelope        1           0:3.93\n");
+    contains(text, "\nnaiman: Version 2.\nnaiman-envelope: Version 1.\n");
     capture_free(&c);
     json_decref(r);
 

@@ -178,6 +178,55 @@ def test_random_stats(d):
     check(abs(e["e2"] - res["e2"]) < 1e-9 and e["family"] == "P(1,4,3)", (e, res["e2"]))
 
 
+def test_table3(d):
+    """L&A Table 3 over seeds: a row per distribution with mean, sd and the paper's value of each
+    column (the paper's values for P(16,16,4) only), each seed's values, the Poisson generator
+    and its radius, the acuity table by name and version; a clock-free budget repeats exactly;
+    the trace is the Opt W+P progress; a long one is cancelled."""
+    spec = {"kind": "table3", "family": "P(4,4,2)", "seeds": 2, "count": 12,
+            "max_iterations": 40, "rng_seed": 3, "acuity": {"name": "naiman-envelope"}}
+    ids = [d.post("/v1/jobs", spec).json()["id"] for _ in range(2)]
+    a, b = (d.wait_job(i, timeout=120) for i in ids)
+    check(a["state"] == "done" and b["state"] == "done", (a, b))
+    res = a["result"]
+    check(res == b["result"] and res["reproducible"], (res, b["result"]))
+    check(res["acuity"] == {"name": "naiman-envelope", "version": 1}, res["acuity"])
+    check(res["seeds"] == [3, 4] and res["count"] == 12, res)
+    check([r["distribution"] for r in res["rows"]] == ["poisson", "jittered"], res["rows"])
+    gen = res["rows"][0]["generator"]
+    check(gen["name"] == "dart-throwing-torus" and abs(gen["radius"] - 0.73 / 2 ** 0.5) < 1e-12,
+          gen)
+    check(res["rows"][1]["generator"] == {"name": "jittered-grid"}, res["rows"][1])
+    best = float("inf")
+    for row in res["rows"]:
+        for col in ("min", "avg", "max", "opt_w", "opt_wp"):
+            vals = [s[col] for s in row["per_seed"]]
+            mean = sum(vals) / len(vals)
+            sd = (sum((v - mean) ** 2 for v in vals) / (len(vals) - 1)) ** 0.5
+            st = row["columns"][col]
+            check(abs(st["mean"] - mean) < 1e-12 and abs(st["sd"] - sd) < 1e-12
+                  and st["paper"] is None, (col, st, vals))
+        for s in row["per_seed"]:
+            check(s["opt_w"] <= s["min"] and s["opt_wp"] <= s["min"] <= s["avg"] <= s["max"], s)
+            best = min(best, s["opt_wp"])
+    check(res["e2"] == best, (res["e2"], best))
+    e = d.post("/v1/evaluate", {"pattern": res["best"], "acuity": {"name": "naiman-envelope"}})
+    check(abs(e.json()["e2"] - res["e2"]) < 1e-9, (e.json(), res["e2"]))
+    check_trace(a)
+    # P(16,16,4) with the defaults, cancelled while it runs
+    r = d.post("/v1/jobs", {"kind": "table3", "seeds": 2, "count": 20, "max_seconds": 60})
+    check(r.status == 202, r)
+    jid = r.json()["id"]
+    d.wait_job(jid, states=("running",))
+    r = d.delete("/v1/jobs/%d" % jid)
+    check(r.status == 202, r)
+    j = d.wait_job(jid, timeout=10)
+    check(j["state"] == "cancelled", j)
+    expect_error(d.post("/v1/jobs", {"kind": "table3", "poisson_radius": 0.5}), 400,
+                 "poisson_radius")
+    expect_error(d.post("/v1/jobs", {"kind": "table3", "family": "P(4,1+,2)"}), 400, "family")
+
+
 def test_optimize_methods(d):
     """The step rule a job uses: "auto" picks by family and mode, the same for a family and for a
     pattern of it; an explicit one is used as asked; the result names it."""
@@ -311,6 +360,7 @@ def main():
         test_evaluate(d)
         test_jobs(d)
         test_random_stats(d)
+        test_table3(d)
         test_optimize_methods(d)
         test_optimizer_traces(d)
         test_enumerate_render(d)

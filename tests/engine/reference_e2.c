@@ -4,8 +4,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-/* data/acuity-naiman.json knots at 0, 5, ..., 45 degrees. */
-static const double naiman_knots[10] = {3.93, 3.55, 3.1, 2.67, 2.3, 1.95, 1.95, 2.15, 2.2, 2.5};
+/* data/acuity-naiman.json knots (version 2) at 0, 5, ..., 45 degrees. */
+static const double naiman_knots[10] = {3.93, 3.0, 2.5, 2.2, 2.0, 1.9, 1.9, 2.0, 2.2, 2.5};
 
 double ref_fold_deg(double t)
 {

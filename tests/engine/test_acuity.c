@@ -21,9 +21,10 @@ static void test_naiman_pinned_and_knots(void **state)
     aa_acuity a;
     aa_acuity_naiman(&a);
     assert_string_equal(a.name, "naiman");
+    assert_int_equal(a.version, 2);
     assert_true(a.folded);
     assert_int_equal(a.count, 10);
-    const double w[10] = {3.93, 3.55, 3.1, 2.67, 2.3, 1.95, 1.95, 2.15, 2.2, 2.5};
+    const double w[10] = {3.93, 3.0, 2.5, 2.2, 2.0, 1.9, 1.9, 2.0, 2.2, 2.5};
     for (size_t i = 0; i < 10; i++) {
         assert_true(a.angle_deg[i] == 5.0 * i);
         assert_true(a.weight[i] == w[i]);
@@ -33,12 +34,44 @@ static void test_naiman_pinned_and_knots(void **state)
     assert_true(aa_acuity_weight(&a, 90.0) == 3.93);
     assert_true(aa_acuity_weight(&a, 135.0) == 2.5);
     assert_true(aa_acuity_weight(&a, 180.0) == 3.93);
-    assert_true(fabs(aa_acuity_weight(&a, 2.5) - 3.74) < 1e-15);
+    assert_true(fabs(aa_acuity_weight(&a, 2.5) - 3.465) < 1e-15);
     assert_true(fabs(aa_acuity_weight(&a, 47.5) - 2.35) < 1e-15);
     aa_acuity b;
     aa_error err;
     assert_int_equal(aa_acuity_by_name(&b, "naiman", &err), AA_OK);
     assert_memory_equal(&a, &b, sizeof a);
+}
+
+/* Version 1 stays available by name; it shares the pinned W(0) and W(45) and lies on or above
+ * version 2 everywhere (version 2 only lowered the reconstructed knots). */
+static void test_naiman_envelope(void **state)
+{
+    (void)state;
+    aa_acuity e, v2;
+    aa_error err;
+    assert_int_equal(aa_acuity_by_name(&e, "naiman-envelope", &err), AA_OK);
+    assert_string_equal(e.name, "naiman-envelope");
+    assert_int_equal(e.version, 1);
+    const double w[10] = {3.93, 3.55, 3.1, 2.67, 2.3, 1.95, 1.95, 2.15, 2.2, 2.5};
+    assert_int_equal(e.count, 10);
+    for (size_t i = 0; i < 10; i++)
+        assert_true(e.angle_deg[i] == 5.0 * i && e.weight[i] == w[i]);
+    aa_acuity_naiman(&v2);
+    for (int i = 0; i <= 900; i++) {
+        double t = i * 0.1;
+        assert_true(aa_acuity_weight(&e, t) >= aa_acuity_weight(&v2, t));
+    }
+    assert_true(aa_acuity_weight(&e, 0) == aa_acuity_weight(&v2, 0));
+    assert_true(aa_acuity_weight(&e, 45) == aa_acuity_weight(&v2, 45));
+    size_t named = 0;
+    for (const char *const *n = aa_acuity_names; *n; n++, named++) {
+        aa_acuity t;
+        assert_int_equal(aa_acuity_by_name(&t, *n, &err), AA_OK);
+        assert_string_equal(t.name, *n);
+        assert_true(t.version >= 1);
+    }
+    assert_int_equal(named, 3);
+    assert_string_equal(aa_acuity_names[0], "naiman");
 }
 
 static void test_folding_symmetry(void **state)
@@ -98,6 +131,7 @@ static void test_custom_folded(void **state)
     assert_int_equal(aa_acuity_from_knots(&a, knots, 3, &err), AA_OK);
     assert_true(a.folded);
     assert_string_equal(a.name, "custom");
+    assert_int_equal(a.version, 0);
     assert_true(fabs(aa_acuity_weight(&a, 15.0) - 2.5) < 1e-15);
     assert_true(fabs(aa_acuity_weight(&a, 75.0) - 2.5) < 1e-15);  /* 90 - 15 */
     assert_true(fabs(aa_acuity_weight(&a, 105.0) - 2.5) < 1e-15); /* 90 + 15 */
@@ -188,9 +222,13 @@ static void test_bad_knots(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_naiman_pinned_and_knots), cmocka_unit_test(test_folding_symmetry),
-        cmocka_unit_test(test_default_angles),          cmocka_unit_test(test_custom_folded),
-        cmocka_unit_test(test_custom_periodic),         cmocka_unit_test(test_bad_knots),
+        cmocka_unit_test(test_naiman_pinned_and_knots),
+        cmocka_unit_test(test_naiman_envelope),
+        cmocka_unit_test(test_folding_symmetry),
+        cmocka_unit_test(test_default_angles),
+        cmocka_unit_test(test_custom_folded),
+        cmocka_unit_test(test_custom_periodic),
+        cmocka_unit_test(test_bad_knots),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,8 +1,8 @@
-/* The splittable kinds (optimize, family-sweep, random-stats; job_split.h) with a clock-free
- * budget (max_iterations): one shard and several shards merge to the same result, bit for bit
- * (the encoded best pattern, E2 and per-seed / per-configuration rows), through JSON text as the
- * files between aalab-worker and the daemon carry it; the local run (job_split_local.c, against
- * a stub job context) gives that result too, says executor "local", 1 shard; "reproducible"
+/* The splittable kinds (optimize, family-sweep, random-stats, table3; job_split.h) with a
+ * clock-free budget (max_iterations): one shard and several shards merge to the same result, bit
+ * for bit (the encoded best pattern, E2 and per-seed / per-configuration rows), through JSON text
+ * as the files between aalab-worker and the daemon carry it; the local run (job_split_local.c,
+ * against a stub job context) gives that result too, says executor "local", 1 shard; "reproducible"
  * follows the budget. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -41,6 +41,13 @@ static const job_kind kinds[] = {
      .encode_result = kind_random_stats_encode_result,
      .free_result = kind_random_stats_free_result,
      .split = &kind_random_stats_split},
+    {.name = "table3",
+     .decode = kind_table3_decode,
+     .free_params = kind_table3_free,
+     .run = kind_table3_run,
+     .encode_result = kind_table3_encode_result,
+     .free_result = kind_table3_free_result,
+     .split = &kind_table3_split},
 };
 
 /* Stub context: the worker pool is not part of this test. */
@@ -181,6 +188,17 @@ static void random_stats_splits_alike(void **state)
                keys);
 }
 
+/* table3: one shard per seed whatever the executor's limit (a fixed number of parts). */
+static void table3_splits_alike(void **state)
+{
+    (void)state;
+    static const char *const keys[] = {"best", "e2", "rows", "seeds", "acuity", NULL};
+    check_kind(&kinds[3],
+               "{\"family\":\"P(4,4,2)\",\"seeds\":3,\"count\":8,\"max_iterations\":30,"
+               "\"distributions\":[\"poisson\",\"jittered\"]}",
+               2, 3, keys);
+}
+
 /* max_iterations alone: reproducible; with max_seconds: best effort. */
 static void reproducible_follows_the_budget(void **state)
 {
@@ -256,6 +274,7 @@ int main(void)
         cmocka_unit_test(optimize_pattern_splits_alike),
         cmocka_unit_test(family_sweep_splits_alike),
         cmocka_unit_test(random_stats_splits_alike),
+        cmocka_unit_test(table3_splits_alike),
         cmocka_unit_test(reproducible_follows_the_budget),
         cmocka_unit_test(local_run_cancels),
     };

@@ -16,6 +16,7 @@
 #include "job_family_sweep.h"
 #include "job_optimize.h"
 #include "job_random_stats.h"
+#include "job_table3.h"
 #include "preset_suggest.h"
 #include "aa_pattern.h"
 
@@ -216,7 +217,13 @@ static void test_optimize_result(void **state)
     json_decref(j);
     ROUND_TRIP_ONLY(proto_optimize_result, proto_encode_optimize_result,
                     proto_decode_optimize_result, proto_optimize_result_free, &r);
-    r.run = (proto_run_info){"slurm", 7, true};
+    r.run = (proto_run_info){"slurm", 7, true, "naiman-envelope", 1};
+    j = proto_encode_optimize_result(&r);
+    assert_string_equal(json_string_value(json_object_get(json_object_get(j, "acuity"), "name")),
+                        "naiman-envelope");
+    assert_int_equal(json_integer_value(json_object_get(json_object_get(j, "acuity"), "version")),
+                     1);
+    json_decref(j);
     ROUND_TRIP_ONLY(proto_optimize_result, proto_encode_optimize_result,
                     proto_decode_optimize_result, proto_optimize_result_free, &r);
     r.have_grid = true;
@@ -243,8 +250,11 @@ static void test_sweep_and_stats_result(void **state)
         {2, {{1, 1, 0, 0}, {0, 0, 0, 0}, 0}, 0.5, INFINITY, false, {0}},
     };
     preset_pattern("rgss", &rows[0].best);
-    proto_family_sweep_result s = {0.75, 2, 1, rows, 2, {"slurm", 3, true}};
+    proto_family_sweep_result s = {0.75, 2, 1, rows, 2, {"slurm", 3, true, "custom", 0}};
     json_t *j = proto_encode_family_sweep_result(&s);
+    json_t *custom = json_pack("{s:s}", "name", "custom");
+    assert_true(json_equal(json_object_get(j, "acuity"), custom));
+    json_decref(custom);
     assert_true(
         json_is_null(json_object_get(json_array_get(json_object_get(j, "ranked"), 1), "best")));
     assert_true(
@@ -292,6 +302,77 @@ static void test_preset_suggestions(void **state)
     assert_int_equal(err.message[strlen(err.message) - 1], '?');
 }
 
+/* table3: the spec's defaults (P(16,16,4), 8 seeds, Poisson and jittered, 0.365 px) and
+ * refusals naming the field; the result round-trips with the generator, the paper's values and
+ * every seed's values, and records the acuity table. */
+static void test_table3_codecs(void **state)
+{
+    (void)state;
+    aa_error err = {0};
+    proto_table3_spec s;
+    json_t *j = parse("{}");
+    assert_int_equal(proto_decode_table3_spec(j, &s, &err), AA_OK);
+    assert_string_equal(s.family.label, "P(16,16,4)");
+    assert_int_equal(s.seeds, 8);
+    assert_int_equal(s.count, 1000);
+    assert_int_equal(s.kind_count, 2);
+    assert_int_equal(s.kinds[0], AA_SEED_POISSON);
+    assert_int_equal(s.kinds[1], AA_SEED_JITTERED);
+    assert_true(fabs(s.poisson_radius - 0.365) < 1e-12);
+    assert_true(s.common.max_seconds == 60);
+    assert_true(proto_table3_spec_seconds(&s) == 8 * 2 * 120);
+    proto_table3_spec_free(&s);
+    json_decref(j);
+    const char *bad[][2] = {{"{\"family\":\"P(4,1+,2)\"}", "family"},
+                            {"{\"family\":\"P(16,4,2)\"}", "family"},
+                            {"{\"seeds\":0}", "seeds"},
+                            {"{\"seeds\":65}", "seeds"},
+                            {"{\"poisson_radius\":0.41}", "poisson_radius"},
+                            {"{\"distributions\":[\"blue\"]}", "distributions[0]"},
+                            {"{\"mode\":\"both\"}", "mode"},
+                            {"{\"acuity\":{\"name\":\"naiman-v3\"}}", "acuity.name"}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        j = parse(bad[i][0]);
+        assert_int_not_equal(proto_decode_table3_spec(j, &s, &err), AA_OK);
+        assert_string_equal(err.field, bad[i][1]);
+        json_decref(j);
+    }
+
+    proto_table3_result r = {.count = 1000, .seed_count = 2, .seeds = {1, 2}, .row_count = 2};
+    snprintf(r.family, sizeof r.family, "P(16,16,4)");
+    for (int k = 0; k < 2; k++) {
+        r.rows[k].distribution = k ? AA_SEED_JITTERED : AA_SEED_POISSON;
+        r.rows[k].radius = k ? NAN : 0.365;
+        for (int c = 0; c < PROTO_T3_COLS; c++) {
+            r.rows[k].mean[c] = 0.2 + 0.1 * c + 0.01 * k;
+            r.rows[k].sd[c] = 0.01;
+            r.rows[k].paper[c] = k ? NAN : 0.3;
+            r.rows[k].values[c][0] = 0.19 + c;
+            r.rows[k].values[c][1] = 0.21 + c;
+        }
+    }
+    r.e2 = 0.17;
+    r.run = (proto_run_info){"local", 2, false, "naiman", 2};
+    preset_pattern("rgss", &r.best);
+    j = proto_encode_table3_result(&r);
+    const json_t *row0 = json_array_get(json_object_get(j, "rows"), 0);
+    assert_string_equal(
+        json_string_value(json_object_get(json_object_get(row0, "generator"), "name")),
+        "dart-throwing-torus");
+    assert_true(json_number_value(json_object_get(json_object_get(row0, "generator"), "radius")) ==
+                0.365);
+    const json_t *row1 = json_array_get(json_object_get(j, "rows"), 1);
+    assert_null(json_object_get(json_object_get(row1, "generator"), "radius"));
+    assert_true(json_is_null(
+        json_object_get(json_object_get(json_object_get(row1, "columns"), "opt_wp"), "paper")));
+    assert_int_equal(json_integer_value(json_object_get(json_object_get(j, "acuity"), "version")),
+                     2);
+    json_decref(j);
+    ROUND_TRIP_ONLY(proto_table3_result, proto_encode_table3_result, proto_decode_table3_result,
+                    proto_table3_result_free, &r);
+    aa_pattern_free(&r.best);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -301,6 +382,7 @@ int main(void)
         cmocka_unit_test(test_sweep_and_stats_result),
         cmocka_unit_test(test_preset_suggestions),
         cmocka_unit_test(test_budget_and_reproducibility),
+        cmocka_unit_test(test_table3_codecs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

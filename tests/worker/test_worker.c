@@ -212,6 +212,12 @@ static void random_stats_shards_merge_to_the_local_run(void **state)
     check_kind("random-stats", "{\"family\":\"P(1,4,2)\",\"count\":40,\"max_iterations\":60}");
 }
 
+static void table3_shards_merge_to_the_local_run(void **state)
+{
+    (void)state;
+    check_kind("table3", "{\"family\":\"P(4,4,2)\",\"seeds\":2,\"count\":8,\"max_iterations\":30}");
+}
+
 static void bad_task_is_65_naming_the_field(void **state)
 {
     (void)state;
@@ -319,6 +325,7 @@ int main(void)
         cmocka_unit_test(optimize_shards_merge_to_the_local_run),
         cmocka_unit_test(family_sweep_shards_merge_to_the_local_run),
         cmocka_unit_test(random_stats_shards_merge_to_the_local_run),
+        cmocka_unit_test(table3_shards_merge_to_the_local_run),
         cmocka_unit_test(bad_task_is_65_naming_the_field),
         cmocka_unit_test(unwritable_output_is_73),
         cmocka_unit_test(sigterm_is_75_without_output),

@@ -58,9 +58,15 @@ export function filtersFrom(resp) {
   });
 }
 
-/* GET /v1/acuity: {tables: [{name, folded, knots, ...}], default}. */
+/* GET /v1/acuity: {tables: [{name, version, description, folded, knots, ...}], default}. */
 export function acuityFrom(resp) {
-  return { names: list(resp && resp.tables).map((t) => t.name), default: str(resp && resp.default) };
+  const tables = list(resp && resp.tables).map((t) => ({ name: str(t.name), version: num(t.version), description: str(t.description) }));
+  return { names: tables.map((t) => t.name), tables, default: str(resp && resp.default) };
+}
+
+/* The selector's label of a table: its name and version ("naiman v2"). */
+export function acuityLabel(t) {
+  return t.version != null ? `${t.name} v${t.version}` : t.name;
 }
 
 /* POST /v1/evaluate: {e2, argmax: {kernel, angle_deg}, mean, kernel_count, angle_count, family,
@@ -198,6 +204,29 @@ export function randomStatsRow(result) {
     optWPMethod: r.opt_wp ? str(r.opt_wp.method) : '',
     optWPattern: r.opt_w ? wirePattern(r.opt_w.pattern) : null,
     optWPPattern: r.opt_wp ? wirePattern(r.opt_wp.pattern) : null,
+  };
+}
+
+/* table3 result, as L&A Table 3 over seeds: {family, count, seeds, rows: [{distribution,
+ * generator: {name, radius?}, columns: {min|avg|max|opt_w|opt_wp: {mean, sd, paper}},
+ * per_seed}], best, e2, acuity}. Columns in the paper's order. */
+export const TABLE3_COLUMNS = [['min', 'Min'], ['avg', 'Avg'], ['max', 'Max'], ['opt_w', 'Opt W'], ['opt_wp', 'Opt W+P']];
+export function table3Rows(result) {
+  const r = result || {};
+  return {
+    family: str(r.family),
+    count: r.count,
+    seeds: list(r.seeds),
+    acuity: r.acuity ? (r.acuity.version != null ? `${r.acuity.name} v${r.acuity.version}` : str(r.acuity.name)) : '',
+    rows: list(r.rows).map((row) => ({
+      distribution: str(row.distribution),
+      generator: row.generator ? str(row.generator.name) : '',
+      radius: row.generator ? num(row.generator.radius) : null,
+      cols: TABLE3_COLUMNS.map(([k]) => {
+        const c = (row.columns || {})[k] || {};
+        return { mean: num(c.mean), sd: num(c.sd), paper: num(c.paper) };
+      }),
+    })),
   };
 }
 

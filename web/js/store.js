@@ -59,7 +59,7 @@ export async function jobKinds() {
 
 /* Kinds whose result is a pattern (sent back to the daemon as {"job": id}); sleep has one when
  * its spec gave one. */
-const PATTERN_KINDS = new Set(['optimize', 'family-sweep', 'random-stats', 'sleep']);
+const PATTERN_KINDS = new Set(['optimize', 'family-sweep', 'random-stats', 'table3', 'sleep']);
 
 /* Finished jobs that have a best pattern, newest first, from the list's summaries alone: a
  * summary's family is that of the job's best pattern (or of its spec). */

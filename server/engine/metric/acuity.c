@@ -5,17 +5,32 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* data/acuity-naiman.json: W(0) and W(45) are pinned by the published E2 values; 5..40 are a
- * reconstruction (see data/README.md). */
-static const double naiman_knots[][2] = {{0, 3.93},  {5, 3.55},  {10, 3.10}, {15, 2.67},
-                                         {20, 2.30}, {25, 1.95}, {30, 1.95}, {35, 2.15},
-                                         {40, 2.20}, {45, 2.50}};
+/* data/acuity-naiman.json ("knots", version 2): W(0) and W(45) are pinned by the published E2
+ * values; 5..40 are a reconstruction that also fits L&A Table 3 (see data/README.md).
+ * tests/engine/test_acuity_data.c checks these against the data file. */
+static const double naiman_knots[][2] = {{0, 3.93}, {5, 3.0},  {10, 2.5}, {15, 2.2}, {20, 2.0},
+                                         {25, 1.9}, {30, 1.9}, {35, 2.0}, {40, 2.2}, {45, 2.5}};
+/* Version 1, data/acuity-naiman.json "alternatives.naiman-envelope": the knots just under the
+ * upper bound the fixed patterns allow. */
+static const double envelope_knots[][2] = {{0, 3.93},  {5, 3.55},  {10, 3.10}, {15, 2.67},
+                                           {20, 2.30}, {25, 1.95}, {30, 1.95}, {35, 2.15},
+                                           {40, 2.20}, {45, 2.50}};
 
 void aa_acuity_naiman(aa_acuity *a)
 {
     aa_acuity_from_knots(a, naiman_knots, sizeof naiman_knots / sizeof naiman_knots[0], NULL);
     snprintf(a->name, sizeof a->name, "naiman");
+    a->version = 2;
 }
+
+void aa_acuity_naiman_envelope(aa_acuity *a)
+{
+    aa_acuity_from_knots(a, envelope_knots, sizeof envelope_knots / sizeof envelope_knots[0], NULL);
+    snprintf(a->name, sizeof a->name, "naiman-envelope");
+    a->version = 1;
+}
+
+const char *const aa_acuity_names[] = {"naiman", "naiman-envelope", "uniform", NULL};
 
 void aa_acuity_uniform(aa_acuity *a)
 {
@@ -27,12 +42,15 @@ void aa_acuity_uniform(aa_acuity *a)
     }
     aa_acuity_from_knots(a, (const double(*)[2])knots, 10, NULL);
     snprintf(a->name, sizeof a->name, "uniform");
+    a->version = 1;
 }
 
 int aa_acuity_by_name(aa_acuity *a, const char *name, aa_error *err)
 {
     if (!strcmp(name, "naiman"))
         aa_acuity_naiman(a);
+    else if (!strcmp(name, "naiman-envelope"))
+        aa_acuity_naiman_envelope(a);
     else if (!strcmp(name, "uniform"))
         aa_acuity_uniform(a);
     else

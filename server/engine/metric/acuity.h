@@ -20,15 +20,22 @@
 #define AA_MAX_ANGLES 4096
 
 typedef struct aa_acuity {
-    char name[24]; /* "naiman", "uniform" or "custom" */
+    char name[24]; /* "naiman", "naiman-envelope", "uniform" or "custom" */
+    int version;   /* of a named table (naiman 2, naiman-envelope 1, uniform 1); 0: custom */
     bool folded;
     size_t count;
     double angle_deg[AA_ACUITY_MAX_KNOTS]; /* ascending */
     double weight[AA_ACUITY_MAX_KNOTS];
 } aa_acuity;
 
-/* The reconstructed Naiman table shipped with aalab (data/acuity-naiman.json). */
+/* The reconstructed Naiman table shipped with aalab (data/acuity-naiman.json), version 2: the
+ * default table. */
 void aa_acuity_naiman(aa_acuity *a);
+/* Version 1 of that table, "naiman-envelope": its knots 5..40 sit just under the upper bound the
+ * fixed patterns allow (data/acuity-naiman.json, alternatives). */
+void aa_acuity_naiman_envelope(aa_acuity *a);
+/* The named tables aa_acuity_by_name knows, NULL-terminated, the default first. */
+extern const char *const aa_acuity_names[];
 /* W = 1 at every angle; its default angle set is 0, 5, ..., 175. */
 void aa_acuity_uniform(aa_acuity *a);
 /* knots: count pairs (deg, W). W must be finite and >= 0, angles finite, distinct, in [0,180).

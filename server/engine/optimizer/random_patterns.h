@@ -31,6 +31,13 @@ int aa_random_patterns_range(const aa_family *family, aa_seed_kind kind,
                              size_t count, aa_random_progress_fn progress, void *user, double *e2,
                              aa_pattern *best, size_t *best_index, aa_random_stats *stats,
                              aa_error *err);
+/* The same with a stated Poisson-disk radius in pixels (aa_family_seed_radius; 0: default). */
+int aa_random_patterns_range_radius(const aa_family *family, aa_seed_kind kind,
+                                    double poisson_radius, const aa_metric_params *metric,
+                                    uint64_t rng_seed, size_t first, size_t count,
+                                    aa_random_progress_fn progress, void *user, double *e2,
+                                    aa_pattern *best, size_t *best_index, aa_random_stats *stats,
+                                    aa_error *err);
 /* min / avg / max of E2 values in order (avg as a running sum divided by the count, the way
  * aa_random_patterns_range computes it). */
 aa_random_stats aa_random_stats_of(const double *e2, size_t count);

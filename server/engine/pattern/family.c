@@ -130,6 +130,12 @@ static void snap_some_to_edges(aa_point *pts, size_t n, aa_rng *rng)
 int aa_family_seed(const aa_family *family, aa_seed_kind kind, const aa_filter *filter, aa_rng *rng,
                    aa_pattern *out, aa_error *err)
 {
+    return aa_family_seed_radius(family, kind, 0, filter, rng, out, err);
+}
+
+int aa_family_seed_radius(const aa_family *family, aa_seed_kind kind, double poisson_radius,
+                          const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err)
+{
     memset(out, 0, sizeof *out);
     if (family->mirrored) {
         aa_mirrored_config *configs;
@@ -150,9 +156,14 @@ int aa_family_seed(const aa_family *family, aa_seed_kind kind, const aa_filter *
     aa_point *pts = malloc(n * sizeof *pts);
     if (!pts)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    int rc = aa_seed_points(kind, n, T, rng, pts);
+    int rc = aa_seed_points_radius(kind, n, T, poisson_radius, rng, pts);
     if (rc) {
         free(pts);
+        if (rc == AA_ERANGE)
+            return aa_error_set(err, rc, "poisson_radius",
+                                "dart throwing at radius %g px finds no room for %zu points in "
+                                "a %dx%d tile: use a smaller radius",
+                                poisson_radius, n, T, T);
         return aa_error_set(err, rc, "", "seed generation failed");
     }
     /* Keep seeds off the pixel grid unless deliberately placed there. */

@@ -40,5 +40,10 @@ const char *aa_seed_kind_name(aa_seed_kind k);
  * configuration of the right cost is drawn (corner 0.25, edge 0.5, interior 1). */
 int aa_family_seed(const aa_family *family, aa_seed_kind kind, const aa_filter *filter, aa_rng *rng,
                    aa_pattern *out, aa_error *err);
+/* The same with a stated Poisson-disk radius in pixels for tiled families (0: the default,
+ * aa_poisson_default_radius; the mirrored family always uses the default). A radius with no
+ * room for the family's samples is AA_ERANGE naming "poisson_radius". */
+int aa_family_seed_radius(const aa_family *family, aa_seed_kind kind, double poisson_radius,
+                          const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err);
 
 #endif

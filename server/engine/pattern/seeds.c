@@ -1,6 +1,7 @@
 #include "seeds.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 
 static double torus_delta(double d, double T)
@@ -74,28 +75,93 @@ static int nrooks(size_t n, int T, aa_rng *rng, aa_point *out)
     return AA_OK;
 }
 
-static void poisson(size_t n, int T, aa_rng *rng, aa_point *out)
+const char *aa_seed_generator_name(aa_seed_kind kind)
 {
-    /* Dart throwing with a radius near the densest packing's spacing, shrunk whenever darts
-     * keep failing, so it always terminates with n points. */
-    double r = 0.75 * T / sqrt((double)n);
+    switch (kind) {
+    case AA_SEED_POISSON:
+        return AA_POISSON_GENERATOR;
+    case AA_SEED_JITTERED:
+        return "jittered-grid";
+    case AA_SEED_NROOKS:
+        return "n-rooks";
+    case AA_SEED_LLOYD:
+        return "lloyd-torus";
+    case AA_SEED_UNIFORM:
+    default:
+        return "uniform";
+    }
+}
+
+double aa_poisson_default_radius(double spp)
+{
+    return AA_POISSON_RADIUS_FACTOR / sqrt(spp);
+}
+
+/* One dart throw: uniform darts on the torus, each kept when no kept point is closer than r,
+ * until n are kept or max_darts were thrown. A grid of cells no smaller than r makes each test
+ * look at the 3x3 cells around the dart only. Returns how many points were kept. */
+static size_t throw_darts(size_t n, int T, double r, size_t max_darts, aa_rng *rng, aa_point *out,
+                          int *head, int *next, int cells)
+{
+    double cell = T / (double)cells;
+    for (int i = 0; i < cells * cells; i++)
+        head[i] = -1;
     size_t have = 0;
-    int failures = 0;
-    while (have < n) {
+    for (size_t d = 0; d < max_darts && have < n; d++) {
         aa_point c = {aa_rng_uniform(rng) * T, aa_rng_uniform(rng) * T};
-        int ok = 1;
-        for (size_t j = 0; j < have && ok; j++) {
-            double dx = torus_delta(c.x - out[j].x, T), dy = torus_delta(c.y - out[j].y, T);
-            ok = dx * dx + dy * dy >= r * r;
-        }
+        int cx = (int)(c.x / cell), cy = (int)(c.y / cell);
+        cx = cx < cells ? cx : cells - 1;
+        cy = cy < cells ? cy : cells - 1;
+        int ok = 1, span = cells >= 3 ? 1 : 0; /* cells is 1 or >= 3 */
+        for (int oy = -span; oy <= span && ok; oy++)
+            for (int ox = -span; ox <= span && ok; ox++) {
+                int gx = (cx + ox + cells) % cells, gy = (cy + oy + cells) % cells;
+                for (int j = head[gy * cells + gx]; j >= 0 && ok; j = next[j]) {
+                    double dx = torus_delta(c.x - out[j].x, T);
+                    double dy = torus_delta(c.y - out[j].y, T);
+                    ok = dx * dx + dy * dy >= r * r;
+                }
+            }
         if (ok) {
-            out[have++] = c;
-            failures = 0;
-        } else if (++failures > 200) {
-            r *= 0.9;
-            failures = 0;
+            out[have] = c;
+            next[have] = head[cy * cells + cx];
+            head[cy * cells + cx] = (int)have;
+            have++;
         }
     }
+    return have;
+}
+
+/* Dart throwing on the torus at the stated radius r (tile units), as the classic Poisson-disk
+ * construction (Cook 1986; L&A Table 3's Poisson disk): no two points closer than r. A throw
+ * that jams (no room left before n points) starts again; a radius too large for n points ends
+ * with AA_ERANGE rather than a silently smaller radius. */
+static int poisson(size_t n, int T, double r, aa_rng *rng, aa_point *out)
+{
+    if (!(r >= 0) || !isfinite(r))
+        return AA_EINVAL;
+    int cells = r > 0 ? (int)floor(T / r) : 1;
+    if (cells < 1)
+        cells = 1;
+    if ((size_t)cells * (size_t)cells > 4 * n + 16)
+        cells = (int)floor(sqrt(4.0 * (double)n + 16.0));
+    if (cells < 3) /* the 3x3 neighbourhood would wrap onto itself: one cell holds all */
+        cells = 1;
+    int *head = malloc((size_t)cells * (size_t)cells * sizeof *head);
+    int *next = malloc(n * sizeof *next);
+    if (!head || !next || n > INT32_MAX) {
+        free(head);
+        free(next);
+        return AA_ENOMEM;
+    }
+    int rc = AA_ERANGE;
+    for (int attempt = 0; attempt < AA_POISSON_THROWS && rc; attempt++)
+        if (throw_darts(n, T, r, AA_POISSON_DARTS_PER_POINT * n + 1000, rng, out, head, next,
+                        cells) == n)
+            rc = AA_OK;
+    free(head);
+    free(next);
+    return rc;
 }
 
 int aa_lloyd_torus(aa_point *pts, size_t n, int T, int iterations, int oversample, aa_rng *rng)
@@ -150,6 +216,12 @@ int aa_lloyd_torus(aa_point *pts, size_t n, int T, int iterations, int oversampl
 
 int aa_seed_points(aa_seed_kind kind, size_t n, int T, aa_rng *rng, aa_point *out)
 {
+    return aa_seed_points_radius(kind, n, T, 0, rng, out);
+}
+
+int aa_seed_points_radius(aa_seed_kind kind, size_t n, int T, double poisson_radius, aa_rng *rng,
+                          aa_point *out)
+{
     if (n == 0 || T < 1)
         return AA_EINVAL;
     int rc = AA_OK;
@@ -161,7 +233,12 @@ int aa_seed_points(aa_seed_kind kind, size_t n, int T, aa_rng *rng, aa_point *ou
         rc = nrooks(n, T, rng, out);
         break;
     case AA_SEED_POISSON:
-        poisson(n, T, rng, out);
+        /* The radius is in pixels; 0: the default for this density. */
+        rc = poisson(n, T,
+                     poisson_radius > 0
+                         ? poisson_radius
+                         : aa_poisson_default_radius((double)n / ((double)T * (double)T)),
+                     rng, out);
         break;
     case AA_SEED_LLOYD:
         for (size_t i = 0; i < n; i++) {

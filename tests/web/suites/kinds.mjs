@@ -1,5 +1,5 @@
 // Jobs view, one detail view per job kind (small budgets): family-sweep's ranked table whose
-// rows open in Evaluate, random-stats' Table 3 row, compare's error against samples per pixel,
+// rows open in Evaluate, random-stats' Table 3 row, table3's table with ± columns, compare's error against samples per pixel,
 // animation's frames, reference-convergence's levels; the trace's axes and legend; and showing
 // another job leaves nothing of the previous one on screen.
 
@@ -8,6 +8,7 @@ import { assert, eventually } from '../lib/check.mjs';
 const SPECS = {
   'family-sweep': { kind: 'family-sweep', cost: 1.25, seeds_per_config: 1, max_seconds: 1, rng_seed: 3 },
   'random-stats': { kind: 'random-stats', family: 'P(1,4,2)', count: 20, max_seconds: 1, rng_seed: 3 },
+  table3: { kind: 'table3', family: 'P(4,4,2)', seeds: 2, count: 10, max_iterations: 30, rng_seed: 3 },
   compare: { kind: 'compare', scene: { name: 'siemens-star', width: 32, height: 32 }, reference: { spp: 64 }, patterns: [{ preset: 'centroid' }, { preset: 'quincunx' }, { preset: 'rgss' }] },
   animation: { kind: 'animation', scene: { name: 'rotating-triangle', frames: 3, width: 32, height: 32 }, reference: { spp: 64 }, pattern: { preset: 'rgss' } },
   'reference-convergence': { kind: 'reference-convergence', scene: { name: 'siemens-star', width: 32, height: 32 }, levels: [16, 64], baseline_spp: 256 },
@@ -91,6 +92,22 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
     const want = [r.family, r.distribution, ...[r.random.min, r.random.avg, r.random.max, r.opt_w.e2, r.opt_wp.e2].map((v) => v.toFixed(4))];
     assert(JSON.stringify(row) === JSON.stringify(want), `row ${JSON.stringify(row)}, API ${JSON.stringify(want)}`);
     await shot('jobs-random-stats');
+  });
+
+  await step('table3: the paper\'s table with a ± column, mean and sd as the API', async () => {
+    const r = jobs.table3.result;
+    await open('table3');
+    const head = await page.$$eval('#jd-table3 thead th', (th) => th.map((x) => x.textContent));
+    assert(JSON.stringify(head) === JSON.stringify(['Distribution', 'Min', '±', 'Avg', '±', 'Max', '±', 'Opt W', '±', 'Opt W+P', '±']), `columns ${JSON.stringify(head)}`);
+    const rows = await cells(page, '#jd-table3');
+    assert(rows.length === r.rows.length, `${rows.length} rows, API ${r.rows.length} (P(4,4,2): no paper rows)`);
+    for (const [i, row] of r.rows.entries()) {
+      const want = [row.distribution, ...['min', 'avg', 'max', 'opt_w', 'opt_wp'].flatMap((k) => [row.columns[k].mean.toFixed(4), row.columns[k].sd.toFixed(4)])];
+      assert(JSON.stringify(rows[i]) === JSON.stringify(want), `row ${JSON.stringify(rows[i])}, API ${JSON.stringify(want)}`);
+    }
+    const hint = await page.$eval('#job-detail-body', (n) => n.textContent);
+    assert(hint.includes('dart-throwing-torus') && hint.includes('naiman v2'), 'generator and acuity shown');
+    await shot('jobs-table3');
   });
 
   await step('compare: RMSE and E2 against samples per pixel, one row per pattern', async () => {

@@ -8,8 +8,8 @@ import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import {
-  normEvaluation, normJob, jobsFrom, traceCurve, sweepRows, randomStatsRow, comparisonRows, animationTable, convergenceTable,
-  renderImages, renderStats, presetsFrom, normPreset, filtersFrom, acuityFrom, wirePattern, jobPattern, familySeries,
+  normEvaluation, normJob, jobsFrom, traceCurve, sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, animationTable, convergenceTable,
+  renderImages, renderStats, presetsFrom, normPreset, filtersFrom, acuityFrom, acuityLabel, wirePattern, jobPattern, familySeries,
   executionText,
 } from '../../../web/js/model.js';
 import { traceAxes, tickLabels } from '../../../web/js/trace-axes.js';
@@ -59,6 +59,13 @@ test('presets, filters and acuity tables', () => {
   const acuity = acuityFrom(load('acuity'));
   assert.deepEqual(acuity.names, load('acuity').tables.map((t) => t.name));
   assert.equal(acuity.default, 'naiman');
+  // Both Naiman tables, by name and version, each with its one-sentence description.
+  const naiman = acuity.tables.find((t) => t.name === 'naiman');
+  const envelope = acuity.tables.find((t) => t.name === 'naiman-envelope');
+  assert.equal(naiman.version, 2);
+  assert.equal(envelope.version, 1);
+  assert.equal(acuityLabel(naiman), 'naiman v2');
+  assert.ok(naiman.description.length > 20 && envelope.description.length > 20);
 });
 
 test('job list: summaries carry kind, state, family and best E2; no detail needed', () => {
@@ -125,6 +132,22 @@ test('family-sweep: ranked rows with their configuration, E2 and pattern', () =>
   const j = normJob(raw);
   assert.deepEqual(jobPattern(j, { rank: 3 }), rows[2].pattern);
   assert.equal(j.bestE2, raw.result.e2);
+});
+
+test('table3: rows of mean and sd per column, the generator, the acuity by name and version', () => {
+  const raw = load('job-table3');
+  const x = table3Rows(raw.result);
+  assert.equal(x.rows.length, raw.result.rows.length);
+  assert.deepEqual(TABLE3_COLUMNS.map(([k]) => k), ['min', 'avg', 'max', 'opt_w', 'opt_wp']);
+  for (const [i, row] of raw.result.rows.entries()) {
+    assert.equal(x.rows[i].distribution, row.distribution);
+    assert.deepEqual(x.rows[i].cols.map((c) => c.mean), TABLE3_COLUMNS.map(([k]) => row.columns[k].mean));
+    assert.deepEqual(x.rows[i].cols.map((c) => c.sd), TABLE3_COLUMNS.map(([k]) => row.columns[k].sd));
+  }
+  assert.equal(x.rows[0].generator, 'dart-throwing-torus');
+  assert.ok(x.rows[0].radius > 0);
+  assert.equal(x.acuity, 'naiman v2');
+  assert.deepEqual(x.seeds, raw.result.seeds);
 });
 
 test('random-stats: the Table 3 row (min, avg, max, Opt W, Opt W+P)', () => {

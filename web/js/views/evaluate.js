@@ -2,7 +2,7 @@
 // error (POST /v1/evaluate with detail) update.
 
 import { apiPost } from '../api.js';
-import { normEvaluation, jobPattern, fmt } from '../model.js';
+import { normEvaluation, jobPattern, fmt, acuityLabel } from '../model.js';
 import { loadPresets, findPreset, loadFilters, loadAcuity, loadJob } from '../store.js';
 import { PatternView } from '../pattern-view.js';
 import { drawableOf, kernelsOf, clonePattern } from '../pattern-geometry.js';
@@ -53,9 +53,16 @@ export async function init(context) {
   if (def) fsel.value = def.name;
   state.defaultFilter = def ? def.name : '';
   fillFilterParams();
-  $('ev-acuity').replaceChildren(...acuity.names.map((a) => new Option(a, a)));
+  const tables = acuity.tables || acuity.names.map((name) => ({ name, description: '' }));
+  $('ev-acuity').replaceChildren(...tables.map((t) => new Option(acuityLabel(t), t.name)));
   $('ev-acuity').value = acuity.default || acuity.names[0] || '';
   state.defaultAcuity = acuity.default;
+  // One sentence on the selected table (GET /v1/acuity's description).
+  const describeAcuity = () => {
+    const t = tables.find((x) => x.name === $('ev-acuity').value);
+    $('ev-acuity-hint').textContent = t ? t.description : '';
+  };
+  describeAcuity();
 
   $('ev-preset').addEventListener('change', () => {
     if ($('ev-preset').value !== '__custom') ctx.navigate('evaluate', { preset: $('ev-preset').value });
@@ -64,7 +71,10 @@ export async function init(context) {
     fillFilterParams();
     requestEvaluation();
   });
-  $('ev-acuity').addEventListener('change', requestEvaluation);
+  $('ev-acuity').addEventListener('change', () => {
+    describeAcuity();
+    requestEvaluation();
+  });
   $('ev-kernel').addEventListener('change', () => {
     const d = drawableOf(state.pattern);
     if (d) view.setPattern(d.pattern, +$('ev-kernel').value);

@@ -8,7 +8,7 @@ import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 const $ = (id) => document.getElementById(id);
 // Job kinds whose results are optimized patterns.
-const OPTIMIZER_KINDS = new Set(['optimize', 'family-sweep', 'random-stats']);
+const OPTIMIZER_KINDS = new Set(['optimize', 'family-sweep', 'random-stats', 'table3']);
 const cache = new Map(); // key -> evaluation, so revisits are instant
 let loading = null;
 

@@ -3,7 +3,7 @@
 // an animation's frames and a reference's convergence. Each renders a finished job's result
 // into an empty container.
 
-import { sweepRows, randomStatsRow, comparisonRows, animationTable, convergenceTable, fmt, fmtSeconds } from '../model.js';
+import { sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, animationTable, convergenceTable, fmt, fmtSeconds } from '../model.js';
 import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 function node(tag, attrs = {}, children = []) {
@@ -72,6 +72,24 @@ function randomStats(holder, job) {
   );
 }
 
+/* table3: the paper's table with a ± column after each figure (sd over the seeds) and, under
+ * each distribution, the paper's row where the paper has one. */
+function table3(holder, job) {
+  const x = table3Rows(job.result);
+  const head = ['Distribution'];
+  for (const [, label] of TABLE3_COLUMNS) head.push(label, '±');
+  const rows = [];
+  for (const r of x.rows) {
+    rows.push([r.distribution, ...r.cols.flatMap((c) => [fmt(c.mean, 4), fmt(c.sd, 4)])]);
+    if (r.cols.some((c) => c.paper != null)) rows.push([`${r.distribution} (paper)`, ...r.cols.flatMap((c) => [fmt(c.paper, 3), ''])]);
+  }
+  const gens = x.rows.map((r) => `${r.distribution}: ${r.generator}${r.radius != null ? ` (radius ${fmt(r.radius, 3)} px)` : ''}`).join('; ');
+  holder.append(
+    node('p', { className: 'hint', text: `Laine & Aila Table 3 for ${x.family} over ${x.seeds.length} rng_seeds (${x.seeds.join(', ')}), ${x.count} random patterns each: mean ± sample standard deviation over the seeds, the paper's values below. Generators: ${gens}. Acuity ${x.acuity}.` }),
+    table({ id: 'jd-table3', caption: 'Table 3: E2 mean ± sd over seeds, beside the paper', head, rows }),
+  );
+}
+
 /* Comparison rows as RMSE and E2 against samples per pixel (a pattern's cost; its CPU render
  * time here says nothing about a GPU) and a table. Shared with the Tiles view. */
 export function drawComparison({ plot, plotE2, legend, tableHolder, tableId, rows }) {
@@ -121,7 +139,7 @@ function convergence(holder, job) {
   );
 }
 
-const BY_KIND = { 'family-sweep': sweep, 'random-stats': randomStats, compare, animation, 'reference-convergence': convergence };
+const BY_KIND = { 'family-sweep': sweep, 'random-stats': randomStats, table3, compare, animation, 'reference-convergence': convergence };
 
 /* Fills holder with the kind's view of a done job's result; false when the kind has none. */
 export function renderKindDetail(holder, job) {

@@ -6,5 +6,6 @@
 
 #include "../optimizer.h"
 #include "../random_patterns.h"
+#include "../table3.h"
 
 #endif
