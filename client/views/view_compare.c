@@ -19,7 +19,7 @@ void view_compare(FILE *out, const json_t *result, bool csv)
         view_kv_add(&kv, "reference filter", "%s", view_str(json_object_get(ref, "filter")));
         const json_t *pred = json_object_get(result, "prediction");
         if (pred)
-            view_kv_number(&kv, "predicted vs measured rho", json_object_get(pred, "spearman"), 3);
+            view_kv_number(&kv, "prediction rho", json_object_get(pred, "spearman"), 3);
         view_kv_print(out, &kv);
         fputc('\n', out);
     }

@@ -137,8 +137,9 @@ class Client:
                 ``evaluate(aalab.pattern(xy, weights="equal"))`` (or ``"filter"``).
             filter: reference filter, a name (``"mitchell"``) or a dict (``{"name":
                 "mitchell", "B": 1/3, "C": 1/3}``); default Mitchell-Netravali B = C = 1/3.
-            acuity: acuity table, a name (``"naiman"``, ``"uniform"``) or a dict with
-                ``knots`` ([angle in degrees, weight] pairs); default Naiman.
+            acuity: acuity table, a name (``"naiman"``, version 2, the default;
+                ``"naiman-envelope"``, version 1; ``"uniform"``) or a dict with ``knots``
+                ([angle in degrees, weight] pairs).
             angles: edge angles in degrees at which E2 is measured; default the acuity
                 table's own set.
             detail: also return W(θ), E1(θ) and W·E1 per kernel and angle

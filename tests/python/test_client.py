@@ -82,7 +82,10 @@ def test_catalogue(client):
     filters = client.filters()
     assert [f["name"] for f in filters if f.get("default")] == ["mitchell"]
     tables = client.acuity_tables()
-    assert {t["name"] for t in tables} == {"naiman", "uniform"}
+    assert {t["name"] for t in tables} == {"naiman", "naiman-envelope", "uniform"}
+    naiman = next(t for t in tables if t["name"] == "naiman")
+    assert naiman["version"] == 2  # the revised table (data/README.md)
+    assert client.evaluate("rgss", acuity="naiman-envelope").e2 == pytest.approx(0.439, abs=5e-4)
     assert client.usage()["store_bytes"] >= 0
 
 
