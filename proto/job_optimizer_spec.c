@@ -27,6 +27,12 @@ int proto_spec_number(const json_t *spec, const char *key, double lo, double hi,
     return AA_OK;
 }
 
+int proto_spec_poisson_radius(const json_t *spec, double spp, double *out, aa_error *err)
+{
+    *out = aa_poisson_default_radius(spp);
+    return proto_spec_number(spec, "poisson_radius", 0.001, 0.8 / sqrt(spp), out, err);
+}
+
 int proto_spec_integer(const json_t *spec, const char *key, json_int_t lo, json_int_t hi,
                        json_int_t *out, aa_error *err)
 {

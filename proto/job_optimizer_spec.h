@@ -64,6 +64,10 @@ int proto_spec_number(const json_t *spec, const char *key, double lo, double hi,
 int proto_spec_integer(const json_t *spec, const char *key, json_int_t lo, json_int_t hi,
                        json_int_t *out, aa_error *err);
 int proto_spec_string(const json_t *spec, const char *key, const char **out, aa_error *err);
+/* "poisson_radius" in pixels for patterns of spp samples per pixel: the engine's default
+ * (aa_poisson_default_radius) when absent; at most 0.8/sqrt(spp), since above ~0.83/sqrt(spp)
+ * dart throwing jams before it places every sample. */
+int proto_spec_poisson_radius(const json_t *spec, double spp, double *out, aa_error *err);
 /* "family": required (or optional when !required: *out untouched if absent); an invalid family
  * string is AA_EINVAL naming "family". */
 int proto_spec_family(const json_t *spec, bool required, bool *present, aa_family *out,

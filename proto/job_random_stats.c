@@ -34,12 +34,10 @@ int proto_decode_random_stats_spec(const json_t *spec, proto_random_stats_spec *
     if (!rc && aa_seed_kind_parse(dist, &s->kind))
         rc = aa_error_set(err, AA_EINVAL, "distribution",
                           "must be uniform, jittered, n-rooks, poisson or lloyd");
-    /* The family's samples per pixel; above ~0.83/sqrt(spp) dart throwing jams. */
-    double spp = s->family.mirrored ? 1 : s->family.cost;
-    s->poisson_radius = aa_poisson_default_radius(spp);
+    /* The family's samples per pixel. */
     if (!rc)
-        rc = proto_spec_number(spec, "poisson_radius", 0.001, 0.8 / sqrt(spp), &s->poisson_radius,
-                               err);
+        rc = proto_spec_poisson_radius(spec, s->family.mirrored ? 1 : s->family.cost,
+                                       &s->poisson_radius, err);
     if (rc)
         proto_random_stats_spec_free(s);
     return rc;

@@ -40,12 +40,8 @@ int proto_decode_table3_spec(const json_t *spec, proto_table3_spec *s, aa_error 
         s->kinds[1] = AA_SEED_JITTERED;
         s->kind_count = 2;
     }
-    double spp = s->family.cost;
-    s->poisson_radius = aa_poisson_default_radius(spp);
-    /* Above ~0.83/sqrt(spp) random dart throwing jams before it places every sample. */
     if (!rc)
-        rc = proto_spec_number(spec, "poisson_radius", 0.001, 0.8 / sqrt(spp), &s->poisson_radius,
-                               err);
+        rc = proto_spec_poisson_radius(spec, s->family.cost, &s->poisson_radius, err);
     if (rc)
         proto_table3_spec_free(s);
     return rc;

@@ -160,6 +160,23 @@ static int comment_line(proto_pointset *ps, const char *s, size_t n, size_t line
     return AA_OK;
 }
 
+/* The next line that is neither blank nor a comment (comments go through comment_line): 1 with
+ * the line in *s, *n; 0 at the end of the text; or comment_line's error. */
+static int next_point_line(line_reader *r, proto_pointset *ps, const char **s, size_t *n,
+                           const char *field, aa_error *err)
+{
+    while (next_line(r, s, n)) {
+        if (*n == 0)
+            continue;
+        if ((*s)[0] != '#')
+            return 1;
+        int rc = comment_line(ps, *s, *n, r->line, field, err);
+        if (rc)
+            return rc;
+    }
+    return 0;
+}
+
 /* UTK ("x y") and xyw ("x y" or "x y w", the same on every line). */
 static int parse_columns(const char *text, size_t len, bool utk, proto_pointset *ps,
                          const char *field, aa_error *err)
@@ -168,15 +185,8 @@ static int parse_columns(const char *text, size_t len, bool utk, proto_pointset 
     const char *s;
     size_t n, cap = 0, arity_line = 0;
     int arity = 0;
-    while (next_line(&r, &s, &n)) {
-        if (n == 0)
-            continue;
-        if (s[0] == '#') {
-            int rc = comment_line(ps, s, n, r.line, field, err);
-            if (rc)
-                return rc;
-            continue;
-        }
+    int rc;
+    while ((rc = next_point_line(&r, ps, &s, &n, field, err)) == 1) {
         double v[4];
         int got = 0;
         size_t i = 0;
@@ -218,6 +228,8 @@ static int parse_columns(const char *text, size_t len, bool utk, proto_pointset 
         if (proto_pointset_push(ps, &cap, p, r.line))
             return aa_error_set(err, AA_ENOMEM, field, "out of memory");
     }
+    if (rc)
+        return rc;
     ps->has_weights = arity == 3;
     return AA_OK;
 }
@@ -268,15 +280,8 @@ static int parse_csv(const char *text, size_t len, proto_pointset *ps, const cha
     int col[CSV_MAX_COLUMNS]; /* which of x, y, w each column is */
     int columns = 0;
     size_t header_line = 0;
-    while (next_line(&r, &s, &n)) {
-        if (n == 0)
-            continue;
-        if (s[0] == '#') {
-            int rc = comment_line(ps, s, n, r.line, field, err);
-            if (rc)
-                return rc;
-            continue;
-        }
+    int rc;
+    while ((rc = next_point_line(&r, ps, &s, &n, field, err)) == 1) {
         const char *f[CSV_MAX_COLUMNS];
         size_t fn[CSV_MAX_COLUMNS];
         int c = csv_split(s, n, f, fn, CSV_MAX_COLUMNS);
@@ -338,6 +343,8 @@ static int parse_csv(const char *text, size_t len, proto_pointset *ps, const cha
         if (proto_pointset_push(ps, &cap, (proto_point){v[0], v[1], v[2]}, r.line))
             return aa_error_set(err, AA_ENOMEM, field, "out of memory");
     }
+    if (rc)
+        return rc;
     if (!columns)
         return aa_error_set(err, AA_EINVAL, field,
                             "no header line: a CSV point set starts with x,y or x,y,w");

@@ -61,6 +61,9 @@ int convert_text(const json_t *pattern, const char *format, char **text, size_t 
 
 /* Writes len bytes to path, or to out when path is NULL or "-"; returns an exit code. */
 int write_output(FILE *out, FILE *err, const char *path, const char *data, size_t len);
+/* write_output to the command's -o (or stdout), then "wrote FILE (N bytes)" on stderr for a file
+ * without --json (export, convert). Returns the exit code. */
+int write_command_output(cli_session *s, const char *data, size_t len);
 
 /* Human-readable views of the daemon's answers; with csv, their table as RFC 4180 CSV (a
  * "key  value" listing as two columns key,value). */

@@ -48,14 +48,6 @@ int convert_text(const json_t *pattern, const char *format, char **text, size_t 
     return 0;
 }
 
-static int report_written(cli_session *s, int code, size_t len)
-{
-    const char *path = s->args->output;
-    if (code == EXIT_OK && path && !s->args->json && strcmp(path, "-") != 0)
-        fprintf(s->err, "wrote %s (%zu bytes)\n", path, len);
-    return code;
-}
-
 int cmd_convert(cli_session *s)
 {
     const cli_args *a = s->args;
@@ -72,10 +64,9 @@ int cmd_convert(cli_session *s)
         json_decref(body);
         if (code != EXIT_OK)
             return code;
-        code = write_output(s->out, s->err, a->output, resp.body, resp.len);
-        size_t len = resp.len;
+        code = write_command_output(s, resp.body, resp.len);
         http_response_free(&resp);
-        return report_written(s, code, len);
+        return code;
     }
     char *text;
     size_t len = 0;
@@ -85,7 +76,7 @@ int cmd_convert(cli_session *s)
         fprintf(s->err, "aalab: %s: %s\n", a->target, err);
         return EXIT_USAGE;
     }
-    int code = write_output(s->out, s->err, a->output, text, len);
+    int code = write_command_output(s, text, len);
     free(text);
-    return report_written(s, code, len);
+    return code;
 }

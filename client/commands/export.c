@@ -27,6 +27,15 @@ int write_output(FILE *out, FILE *err, const char *path, const char *data, size_
     return EXIT_OK;
 }
 
+int write_command_output(cli_session *s, const char *data, size_t len)
+{
+    const char *path = s->args->output;
+    int code = write_output(s->out, s->err, path, data, len);
+    if (code == EXIT_OK && path && !s->args->json && strcmp(path, "-") != 0)
+        fprintf(s->err, "wrote %s (%zu bytes)\n", path, len);
+    return code;
+}
+
 int cmd_export(cli_session *s)
 {
     char path[160];
@@ -36,10 +45,7 @@ int cmd_export(cli_session *s)
     int code = cli_call_raw(s, "GET", path, &resp);
     if (code != EXIT_OK)
         return code;
-    code = write_output(s->out, s->err, s->args->output, resp.body, resp.len);
-    if (code == EXIT_OK && s->args->output && s->args->json == false &&
-        strcmp(s->args->output, "-") != 0)
-        fprintf(s->err, "wrote %s (%zu bytes)\n", s->args->output, resp.len);
+    code = write_command_output(s, resp.body, resp.len);
     http_response_free(&resp);
     return code;
 }

@@ -33,6 +33,14 @@ def _acuity(a: Any) -> Optional[Dict[str, Any]]:
                      "acuity")
 
 
+
+def _error_doc(resp: Any) -> Any:
+    """The body of an error answer: its JSON, or the first 200 bytes of a body that is not."""
+    try:
+        return resp.json()
+    except AalabError:
+        return resp.body[:200]
+
 class Client:
     """A client of the aalab daemon over its Unix socket.
 
@@ -73,11 +81,7 @@ class Client:
               expect: Sequence[int] = (200,), timeout: Optional[float] = None) -> Any:
         resp = self._transport.request(method, path, body, timeout)
         if resp.status not in expect:
-            doc = None
-            try:
-                doc = resp.json()
-            except AalabError:
-                doc = resp.body[:200]
+            doc = _error_doc(resp)
             if self.validate and isinstance(doc, dict) and "error" in doc:
                 _schemas.default().validate("error.json", doc)
             raise AalabError.from_body(resp.status, doc)
@@ -249,11 +253,7 @@ class Client:
             resp = self._transport.request("POST", "/v1/patterns/export",
                                            {"pattern": as_pattern(source), "format": fmt})
         if resp.status != 200:
-            try:
-                doc = resp.json()
-            except AalabError:
-                doc = resp.body[:200]
-            raise AalabError.from_body(resp.status, doc)
+            raise AalabError.from_body(resp.status, _error_doc(resp))
         ctype = resp.headers.get("content-type", "")
         out: Union[Dict[str, Any], str]
         if ctype.startswith("application/json"):

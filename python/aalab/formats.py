@@ -384,12 +384,14 @@ def loads(text: str, fmt: str) -> PointSet:
     return _parse_plain(text, fmt)
 
 
-def read(path: PathLike, fmt: Optional[str] = None) -> PointSet:
+def read(path: PathLike, fmt: Optional[str] = None, *, text: Optional[str] = None) -> PointSet:
     """Reads a point file; ``fmt`` defaults to the suffix's format (:func:`guess_format`).
-    Errors name the file and the line."""
+    ``text``: the file's contents when the caller has already read them. Errors name the file
+    and the line."""
     fmt = fmt or guess_format(path)
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
+    if text is None:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
     try:
         return loads(text, fmt)
     except FormatError as e:

@@ -41,6 +41,7 @@ def _from_file(path: str, tile: Optional[int], kernel: Optional[int],
     if not os.path.exists(path):
         raise AalabError("invalid_field", "%s: no such file" % path, "pattern")
     fmt = fmt or formats.guess_format(path)
+    text = None
     if fmt == "json":
         with open(path, encoding="utf-8") as f:
             text = f.read()
@@ -51,7 +52,7 @@ def _from_file(path: str, tile: Optional[int], kernel: Optional[int],
         if isinstance(doc, dict) and not (set(doc) <= {"aalab", "points"} and
                                           isinstance(doc.get("points"), list)):
             return as_pattern(doc)  # a wire pattern, an evaluate request or an export
-    return formats.read(path, fmt).to_pattern(tile, kernel, weights)
+    return formats.read(path, fmt, text=text).to_pattern(tile, kernel, weights)
 
 
 def as_pattern(pattern: Any, tile: Optional[int] = None, kernel: Optional[int] = None,

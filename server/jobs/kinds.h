@@ -47,7 +47,21 @@ JOB_KIND_FUNCTIONS(kind_sleep);
         free(params);                                                                              \
     }
 
-/* encode_result and free_result of a kind whose result is a proto struct `type` with a proto
+/* encode_result and free_result of a kind whose result is a malloc'd proto struct with a proto
+ * encoder and free (the half JOB_KIND_RESULT and JOB_KIND_SPLIT_RESULT share). */
+#define JOB_KIND_RESULT_CODEC(prefix, encode_fn, free_fn)                                          \
+    json_t *prefix##_encode_result(const void *result)                                             \
+    {                                                                                              \
+        return encode_fn(result);                                                                  \
+    }                                                                                              \
+    void prefix##_free_result(void *result)                                                        \
+    {                                                                                              \
+        if (result)                                                                                \
+            free_fn(result);                                                                       \
+        free(result);                                                                              \
+    }
+
+/* run, encode_result and free_result of a kind whose result is a proto struct `type` with a proto
  * encoder and free; run_fn(params, ctx, type *out, err) fills a zeroed struct, and
  * prefix##_run hands it over on success. */
 #define JOB_KIND_RESULT(prefix, type, run_fn, encode_fn, free_fn)                                  \
@@ -65,16 +79,7 @@ JOB_KIND_FUNCTIONS(kind_sleep);
         *result = r;                                                                               \
         return AA_OK;                                                                              \
     }                                                                                              \
-    json_t *prefix##_encode_result(const void *result)                                             \
-    {                                                                                              \
-        return encode_fn(result);                                                                  \
-    }                                                                                              \
-    void prefix##_free_result(void *result)                                                        \
-    {                                                                                              \
-        if (result)                                                                                \
-            free_fn(result);                                                                       \
-        free(result);                                                                              \
-    }
+    JOB_KIND_RESULT_CODEC(prefix, encode_fn, free_fn)
 
 /* run, encode_result and free_result of a kind that splits into shards (job_split.h): it runs
  * locally through job_split_run_local, and its result is the proto struct its split's finish
@@ -84,16 +89,7 @@ JOB_KIND_FUNCTIONS(kind_sleep);
     {                                                                                              \
         return job_split_run_local(&split, params, ctx, result, err);                              \
     }                                                                                              \
-    json_t *prefix##_encode_result(const void *result)                                             \
-    {                                                                                              \
-        return encode_fn(result);                                                                  \
-    }                                                                                              \
-    void prefix##_free_result(void *result)                                                        \
-    {                                                                                              \
-        if (result)                                                                                \
-            free_fn(result);                                                                       \
-        free(result);                                                                              \
-    }
+    JOB_KIND_RESULT_CODEC(prefix, encode_fn, free_fn)
 
 /* How the optimizer kinds split into shards (job_split.h). */
 struct job_split;

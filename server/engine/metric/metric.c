@@ -194,13 +194,20 @@ static double sweep(const aa_filter *f, size_t n, aa_metric_workspace *ws, bool 
     return sq;
 }
 
-/* Gamma(a) and gamma(a) = Gamma'(a) = g(a) - 1/2 for a in (-r, r), from the tables. */
-static inline double closed_gamma(const aa_filter *f, double a, double *gamma)
+/* The table piece of a in (-r, r): its coefficients, and a's offset from its middle in *s. */
+static inline const double *closed_piece(const aa_filter *f, double a, double *s)
 {
     int j = (int)((a + f->radius) * f->closed_inv_width);
     j = j < 0 ? 0 : (j >= f->closed_pieces ? f->closed_pieces - 1 : j);
-    double s = a - f->closed_mid[j];
-    const double *c = f->closed_gamma[j];
+    *s = a - f->closed_mid[j];
+    return f->closed_gamma[j];
+}
+
+/* Gamma(a) and gamma(a) = Gamma'(a) = g(a) - 1/2 for a in (-r, r), from the tables. */
+static inline double closed_gamma(const aa_filter *f, double a, double *gamma)
+{
+    double s;
+    const double *c = closed_piece(f, a, &s);
     double v = c[AA_FILTER_CLOSED_DEGREE], d = 0;
     for (int k = AA_FILTER_CLOSED_DEGREE - 1; k >= 0; k--) {
         d = d * s + v;
@@ -213,10 +220,8 @@ static inline double closed_gamma(const aa_filter *f, double a, double *gamma)
 /* Gamma(a) alone (the E1-only sweep). */
 static inline double closed_gamma_value(const aa_filter *f, double a)
 {
-    int j = (int)((a + f->radius) * f->closed_inv_width);
-    j = j < 0 ? 0 : (j >= f->closed_pieces ? f->closed_pieces - 1 : j);
-    double s = a - f->closed_mid[j];
-    const double *c = f->closed_gamma[j];
+    double s;
+    const double *c = closed_piece(f, a, &s);
     double v = c[AA_FILTER_CLOSED_DEGREE];
     for (int k = AA_FILTER_CLOSED_DEGREE - 1; k >= 0; k--)
         v = v * s + c[k];
@@ -314,9 +319,9 @@ static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace
     return (closed_sums){acc.sum + acc.comp, sqrt(spread2)};
 }
 
-static bool closed_acceptable(const closed_sums *cs, size_t n)
+/* Whether the closed form's error estimate is within AA_E1_CLOSED_REL_ERROR (metric.h). */
+static bool closed_acceptable(const closed_sums *cs)
 {
-    (void)n;
     return cs->spread * AA_E1_CLOSED_SAFETY * 0x1.0p-52 <= AA_E1_CLOSED_REL_ERROR * cs->e1sq;
 }
 
@@ -330,7 +335,7 @@ static double e1_squared(const aa_filter *f, const aa_sample *s, size_t n, doubl
     if (method != AA_E1_QUADRATURE && f->closed_pieces > 0) {
         closed_sums cs = closed_form(f, n, ws);
         ws->closed_condition = cs.spread / cs.e1sq;
-        if (method == AA_E1_CLOSED || closed_acceptable(&cs, n)) {
+        if (method == AA_E1_CLOSED || closed_acceptable(&cs)) {
             ws->closed_calls++;
             return cs.e1sq > 0 ? cs.e1sq : 0;
         }

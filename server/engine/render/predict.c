@@ -168,18 +168,26 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
         needed[d] = h->length[d] > 0;
     for (size_t k = 0; k < h->locked_count; k++)
         needed[aa_locked_edge_bin(&h->locked[k])] = true;
+    /* Directions once; each kernel then runs through the bins in order, so its sort starts from
+     * the previous bin's order (as aa_evaluate). */
+    double dir_c[AA_EDGE_BINS], dir_s[AA_EDGE_BINS], sum_sq[AA_EDGE_BINS] = {0};
+    for (int d = 0; d < AA_EDGE_BINS; d++)
+        aa_metric_direction(d * PI / 180.0, &dir_c[d], &dir_s[d]);
     int rc = AA_OK;
+    for (size_t k = 0; k < p->kernel_count && !rc; k++) {
+        for (int d = 0; d < AA_EDGE_BINS && !rc; d++) {
+            if (!needed[d])
+                continue;
+            double e1 = 0;
+            rc = aa_e1_at_direction(f, p->kernels[k].samples, p->kernels[k].count, dir_c[d],
+                                    dir_s[d], AA_E1_AUTO, &ws, &e1);
+            sum_sq[d] += e1 * e1;
+        }
+    }
     for (int d = 0; d < AA_EDGE_BINS && !rc; d++) {
         if (!needed[d])
             continue;
-        double mean_sq = 0;
-        for (size_t k = 0; k < p->kernel_count && !rc; k++) {
-            double e1 = 0;
-            rc = aa_e1_at_angle(f, p->kernels[k].samples, p->kernels[k].count, d * PI / 180.0, &ws,
-                                &e1);
-            mean_sq += e1 * e1;
-        }
-        mean_sq /= (double)p->kernel_count;
+        double mean_sq = sum_sq[d] / (double)p->kernel_count;
         out->e1_rms[d] = sqrt(mean_sq);
         out->bin_sq[d] = h->length[d] * mean_sq;
     }
