@@ -7,7 +7,8 @@
 #include "codec_internal.h"
 #include "job_result_util.h"
 
-static const char *const kind_keys[] = {"family", "pattern", "seeds", "distributions", NULL};
+static const char *const kind_keys[] = {"family",        "pattern",   "seeds",
+                                        "distributions", "objective", NULL};
 
 int proto_decode_optimize_spec(const json_t *spec, proto_optimize_spec *s, aa_error *err)
 {
@@ -31,6 +32,12 @@ int proto_decode_optimize_spec(const json_t *spec, proto_optimize_spec *s, aa_er
     s->seeds = (size_t)seeds;
     if (!rc)
         rc = proto_spec_distributions(spec, s->kinds, &s->kind_count, err);
+    if (!rc)
+        rc = proto_decode_scene_objective(spec, &s->objective, err);
+    /* The scene descent keeps positions off any grid (objective_scene.h). */
+    if (!rc && s->objective.enabled && s->common.grid_bits)
+        rc = aa_error_set(err, AA_EINVAL, "objective",
+                          "a scene objective cannot be combined with grid");
     if (rc)
         proto_optimize_spec_free(s);
     return rc;
@@ -70,6 +77,8 @@ json_t *proto_encode_optimize_result(const proto_optimize_result *r)
                                       "d3d12", r->d3d12, "e2_before_snap",
                                       proto_real(r->e2_before_snap), "quantisation_cost",
                                       proto_real(r->e2 - r->e2_before_snap)));
+    if (o && r->scene.spec.enabled)
+        json_object_set_new(o, "scene_objective", proto_encode_scene_objective_result(&r->scene));
     if (o && !proto_run_info_encode(o, &r->run)) {
         json_decref(o);
         o = NULL;
@@ -78,8 +87,9 @@ json_t *proto_encode_optimize_result(const proto_optimize_result *r)
 }
 
 static const char *const result_keys[] = {
-    "best",   "e2",       "argmax", "seeds_run", "iterations", "evaluations",  "seconds", "family",
-    "method", "per_seed", "grid",   "executor",  "shards",     "reproducible", "acuity",  NULL};
+    "best",    "e2",           "argmax", "seeds_run",       "iterations", "evaluations",
+    "seconds", "family",       "method", "per_seed",        "grid",       "executor",
+    "shards",  "reproducible", "acuity", "scene_objective", NULL};
 static const char *const seed_keys[] = {"seed", "distribution", "initial_e2",
                                         "e2",   "iterations",   NULL};
 
@@ -170,6 +180,9 @@ int proto_decode_optimize_result(const json_t *j, proto_optimize_result *r, aa_e
     const json_t *grid = json_object_get(j, "grid");
     if (!rc && grid)
         rc = decode_grid_result(grid, r, err);
+    const json_t *scene = json_object_get(j, "scene_objective");
+    if (!rc && scene)
+        rc = proto_decode_scene_objective_result(scene, &r->scene, err);
     if (!rc)
         rc = proto_run_info_decode(j, &r->run, err);
     if (rc)

@@ -6,6 +6,7 @@
 
 #include "job_optimizer_spec.h"
 #include "job_result_util.h"
+#include "job_scene_objective.h"
 #include "aa_pattern.h"
 
 typedef struct proto_optimize_spec {
@@ -15,7 +16,8 @@ typedef struct proto_optimize_spec {
     aa_pattern pattern;
     size_t seeds; /* default 64 for a family, 1 (the only value) for a pattern */
     aa_seed_kind kinds[PROTO_MAX_DISTRIBUTIONS];
-    size_t kind_count; /* 0: every distribution in turn */
+    size_t kind_count;               /* 0: every distribution in turn */
+    proto_scene_objective objective; /* "objective": optimise for a scene (job_scene_objective.h) */
 } proto_optimize_spec;
 
 int proto_decode_optimize_spec(const json_t *spec, proto_optimize_spec *out, aa_error *err);
@@ -42,13 +44,14 @@ typedef struct proto_optimize_result {
     bool have_grid; /* the spec asked for a grid */
     int grid_bits;
     bool d3d12;
-    double e2_before_snap; /* quantisation_cost = e2 - e2_before_snap */
+    double e2_before_snap;              /* quantisation_cost = e2 - e2_before_snap */
+    proto_scene_objective_result scene; /* scene.spec.enabled: the spec had an objective */
     proto_run_info run;
 } proto_optimize_result;
 
 /* {"best","e2","argmax":{"kernel","angle_deg"},"seeds_run","iterations","evaluations",
  * "seconds","family","method","per_seed":[{"seed","distribution","initial_e2","e2",
- * "iterations"}],"grid"?:{"bits","d3d12","e2_before_snap","quantisation_cost"},"executor",
+ * "iterations"}],"grid"?:{...},"scene_objective"?:{"bits","d3d12","e2_before_snap","quantisation_cost"},"executor",
  * "shards","reproducible"}; NULL when out of memory. */
 json_t *proto_encode_optimize_result(const proto_optimize_result *r);
 int proto_decode_optimize_result(const json_t *j, proto_optimize_result *out, aa_error *err);

@@ -16,6 +16,7 @@
 #include "codec.h"
 #include "job_optimize.h"
 #include "job_split_local.h"
+#include "kind_optimize_scene.h"
 #include "kinds.h"
 #include "optimizer_bridge.h"
 #include "split_ranges.h"
@@ -69,7 +70,9 @@ static int plan(const void *params, int stage, const json_t *prior, size_t max_s
     const proto_optimize_spec *op = params;
     if (stage != 0)
         return aa_error_set(err, AA_EINVAL, "stage", "optimize has one stage");
-    *shards = split_ranges(op->seeds, max_shards);
+    /* A scene objective is relative to the whole job's E2 optimum: one shard
+     * (kind_optimize_scene.h). */
+    *shards = split_ranges(op->seeds, op->objective.enabled ? 1 : max_shards);
     return *shards ? AA_OK : aa_error_set(err, AA_ENOMEM, "", "out of memory");
 }
 
@@ -94,6 +97,9 @@ static int run_seeds(const proto_optimize_spec *op, size_t first, size_t count,
     mp.rng_seed = op->common.rng_seed;
     mp.workers = ctx->workers < 1 ? 1 : ctx->workers > 64 ? 64 : ctx->workers;
     mp.max_seconds = op->common.max_seconds;
+    /* A scene objective: half the time for the global-E2 search, half for the scene descent. */
+    if (op->objective.enabled)
+        mp.max_seconds /= 2;
     if (op->have_family) {
         mp.family = &op->family;
         if (op->family.mirrored) {
@@ -115,7 +121,7 @@ static int run_seeds(const proto_optimize_spec *op, size_t first, size_t count,
     bool tiled = op->have_family ? aa_family_perturbable(&op->family)
                                  : aa_pattern_tiled_without_border(&op->pattern);
     mp.local.method = proto_optimizer_spec_method(&op->common, tiled, op->common.mode);
-    opt_bridge b = opt_bridge_make(ctx, 0, 1);
+    opt_bridge b = opt_bridge_make(ctx, 0, op->objective.enabled ? 0.5 : 1);
     aa_pattern best;
     aa_multistart_result r;
     int rc = aa_multistart(&mp, &metric, opt_bridge_progress, &b, &best, &r, err);
@@ -144,6 +150,8 @@ static int run_seeds(const proto_optimize_spec *op, size_t first, size_t count,
     aa_multistart_result_free(&r);
     if (!out->per_seed)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    if (op->objective.enabled)
+        return kind_optimize_scene_refine(op, &metric, ctx, mp.max_seconds, out, err);
     return AA_OK;
 }
 

@@ -88,4 +88,8 @@ double aa_subpixel_error_share(const aa_scene *s, const aa_image *approx, const 
  * per frame: the current frame is used, so none here beyond a bad scene kind). */
 int aa_edge_histogram_of_scene(const aa_scene *s, aa_edge_histogram *h, aa_error *err);
 
+/* length[] with the locked edges added to their bins: the histogram as the scene objective
+ * (objective_scene.h) sees it, every edge treated as spread over offsets. */
+void aa_edge_histogram_folded(const aa_edge_histogram *h, double out[AA_EDGE_BINS]);
+
 #endif

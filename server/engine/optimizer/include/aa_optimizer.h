@@ -5,6 +5,7 @@
 #define AA_OPTIMIZER_PUBLIC_H
 
 #include "../optimizer.h"
+#include "../objective_scene.h"
 #include "../random_patterns.h"
 #include "../table3.h"
 
