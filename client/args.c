@@ -51,7 +51,8 @@ typedef enum opt_id {
     OPT_TILE,
     OPT_KERNEL,
     OPT_WEIGHTS,
-    OPT_ANGLE
+    OPT_ANGLE,
+    OPT_BLEND
 } opt_id;
 
 typedef struct opt_spec {
@@ -99,9 +100,10 @@ static const opt_spec OPTIONS[] = {
     {"kind", 0, true, BIT(CMD_JOBS), OPT_KIND},
     {"limit", 0, true, BIT(CMD_JOBS), OPT_LIMIT},
     {"trace", 0, false, BIT(CMD_JOB) | BIT(CMD_WAIT), OPT_TRACE},
-    {"scene", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT), OPT_SCENE},
-    {"size", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT), OPT_SIZE},
-    {"angle", 0, true, BIT(CMD_PREDICT), OPT_ANGLE},
+    {"scene", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_SCENE},
+    {"size", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_SIZE},
+    {"angle", 0, true, BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_ANGLE},
+    {"blend", 0, true, BIT(CMD_OPTIMIZE), OPT_BLEND},
     {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT) | BIT(CMD_CONVERT), OPT_OUTPUT},
     {"image", 0, true, BIT(CMD_RENDER), OPT_IMAGE},
     {"format", 'f', true, BIT(CMD_EXPORT) | BIT(CMD_CONVERT), OPT_FORMAT},
@@ -339,6 +341,11 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
         if (parse_double(v, -1e6, 1e6, &a->angle))
             return fail(err, cap, "--angle wants degrees, got '%s'", v);
         a->has_angle = true;
+        break;
+    case OPT_BLEND:
+        if (parse_double(v, 0, 1, &a->blend))
+            return fail(err, cap, "--blend wants a number in [0, 1], got '%s'", v);
+        a->has_blend = true;
         break;
     case OPT_CSV:
         a->csv = true;

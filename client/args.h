@@ -79,6 +79,9 @@ typedef struct cli_args {
     /* predict: the scene's angle (degrees) */
     double angle;
     bool has_angle;
+    /* optimize --scene: the blend with E2 of the scene objective */
+    double blend;
+    bool has_blend;
     /* export, convert: json | utk | xyw | csv | points-json | vulkan | d3d12 */
     const char *format;
     /* point-set pattern files (eval, optimize, render, convert): how to read them */

@@ -45,6 +45,18 @@ void view_optimize(FILE *out, const json_t *result, bool csv)
         view_kv_number(&kv, "E2 before snap", json_object_get(grid, "e2_before_snap"), 6);
         view_kv_number(&kv, "quantisation cost", json_object_get(grid, "quantisation_cost"), 6);
     }
+    const json_t *so = json_object_get(result, "scene_objective");
+    if (json_is_object(so)) {
+        /* Both figures of the scene-optimised pattern beside the global-E2 optimum's. */
+        const json_t *opt = json_object_get(so, "e2_optimum");
+        view_kv_add(&kv, "scene", "%s",
+                    view_str(json_object_get(json_object_get(so, "scene"), "name")));
+        view_kv_number(&kv, "blend", json_object_get(so, "blend"), 3);
+        view_kv_number(&kv, "objective", json_object_get(so, "objective"), 6);
+        view_kv_number(&kv, "predicted RMSE", json_object_get(so, "predicted_rmse"), 4);
+        view_kv_number(&kv, "E2-optimum E2", json_object_get(opt, "e2"), 6);
+        view_kv_number(&kv, "E2-optimum predicted RMSE", json_object_get(opt, "predicted_rmse"), 4);
+    }
     view_kv_print(out, &kv);
     if (json_array_size(per_seed) > 0) {
         fputs("\nper seed\n", out);
