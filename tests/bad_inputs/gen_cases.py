@@ -392,6 +392,18 @@ case("predict_reference_filter", 400, "reference.filter.name", path=PR, body_jso
 case("predict_job_ref_unknown", 400, "pattern.job", path=PR, body_json={"pattern": {"job": 999999999}})
 case("predict_not_object", 400, None, path=PR, body_json=[1, 2])
 case("predict_get", 405, None, method="GET", path=PR)
+# optimize with a scene objective (issue 18 point 4; proto/job_scene_objective.h)
+OSC = dict(OPT, family="P(1,1,4)")
+case("optimize_objective_not_object", 400, "objective", path="/v1/jobs", body_json=dict(OSC, objective="star"))
+case("optimize_objective_no_scene", 400, "objective.scene", path="/v1/jobs", body_json=dict(OSC, objective={"blend": 0.5}))
+case("optimize_objective_unknown_key", 400, "objective.weight", path="/v1/jobs", body_json=dict(OSC, objective={"scene": "rings", "weight": 1}))
+case("optimize_objective_scene_unknown", 400, "objective.scene", path="/v1/jobs", body_json=dict(OSC, objective={"scene": "nope"}))
+case("optimize_objective_scene_angle", 400, "objective.scene.angle", path="/v1/jobs", body_json=dict(OSC, objective={"scene": {"name": "half-plane", "angle": "2"}}))
+case("optimize_objective_size", 400, "objective.size[0]", path="/v1/jobs", body_json=dict(OSC, objective={"scene": "rings", "size": [0, 16]}))
+case("optimize_objective_animation", 400, "objective.scene", path="/v1/jobs", body_json=dict(OSC, objective={"scene": "rotating-triangle"}))
+case("optimize_objective_blend_high", 400, "objective.blend", path="/v1/jobs", body_json=dict(OSC, objective={"scene": "rings", "blend": 1.5}))
+case("optimize_objective_blend_string", 400, "objective.blend", path="/v1/jobs", body_json=dict(OSC, objective={"scene": "rings", "blend": "0.5"}))
+case("optimize_objective_with_grid", 400, "objective", path="/v1/jobs", body_json=dict(OSC, objective={"scene": "rings"}, grid={"bits": 4}))
 with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "cases.jsonl"), "w") as f:
     for c in C:
         f.write(json.dumps(c, separators=(",", ":")) + "\n")

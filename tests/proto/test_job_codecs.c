@@ -242,6 +242,80 @@ static void test_optimize_result(void **state)
     aa_pattern_free(&r.best);
 }
 
+/* The scene objective (proto/job_scene_objective.h): spec forms, bad fields, result round trip. */
+static void test_optimize_scene_objective(void **state)
+{
+    (void)state;
+    json_t *j = parse("{\"family\":\"P(1,1,4)\",\"objective\":{\"scene\":{\"name\":\"half-plane\","
+                      "\"angle\":2,\"offset\":0.37},\"size\":[64,32],\"blend\":0.25}}");
+    proto_optimize_spec s;
+    aa_error err = {0};
+    assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
+    assert_true(s.objective.enabled);
+    assert_int_equal(s.objective.scene.kind, AA_SCENE_HALF_PLANE);
+    assert_int_equal(s.objective.scene.width, 64);
+    assert_int_equal(s.objective.scene.height, 32);
+    assert_true(s.objective.scene.angle_deg == 2 && s.objective.scene.offset == 0.37);
+    assert_true(s.objective.blend == 0.25);
+    proto_optimize_spec_free(&s);
+    json_decref(j);
+    j = parse("{\"family\":\"P(1,1,4)\",\"objective\":{\"scene\":\"siemens-star\"}}");
+    assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
+    assert_true(s.objective.enabled && s.objective.blend == 0);
+    assert_int_equal(s.objective.scene.kind, AA_SCENE_SIEMENS_STAR);
+    proto_optimize_spec_free(&s);
+    json_decref(j);
+    j = parse("{\"family\":\"P(1,1,4)\"}");
+    assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
+    assert_false(s.objective.enabled);
+    proto_optimize_spec_free(&s);
+    json_decref(j);
+    OPT_FAILS("{\"family\":\"P(1,1,4)\",\"objective\":1}", "objective");
+    OPT_FAILS("{\"family\":\"P(1,1,4)\",\"objective\":{}}", "objective.scene");
+    OPT_FAILS("{\"family\":\"P(1,1,4)\",\"objective\":{\"scene\":\"nope\"}}", "objective.scene");
+    OPT_FAILS("{\"family\":\"P(1,1,4)\",\"objective\":{\"scene\":{\"name\":\"rings\","
+              "\"width\":-1}}}",
+              "objective.scene.width");
+    OPT_FAILS("{\"family\":\"P(1,1,4)\",\"objective\":{\"scene\":\"rings\",\"blend\":-0.1}}",
+              "objective.blend");
+    OPT_FAILS("{\"family\":\"P(1,1,4)\",\"objective\":{\"scene\":\"rings\",\"x\":1}}",
+              "objective.x");
+    OPT_FAILS("{\"family\":\"P(1,1,4)\",\"objective\":{\"scene\":\"translating-circle\"}}",
+              "objective.scene");
+    OPT_FAILS("{\"family\":\"P(1,1,4)\",\"grid\":{\"bits\":4},\"objective\":{\"scene\":"
+              "\"rings\"}}",
+              "objective");
+
+    proto_optimize_result r = {.e2 = 0.41, .method = AA_METHOD_LAINE_AILA, .seeds_run = 1};
+    preset_pattern("rgss", &r.best);
+    r.scene = (proto_scene_objective_result){.objective = 0.97,
+                                             .predicted_rmse = 1.45,
+                                             .e2 = 0.41,
+                                             .optimum_predicted_rmse = 1.5,
+                                             .optimum_e2 = 0.36};
+    r.scene.spec.enabled = true;
+    r.scene.spec.blend = 0.5;
+    r.scene.spec.scene = aa_scene_params_default(AA_SCENE_HALF_PLANE);
+    r.scene.spec.scene.angle_deg = 30;
+    j = proto_encode_optimize_result(&r);
+    const json_t *so = json_object_get(j, "scene_objective");
+    assert_true(json_is_object(so));
+    assert_true(json_number_value(json_object_get(so, "predicted_rmse")) == 1.45);
+    assert_true(json_number_value(json_object_get(json_object_get(so, "e2_optimum"), "e2")) ==
+                0.36);
+    json_decref(j);
+    ROUND_TRIP_ONLY(proto_optimize_result, proto_encode_optimize_result,
+                    proto_decode_optimize_result, proto_optimize_result_free, &r);
+    proto_optimize_result back;
+    j = proto_encode_optimize_result(&r);
+    assert_int_equal(proto_decode_optimize_result(j, &back, &err), AA_OK);
+    assert_true(back.scene.spec.enabled && back.scene.spec.scene.angle_deg == 30);
+    assert_true(back.scene.objective == 0.97 && back.scene.optimum_predicted_rmse == 1.5);
+    proto_optimize_result_free(&back);
+    json_decref(j);
+    aa_pattern_free(&r.best);
+}
+
 static void test_sweep_and_stats_result(void **state)
 {
     (void)state;
@@ -379,6 +453,7 @@ int main(void)
         cmocka_unit_test(test_optimize_spec),
         cmocka_unit_test(test_sweep_and_stats_spec),
         cmocka_unit_test(test_optimize_result),
+        cmocka_unit_test(test_optimize_scene_objective),
         cmocka_unit_test(test_sweep_and_stats_result),
         cmocka_unit_test(test_preset_suggestions),
         cmocka_unit_test(test_budget_and_reproducibility),
