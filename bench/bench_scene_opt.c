@@ -258,6 +258,9 @@ int main(int argc, char **argv)
         if ((rc = histogram_of(bc, &h, &o, &err)))
             break;
         o.filter = &filter;
+        aa_predict_target target = {&filter, &h};
+        o.exact = aa_predict_rmse_of;
+        o.exact_user = &target;
         figures g;
         if ((rc = figures_of(bc, &global, &h, &metric, spp, refs, have, &g, &err)))
             break;

@@ -55,6 +55,10 @@ int kind_optimize_scene_refine(const proto_optimize_spec *op, const aa_metric_pa
     aa_scene_objective o = {.filter = &op->common.filter,
                             .pixels = (double)h.width * (double)h.height};
     aa_edge_histogram_folded(&h, o.length);
+    /* Reported and compared: the prediction with pixel-locked edges summed exactly. */
+    aa_predict_target target = {o.filter, &h};
+    o.exact = aa_predict_rmse_of;
+    o.exact_user = &target;
     aa_prediction opt_pred;
     if ((rc = aa_predict_rmse(&out->best, o.filter, &h, &opt_pred, err)))
         return rc;
@@ -65,6 +69,7 @@ int kind_optimize_scene_refine(const proto_optimize_spec *op, const aa_metric_pa
     sp.local.max_seconds = seconds;
     sp.local.clock = ctx->clock;
     /* F = 1 at the global-E2 optimum: both terms relative to it. */
+    sp.scene_ref = opt_pred.rmse;
     sp.e2_ref = out->e2;
     scene_bridge b = {ctx, o.filter, &h, seconds, sp.local.max_iterations, -1};
     aa_pattern best;

@@ -10,7 +10,7 @@
  *   dS/dE1_k(θ_d) = 255 · L_d · E1_k(θ_d) / (K · sqrt(N · Σ_d L_d mean_k E1_k²)).
  *
  * Blend (α = blend in [0, 1]):
- *   F = (1 − α) · S / S_ref + α · E2 / E2_ref,
+ *   F = (1 − α) · S / S_ref + α · E2 / E2_ref,   (S: the exact term when one is given, below)
  * S_ref and E2_ref fixed per run (the job uses the scene term and E2 of the best global-E2
  * pattern it found first, so F = 1 there and F < 1 means better in the blend). α = 0: the scene
  * alone; α = 1: E2 alone. The descent minimises a smooth stand-in for E2, the power mean
@@ -36,6 +36,12 @@ typedef struct aa_scene_objective {
     const aa_filter *filter; /* the render's reference filter (NULL: the default) */
     double length[AA_SCENE_BINS];
     double pixels; /* N */
+    /* Optional: the scene term as reported, e.g. aa_predict_rmse, which sums pixel-locked edges
+     * exactly (their sampled sums have no useful position gradient: they are piecewise constant
+     * in the positions). NULL: S itself. The descent steps on S's gradient and keeps its best by
+     * F with this term, so a step that S likes but the exact sums do not is never reported. */
+    int (*exact)(void *user, const aa_pattern *p, double *value, aa_error *err);
+    void *exact_user;
 } aa_scene_objective;
 
 /* The scene term S of p, and (when gx is not NULL) its gradient with respect to every kernel
@@ -50,7 +56,7 @@ typedef struct aa_scene_optimize_params {
     aa_optimize_params local; /* mode, max_iterations, max_seconds, stall, rel_tolerance, clock;
                                  grid_bits must be 0 */
     double blend;             /* α in [0, 1] */
-    double scene_ref;         /* S_ref; <= 0: the seed's */
+    double scene_ref;         /* S_ref (of the reported term); <= 0: the seed's */
     double e2_ref;            /* E2_ref; <= 0: the seed's */
 } aa_scene_optimize_params;
 

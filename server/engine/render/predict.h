@@ -38,6 +38,15 @@ typedef struct aa_prediction {
 int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
                     aa_prediction *out, aa_error *err);
 
+/* A scene to predict on, for callbacks: aa_predict_rmse_of(user = an aa_predict_target, ...) has
+ * the signature of aa_scene_objective.exact (objective_scene.h) and writes the prediction's rmse.
+ */
+typedef struct aa_predict_target {
+    const aa_filter *filter;
+    const aa_edge_histogram *histogram;
+} aa_predict_target;
+int aa_predict_rmse_of(void *user, const aa_pattern *p, double *rmse, aa_error *err);
+
 /* Spearman's rank correlation of a[] and b[] (ties get their mean rank); NaN when n < 2 or
  * either side is constant. O(n²): meant for a handful of patterns. */
 double aa_spearman(const double *a, const double *b, size_t n);
