@@ -201,8 +201,11 @@ class Client:
         (``weights``/``positions``/``both``), ``max_seconds`` (seconds of the job's own
         clock), ``max_iterations`` (steps per seed; without max_seconds the result is
         reproducible to the last bit), ``rng_seed``, ``method``, ``grid``, ``distributions``,
-        ``filter``, ``acuity``, ``angles`` (degrees), and the envelope's ``label``,
-        ``priority``, ``visibility``, ``pinned``."""
+        ``filter``, ``acuity``, ``angles`` (degrees), ``objective`` (optimise for a scene:
+        ``{"scene": name or {...}, "size": [w, h], "blend": 0..1}``; the result's
+        ``scene_objective`` then gives the predicted RMSE on the scene and E2 beside the
+        global-E2 optimum's), and the envelope's ``label``, ``priority``, ``visibility``,
+        ``pinned``."""
         spec: Dict[str, Any] = {"kind": "optimize"}
         if family is not None:
             spec["family"] = family

@@ -201,6 +201,24 @@ def test_optimize_is_reproducible_and_takes_patterns(client, opt_job):
     assert from_pattern.best_e2 <= client.evaluate("flipquad").e2 + 1e-12  # a descent never worsens
 
 
+def test_optimize_for_a_scene(client):
+    # objective passes through optimize(**options); the result reports both figures.
+    scene = {"name": "half-plane", "angle": 30, "offset": 0.37, "width": 96, "height": 96}
+    job = client.optimize(family="P(1,1,4)", seeds=2, max_iterations=200,
+                          objective={"scene": scene, "blend": 0.25}).wait(progress=False,
+                                                                          timeout=120)
+    so = job.result["scene_objective"]
+    assert so["blend"] == 0.25 and so["scene"]["angle"] == 30
+    assert so["e2"] == pytest.approx(job.result["e2"]) == pytest.approx(job.best_e2)
+    assert so["objective"] <= 1 + 1e-12  # F = 1 at the global-E2 optimum it starts from
+    assert so["objective"] == pytest.approx(
+        0.75 * so["predicted_rmse"] / so["e2_optimum"]["predicted_rmse"]
+        + 0.25 * so["e2"] / so["e2_optimum"]["e2"], rel=1e-9)
+    with pytest.raises(aalab.AalabError) as e:
+        client.optimize(family="P(1,1,4)", objective={"scene": "rings", "blend": 2})
+    assert e.value.field == "objective.blend"
+
+
 def test_export(client, opt_job, tmp_path):
     doc = opt_job.export("json")
     assert doc["job"] == opt_job.id and doc["pattern"]["family"] == "P(4,1+,2)"
