@@ -36,7 +36,8 @@ export async function predictTile(renderBody) {
     const p = predictionFrom(r);
     if (!p) throw new Error('the answer holds no prediction');
     predicted = { key, p };
-    $('tile-pred-status').textContent = `edge model with the ${p.filter || 'default'} reference filter, no render`;
+    const sc = renderBody.scene;
+    $('tile-pred-status').textContent = `${sc.name}, ${sc.width}×${sc.height}, ${p.filter || 'default'} reference filter`;
     $('tile-pred').dataset.state = 'done';
     showFigures();
     drawPlots(p);

@@ -127,6 +127,7 @@ async function renderTile() {
   const body = tileRequest();
   const n = body.scene.width;
   $('tile-render').disabled = true;
+  $('tile-status').classList.remove('error-text');
   $('tile-status').textContent = 'rendering…';
   renderRunning(true);
   predictTile(body); // answers long before the render: shown while it runs
@@ -156,6 +157,7 @@ async function renderTile() {
     setMeasured(body, stats.rmse);
     $('tile-status').textContent = `${body.scene.name} with ${$('tile-pattern').selectedOptions[0].textContent}, ${n}×${n}`;
   } catch (e) {
+    $('tile-status').classList.add('error-text');
     $('tile-status').textContent = `render failed: ${e.message}`;
   } finally {
     renderRunning(false);
