@@ -21,7 +21,7 @@ export function drawPolar(container, { title, series, argmax, valueLabel, marks 
     const rr = (r / rTop) * R;
     return [cx + rr * Math.cos(a), cy - rr * Math.sin(a)];
   };
-  svg.setAttribute('aria-label', `${title}; maximum ${argmax ? `${argmax.value.toFixed(4)} at ${argmax.angle}° in kernel ${argmax.kernel}` : 'n/a'}`);
+  svg.setAttribute('aria-label', `${title}; maximum ${argmax ? `${argmax.value.toFixed(4)} at ${argmax.angle}°${argmax.kernel != null ? ` in kernel ${argmax.kernel}` : ''}` : 'n/a'}`);
   text(svg, 6, 16, title, { class: 'plot-title' });
   for (const t of ticks) {
     el('circle', { cx, cy, r: (t / rTop) * R, class: 'polar-ring' }, svg);

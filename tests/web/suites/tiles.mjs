@@ -80,6 +80,8 @@ export default async function tilesSuite({ page, base, api, step, shot, consoleP
       }
       const label = await page.$eval(sel, (svg) => svg.querySelector('.polar-argmax-label').textContent);
       assert(label.includes(`@ ${top}°`), `${what}: maximum label "${label}", API maximum at ${top}°`);
+      const aria = await page.getAttribute(sel, 'aria-label');
+      assert(aria.endsWith(`maximum ${values[top].toFixed(4)} at ${top}°`), `${what}: aria-label "${aria}"`);
     }
     // The costliest angles are marked on the pattern's curve and listed with their shares.
     const marks = await page.$$eval('#tile-polar-e1 .polar-mark', (m) => m.map((c) => +c.dataset.angle));

@@ -79,7 +79,7 @@ function clearPlots() {
 function argmaxOf(values) {
   let best = null;
   values.forEach((v, d) => {
-    if (v != null && v > 0 && (!best || v > best.value)) best = { kernel: 0, angle: d, value: v };
+    if (v != null && v > 0 && (!best || v > best.value)) best = { kernel: null, angle: d, value: v };
   });
   return best;
 }
