@@ -7,8 +7,8 @@
 
 #include "codec.h"
 
-static const char *const predict_keys[] = {"scene",    "size",      "pattern",
-                                           "patterns", "reference", NULL};
+static const char *const predict_keys[] = {"scene",     "size",        "pattern", "patterns",
+                                           "reference", "e1_by_angle", NULL};
 
 void proto_predict_request_free(proto_predict_request *r)
 {
@@ -79,6 +79,10 @@ int proto_decode_predict_request(const json_t *body, proto_predict_request *out,
     if (!rc)
         rc = proto_decode_reference(json_object_get(body, "reference"), &out->reference,
                                     "reference", err);
+    const json_t *by_angle = json_object_get(body, "e1_by_angle");
+    if (!rc && by_angle && !json_is_boolean(by_angle))
+        rc = aa_error_set(err, AA_EINVAL, "e1_by_angle", "must be true or false");
+    out->e1_by_angle = json_is_true(by_angle);
     if (rc)
         proto_predict_request_free(out);
     return rc;
@@ -152,8 +156,18 @@ static json_t *encode_angles(const aa_edge_histogram *h, const aa_prediction *p)
     return a;
 }
 
+static json_t *encode_bins(const double v[AA_EDGE_BINS])
+{
+    json_t *a = json_array();
+    for (int d = 0; a && d < AA_EDGE_BINS; d++)
+        if (json_array_append_new(a, json_real(v[d])))
+            return json_decref(a), NULL;
+    return a;
+}
+
 json_t *proto_encode_predictions(const proto_predict_request *r, const aa_edge_histogram *h,
-                                 const aa_prediction *pred)
+                                 const aa_prediction *pred,
+                                 const double (*e1_by_angle)[AA_EDGE_BINS])
 {
     json_t *list = json_array();
     for (size_t i = 0; list && i < r->pattern_count; i++) {
@@ -166,6 +180,8 @@ json_t *proto_encode_predictions(const proto_predict_request *r, const aa_edge_h
                               proto_real(q->sum_sq > 0 ? q->locked_sq / q->sum_sq : 0.0),
                               "subpixel_area_share", q->subpixel_area_share,
                               "subpixel_error_estimated", false, "angles", encode_angles(h, q));
+        if (o && e1_by_angle && json_object_set_new(o, "e1_by_angle", encode_bins(e1_by_angle[i])))
+            o = (json_decref(o), NULL);
         if (!o || json_array_append_new(list, o))
             return json_decref(list), NULL;
     }

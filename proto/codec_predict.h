@@ -3,9 +3,11 @@
  *
  * Request: {"scene": name | {...}, "size": [w, h], "pattern": name | {...} or
  *           "patterns": [name | {...}, ...] (exactly one of the two; at most
- *           PROTO_PREDICT_MAX_PATTERNS), "reference": {...}}
+ *           PROTO_PREDICT_MAX_PATTERNS), "reference": {...}, "e1_by_angle": bool}
  * scene, size and pattern as in POST /v1/render (codec_render.h); of "reference" only the filter
- * matters (spp and seed are accepted, so that a render request's body predicts as is). */
+ * matters (spp and seed are accepted, so that a render request's body predicts as is).
+ * "e1_by_angle": true adds each pattern's E1 at all 180 bins (for drawing it, as the dashboard's
+ * Tiles view does); off by default, since it costs E1 at every angle, not only the scene's. */
 #ifndef AALAB_PROTO_CODEC_PREDICT_H
 #define AALAB_PROTO_CODEC_PREDICT_H
 
@@ -26,6 +28,7 @@ typedef struct proto_predict_request {
     char (*names)[64];              /* [pattern_count]: preset name, or "" */
     proto_reference_spec reference; /* reference.params.filter points into it: no copies */
     bool single;                    /* "pattern" (not "patterns") */
+    bool e1_by_angle;               /* answer with E1 at every bin */
 } proto_predict_request;
 
 /* On error out holds nothing to free; on success free it with proto_predict_request_free.
@@ -36,9 +39,11 @@ void proto_predict_request_free(proto_predict_request *r);
 void proto_predict_pattern_field(const proto_predict_request *r, size_t i, char *out, size_t cap);
 
 /* {"scene", "reference": {"filter"}, "edges": {...}, "predictions": [...]}
- * (proto/schemas/predict_response.json). pred[i] belongs to r->patterns[i]. NULL on allocation
- * failure. */
+ * (proto/schemas/predict_response.json). pred[i] belongs to r->patterns[i]; e1_by_angle[i]
+ * (aa_predict_e1_rms at every bin), when not NULL, is encoded as predictions[i].e1_by_angle.
+ * NULL on allocation failure. */
 json_t *proto_encode_predictions(const proto_predict_request *r, const aa_edge_histogram *h,
-                                 const aa_prediction *pred);
+                                 const aa_prediction *pred,
+                                 const double (*e1_by_angle)[AA_EDGE_BINS]);
 
 #endif

@@ -383,6 +383,7 @@ case("predict_patterns_too_many", 400, "patterns", path=PR, body_json={"patterns
 case("predict_patterns_bad_preset", 400, "patterns[1]", path=PR, body_json={"patterns": ["rgss", "nope"]})
 case("predict_patterns_bad_kernel", 400, "patterns[0].kernels[0][0][1]", path=PR, body_json={"patterns": [{"kernels": [[[0, "x", 1]]]}]})
 case("predict_weights_sum_half", 400, "pattern.kernels[0]", path=PR, body_json={"pattern": {"kernels": [[[0, 0, 0.5]]]}})
+case("predict_e1_by_angle_not_bool", 400, "e1_by_angle", path=PR, body_json={"pattern": "rgss", "e1_by_angle": "yes"})
 case("predict_unknown_key", 400, "crop", path=PR, body_json={"pattern": "rgss", "crop": {"x": 0}})
 case("predict_scene_unknown", 400, "scene", path=PR, body_json={"pattern": "rgss", "scene": "nope"})
 case("predict_scene_angle_nan", 400, "scene.angle", path=PR, body_json={"pattern": "rgss", "scene": {"name": "sliver", "angle": "8"}})

@@ -8,6 +8,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 
 #include "aa_render.h"
@@ -125,12 +126,46 @@ static void test_bookkeeping(void **state)
     aa_pattern_free(&p);
 }
 
+/* E1 at every bin: the prediction's values where the scene has edges, and a value everywhere. */
+static void test_e1_at_every_bin(void **state)
+{
+    (void)state;
+    aa_pattern p = preset("quincunx");
+    aa_scene_params sp = aa_scene_params_default(AA_SCENE_SLIVER);
+    aa_prediction pred;
+    predicted(&p, &sp, &pred);
+    double all[AA_EDGE_BINS];
+    assert_int_equal(aa_predict_e1_rms(&p, NULL, NULL, all, NULL), AA_OK);
+    int with_edges = 0;
+    for (int d = 0; d < AA_EDGE_BINS; d++) {
+        assert_true(all[d] > 0);
+        if (pred.e1_rms[d] > 0) {
+            with_edges++;
+            assert_true(fabs(all[d] - pred.e1_rms[d]) <= 1e-12 * pred.e1_rms[d]);
+        }
+    }
+    assert_true(with_edges >= 3); /* the sliver's three sides */
+    /* Only the bins asked for; the others stay 0. */
+    bool want[AA_EDGE_BINS] = {false};
+    want[30] = true;
+    double some[AA_EDGE_BINS];
+    assert_int_equal(aa_predict_e1_rms(&p, NULL, want, some, NULL), AA_OK);
+    assert_true(fabs(some[30] - all[30]) <= 1e-12 * all[30]);
+    assert_true(some[29] == 0 && some[31] == 0);
+    aa_pattern empty = {0};
+    aa_error err = {0};
+    assert_int_equal(aa_predict_e1_rms(&empty, NULL, NULL, all, &err), AA_EINVAL);
+    assert_string_equal(err.field, "pattern");
+    aa_pattern_free(&p);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_long_edge_matches_render),
         cmocka_unit_test(test_locked_edge_matches_render),
         cmocka_unit_test(test_bookkeeping),
+        cmocka_unit_test(test_e1_at_every_bin),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

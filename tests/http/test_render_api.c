@@ -1,5 +1,6 @@
-/* POST /v1/render, GET /v1/tiles/{id}.png and the render job kinds through the daemon's own
- * api_handle() (router, access checks, pattern references, worker pool), no socket. */
+/* POST /v1/render, GET /v1/tiles/{id}.png, POST /v1/predict's e1_by_angle and the render job kinds
+ * through the daemon's own api_handle() (router, access checks, pattern references, worker pool),
+ * no socket. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -8,6 +9,7 @@
 
 #include <cmocka.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -163,12 +165,76 @@ static void test_compare_job_through_the_pool(void **state)
                  400, "scene.name");
 }
 
+/* sqrt(mean over kernels of E1²) at angle deg from POST /v1/evaluate's detail: the metric's
+ * own evaluation, a second path to the values POST /v1/predict's e1_by_angle gives. */
+static double evaluate_e1_rms(const char *preset, int deg)
+{
+    char body[160];
+    snprintf(body, sizeof body, "{\"pattern\":{\"preset\":\"%s\"},\"angles\":[%d],\"detail\":true}",
+             preset, deg);
+    api_response r = call("POST", "/v1/evaluate", body);
+    assert_int_equal(r.status, 200);
+    json_t *j = json_of(&r);
+    json_t *detail = json_object_get(j, "detail");
+    double sum = 0;
+    size_t n = json_array_size(detail);
+    assert_true(n > 0);
+    for (size_t k = 0; k < n; k++) {
+        json_t *a = json_array_get(json_object_get(json_array_get(detail, k), "angles"), 0);
+        double e1 = json_real_value(json_object_get(a, "e1"));
+        sum += e1 * e1;
+    }
+    json_decref(j);
+    api_response_free(&r);
+    return sqrt(sum / (double)n);
+}
+
+static void test_predict_e1_by_angle(void **state)
+{
+    (void)state;
+    const char *scene = "\"scene\":{\"name\":\"half-plane\",\"width\":64,\"height\":64,"
+                        "\"angle\":27,\"offset\":0.37}";
+    char body[256];
+    snprintf(body, sizeof body, "{%s,\"pattern\":\"flipquad\",\"e1_by_angle\":true}", scene);
+    api_response r = call("POST", "/v1/predict", body);
+    assert_int_equal(r.status, 200);
+    json_t *j = json_of(&r);
+    json_t *pred = json_array_get(json_object_get(j, "predictions"), 0);
+    json_t *by_angle = json_object_get(pred, "e1_by_angle");
+    assert_int_equal(json_array_size(by_angle), 180);
+    /* Where the scene has its edge, the value the prediction used. */
+    json_t *top = json_array_get(json_object_get(pred, "angles"), 0);
+    assert_int_equal(json_integer_value(json_object_get(top, "angle")), 27);
+    double at27 = json_real_value(json_array_get(by_angle, 27));
+    assert_float_equal(at27, json_real_value(json_object_get(top, "e1_rms")), 1e-12 * at27);
+    /* Everywhere, the metric's E1 as POST /v1/evaluate computes it (FLIPQUAD: four kernels). */
+    for (int deg = 0; deg < 180; deg += 45) {
+        double want = evaluate_e1_rms("flipquad", deg);
+        double got = json_real_value(json_array_get(by_angle, (size_t)deg));
+        assert_true(want > 0);
+        assert_float_equal(got, want, 1e-9 * want);
+    }
+    json_decref(j);
+    api_response_free(&r);
+    /* Off by default: the same prediction, without the 180 values. */
+    snprintf(body, sizeof body, "{%s,\"pattern\":\"flipquad\"}", scene);
+    r = call("POST", "/v1/predict", body);
+    assert_int_equal(r.status, 200);
+    j = json_of(&r);
+    pred = json_array_get(json_object_get(j, "predictions"), 0);
+    assert_null(json_object_get(pred, "e1_by_angle"));
+    json_decref(j);
+    api_response_free(&r);
+    expect_error("/v1/predict", "{\"pattern\":\"rgss\",\"e1_by_angle\":1}", 400, "e1_by_angle");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_render_and_fetch_tiles),
         cmocka_unit_test(test_render_errors_name_fields),
         cmocka_unit_test(test_compare_job_through_the_pool),
+        cmocka_unit_test(test_predict_e1_by_angle),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -231,7 +231,7 @@ export function table3Rows(result) {
 }
 
 /* compare result rows: [{name, family, samples_per_pixel, e2, rmse, max_dev, render_seconds,
- * pixels_sampled, coverage_samples, stats, tiles}]. */
+ * pixels_sampled, coverage_samples, stats, tiles, predicted_rmse?}]. */
 export function comparisonRows(result) {
   return list(result && result.rows).map((r) => ({
     label: r.name,
@@ -241,7 +241,15 @@ export function comparisonRows(result) {
     rmse: num(r.rmse),
     maxDev: num(r.max_dev),
     seconds: num(r.render_seconds),
+    predicted: num(r.predicted_rmse),
   }));
+}
+
+/* compare result's prediction: {spearman (null: undefined), subpixel_area_share}; null when the
+ * result has none (older results). */
+export function comparisonPrediction(result) {
+  const p = result && result.prediction;
+  return p ? { spearman: num(p.spearman), subpixelAreaShare: num(p.subpixel_area_share) } : null;
 }
 
 /* animation result: {scene, pattern: {family, samples_per_pixel}, e2, frames: [{frame, rmse,
@@ -327,4 +335,46 @@ export function jobPattern(job, { rank, pick } = {}) {
   }
   if ((pick === 'opt_w' || pick === 'opt_wp') && r && r[pick]) return wirePattern(r[pick].pattern);
   return job.best ? job.best.pattern : null;
+}
+
+/* POST /v1/predict (predict_response.json): {scene, reference: {filter}, edges: {length[180],
+ * total_length, locked_length, locked_edges, subpixel_area_share, ...}, predictions: [{pattern,
+ * predicted_rmse, locked_share, subpixel_area_share, angles: [{angle, length, e1_rms, share}]
+ * (costliest first), e1_by_angle?[180]}]}. One pattern's prediction with the scene's histogram;
+ * null when the answer holds no prediction. */
+export function predictionFrom(resp, index = 0) {
+  const p = list(resp && resp.predictions)[index];
+  if (!p) return null;
+  const e = (resp && resp.edges) || {};
+  const bins = (v) => (Array.isArray(v) && v.length === 180 ? v.map((x) => num(x) ?? 0) : null);
+  return {
+    rmse: num(p.predicted_rmse),
+    lockedShare: num(p.locked_share),
+    subpixelAreaShare: num(p.subpixel_area_share),
+    subpixelEstimated: p.subpixel_error_estimated === true,
+    angles: list(p.angles).map((a) => ({ angle: a.angle, length: num(a.length), e1: num(a.e1_rms), share: num(a.share) })),
+    e1ByAngle: bins(p.e1_by_angle),
+    edgeLength: bins(e.length),
+    totalLength: num(e.total_length),
+    lockedLength: num(e.locked_length),
+    filter: resp.reference ? str(resp.reference.filter) : '',
+  };
+}
+
+/* Measured over predicted RMSE; null unless both are there and the prediction is above 0. */
+export function predictionRatio(measured, predicted) {
+  return measured != null && predicted != null && predicted > 0 ? measured / predicted : null;
+}
+
+/* The costliest angles of a prediction (already sorted by the daemon), the first `count`, and
+ * the share of all the others together. */
+export function costliestAngles(angles, count = 6) {
+  const top = angles.slice(0, count);
+  const rest = angles.slice(count).reduce((s, a) => s + (a.share ?? 0), 0);
+  return { top, rest, restCount: Math.max(0, angles.length - count) };
+}
+
+/* "12.3 %" of a 0..1 share; "—" when absent. */
+export function fmtShare(v, digits = 1) {
+  return v == null || !Number.isFinite(v) ? '—' : `${(v * 100).toFixed(digits)} %`;
 }

@@ -1,13 +1,13 @@
 // Polar plot of a per-angle error, one closed curve per kernel (E1 is even in θ+180°, so the
 // computed half-turn is drawn twice). Kernels differ by dash pattern as well as colour; the
-// maximum is marked with a ring and a text label.
+// maximum is marked with a ring and a text label; optional marks are dots at given angles.
 
 import { el, text, clear, COLOURS, DASHES, niceTicks } from './svg.js';
 
 const SIZE = 360;
 const PAD = 40;
 
-export function drawPolar(container, { title, series, argmax, valueLabel }) {
+export function drawPolar(container, { title, series, argmax, valueLabel, marks = [] }) {
   clear(container);
   const svg = el('svg', { viewBox: `0 0 ${SIZE} ${SIZE + 24}`, class: 'polar-svg', role: 'img' }, container);
   const rMaxData = Math.max(1e-9, ...series.flatMap((s) => s.points.map((p) => p.r ?? 0)));
@@ -21,7 +21,7 @@ export function drawPolar(container, { title, series, argmax, valueLabel }) {
     const rr = (r / rTop) * R;
     return [cx + rr * Math.cos(a), cy - rr * Math.sin(a)];
   };
-  svg.setAttribute('aria-label', `${title}; maximum ${argmax ? `${argmax.value.toFixed(4)} at ${argmax.angle}° in kernel ${argmax.kernel}` : 'n/a'}`);
+  svg.setAttribute('aria-label', `${title}; maximum ${argmax ? `${argmax.value.toFixed(4)} at ${argmax.angle}°${argmax.kernel != null ? ` in kernel ${argmax.kernel}` : ''}` : 'n/a'}`);
   text(svg, 6, 16, title, { class: 'plot-title' });
   for (const t of ticks) {
     el('circle', { cx, cy, r: (t / rTop) * R, class: 'polar-ring' }, svg);
@@ -47,6 +47,14 @@ export function drawPolar(container, { title, series, argmax, valueLabel }) {
       'data-kernel': k,
     }, svg);
   });
+  // Marked angles (the Tiles view's costliest scene angles): a dot on each half-turn, titled.
+  for (const m of marks) {
+    for (const a of [m.angle, m.angle + 180]) {
+      const [x, y] = toXY(a, m.r);
+      const dot = el('circle', { cx: x, cy: y, r: 4, class: 'polar-mark', 'data-angle': m.angle }, svg);
+      if (m.label) el('title', {}, dot).textContent = m.label;
+    }
+  }
   if (argmax && argmax.value != null) {
     const [x, y] = toXY(argmax.angle, argmax.value);
     el('circle', { cx: x, cy: y, r: 7, class: 'polar-argmax' }, svg);

@@ -149,6 +149,55 @@ static double locked_per_length(const aa_pattern *p, const aa_filter *f, const a
     return sum / period;
 }
 
+/* mean_k E1_k(θ_d)² at the bins d where want[d] (every bin when want is NULL), 0 elsewhere. */
+static int e1_mean_sq(const aa_pattern *p, const aa_filter *f, const bool *want,
+                      double mean_sq[AA_EDGE_BINS], aa_error *err)
+{
+    memset(mean_sq, 0, AA_EDGE_BINS * sizeof mean_sq[0]);
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    /* Directions once; each kernel then runs through the bins in order, so its sort starts from
+     * the previous bin's order (as aa_evaluate). */
+    double dir_c[AA_EDGE_BINS], dir_s[AA_EDGE_BINS];
+    for (int d = 0; d < AA_EDGE_BINS; d++)
+        aa_metric_direction(d * PI / 180.0, &dir_c[d], &dir_s[d]);
+    int rc = AA_OK;
+    for (size_t k = 0; k < p->kernel_count && !rc; k++) {
+        for (int d = 0; d < AA_EDGE_BINS && !rc; d++) {
+            if (want && !want[d])
+                continue;
+            double e1 = 0;
+            rc = aa_e1_at_direction(f, p->kernels[k].samples, p->kernels[k].count, dir_c[d],
+                                    dir_s[d], AA_E1_AUTO, &ws, &e1);
+            mean_sq[d] += e1 * e1;
+        }
+    }
+    aa_metric_workspace_free(&ws);
+    if (rc)
+        return aa_error_set(err, rc, "pattern", "E1 evaluation failed");
+    for (int d = 0; d < AA_EDGE_BINS; d++)
+        mean_sq[d] /= (double)p->kernel_count;
+    return AA_OK;
+}
+
+int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
+                      double e1_rms[AA_EDGE_BINS], aa_error *err)
+{
+    memset(e1_rms, 0, AA_EDGE_BINS * sizeof e1_rms[0]);
+    if (!p || p->kernel_count == 0)
+        return aa_error_set(err, AA_EINVAL, "pattern", "pattern has no usable kernels");
+    aa_filter fd;
+    if (!f) {
+        aa_filter_default(&fd);
+        f = &fd;
+    }
+    double mean_sq[AA_EDGE_BINS];
+    int rc = e1_mean_sq(p, f, want, mean_sq, err);
+    for (int d = 0; d < AA_EDGE_BINS && !rc; d++)
+        e1_rms[d] = sqrt(mean_sq[d]);
+    return rc;
+}
+
 int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
                     aa_prediction *out, aa_error *err)
 {
@@ -160,40 +209,20 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
         aa_filter_default(&fd);
         f = &fd;
     }
-    aa_metric_workspace ws;
-    aa_metric_workspace_init(&ws);
     /* E1 wherever the scene has edges, locked ones included (their bins report it too). */
     bool needed[AA_EDGE_BINS];
     for (int d = 0; d < AA_EDGE_BINS; d++)
         needed[d] = h->length[d] > 0;
     for (size_t k = 0; k < h->locked_count; k++)
         needed[aa_locked_edge_bin(&h->locked[k])] = true;
-    /* Directions once; each kernel then runs through the bins in order, so its sort starts from
-     * the previous bin's order (as aa_evaluate). */
-    double dir_c[AA_EDGE_BINS], dir_s[AA_EDGE_BINS], sum_sq[AA_EDGE_BINS] = {0};
-    for (int d = 0; d < AA_EDGE_BINS; d++)
-        aa_metric_direction(d * PI / 180.0, &dir_c[d], &dir_s[d]);
-    int rc = AA_OK;
-    for (size_t k = 0; k < p->kernel_count && !rc; k++) {
-        for (int d = 0; d < AA_EDGE_BINS && !rc; d++) {
-            if (!needed[d])
-                continue;
-            double e1 = 0;
-            rc = aa_e1_at_direction(f, p->kernels[k].samples, p->kernels[k].count, dir_c[d],
-                                    dir_s[d], AA_E1_AUTO, &ws, &e1);
-            sum_sq[d] += e1 * e1;
-        }
-    }
-    for (int d = 0; d < AA_EDGE_BINS && !rc; d++) {
-        if (!needed[d])
-            continue;
-        double mean_sq = sum_sq[d] / (double)p->kernel_count;
-        out->e1_rms[d] = sqrt(mean_sq);
-        out->bin_sq[d] = h->length[d] * mean_sq;
-    }
-    aa_metric_workspace_free(&ws);
+    double mean_sq[AA_EDGE_BINS];
+    int rc = e1_mean_sq(p, f, needed, mean_sq, err);
     if (rc)
-        return aa_error_set(err, rc, "pattern", "E1 evaluation failed");
+        return rc;
+    for (int d = 0; d < AA_EDGE_BINS; d++) {
+        out->e1_rms[d] = sqrt(mean_sq[d]);
+        out->bin_sq[d] = h->length[d] * mean_sq[d];
+    }
     double reach = kernel_reach(p);
     for (size_t k = 0; k < h->locked_count; k++) {
         const aa_locked_edge *e = &h->locked[k];

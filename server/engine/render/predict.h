@@ -17,6 +17,7 @@
 #ifndef AA_PREDICT_H
 #define AA_PREDICT_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 #include "aa_core.h"
@@ -37,6 +38,13 @@ typedef struct aa_prediction {
  * AA_ENOMEM. */
 int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
                     aa_prediction *out, aa_error *err);
+
+/* sqrt(mean over kernels of E1_k(θ_d)²), unweighted, with filter f (NULL: the default), at the
+ * bin centres d where want[d], or at every bin when want is NULL; 0 elsewhere. The values
+ * aa_predict_rmse uses (its e1_rms), for drawing the pattern's side of the model at every angle.
+ * Errors: AA_EINVAL (empty pattern). */
+int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
+                      double e1_rms[AA_EDGE_BINS], aa_error *err);
 
 /* A scene to predict on, for callbacks: aa_predict_rmse_of(user = an aa_predict_target, ...) has
  * the signature of aa_scene_objective.exact (objective_scene.h) and writes the prediction's rmse.

@@ -21,6 +21,7 @@ const ROUTES = [
   { method: 'GET', re: /^\/v1\/patterns\/\d+\/export$/, schema: 'export_response.json' },
   { method: 'POST', re: /^\/v1\/evaluate$/, schema: 'evaluate_response.json' },
   { method: 'POST', re: /^\/v1\/render$/, schema: 'render_response.json' },
+  { method: 'POST', re: /^\/v1\/predict$/, schema: 'predict_response.json' },
 ];
 
 function schemaFiles(dir) {

@@ -117,6 +117,8 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
     assert(rows.length === r.rows.length, `${rows.length} rows, API ${r.rows.length}`);
     r.rows.forEach((x, i) => {
       assert(rows[i][0] === x.name && rows[i][1] === String(x.samples_per_pixel) && rows[i][2] === x.e2.toFixed(4) && rows[i][3] === x.rmse.toFixed(3), `row ${JSON.stringify(rows[i])} vs API ${x.name} ${x.samples_per_pixel} ${x.e2} ${x.rmse}`);
+      // The edge model's prediction beside the measured RMSE.
+      assert(rows[i][6] === x.predicted_rmse.toFixed(3) && rows[i][7] === (x.rmse / x.predicted_rmse).toFixed(3), `row ${JSON.stringify(rows[i])}: predicted ${x.predicted_rmse}`);
     });
     for (const plot of ['#jd-cmp-plot', '#jd-cmp-plot-e2']) {
       const n = await page.$$eval(`${plot} .point-marker`, (m) => m.length);

@@ -8,9 +8,9 @@ import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import {
-  normEvaluation, normJob, jobsFrom, traceCurve, sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, animationTable, convergenceTable,
+  normEvaluation, normJob, jobsFrom, traceCurve, sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, comparisonPrediction, animationTable, convergenceTable,
   renderImages, renderStats, presetsFrom, normPreset, filtersFrom, acuityFrom, acuityLabel, wirePattern, jobPattern, familySeries,
-  executionText,
+  executionText, predictionFrom, predictionRatio, costliestAngles, fmtShare,
 } from '../../../web/js/model.js';
 import { traceAxes, tickLabels } from '../../../web/js/trace-axes.js';
 import { kernelsOf, layoutDots, moveSample, drawableOf } from '../../../web/js/pattern-geometry.js';
@@ -171,7 +171,10 @@ test('compare: one row per pattern with samples per pixel, E2, RMSE, max deviati
   assert.equal(rows.length, raw.spec.patterns.length);
   assert.deepEqual(rows.map((r) => r.label), raw.result.rows.map((r) => r.name));
   const r = raw.result.rows[1];
-  assert.deepEqual(rows[1], { label: r.name, family: r.family, spp: r.samples_per_pixel, e2: r.e2, rmse: r.rmse, maxDev: r.max_dev, seconds: r.render_seconds });
+  assert.deepEqual(rows[1], { label: r.name, family: r.family, spp: r.samples_per_pixel, e2: r.e2, rmse: r.rmse, maxDev: r.max_dev, seconds: r.render_seconds, predicted: r.predicted_rmse });
+  assert.ok(rows[1].predicted > 0, 'the compare job predicts each row');
+  assert.deepEqual(comparisonPrediction(raw.result), { spearman: raw.result.prediction.spearman, subpixelAreaShare: raw.result.prediction.subpixel_area_share });
+  assert.equal(comparisonPrediction({ rows: [] }), null);
   assert.equal(normJob(raw).best, null);
 });
 
@@ -292,4 +295,38 @@ test('execution: where an optimizer job ran and whether its result is reproducib
   assert.equal(executionText({ executor: 'slurm' }, { executor: 'slurm', shards: 8, reproducible: true }), 'slurm, 8 shards, reproducible');
   assert.equal(executionText({ executor: 'slurm' }, null), 'slurm', 'running: the spec says');
   assert.equal(executionText({}, { e2: 0.1 }), null, 'kinds without an executor');
+});
+
+test('prediction: the scene histogram, the pattern E1 at every angle, the costliest angles', () => {
+  const raw = load('predict-rgss-half-plane');
+  const p = predictionFrom(raw);
+  const q = raw.predictions[0];
+  assert.equal(p.rmse, q.predicted_rmse);
+  assert.equal(p.lockedShare, q.locked_share);
+  assert.equal(p.subpixelAreaShare, q.subpixel_area_share);
+  assert.equal(p.subpixelEstimated, false);
+  assert.equal(p.edgeLength.length, 180);
+  assert.equal(p.e1ByAngle.length, 180);
+  assert.equal(p.totalLength, raw.edges.total_length);
+  assert.equal(p.filter, raw.reference.filter);
+  // A 27° half-plane: all its length in bin 27, where the pattern's E1 is angles[0]'s.
+  assert.equal(p.angles[0].angle, 27);
+  assert.equal(p.edgeLength[27], raw.edges.total_length);
+  assert.ok(Math.abs(p.e1ByAngle[27] - q.angles[0].e1_rms) <= 1e-12 * q.angles[0].e1_rms, 'E1 by angle is the prediction\'s E1');
+  assert.ok(p.e1ByAngle.every((v) => v > 0), 'RGSS has an error at every angle');
+  assert.equal(predictionFrom({ predictions: [] }), null);
+  assert.equal(predictionFrom({ predictions: [{ predicted_rmse: 1 }] }).e1ByAngle, null, 'no e1_by_angle asked');
+});
+
+test('prediction ratio and costliest angles', () => {
+  assert.equal(predictionRatio(2, 4), 0.5);
+  assert.equal(predictionRatio(2, 0), null);
+  assert.equal(predictionRatio(null, 4), null);
+  const angles = [0.5, 0.2, 0.15, 0.1, 0.05].map((share, i) => ({ angle: i * 10, share }));
+  const c = costliestAngles(angles, 2);
+  assert.deepEqual(c.top.map((a) => a.angle), [0, 10]);
+  assert.equal(c.restCount, 3);
+  assert.ok(Math.abs(c.rest - 0.3) < 1e-12);
+  assert.equal(fmtShare(0.1234), '12.3 %');
+  assert.equal(fmtShare(null), '—');
 });

@@ -3,7 +3,7 @@
 // an animation's frames and a reference's convergence. Each renders a finished job's result
 // into an empty container.
 
-import { sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, animationTable, convergenceTable, fmt, fmtSeconds } from '../model.js';
+import { sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, comparisonPrediction, predictionRatio, animationTable, convergenceTable, fmt, fmtSeconds } from '../model.js';
 import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 function node(tag, attrs = {}, children = []) {
@@ -92,16 +92,23 @@ function table3(holder, job) {
 
 /* Comparison rows as RMSE and E2 against samples per pixel (a pattern's cost; its CPU render
  * time here says nothing about a GPU) and a table. Shared with the Tiles view. */
-export function drawComparison({ plot, plotE2, legend, tableHolder, tableId, rows }) {
+/* prediction: comparisonPrediction of the result (null: no caption line about it). */
+export function drawComparison({ plot, plotE2, legend, tableHolder, tableId, rows, prediction = null }) {
   const series = rows.map((r) => ({ label: r.label, points: [{ x: r.spp, y: r.rmse, title: `${r.label}: RMSE ${fmt(r.rmse, 3)} at ${r.spp} samples/pixel` }] }));
   drawScatter(plot, { series, xLabel: 'samples per pixel', yLabel: 'RMSE (0..255)', labels: true, width: 560, height: 300, title: 'RMSE against samples per pixel' });
   const e2 = rows.map((r) => ({ label: r.label, points: [{ x: r.spp, y: r.e2, title: `${r.label}: E2 ${fmt(r.e2, 4)} at ${r.spp} samples/pixel` }] }));
   drawScatter(plotE2, { series: e2, xLabel: 'samples per pixel', yLabel: 'E2', labels: true, width: 560, height: 300, title: 'E2 against samples per pixel' });
   scatterLegend(legend, rows.map((r) => r.label));
+  // The edge model's prediction beside each measured row (docs/predict.md), after the columns
+  // that were there before it.
+  const caption = prediction
+    ? `Predicted RMSE against measured: Spearman ρ ${fmt(prediction.spearman, 3)} over ${rows.length} patterns${prediction.subpixelAreaShare > 0 ? `; ${(prediction.subpixelAreaShare * 100).toFixed(1)} % of the image is below the pixel scale, its error not predicted` : ''}`
+    : null;
   const t = table({
     id: tableId,
-    head: ['Pattern', 'Samples/pixel', 'E2', 'RMSE', 'Max dev.', 'Render time'],
-    rows: rows.map((r) => [r.label, r.spp == null ? '—' : String(r.spp), fmt(r.e2, 4), fmt(r.rmse, 3), fmt(r.maxDev, 1), fmtSeconds(r.seconds)]),
+    caption,
+    head: ['Pattern', 'Samples/pixel', 'E2', 'RMSE', 'Max dev.', 'Render time', 'Predicted RMSE', 'Measured/predicted'],
+    rows: rows.map((r) => [r.label, r.spp == null ? '—' : String(r.spp), fmt(r.e2, 4), fmt(r.rmse, 3), fmt(r.maxDev, 1), fmtSeconds(r.seconds), fmt(r.predicted, 3), fmt(predictionRatio(r.rmse, r.predicted), 3)]),
   });
   tableHolder.replaceChildren(t);
 }
@@ -113,7 +120,7 @@ function compare(holder, job) {
   const tableHolder = node('div');
   const s = job.result.scene;
   holder.append(node('p', { className: 'hint', text: `${s.name}, ${s.width}×${s.height}, reference ${job.result.reference.spp} spp.` }), node('div', { className: 'plots-2' }, [plot, plotE2]), legend, tableHolder);
-  drawComparison({ plot, plotE2, legend, tableHolder, tableId: 'jd-cmp-table', rows: comparisonRows(job.result) });
+  drawComparison({ plot, plotE2, legend, tableHolder, tableId: 'jd-cmp-table', rows: comparisonRows(job.result), prediction: comparisonPrediction(job.result) });
 }
 
 function animation(holder, job) {

@@ -1,11 +1,12 @@
 // Tiles: render a scene with a pattern beside the reference and their difference, with zoom,
-// RMSE / max deviation / penalised histogram; and the comparison job as RMSE and E2 against
-// samples per pixel.
+// RMSE / max deviation / penalised histogram and the edge model's predicted RMSE beside it
+// (tile-prediction.js); and the comparison job as RMSE and E2 against samples per pixel.
 
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
 import { apiPost, apiImageUrl } from '../api.js';
-import { renderImages, renderStats, comparisonRows, fmt, fmtSeconds, ACTIVE_STATES } from '../model.js';
+import { renderImages, renderStats, comparisonRows, comparisonPrediction, fmt, fmtSeconds, ACTIVE_STATES } from '../model.js';
 import { drawComparison } from './kind-details.js';
+import { predictTile, setMeasured } from './tile-prediction.js';
 import { loadPresets, loadJob, jobKinds, loadFinishedWithBest } from '../store.js';
 
 const $ = (id) => document.getElementById(id);
@@ -18,6 +19,7 @@ let hist = null;
 let patterns = new Map(); // option value -> wire pattern
 let imageUrls = [];
 let cmpTimer = null;
+let renderClock = null;
 
 export async function init(context) {
   ctx = context;
@@ -27,6 +29,12 @@ export async function init(context) {
     renderTile();
   });
   $('tile-zoom').addEventListener('input', applyZoom);
+  // A prediction costs no render: a new one for every change of the tile.
+  for (const id of ['tile-scene', 'tile-pattern', 'tile-size'])
+    $(id).addEventListener('change', () => {
+      const body = tileRequest();
+      if (body.pattern) predictTile(body);
+    });
   $('cmp-form').addEventListener('submit', (e) => {
     e.preventDefault();
     startComparison();
@@ -50,6 +58,8 @@ export async function init(context) {
 
 export async function show() {
   await fillPatterns();
+  const body = tileRequest();
+  if (body.pattern) predictTile(body);
   const kinds = await jobKinds().catch(() => null);
   const missing = kinds && !kinds.includes('compare');
   $('cmp-start').disabled = !!missing;
@@ -58,6 +68,29 @@ export async function show() {
 
 export function hide() {
   clearTimeout(cmpTimer);
+}
+
+/* The render request of the form's tile (server/tiles/tile_render.h): scene and reference
+ * objects; POST /v1/predict takes the same scene, pattern and reference. */
+function tileRequest() {
+  const n = +$('tile-size').value;
+  return {
+    pattern: patterns.get($('tile-pattern').value),
+    scene: { name: $('tile-scene').value, width: n, height: n },
+    reference: { spp: +$('tile-ref').value },
+  };
+}
+
+/* The render is one synchronous request: the page shows that it runs and for how long. */
+function renderRunning(on) {
+  clearInterval(renderClock);
+  $('tile-progress').hidden = !on;
+  if (!on) return;
+  const t0 = performance.now();
+  $('tile-elapsed').textContent = '0.0 s';
+  renderClock = setInterval(() => {
+    $('tile-elapsed').textContent = `${((performance.now() - t0) / 1000).toFixed(1)} s`;
+  }, 100);
 }
 
 async function fillPatterns() {
@@ -91,15 +124,13 @@ async function fillPatterns() {
 }
 
 async function renderTile() {
-  const n = +$('tile-size').value;
-  // Request shape of the renderer (server/tiles/tile_render.h): scene and reference objects.
-  const body = {
-    pattern: patterns.get($('tile-pattern').value),
-    scene: { name: $('tile-scene').value, width: n, height: n },
-    reference: { spp: +$('tile-ref').value },
-  };
+  const body = tileRequest();
+  const n = body.scene.width;
   $('tile-render').disabled = true;
+  $('tile-status').classList.remove('error-text');
   $('tile-status').textContent = 'rendering…';
+  renderRunning(true);
+  predictTile(body); // answers long before the render: shown while it runs
   try {
     const r = await apiPost('/v1/render', body);
     const urls = renderImages(r);
@@ -121,11 +152,15 @@ async function renderTile() {
     );
     for (const k of ['pattern', 'reference', 'difference']) $(`tile-img-${k}`).dataset.loaded = 'true';
     applyZoom();
-    showStats(renderStats(r));
+    const stats = renderStats(r);
+    showStats(stats);
+    setMeasured(body, stats.rmse);
     $('tile-status').textContent = `${body.scene.name} with ${$('tile-pattern').selectedOptions[0].textContent}, ${n}×${n}`;
   } catch (e) {
+    $('tile-status').classList.add('error-text');
     $('tile-status').textContent = `render failed: ${e.message}`;
   } finally {
+    renderRunning(false);
     $('tile-render').disabled = false;
   }
 }
@@ -209,7 +244,7 @@ async function pollComparison(id, keys) {
       return;
     }
     $('cmp-start').disabled = false;
-    if (j.state === 'done') showComparison(comparisonRows(j.result));
+    if (j.state === 'done') showComparison(comparisonRows(j.result), comparisonPrediction(j.result));
     else if (j.error) $('cmp-status').textContent += `: ${j.error}`;
   } catch (e) {
     $('cmp-status').textContent = `comparison job ${id}: ${e.message}`;
@@ -217,6 +252,6 @@ async function pollComparison(id, keys) {
   }
 }
 
-function showComparison(rows) {
-  drawComparison({ plot: $('cmp-plot'), plotE2: $('cmp-plot-e2'), legend: $('cmp-legend'), tableHolder: $('cmp-table-holder'), tableId: 'cmp-table', rows });
+function showComparison(rows, prediction) {
+  drawComparison({ plot: $('cmp-plot'), plotE2: $('cmp-plot-e2'), legend: $('cmp-legend'), tableHolder: $('cmp-table-holder'), tableId: 'cmp-table', rows, prediction });
 }
