@@ -8,62 +8,14 @@
 
 #include "aa_core.h"
 #include "aa_metric.h"
+#include "edge_profile.h"
 #include "raster.h"
 
 #define PI 3.14159265358979323846
 
 /* The render's reference at a pixel whose output point is at offset a from a straight edge with
- * unit normal (c, s): the separable filter h(x) h(y) (reference.h) integrated over the
- * half-plane x c + y s <= a, i.e. the integral of h(x) g((a - x c) / |s|) over x. For an
- * axis-aligned edge that is g(a), the profile E1 compares against; at other angles it is not
- * (docs/predict.md). The integrand is a polynomial between the filter's knots and the points
- * where (a - x c) / |s| crosses one, so a Gauss-Legendre rule per piece is exact for the
- * piecewise-polynomial filters (degree 3 + 4 < 2 * REF_GL). */
-#define REF_GL 8
-
-typedef struct edge_reference {
-    const aa_filter *f;
-    double c, s;
-    double node[REF_GL], weight[REF_GL];
-} edge_reference;
-
-static int cmp_double(const void *x, const void *y)
-{
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
-
-static double reference_step(const edge_reference *r, double a)
-{
-    const aa_filter *f = r->f;
-    double c = r->c, s = fabs(r->s);
-    if (s < 1e-12 || fabs(c) < 1e-12)
-        return aa_filter_cdf(f, a);
-    double R = f->radius, br[2 * (AA_FILTER_MAX_PIECES + 1) + 2];
-    size_t n = 0;
-    br[n++] = -R;
-    br[n++] = R;
-    for (int k = 0; k <= f->pieces; k++) {
-        br[n++] = f->knot[k];
-        double x = (a - f->knot[k] * s) / c;
-        if (x > -R && x < R)
-            br[n++] = x;
-    }
-    qsort(br, n, sizeof br[0], cmp_double);
-    double sum = 0;
-    for (size_t k = 0; k + 1 < n; k++) {
-        double lo = fmax(br[k], -R), hi = fmin(br[k + 1], R);
-        if (!(hi > lo))
-            continue;
-        double mid = (lo + hi) / 2, half = (hi - lo) / 2;
-        for (int g = 0; g < REF_GL; g++) {
-            double x = mid + half * r->node[g];
-            sum += half * r->weight[g] * aa_filter_eval(f, x) * aa_filter_cdf(f, (a - x * c) / s);
-        }
-    }
-    return sum;
-}
-
+ * unit normal (c, s) is g_θ(a) (edge_profile.h): for an axis-aligned edge g(a), the profile E1
+ * compares against; at other angles not (docs/predict.md). */
 /* Error of one kernel at edge offset a: its step response (projections on the normal (nx, ny))
  * minus the reference's, ref. */
 static double step_error(const aa_kernel *k, double nx, double ny, double a, double ref)
@@ -121,8 +73,6 @@ static double locked_per_length(const aa_pattern *p, const aa_filter *f, const a
     long long j0 = (long long)floor(y0 - off) - 1, j1 = (long long)ceil(y1 - off) + 1;
     /* m0: the along-line coordinate of the base point, rounded down. */
     long long m0 = (long long)floor(e->p * (by - off) - e->q * (bx - off));
-    edge_reference ref = {.f = f, .c = nx, .s = ny};
-    aa_gauss_legendre(REF_GL, ref.node, ref.weight);
     double sum = 0;
     for (long long j = j0; j <= j1; j++)
         for (long long i = i0; i <= i1; i++) {
@@ -132,7 +82,7 @@ static double locked_per_length(const aa_pattern *p, const aa_filter *f, const a
             double a = d - (nx * (i + off) + ny * (j + off));
             if (fabs(a) > band)
                 continue;
-            double g = reference_step(&ref, a);
+            double g = aa_edge_profile_exact(f, nx, ny, a);
             if (p->tile > 0) {
                 size_t k = (size_t)(floor_mod(j, T) * T + floor_mod(i, T));
                 double err = step_error(&p->kernels[k], nx, ny, a, g);
@@ -149,11 +99,36 @@ static double locked_per_length(const aa_pattern *p, const aa_filter *f, const a
     return sum / period;
 }
 
-/* mean_k E1_k(θ_d)² at the bins d where want[d] (every bin when want is NULL), 0 elsewhere. */
+/* The profile bin 0..45 sharing bin d's g_θ (it depends on |cos θ| and |sin θ| only). */
+static int profile_bin(int d)
+{
+    d %= 180;
+    if (d > 90)
+        d = 180 - d;
+    return d > 45 ? 90 - d : d;
+}
+
+/* mean_k E1_k(θ_d)² at the bins d where want[d] (every bin when want is NULL), 0 elsewhere, E1
+ * measured against g (AA_PREDICT_PROFILE_FILTER) or g_θ (AA_PREDICT_PROFILE_REFERENCE, one
+ * table per distinct profile, built once per call). */
 static int e1_mean_sq(const aa_pattern *p, const aa_filter *f, const bool *want,
-                      double mean_sq[AA_EDGE_BINS], aa_error *err)
+                      aa_predict_profile profile, double mean_sq[AA_EDGE_BINS], aa_error *err)
 {
     memset(mean_sq, 0, AA_EDGE_BINS * sizeof mean_sq[0]);
+    aa_edge_profile *tables = NULL;
+    if (profile == AA_PREDICT_PROFILE_REFERENCE) {
+        tables = calloc(46, sizeof *tables);
+        if (!tables)
+            return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        bool built[46] = {false};
+        for (int d = 0; d < AA_EDGE_BINS; d++) {
+            int b = profile_bin(d);
+            if ((!want || want[d]) && !built[b]) {
+                aa_edge_profile_init(&tables[b], f, b * PI / 180.0);
+                built[b] = true;
+            }
+        }
+    }
     aa_metric_workspace ws;
     aa_metric_workspace_init(&ws);
     /* Directions once; each kernel then runs through the bins in order, so its sort starts from
@@ -167,12 +142,17 @@ static int e1_mean_sq(const aa_pattern *p, const aa_filter *f, const bool *want,
             if (want && !want[d])
                 continue;
             double e1 = 0;
-            rc = aa_e1_at_direction(f, p->kernels[k].samples, p->kernels[k].count, dir_c[d],
-                                    dir_s[d], AA_E1_AUTO, &ws, &e1);
+            if (tables)
+                rc = aa_edge_profile_e1(&tables[profile_bin(d)], p->kernels[k].samples,
+                                        p->kernels[k].count, dir_c[d], dir_s[d], &e1);
+            else
+                rc = aa_e1_at_direction(f, p->kernels[k].samples, p->kernels[k].count, dir_c[d],
+                                        dir_s[d], AA_E1_AUTO, &ws, &e1);
             mean_sq[d] += e1 * e1;
         }
     }
     aa_metric_workspace_free(&ws);
+    free(tables);
     if (rc)
         return aa_error_set(err, rc, "pattern", "E1 evaluation failed");
     for (int d = 0; d < AA_EDGE_BINS; d++)
@@ -183,6 +163,12 @@ static int e1_mean_sq(const aa_pattern *p, const aa_filter *f, const bool *want,
 int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
                       double e1_rms[AA_EDGE_BINS], aa_error *err)
 {
+    return aa_predict_e1_rms_with(p, f, want, AA_PREDICT_PROFILE_FILTER, e1_rms, err);
+}
+
+int aa_predict_e1_rms_with(const aa_pattern *p, const aa_filter *f, const bool *want,
+                           aa_predict_profile profile, double e1_rms[AA_EDGE_BINS], aa_error *err)
+{
     memset(e1_rms, 0, AA_EDGE_BINS * sizeof e1_rms[0]);
     if (!p || p->kernel_count == 0)
         return aa_error_set(err, AA_EINVAL, "pattern", "pattern has no usable kernels");
@@ -192,7 +178,7 @@ int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
         f = &fd;
     }
     double mean_sq[AA_EDGE_BINS];
-    int rc = e1_mean_sq(p, f, want, mean_sq, err);
+    int rc = e1_mean_sq(p, f, want, profile, mean_sq, err);
     for (int d = 0; d < AA_EDGE_BINS && !rc; d++)
         e1_rms[d] = sqrt(mean_sq[d]);
     return rc;
@@ -200,6 +186,12 @@ int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
 
 int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
                     aa_prediction *out, aa_error *err)
+{
+    return aa_predict_rmse_with(p, f, h, AA_PREDICT_PROFILE_FILTER, out, err);
+}
+
+int aa_predict_rmse_with(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
+                         aa_predict_profile profile, aa_prediction *out, aa_error *err)
 {
     memset(out, 0, sizeof *out);
     if (!p || p->kernel_count == 0 || (p->tile > 0 && p->kernel_count != (size_t)p->tile * p->tile))
@@ -216,7 +208,7 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
     for (size_t k = 0; k < h->locked_count; k++)
         needed[aa_locked_edge_bin(&h->locked[k])] = true;
     double mean_sq[AA_EDGE_BINS];
-    int rc = e1_mean_sq(p, f, needed, mean_sq, err);
+    int rc = e1_mean_sq(p, f, needed, profile, mean_sq, err);
     if (rc)
         return rc;
     for (int d = 0; d < AA_EDGE_BINS; d++) {

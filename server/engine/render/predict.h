@@ -34,10 +34,25 @@ typedef struct aa_prediction {
     size_t pixels;               /* N */
 } aa_prediction;
 
-/* f: the reference filter (NULL: the default). Errors: AA_EINVAL (empty pattern),
+/* The step response E1 is measured against (docs/predict.md, "The reference at other angles"):
+ *  - FILTER: g, the filter's 1-D step response, E1 as the metric defines it (metric.h);
+ *  - REFERENCE: g_θ, the step response the renderer's separable reference really has across an
+ *    edge at the bin's angle (edge_profile.h); equal to g at 0° and 90°.
+ * Locked edges are always summed against the true reference. */
+typedef enum aa_predict_profile {
+    AA_PREDICT_PROFILE_FILTER = 0,
+    AA_PREDICT_PROFILE_REFERENCE = 1
+} aa_predict_profile;
+
+/* f: the reference filter (NULL: the default). E1 against g (AA_PREDICT_PROFILE_FILTER).
+ * Errors: AA_EINVAL (empty pattern),
  * AA_ENOMEM. */
 int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
                     aa_prediction *out, aa_error *err);
+
+/* aa_predict_rmse with E1 against the given profile. */
+int aa_predict_rmse_with(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
+                         aa_predict_profile profile, aa_prediction *out, aa_error *err);
 
 /* sqrt(mean over kernels of E1_k(θ_d)²), unweighted, with filter f (NULL: the default), at the
  * bin centres d where want[d], or at every bin when want is NULL; 0 elsewhere. The values
@@ -45,6 +60,8 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
  * Errors: AA_EINVAL (empty pattern). */
 int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
                       double e1_rms[AA_EDGE_BINS], aa_error *err);
+int aa_predict_e1_rms_with(const aa_pattern *p, const aa_filter *f, const bool *want,
+                           aa_predict_profile profile, double e1_rms[AA_EDGE_BINS], aa_error *err);
 
 /* Spearman's rank correlation of a[] and b[] (ties get their mean rank); NaN when n < 2 or
  * either side is constant. O(n²): meant for a handful of patterns. */
