@@ -8,8 +8,8 @@
 #include "aa_core.h"
 
 #define PI 3.14159265358979323846
-/* Points per polynomial piece of the integrand h(x) g((a - x c) / s): degree 3 + 4 < 2 * 8. */
-#define EXACT_GL 8
+/* Points per polynomial piece of the integrand h(x) g((a - x c) / s): degree 3 + 4 <= 2 * 4 - 1. */
+#define EXACT_GL 4
 /* Points per interval of the E1 sweep: (c - g_θ)² has degree 2 * 12 < 2 * 13. */
 #define SWEEP_GL (AA_EDGE_PROFILE_DEGREE + 1)
 
@@ -19,7 +19,8 @@ static int cmp_double(const void *x, const void *y)
     return (a > b) - (a < b);
 }
 
-double aa_edge_profile_exact(const aa_filter *f, double c, double s, double a)
+static double exact_with_rule(const aa_filter *f, double c, double s, double a, const double *node,
+                              const double *weight)
 {
     c = fabs(c);
     s = fabs(s);
@@ -30,8 +31,6 @@ double aa_edge_profile_exact(const aa_filter *f, double c, double s, double a)
         return 0;
     if (a >= (c + s) * R)
         return 1;
-    double node[EXACT_GL], weight[EXACT_GL];
-    aa_gauss_legendre(EXACT_GL, node, weight);
     /* The integrand is one polynomial between the filter's knots and the points where
      * (a - x c) / s crosses one. */
     double br[2 * (AA_FILTER_MAX_PIECES + 1) + 2];
@@ -57,6 +56,13 @@ double aa_edge_profile_exact(const aa_filter *f, double c, double s, double a)
         }
     }
     return sum;
+}
+
+double aa_edge_profile_exact(const aa_filter *f, double c, double s, double a)
+{
+    double node[EXACT_GL], weight[EXACT_GL];
+    aa_gauss_legendre(EXACT_GL, node, weight);
+    return exact_with_rule(f, c, s, a, node, weight);
 }
 
 static int knots_of(const aa_filter *f, double c, double s, double *knot)
@@ -99,11 +105,14 @@ void aa_edge_profile_init(aa_edge_profile *p, const aa_filter *f, double theta)
     p->reach = (p->c + p->s) * f->radius;
     p->pieces = knots_of(f, p->c, p->s, p->knot);
     const int M = AA_EDGE_PROFILE_DEGREE + 1;
+    double node[EXACT_GL], weight[EXACT_GL];
+    aa_gauss_legendre(EXACT_GL, node, weight);
+    aa_gauss_legendre(SWEEP_GL, p->rule_node, p->rule_weight);
     for (int j = 0; j < p->pieces; j++) {
         double lo = p->knot[j], hi = p->knot[j + 1], v[AA_EDGE_PROFILE_DEGREE + 1];
         for (int m = 0; m < M; m++) {
             double t = cos(PI * (m + 0.5) / M);
-            v[m] = aa_edge_profile_exact(f, p->c, p->s, (lo + hi) / 2 + (hi - lo) / 2 * t);
+            v[m] = exact_with_rule(f, p->c, p->s, (lo + hi) / 2 + (hi - lo) / 2 * t, node, weight);
         }
         for (int k = 0; k < M; k++) {
             double sum = 0;
@@ -176,8 +185,7 @@ int aa_edge_profile_e1(const aa_edge_profile *p, const aa_sample *s, size_t n, d
     for (int j = 0; j <= p->pieces; j++)
         ev[n + (size_t)j] = (event){p->knot[j], 0};
     qsort(ev, count, sizeof ev[0], cmp_event);
-    double node[SWEEP_GL], weight[SWEEP_GL];
-    aa_gauss_legendre(SWEEP_GL, node, weight);
+    const double *node = p->rule_node, *weight = p->rule_weight;
     /* Left of the first event ĝ = 0 = g_θ; right of the last, ĝ = Σw and g_θ = 1. */
     double c = 0, sum = 0;
     for (size_t e = 0; e + 1 < count; e++) {

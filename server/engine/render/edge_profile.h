@@ -35,6 +35,8 @@ typedef struct aa_edge_profile {
     /* g_θ on piece j: sum_k cheb[j][k] T_k(t), t = (2a - knot[j] - knot[j+1]) / (knot[j+1] -
      * knot[j]). */
     double cheb[AA_EDGE_PROFILE_MAX_PIECES][AA_EDGE_PROFILE_DEGREE + 1];
+    /* Gauss-Legendre rule of the E1 sweep: exact for (c - g_θ)² on a piece. */
+    double rule_node[AA_EDGE_PROFILE_DEGREE + 1], rule_weight[AA_EDGE_PROFILE_DEGREE + 1];
 } aa_edge_profile;
 
 /* g_θ(a) for the unit normal (c, s), by quadrature (no table). */
