@@ -10,7 +10,13 @@
  * histogram + E1 at the scene's angles) against one render (pattern + reference), in this run.
  * Reference: Mitchell-Netravali (1/3, 1/3), AALAB_BENCH_SPP samples per pixel (default 1024),
  * computed once per scene and output offset and shared by the presets. AALAB_BENCH_ONLY=TEXT
- * runs the scenes whose label contains TEXT. */
+ * runs the scenes whose label contains TEXT.
+ * Below each scene, the same figures for the models against the render's own reference
+ * (predict.h: E1 against g_θ; and with the straight segments summed over their pixels), their
+ * per-pattern time with the scene's g_θ tables shared (built once, time printed); on scenes with
+ * detail below the pixel scale, ρ against the covered part of the rendered error; on half-planes,
+ * the render against the exact reference (its ρ and median ratio to the measured RMSE: the
+ * reference's sampling noise) and the RMS of the 1024-spp reference against the exact one. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
