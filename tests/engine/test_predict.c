@@ -97,6 +97,67 @@ static void test_locked_edge_matches_render(void **state)
     check_scene(&sp, 0.97, 1.03, "half-153.4");
 }
 
+/* The model against the render's own reference (predict.h, AA_PREDICT_EXACT_REFERENCE): the
+ * half-plane's line summed over its pixels against g_θ is what the render measures, up to the
+ * reference's noise, at 27° (2:1 + 0.4°, where L·E1² misranks presets), mirrored, and on the
+ * triangle (sides summed, corners not modelled). The histogram keeps the segments. */
+static void check_reference_model(const aa_scene_params *sp, double lo, double hi, const char *what)
+{
+    aa_scene s;
+    aa_edge_histogram h;
+    assert_int_equal(aa_scene_init(&s, sp, NULL), AA_OK);
+    assert_int_equal(aa_edge_histogram_of_scene(&s, &h, NULL), AA_OK);
+    aa_predict_tables *t = NULL;
+    assert_int_equal(aa_predict_tables_new(NULL, &h, NULL, &t, NULL), AA_OK);
+    for (size_t k = 0; k < PRESET_COUNT; k++) {
+        aa_pattern p = preset(presets[k]);
+        aa_prediction pred, fresh;
+        assert_int_equal(
+            aa_predict_rmse_tables(&p, NULL, &h, AA_PREDICT_EXACT_REFERENCE, t, &pred, NULL),
+            AA_OK);
+        /* Shared tables or built for the call: the same. */
+        assert_int_equal(
+            aa_predict_rmse_with(&p, NULL, &h, AA_PREDICT_EXACT_REFERENCE, &fresh, NULL), AA_OK);
+        assert_true(pred.rmse == fresh.rmse);
+        assert_true(pred.segment_sq > 0 && pred.segment_sq <= pred.sum_sq);
+        double ratio = measured(&p, sp) / pred.rmse;
+        printf("%-12s %-10s reference model: ratio %.4f\n", what, presets[k], ratio);
+        if (!(ratio >= lo && ratio <= hi))
+            fail_msg("%s, %s: measured/predicted %.4f outside [%g, %g]", what, presets[k], ratio,
+                     lo, hi);
+        aa_pattern_free(&p);
+    }
+    aa_predict_tables_free(t);
+}
+
+static void test_reference_model_matches_render(void **state)
+{
+    (void)state;
+    aa_scene_params sp = aa_scene_params_default(AA_SCENE_HALF_PLANE);
+    sp.width = sp.height = 128;
+    sp.angle_deg = 27;
+    sp.offset = 0.37;
+    aa_scene s;
+    aa_edge_histogram h;
+    assert_int_equal(aa_scene_init(&s, &sp, NULL), AA_OK);
+    assert_int_equal(aa_edge_histogram_of_scene(&s, &h, NULL), AA_OK);
+    assert_int_equal(h.segment_count, 1);
+    assert_true(h.segment[0].open0 && h.segment[0].open1);
+    assert_true(fabs(h.segment[0].length - h.total) < 1e-9);
+    check_reference_model(&sp, 0.99, 1.01, "half-27");
+    sp.mirror_x = true;
+    check_reference_model(&sp, 0.99, 1.01, "half-27-mx");
+    aa_scene_params tri = aa_scene_params_default(AA_SCENE_ROTATING_TRIANGLE);
+    tri.width = tri.height = 128;
+    tri.angle_deg = 11;
+    check_reference_model(&tri, 0.98, 1.02, "triangle-11");
+    /* The locked default half-plane keeps no segment. */
+    aa_scene_params locked = aa_scene_params_default(AA_SCENE_HALF_PLANE);
+    assert_int_equal(aa_scene_init(&s, &locked, NULL), AA_OK);
+    assert_int_equal(aa_edge_histogram_of_scene(&s, &h, NULL), AA_OK);
+    assert_int_equal(h.segment_count, 0);
+}
+
 static void test_bookkeeping(void **state)
 {
     (void)state;
@@ -164,6 +225,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_long_edge_matches_render),
         cmocka_unit_test(test_locked_edge_matches_render),
+        cmocka_unit_test(test_reference_model_matches_render),
         cmocka_unit_test(test_bookkeeping),
         cmocka_unit_test(test_e1_at_every_bin),
     };

@@ -122,12 +122,34 @@ static void add_segment(aa_edge_histogram *h, double nx, double ny, double x0, d
         add_straight(h, nx, ny, x0, y0, c2 * (t1 - t0) * hypot(x1 - x0, y1 - y0));
 }
 
+/* add_segment, and the clipped segment kept in segment[] when it went into the bins. */
+static void add_kept_segment(aa_edge_histogram *h, double nx, double ny, double x0, double y0,
+                             double x1, double y1, double c2)
+{
+    size_t locked = h->locked_count;
+    add_segment(h, nx, ny, x0, y0, x1, y1, c2);
+    double box[4], t0 = 0, t1 = 1, dx = x1 - x0, dy = y1 - y0;
+    image_box(h, box);
+    if (h->locked_count != locked || h->segment_count >= AA_EDGE_MAX_SEGMENTS ||
+        !clip(x0, y0, dx, dy, box, &t0, &t1))
+        return;
+    double length = c2 * (t1 - t0) * hypot(dx, dy); /* as add_segment computed it */
+    if (!(length > 0))
+        return;
+    int p, q;
+    double n = hypot(nx, ny);
+    if (lattice_direction(nx / n, ny / n, &p, &q))
+        return; /* locked_excess: in the bins, not kept */
+    h->segment[h->segment_count++] = (aa_edge_segment){
+        x0 + t0 * dx, y0 + t0 * dy, x0 + t1 * dx, y0 + t1 * dy, t0 > 0, t1 < 1, length};
+}
+
 /* The whole line a x + b y + c = 0. */
 static void add_line(aa_edge_histogram *h, const aa_edge *e, double c2)
 {
     double n2 = e->a * e->a + e->b * e->b, far = 4.0 * (h->width + h->height) + 1e7;
     double px = -e->c * e->a / n2, py = -e->c * e->b / n2, dx = -e->b, dy = e->a;
-    add_segment(h, e->a, e->b, px - far * dx, py - far * dy, px + far * dx, py + far * dy, c2);
+    add_kept_segment(h, e->a, e->b, px - far * dx, py - far * dy, px + far * dx, py + far * dy, c2);
 }
 
 static bool in_image(const aa_edge_histogram *h, double x, double y)
@@ -302,7 +324,7 @@ static void triangle(aa_edge_histogram *h, const aa_scene *s)
     /* Edge k runs from its intersection with edge k-1 to the one with edge k+1. */
     for (int k = 0; k < 3; k++) {
         int prev = (k + 2) % 3;
-        add_segment(h, s->edge[k].a, s->edge[k].b, vx[prev], vy[prev], vx[k], vy[k], 1.0);
+        add_kept_segment(h, s->edge[k].a, s->edge[k].b, vx[prev], vy[prev], vx[k], vy[k], 1.0);
     }
 }
 
@@ -314,6 +336,17 @@ static void mirror(aa_edge_histogram *h, bool mx, bool my)
         for (int d = 0; d < AA_EDGE_BINS; d++)
             tmp[(AA_EDGE_BINS - d) % AA_EDGE_BINS] = h->length[d];
         memcpy(h->length, tmp, sizeof tmp);
+    }
+    for (size_t k = 0; k < h->segment_count; k++) {
+        aa_edge_segment *g = &h->segment[k];
+        if (mx) {
+            g->x0 = h->width - g->x0;
+            g->x1 = h->width - g->x1;
+        }
+        if (my) {
+            g->y0 = h->height - g->y0;
+            g->y1 = h->height - g->y1;
+        }
     }
     /* p x + q y = c with x -> W - x is (-p) x + q y = c - p W; likewise for y. */
     for (size_t k = 0; k < h->locked_count; k++) {

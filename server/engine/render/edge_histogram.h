@@ -50,6 +50,17 @@ typedef struct aa_locked_edge {
     double length; /* px × contrast² */
 } aa_locked_edge;
 
+/* A straight edge of the bins (not locked), clipped to the image, kept with its geometry so
+ * that the prediction can sum its pixels' errors exactly (predict.h, AA_PREDICT_SEGMENT_SUMS):
+ * the half-plane's line and the triangles' sides. open0 / open1: that end was cut by the image
+ * border (the edge goes on), else it is a corner. */
+#define AA_EDGE_MAX_SEGMENTS 8
+typedef struct aa_edge_segment {
+    double x0, y0, x1, y1;
+    bool open0, open1;
+    double length; /* px × contrast², exactly as added to its bin */
+} aa_edge_segment;
+
 typedef struct aa_edge_histogram {
     double length[AA_EDGE_BINS]; /* unit-contrast px per bin, locked edges excluded */
     double total;                /* sum of length[] plus the locked lengths */
@@ -58,6 +69,8 @@ typedef struct aa_edge_histogram {
     double locked_excess; /* locked length that did not fit in locked[] and went into the bins */
     double subpixel_area; /* px² of image with detail below AA_EDGE_SUBPIXEL_SPACING */
     int width, height;
+    size_t segment_count; /* straight edges also kept as segments; their length stays in length[] */
+    aa_edge_segment segment[AA_EDGE_MAX_SEGMENTS];
 } aa_edge_histogram;
 
 /* Bin of a normal angle in degrees (any real): round to the nearest degree, modulo 180. */

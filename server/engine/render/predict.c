@@ -8,62 +8,14 @@
 
 #include "aa_core.h"
 #include "aa_metric.h"
+#include "edge_profile.h"
 #include "raster.h"
 
 #define PI 3.14159265358979323846
 
 /* The render's reference at a pixel whose output point is at offset a from a straight edge with
- * unit normal (c, s): the separable filter h(x) h(y) (reference.h) integrated over the
- * half-plane x c + y s <= a, i.e. the integral of h(x) g((a - x c) / |s|) over x. For an
- * axis-aligned edge that is g(a), the profile E1 compares against; at other angles it is not
- * (docs/predict.md). The integrand is a polynomial between the filter's knots and the points
- * where (a - x c) / |s| crosses one, so a Gauss-Legendre rule per piece is exact for the
- * piecewise-polynomial filters (degree 3 + 4 < 2 * REF_GL). */
-#define REF_GL 8
-
-typedef struct edge_reference {
-    const aa_filter *f;
-    double c, s;
-    double node[REF_GL], weight[REF_GL];
-} edge_reference;
-
-static int cmp_double(const void *x, const void *y)
-{
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
-
-static double reference_step(const edge_reference *r, double a)
-{
-    const aa_filter *f = r->f;
-    double c = r->c, s = fabs(r->s);
-    if (s < 1e-12 || fabs(c) < 1e-12)
-        return aa_filter_cdf(f, a);
-    double R = f->radius, br[2 * (AA_FILTER_MAX_PIECES + 1) + 2];
-    size_t n = 0;
-    br[n++] = -R;
-    br[n++] = R;
-    for (int k = 0; k <= f->pieces; k++) {
-        br[n++] = f->knot[k];
-        double x = (a - f->knot[k] * s) / c;
-        if (x > -R && x < R)
-            br[n++] = x;
-    }
-    qsort(br, n, sizeof br[0], cmp_double);
-    double sum = 0;
-    for (size_t k = 0; k + 1 < n; k++) {
-        double lo = fmax(br[k], -R), hi = fmin(br[k + 1], R);
-        if (!(hi > lo))
-            continue;
-        double mid = (lo + hi) / 2, half = (hi - lo) / 2;
-        for (int g = 0; g < REF_GL; g++) {
-            double x = mid + half * r->node[g];
-            sum += half * r->weight[g] * aa_filter_eval(f, x) * aa_filter_cdf(f, (a - x * c) / s);
-        }
-    }
-    return sum;
-}
-
+ * unit normal (c, s) is g_θ(a) (edge_profile.h): for an axis-aligned edge g(a), the profile E1
+ * compares against; at other angles not (docs/predict.md). */
 /* Error of one kernel at edge offset a: its step response (projections on the normal (nx, ny))
  * minus the reference's, ref. */
 static double step_error(const aa_kernel *k, double nx, double ny, double a, double ref)
@@ -121,8 +73,6 @@ static double locked_per_length(const aa_pattern *p, const aa_filter *f, const a
     long long j0 = (long long)floor(y0 - off) - 1, j1 = (long long)ceil(y1 - off) + 1;
     /* m0: the along-line coordinate of the base point, rounded down. */
     long long m0 = (long long)floor(e->p * (by - off) - e->q * (bx - off));
-    edge_reference ref = {.f = f, .c = nx, .s = ny};
-    aa_gauss_legendre(REF_GL, ref.node, ref.weight);
     double sum = 0;
     for (long long j = j0; j <= j1; j++)
         for (long long i = i0; i <= i1; i++) {
@@ -132,7 +82,7 @@ static double locked_per_length(const aa_pattern *p, const aa_filter *f, const a
             double a = d - (nx * (i + off) + ny * (j + off));
             if (fabs(a) > band)
                 continue;
-            double g = reference_step(&ref, a);
+            double g = aa_edge_profile_exact(f, nx, ny, a);
             if (p->tile > 0) {
                 size_t k = (size_t)(floor_mod(j, T) * T + floor_mod(i, T));
                 double err = step_error(&p->kernels[k], nx, ny, a, g);
@@ -149,11 +99,121 @@ static double locked_per_length(const aa_pattern *p, const aa_filter *f, const a
     return sum / period;
 }
 
-/* mean_k E1_k(θ_d)² at the bins d where want[d] (every bin when want is NULL), 0 elsewhere. */
+/* Summed squared error of the segment g's pixels (contrast² included): the output points of
+ * the width x height image whose foot on g's line falls within the segment (or beyond an end
+ * the image border cut, where the line goes on) and whose footprint reaches the line, each with
+ * its tile's kernel, against the reference's g_θ (prof, at the segment's angle). */
+static double segment_sum(const aa_pattern *p, const aa_edge_profile *prof,
+                          const aa_edge_segment *g, int width, int height, double reach)
+{
+    double dx = g->x1 - g->x0, dy = g->y1 - g->y0, len = hypot(dx, dy);
+    if (!(len > 0))
+        return 0;
+    double tx = dx / len, ty = dy / len, nx = -ty, ny = tx, d = nx * g->x0 + ny * g->y0;
+    double band = reach + prof->reach + 1, off = aa_output_offset(p->kernel_size);
+    double t0 = g->open0 ? -INFINITY : 0, t1 = g->open1 ? INFINITY : len;
+    int i0 = (int)fmax(0, floor(fmin(g->x0, g->x1) - band - off));
+    int i1 = (int)fmin(width - 1, ceil(fmax(g->x0, g->x1) + band - off));
+    int j0 = (int)fmax(0, floor(fmin(g->y0, g->y1) - band - off));
+    int j1 = (int)fmin(height - 1, ceil(fmax(g->y0, g->y1) + band - off));
+    int T = p->tile > 0 ? p->tile : 1;
+    double sum = 0;
+    for (int j = j0; j <= j1; j++)
+        for (int i = i0; i <= i1; i++) {
+            double ox = i + off, oy = j + off, a = d - (nx * ox + ny * oy);
+            double t = tx * (ox - g->x0) + ty * (oy - g->y0);
+            if (fabs(a) > band || t < t0 || t >= t1)
+                continue;
+            double ref = aa_edge_profile_eval(prof, a);
+            if (p->tile > 0) {
+                size_t k = (size_t)(floor_mod(j, T) * T + floor_mod(i, T));
+                double err = step_error(&p->kernels[k], nx, ny, a, ref);
+                sum += err * err;
+            } else {
+                double s = 0;
+                for (size_t k = 0; k < p->kernel_count; k++) {
+                    double err = step_error(&p->kernels[k], nx, ny, a, ref);
+                    s += err * err;
+                }
+                sum += s / (double)p->kernel_count;
+            }
+        }
+    return sum * g->length / len;
+}
+
+/* The bin of a segment's normal (−dy, dx). */
+static int segment_bin(const aa_edge_segment *g)
+{
+    return aa_edge_bin(atan2(g->x1 - g->x0, -(g->y1 - g->y0)) * 180 / PI);
+}
+
+/* The profile bin 0..45 sharing bin d's g_θ (it depends on |cos θ| and |sin θ| only). */
+static int profile_bin(int d)
+{
+    d %= 180;
+    if (d > 90)
+        d = 180 - d;
+    return d > 45 ? 90 - d : d;
+}
+
+/* The g_θ tables: one per distinct bin profile, one per kept segment (at its exact angle). */
+struct aa_predict_tables {
+    bool built[46];
+    aa_edge_profile bin[46];
+    size_t segment_count;
+    aa_edge_profile segment[AA_EDGE_MAX_SEGMENTS];
+};
+
+int aa_predict_tables_new(const aa_filter *f, const aa_edge_histogram *h, const bool *want,
+                          aa_predict_tables **out, aa_error *err)
+{
+    *out = NULL;
+    aa_filter fd;
+    if (!f) {
+        aa_filter_default(&fd);
+        f = &fd;
+    }
+    aa_predict_tables *t = calloc(1, sizeof *t);
+    if (!t)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    for (int d = 0; d < AA_EDGE_BINS; d++) {
+        bool need = want ? want[d] : !h || h->length[d] > 0;
+        int b = profile_bin(d);
+        if (need && !t->built[b]) {
+            aa_edge_profile_init(&t->bin[b], f, b * PI / 180.0);
+            t->built[b] = true;
+        }
+    }
+    for (size_t k = 0; h && k < h->locked_count; k++) {
+        int b = profile_bin(aa_locked_edge_bin(&h->locked[k]));
+        if (!t->built[b]) {
+            aa_edge_profile_init(&t->bin[b], f, b * PI / 180.0);
+            t->built[b] = true;
+        }
+    }
+    for (size_t k = 0; h && k < h->segment_count; k++) {
+        const aa_edge_segment *g = &h->segment[k];
+        aa_edge_profile_init(&t->segment[k], f, atan2(g->x1 - g->x0, -(g->y1 - g->y0)));
+    }
+    t->segment_count = h ? h->segment_count : 0;
+    *out = t;
+    return AA_OK;
+}
+
+void aa_predict_tables_free(aa_predict_tables *t)
+{
+    free(t);
+}
+
+/* mean_k E1_k(θ_d)² at the bins d where want[d] (every bin when want is NULL), 0 elsewhere, E1
+ * measured against g, or against g_θ from the tables t when not NULL. */
 static int e1_mean_sq(const aa_pattern *p, const aa_filter *f, const bool *want,
-                      double mean_sq[AA_EDGE_BINS], aa_error *err)
+                      const aa_predict_tables *tables, double mean_sq[AA_EDGE_BINS], aa_error *err)
 {
     memset(mean_sq, 0, AA_EDGE_BINS * sizeof mean_sq[0]);
+    for (int d = 0; tables && d < AA_EDGE_BINS; d++)
+        if ((!want || want[d]) && !tables->built[profile_bin(d)])
+            return aa_error_set(err, AA_EINVAL, "tables", "no g_theta table for bin %d", d);
     aa_metric_workspace ws;
     aa_metric_workspace_init(&ws);
     /* Directions once; each kernel then runs through the bins in order, so its sort starts from
@@ -167,8 +227,12 @@ static int e1_mean_sq(const aa_pattern *p, const aa_filter *f, const bool *want,
             if (want && !want[d])
                 continue;
             double e1 = 0;
-            rc = aa_e1_at_direction(f, p->kernels[k].samples, p->kernels[k].count, dir_c[d],
-                                    dir_s[d], AA_E1_AUTO, &ws, &e1);
+            if (tables)
+                rc = aa_edge_profile_e1(&tables->bin[profile_bin(d)], p->kernels[k].samples,
+                                        p->kernels[k].count, dir_c[d], dir_s[d], &e1);
+            else
+                rc = aa_e1_at_direction(f, p->kernels[k].samples, p->kernels[k].count, dir_c[d],
+                                        dir_s[d], AA_E1_AUTO, &ws, &e1);
             mean_sq[d] += e1 * e1;
         }
     }
@@ -183,6 +247,12 @@ static int e1_mean_sq(const aa_pattern *p, const aa_filter *f, const bool *want,
 int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
                       double e1_rms[AA_EDGE_BINS], aa_error *err)
 {
+    return aa_predict_e1_rms_with(p, f, want, 0, e1_rms, err);
+}
+
+int aa_predict_e1_rms_with(const aa_pattern *p, const aa_filter *f, const bool *want,
+                           unsigned model, double e1_rms[AA_EDGE_BINS], aa_error *err)
+{
     memset(e1_rms, 0, AA_EDGE_BINS * sizeof e1_rms[0]);
     if (!p || p->kernel_count == 0)
         return aa_error_set(err, AA_EINVAL, "pattern", "pattern has no usable kernels");
@@ -191,15 +261,33 @@ int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
         aa_filter_default(&fd);
         f = &fd;
     }
+    aa_predict_tables *t = NULL;
+    int rc = model & AA_PREDICT_REFERENCE_PROFILE ? aa_predict_tables_new(f, NULL, want, &t, err)
+                                                  : AA_OK;
     double mean_sq[AA_EDGE_BINS];
-    int rc = e1_mean_sq(p, f, want, mean_sq, err);
+    if (!rc)
+        rc = e1_mean_sq(p, f, want, t, mean_sq, err);
     for (int d = 0; d < AA_EDGE_BINS && !rc; d++)
         e1_rms[d] = sqrt(mean_sq[d]);
+    aa_predict_tables_free(t);
     return rc;
 }
 
 int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
                     aa_prediction *out, aa_error *err)
+{
+    return aa_predict_rmse_tables(p, f, h, 0, NULL, out, err);
+}
+
+int aa_predict_rmse_with(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
+                         unsigned model, aa_prediction *out, aa_error *err)
+{
+    return aa_predict_rmse_tables(p, f, h, model, NULL, out, err);
+}
+
+int aa_predict_rmse_tables(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
+                           unsigned model, const aa_predict_tables *tables, aa_prediction *out,
+                           aa_error *err)
 {
     memset(out, 0, sizeof *out);
     if (!p || p->kernel_count == 0 || (p->tile > 0 && p->kernel_count != (size_t)p->tile * p->tile))
@@ -209,6 +297,17 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
         aa_filter_default(&fd);
         f = &fd;
     }
+    aa_predict_tables *own = NULL;
+    if (model && !tables) {
+        int rc = aa_predict_tables_new(f, h, NULL, &own, err);
+        if (rc)
+            return rc;
+        tables = own;
+    }
+    if (model & AA_PREDICT_SEGMENT_SUMS && tables->segment_count != h->segment_count) {
+        aa_predict_tables_free(own);
+        return aa_error_set(err, AA_EINVAL, "tables", "tables made for another histogram");
+    }
     /* E1 wherever the scene has edges, locked ones included (their bins report it too). */
     bool needed[AA_EDGE_BINS];
     for (int d = 0; d < AA_EDGE_BINS; d++)
@@ -216,14 +315,33 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
     for (size_t k = 0; k < h->locked_count; k++)
         needed[aa_locked_edge_bin(&h->locked[k])] = true;
     double mean_sq[AA_EDGE_BINS];
-    int rc = e1_mean_sq(p, f, needed, mean_sq, err);
-    if (rc)
+    int rc = e1_mean_sq(p, f, needed, model & AA_PREDICT_REFERENCE_PROFILE ? tables : NULL, mean_sq,
+                        err);
+    if (rc) {
+        aa_predict_tables_free(own);
         return rc;
+    }
     for (int d = 0; d < AA_EDGE_BINS; d++) {
         out->e1_rms[d] = sqrt(mean_sq[d]);
         out->bin_sq[d] = h->length[d] * mean_sq[d];
     }
     double reach = kernel_reach(p);
+    if (model & AA_PREDICT_SEGMENT_SUMS && h->segment_count > 0) {
+        /* The segments' lengths leave their bins (other edges of a bin stay) for exact sums. */
+        double kept[AA_EDGE_BINS];
+        memcpy(kept, h->length, sizeof kept);
+        for (size_t k = 0; k < h->segment_count; k++)
+            kept[segment_bin(&h->segment[k])] -= h->segment[k].length;
+        for (int d = 0; d < AA_EDGE_BINS; d++)
+            out->bin_sq[d] = fmax(0, kept[d]) * mean_sq[d];
+        for (size_t k = 0; k < h->segment_count; k++) {
+            double part =
+                segment_sum(p, &tables->segment[k], &h->segment[k], h->width, h->height, reach);
+            out->bin_sq[segment_bin(&h->segment[k])] += part;
+            out->segment_sq += part;
+        }
+    }
+    aa_predict_tables_free(own);
     for (size_t k = 0; k < h->locked_count; k++) {
         const aa_locked_edge *e = &h->locked[k];
         double part = e->length * locked_per_length(p, f, e, reach);

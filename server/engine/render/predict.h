@@ -30,14 +30,49 @@ typedef struct aa_prediction {
     double bin_sq[AA_EDGE_BINS]; /* per-bin part of sum_sq (locked edges in their bins) */
     double e1_rms[AA_EDGE_BINS]; /* sqrt(mean_k E1_k(θ_d)²), 0 where the scene has no edge */
     double locked_sq;            /* part of sum_sq from pixel-locked edges */
+    double segment_sq;           /* part of sum_sq summed over segments (AA_PREDICT_SEGMENT_SUMS) */
     double subpixel_area_share;  /* share of the image below the pixel scale: not covered */
     size_t pixels;               /* N */
 } aa_prediction;
 
-/* f: the reference filter (NULL: the default). Errors: AA_EINVAL (empty pattern),
+/* Model flags for the _with variants (docs/predict.md, "Against the reference the render
+ * computes"); 0 is the issue's model, what aa_predict_rmse and aa_predict_e1_rms compute:
+ *  - AA_PREDICT_REFERENCE_PROFILE: E1 measured against g_θ, the step response the renderer's
+ *    separable reference really has across an edge at the bin's angle (edge_profile.h), not
+ *    against the filter's 1-D g (equal at 0° and 90°);
+ *  - AA_PREDICT_SEGMENT_SUMS: the histogram's straight segments (segment[], the half-plane's
+ *    line and the triangles' sides) summed exactly over their pixels, against g_θ, instead of
+ *    L·E1²: the pixels' real offsets along a finite edge, which near a rational slope (27° is
+ *    2:1 + 0.4°) are not spread evenly over the lattice gaps.
+ * Locked edges are always summed against the true reference. */
+#define AA_PREDICT_REFERENCE_PROFILE 1u
+#define AA_PREDICT_SEGMENT_SUMS 2u
+#define AA_PREDICT_EXACT_REFERENCE (AA_PREDICT_REFERENCE_PROFILE | AA_PREDICT_SEGMENT_SUMS)
+
+/* f: the reference filter (NULL: the default). E1 against g (AA_PREDICT_PROFILE_FILTER).
+ * Errors: AA_EINVAL (empty pattern),
  * AA_ENOMEM. */
 int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
                     aa_prediction *out, aa_error *err);
+
+/* aa_predict_rmse with the model flags above. */
+int aa_predict_rmse_with(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
+                         unsigned model, aa_prediction *out, aa_error *err);
+
+/* The g_θ tables a model other than 0 needs for one filter and histogram (h; NULL: bins only),
+ * at the bins where want[d] (NULL: where h has length, locked bins included; every bin when h is
+ * NULL too), and one per kept segment: built once (about 1 ms per distinct profile, 46 at
+ * most), read-only afterwards, shared by any number of patterns and threads. Errors: AA_ENOMEM. */
+typedef struct aa_predict_tables aa_predict_tables;
+int aa_predict_tables_new(const aa_filter *f, const aa_edge_histogram *h, const bool *want,
+                          aa_predict_tables **out, aa_error *err);
+void aa_predict_tables_free(aa_predict_tables *t);
+
+/* aa_predict_rmse_with with tables from aa_predict_tables_new(f, h, NULL) (NULL: built and freed
+ * in this call). AA_EINVAL ("tables") when they lack a bin the histogram needs. */
+int aa_predict_rmse_tables(const aa_pattern *p, const aa_filter *f, const aa_edge_histogram *h,
+                           unsigned model, const aa_predict_tables *tables, aa_prediction *out,
+                           aa_error *err);
 
 /* sqrt(mean over kernels of E1_k(θ_d)²), unweighted, with filter f (NULL: the default), at the
  * bin centres d where want[d], or at every bin when want is NULL; 0 elsewhere. The values
@@ -45,6 +80,8 @@ int aa_predict_rmse(const aa_pattern *p, const aa_filter *f, const aa_edge_histo
  * Errors: AA_EINVAL (empty pattern). */
 int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
                       double e1_rms[AA_EDGE_BINS], aa_error *err);
+int aa_predict_e1_rms_with(const aa_pattern *p, const aa_filter *f, const bool *want,
+                           unsigned model, double e1_rms[AA_EDGE_BINS], aa_error *err);
 
 /* A scene to predict on, for callbacks: aa_predict_rmse_of(user = an aa_predict_target, ...) has
  * the signature of aa_scene_objective.exact (objective_scene.h) and writes the prediction's rmse.

@@ -10,6 +10,7 @@
 #include "../reference.h"
 #include "../render.h"
 #include "../edge_histogram.h"
+#include "../edge_profile.h"
 #include "../predict.h"
 
 #endif
