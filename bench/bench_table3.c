@@ -13,6 +13,7 @@
  * 10 s), --tables naiman,naiman-envelope, --wall-clock, --first-seed K (seeds K .. K+N-1). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,6 +48,7 @@ typedef struct job {
     int rc;
     char error[512];
     double cpu_seconds; /* the cell's thread CPU time */
+    bool random_only;   /* the random patterns only (Min / Avg / Max) */
 } job;
 
 static void run_job(void *item)
@@ -54,8 +56,16 @@ static void run_job(void *item)
     job *j = item;
     aa_error err = {0};
     double t0 = thread_cpu_seconds(NULL);
-    j->rc = aa_table3_cell_run(j->family, j->kind, j->metric, j->params, j->seed, NULL, NULL,
-                               &j->cell, &err);
+    if (j->random_only) {
+        memset(&j->cell, 0, sizeof j->cell);
+        j->cell.opt_w = j->cell.opt_wp = NAN;
+        j->rc = aa_random_patterns_range_radius(
+            j->family, j->kind, j->params->poisson_radius, j->metric, j->seed, 0, j->params->count,
+            NULL, NULL, NULL, &j->cell.best_random, &j->cell.best_index, &j->cell.random, &err);
+    } else {
+        j->rc = aa_table3_cell_run(j->family, j->kind, j->metric, j->params, j->seed, NULL, NULL,
+                                   &j->cell, &err);
+    }
     j->cpu_seconds = thread_cpu_seconds(NULL) - t0;
     if (j->rc)
         snprintf(j->error, sizeof j->error, "%s: %s", err.field, err.message);
@@ -73,6 +83,7 @@ static double paper_value(const aa_table3_paper *p, int c)
 int main(int argc, char **argv)
 {
     int seeds = 8, first_seed = 1;
+    bool random_only = false;
     aa_table3_params tp;
     aa_table3_params_default(&tp);
     char tables[128] = "naiman,naiman-envelope";
@@ -82,6 +93,10 @@ int main(int argc, char **argv)
             seeds = 2;
             tp.count = 200;
             tp.opt_wp_seconds = 10;
+        } else if (!strcmp(argv[i], "--random-only")) {
+            random_only = true;
+        } else if (!strcmp(argv[i], "--poisson-radius") && i + 1 < argc) {
+            tp.poisson_radius = atof(argv[++i]);
         } else if (!strcmp(argv[i], "--wall-clock")) {
             tp.clock.fn = NULL;
         } else if (!strcmp(argv[i], "--first-seed") && i + 1 < argc) {
@@ -97,7 +112,8 @@ int main(int argc, char **argv)
         } else {
             fprintf(stderr,
                     "usage: %s [--quick] [--seeds N] [--wp-seconds S] [--count N] "
-                    "[--tables A,B] [--wall-clock] [--first-seed K]\n",
+                    "[--tables A,B] [--wall-clock] [--first-seed K] [--random-only] "
+                    "[--poisson-radius R]\n",
                     argv[0]);
             return 2;
         }
@@ -115,7 +131,7 @@ int main(int argc, char **argv)
     printf("bench_table3: L&A Table 3, P(16,16,4), %d seeds, %zu random patterns each, Opt W+P "
            "%.0f %s s, Poisson disk: dart throwing on the torus at r = %.4f px\n",
            seeds, tp.count, tp.opt_wp_seconds, tp.clock.fn ? "CPU" : "wall",
-           aa_poisson_default_radius(4));
+           tp.poisson_radius > 0 ? tp.poisson_radius : aa_poisson_default_radius(4));
     aa_acuity acuity[MAX_TABLES];
     int table_count = 0;
     for (char *save = NULL, *name = strtok_r(tables, ",", &save); name;
@@ -148,7 +164,8 @@ int main(int argc, char **argv)
                                 .kind = dists[d],
                                 .metric = &metric[t],
                                 .params = &tp,
-                                .seed = (uint64_t)(first_seed + s)};
+                                .seed = (uint64_t)(first_seed + s),
+                                .random_only = random_only};
             }
         double t0 = aa_monotonic_seconds();
         aa_fork_join(jobs, sizeof jobs[0], n, run_job);
@@ -184,7 +201,7 @@ int main(int argc, char **argv)
                v2 ? "target (version 2)" : "");
         for (int d = 0; d < DISTS; d++) {
             const aa_table3_paper *p = aa_table3_paper_row(dists[d]);
-            for (int k = 0; k < COLS; k++) {
+            for (int k = 0; k < (random_only ? C_W : COLS); k++) {
                 double mean, sd;
                 aa_mean_sd(v[t][d][k], (size_t)seeds, &mean, &sd);
                 double pv = paper_value(p, k);
