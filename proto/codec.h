@@ -52,6 +52,13 @@ json_t *proto_encode_acuity(const aa_acuity *a);
 /* Which table a result used, so stored results stay interpretable when the default table
  * changes: {"name":"naiman","version":2} for a named table, {"name":"custom"} for knots. */
 json_t *proto_encode_acuity_ref(const aa_acuity *a);
+/* The table a result records, as name and version: a named table's own, "custom" and 0 for knots
+ * given in a spec. Encoded at obj["acuity"] as proto_encode_acuity_ref does (name "": a result
+ * stored before it was recorded, nothing; false when out of memory); decoded from obj["acuity"]
+ * (absent: name "", version 0). */
+void proto_acuity_ref_set(const aa_acuity *acuity, char *name, size_t cap, int *version);
+bool proto_acuity_ref_encode(json_t *obj, const char *name, int version);
+int proto_acuity_ref_decode(const json_t *obj, char *name, size_t cap, int *version, aa_error *err);
 
 /* "prefix.sub" (or "prefix[..]" when sub starts with '['), written to out. */
 void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub);

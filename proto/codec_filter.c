@@ -259,6 +259,42 @@ json_t *proto_encode_acuity_ref(const aa_acuity *a)
     return json_pack("{s:s,s:i}", "name", a->name, "version", a->version);
 }
 
+int proto_acuity_ref_decode(const json_t *obj, char *name, size_t cap, int *version, aa_error *err)
+{
+    const json_t *a = json_object_get(obj, "acuity");
+    const char *n = json_string_value(json_object_get(a, "name"));
+    const json_t *v = json_object_get(a, "version");
+    name[0] = 0;
+    *version = 0;
+    if (!a)
+        return AA_OK;
+    static const char *const keys[] = {"name", "version", NULL};
+    if (!json_is_object(a) || !n || proto_check_keys(a, keys, NULL, "acuity"))
+        return aa_error_set(err, AA_EINVAL, "acuity", "expected {\"name\", \"version\"}");
+    if (v && (!json_is_integer(v) || json_integer_value(v) < 1 || json_integer_value(v) > 1000))
+        return aa_error_set(err, AA_EINVAL, "acuity.version", "must be a positive integer");
+    if (!v != !strcmp(n, "custom"))
+        return aa_error_set(err, AA_EINVAL, "acuity.version",
+                            "a named table has a version, a custom one none");
+    snprintf(name, cap, "%s", n);
+    *version = v ? (int)json_integer_value(v) : 0;
+    return AA_OK;
+}
+
+bool proto_acuity_ref_encode(json_t *obj, const char *name, int version)
+{
+    return !name[0] || !json_object_set_new(
+                           obj, "acuity",
+                           version > 0 ? json_pack("{s:s,s:i}", "name", name, "version", version)
+                                       : json_pack("{s:s}", "name", "custom"));
+}
+
+void proto_acuity_ref_set(const aa_acuity *acuity, char *name, size_t cap, int *version)
+{
+    snprintf(name, cap, "%s", acuity->version > 0 ? acuity->name : "custom");
+    *version = acuity->version > 0 ? acuity->version : 0;
+}
+
 json_t *proto_encode_evaluation(const aa_evaluation *e, const aa_pattern *p, bool detail)
 {
     json_t *o =

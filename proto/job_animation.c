@@ -54,17 +54,22 @@ json_t *proto_encode_animation_result(const proto_animation_result *r)
             json_decref(frames);
             return NULL;
         }
-    return json_pack("{s:o, s:{s:s, s:f}, s:f, s:o, s:o, s:{s:f, s:f}, s:{s:I, s:I}}", "scene",
-                     proto_encode_scene(&r->scene), "pattern", "family", r->family,
-                     "samples_per_pixel", r->samples_per_pixel, "e2", r->e2, "frames", frames,
-                     "total", proto_encode_diff(&r->total), "times", "pattern_seconds",
-                     r->pattern_seconds, "reference_seconds", r->reference_seconds, "pixels",
-                     "recomputed", (json_int_t)r->pixels_recomputed, "all_frames",
-                     (json_int_t)r->pixels_all_frames);
+    json_t *out =
+        json_pack("{s:o, s:{s:s, s:f}, s:f, s:o, s:o, s:{s:f, s:f}, s:{s:I, s:I}}", "scene",
+                  proto_encode_scene(&r->scene), "pattern", "family", r->family,
+                  "samples_per_pixel", r->samples_per_pixel, "e2", r->e2, "frames", frames, "total",
+                  proto_encode_diff(&r->total), "times", "pattern_seconds", r->pattern_seconds,
+                  "reference_seconds", r->reference_seconds, "pixels", "recomputed",
+                  (json_int_t)r->pixels_recomputed, "all_frames", (json_int_t)r->pixels_all_frames);
+    if (out && !proto_acuity_ref_encode(out, r->acuity_name, r->acuity_version)) {
+        json_decref(out);
+        return NULL;
+    }
+    return out;
 }
 
-static const char *const result_keys[] = {"scene", "pattern", "e2",     "frames",
-                                          "total", "times",   "pixels", NULL};
+static const char *const result_keys[] = {"scene", "pattern", "e2",     "frames", "total",
+                                          "times", "pixels",  "acuity", NULL};
 static const char *const pattern_keys[] = {"family", "samples_per_pixel", NULL};
 static const char *const frame_keys[] = {"frame",           "rmse",
                                          "max_dev",         "pixels_recomputed",
@@ -147,6 +152,9 @@ int proto_decode_animation_result(const json_t *j, proto_animation_result *r, aa
         rc = proto_result_count(pixels, "recomputed", &r->pixels_recomputed, "pixels", err);
     if (!rc)
         rc = proto_result_count(pixels, "all_frames", &r->pixels_all_frames, "pixels", err);
+    if (!rc)
+        rc = proto_acuity_ref_decode(j, r->acuity_name, sizeof r->acuity_name, &r->acuity_version,
+                                     err);
     if (rc)
         proto_animation_result_free(r);
     return rc;

@@ -32,13 +32,17 @@ typedef struct proto_animation_result {
     aa_diff_stats total;
     double pattern_seconds, reference_seconds;
     long long pixels_recomputed, pixels_all_frames;
+    /* The acuity table e2 uses (proto_acuity_ref_set); "" in results stored before it was
+     * recorded. */
+    char acuity_name[24];
+    int acuity_version;
 } proto_animation_result;
 
 /* {"scene", "pattern": {"family", "samples_per_pixel"}, "e2", "frames": [{"frame", "rmse",
  * "max_dev", "pixels_recomputed", "pattern_sampled", "reference_supersampled",
  * "pattern_seconds", "reference_seconds", "tiles"?}], "total": difference statistics,
- * "times": {"pattern_seconds", "reference_seconds"}, "pixels": {"recomputed", "all_frames"}};
- * NULL when out of memory. */
+ * "times": {"pattern_seconds", "reference_seconds"}, "pixels": {"recomputed", "all_frames"},
+ * "acuity"?: {"name", "version"}}; NULL when out of memory. */
 json_t *proto_encode_animation_result(const proto_animation_result *r);
 int proto_decode_animation_result(const json_t *j, proto_animation_result *out, aa_error *err);
 void proto_animation_result_free(proto_animation_result *r);

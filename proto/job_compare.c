@@ -124,10 +124,15 @@ json_t *proto_encode_compare_result(const proto_compare_result *r)
         json_decref(out);
         return NULL;
     }
+    if (out && !proto_acuity_ref_encode(out, r->acuity_name, r->acuity_version)) {
+        json_decref(out);
+        return NULL;
+    }
     return out;
 }
 
-static const char *const result_keys[] = {"scene", "reference", "rows", "prediction", NULL};
+static const char *const result_keys[] = {"scene",      "reference", "rows",
+                                          "prediction", "acuity",    NULL};
 static const char *const prediction_keys[] = {"spearman", "subpixel_area_share", NULL};
 static const char *const reference_keys[] = {"spp", "seed", "filter", "renders", NULL};
 static const char *const render_keys[] = {
@@ -273,6 +278,9 @@ int proto_decode_compare_result(const json_t *j, proto_compare_result *r, aa_err
             rc = proto_result_number(pred, "subpixel_area_share", &r->subpixel_area_share,
                                      "prediction", err);
     }
+    if (!rc)
+        rc = proto_acuity_ref_decode(j, r->acuity_name, sizeof r->acuity_name, &r->acuity_version,
+                                     err);
     if (rc)
         proto_compare_result_free(r);
     return rc;

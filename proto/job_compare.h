@@ -53,13 +53,18 @@ typedef struct proto_compare_result {
      * have_prediction false: an older result without them. */
     bool have_prediction;
     double spearman_predicted, subpixel_area_share;
+    /* The acuity table the rows' E2 use (proto_acuity_ref_set); "" in results stored before it
+     * was recorded. */
+    char acuity_name[24];
+    int acuity_version;
 } proto_compare_result;
 
 /* {"scene", "reference": {"spp", "seed", "filter", "renders": [{"output_offset", "seconds",
  * "supersampled", "input_pixels_sampled", "samples", "tile"?}]}, "rows": [{"name", "family",
  * "samples_per_pixel", "e2", "rmse", "predicted_rmse"?, "max_dev", "render_seconds",
  * "pixels_sampled", "coverage_samples", "stats", "tiles"?: {"pattern"?, "difference"?}}],
- * "prediction"?: {"spearman", "subpixel_area_share"}}; NULL when out of memory. */
+ * "prediction"?: {"spearman", "subpixel_area_share"}, "acuity"?: {"name", "version"}}; NULL when
+ * out of memory. */
 json_t *proto_encode_compare_result(const proto_compare_result *r);
 int proto_decode_compare_result(const json_t *j, proto_compare_result *out, aa_error *err);
 void proto_compare_result_free(proto_compare_result *r);

@@ -58,34 +58,7 @@ bool proto_run_info_encode(json_t *o, const proto_run_info *ri)
                                 json_string(ri->executor[0] ? ri->executor : "local")) &&
            !json_object_set_new(o, "shards", json_integer(ri->shards > 0 ? ri->shards : 1)) &&
            !json_object_set_new(o, "reproducible", json_boolean(ri->reproducible)) &&
-           (!ri->acuity_name[0] ||
-            !json_object_set_new(
-                o, "acuity",
-                ri->acuity_version > 0
-                    ? json_pack("{s:s,s:i}", "name", ri->acuity_name, "version", ri->acuity_version)
-                    : json_pack("{s:s}", "name", "custom")));
-}
-
-int proto_acuity_ref_decode(const json_t *obj, char *name, size_t cap, int *version, aa_error *err)
-{
-    const json_t *a = json_object_get(obj, "acuity");
-    const char *n = json_string_value(json_object_get(a, "name"));
-    const json_t *v = json_object_get(a, "version");
-    name[0] = 0;
-    *version = 0;
-    if (!a)
-        return AA_OK;
-    static const char *const keys[] = {"name", "version", NULL};
-    if (!json_is_object(a) || !n || proto_check_keys(a, keys, NULL, "acuity"))
-        return aa_error_set(err, AA_EINVAL, "acuity", "expected {\"name\", \"version\"}");
-    if (v && (!json_is_integer(v) || json_integer_value(v) < 1 || json_integer_value(v) > 1000))
-        return aa_error_set(err, AA_EINVAL, "acuity.version", "must be a positive integer");
-    if (!v != !strcmp(n, "custom"))
-        return aa_error_set(err, AA_EINVAL, "acuity.version",
-                            "a named table has a version, a custom one none");
-    snprintf(name, cap, "%s", n);
-    *version = v ? (int)json_integer_value(v) : 0;
-    return AA_OK;
+           proto_acuity_ref_encode(o, ri->acuity_name, ri->acuity_version);
 }
 
 int proto_run_info_decode(const json_t *obj, proto_run_info *out, aa_error *err)
@@ -119,10 +92,7 @@ proto_run_info proto_run_info_make(const char *executor, size_t shards, bool rep
 {
     proto_run_info ri = {.shards = (long)shards, .reproducible = reproducible};
     snprintf(ri.executor, sizeof ri.executor, "%s", executor);
-    if (acuity) {
-        snprintf(ri.acuity_name, sizeof ri.acuity_name, "%s",
-                 acuity->version > 0 ? acuity->name : "custom");
-        ri.acuity_version = acuity->version > 0 ? acuity->version : 0;
-    }
+    if (acuity)
+        proto_acuity_ref_set(acuity, ri.acuity_name, sizeof ri.acuity_name, &ri.acuity_version);
     return ri;
 }

@@ -40,7 +40,5 @@ bool proto_run_info_encode(json_t *o, const proto_run_info *ri);
 /* The keys of a result; results stored before they existed lack them: local, 1 shard, not
  * reproducible, no acuity. */
 int proto_run_info_decode(const json_t *obj, proto_run_info *out, aa_error *err);
-/* {"name":"naiman","version":2} or {"name":"custom"} at obj["acuity"] into name / version. */
-int proto_acuity_ref_decode(const json_t *obj, char *name, size_t cap, int *version, aa_error *err);
 
 #endif

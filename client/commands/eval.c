@@ -8,6 +8,7 @@
 #include "../exit_codes.h"
 #include "../pattern_source.h"
 #include "../table.h"
+#include "../views/view_kv.h"
 #include "../views/view_rows.h"
 
 static json_t *parse_json_argument(const char *what, const char *text, char *err, size_t cap)
@@ -210,14 +211,18 @@ static void print_detail_kernel(FILE *out, size_t index, const json_t *block)
 void eval_print(FILE *out, const json_t *resp, bool detail, bool csv)
 {
     const json_t *argmax = json_object_get(resp, "argmax");
-    char e2[32], cost[32], kernel[32], angle[32];
-    const char *keys[] = {"family", "cost_spp", "E2", "argmax kernel", "argmax angle_deg"};
+    char e2[32], cost[32], kernel[32], angle[32], acuity[96];
+    const char *keys[] = {"family",        "cost_spp",         "E2",
+                          "argmax kernel", "argmax angle_deg", "acuity"};
     const char *values[] = {
         fmt_string(json_object_get(resp, "family")),
         fmt_number(cost, sizeof cost, json_object_get(resp, "cost_spp"), 4),
         fmt_number(e2, sizeof e2, json_object_get(resp, "e2"), 6),
         fmt_number(kernel, sizeof kernel, json_object_get(argmax, "kernel"), 0),
-        fmt_number(angle, sizeof angle, json_object_get(argmax, "angle_deg"), 1)};
+        fmt_number(angle, sizeof angle, json_object_get(argmax, "angle_deg"), 1),
+        view_acuity_text(acuity, sizeof acuity, resp)};
+    /* The table the E2 uses; a daemon from before it was reported has no acuity line. */
+    size_t lines = values[5] ? 6 : 5;
     const json_t *blocks = json_object_get(resp, "detail");
     if (!json_is_array(blocks))
         blocks = json_object_get(resp, "kernels");
@@ -226,10 +231,10 @@ void eval_print(FILE *out, const json_t *resp, bool detail, bool csv)
         return;
     }
     if (csv) {
-        print_key_values_csv(out, keys, values, 5);
+        print_key_values_csv(out, keys, values, lines);
         return;
     }
-    print_key_values(out, keys, values, 5);
+    print_key_values(out, keys, values, lines);
     if (!detail)
         return;
     size_t i;

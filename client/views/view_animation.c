@@ -21,6 +21,7 @@ void view_animation(FILE *out, const json_t *result, bool csv)
                     fmt_number(spp, sizeof spp, json_object_get(pattern, "samples_per_pixel"),
                                fmt_decimals(csv, 2)));
         view_kv_number(&kv, "E2", json_object_get(result, "e2"), 6);
+        view_kv_acuity(&kv, result);
         view_kv_number(&kv, "total rmse", json_object_get(total, "rmse"), 4);
         view_kv_number(&kv, "total max_dev", json_object_get(total, "max_dev"), 2);
         view_kv_number(&kv, "pattern seconds", json_object_get(times, "pattern_seconds"), 4);

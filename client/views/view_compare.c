@@ -20,6 +20,7 @@ void view_compare(FILE *out, const json_t *result, bool csv)
         const json_t *pred = json_object_get(result, "prediction");
         if (pred)
             view_kv_number(&kv, "prediction rho", json_object_get(pred, "spearman"), 3);
+        view_kv_acuity(&kv, result);
         view_kv_print(out, &kv);
         fputc('\n', out);
     }

@@ -49,14 +49,28 @@ void view_kv_execution(view_kv *kv, const json_t *result)
                 json_is_true(json_object_get(result, "reproducible"))
                     ? "reproducible"
                     : "best effort (time budget)");
-    /* Which acuity table the E2 values use (results since issue 17). */
-    const json_t *acuity = json_object_get(result, "acuity");
+    view_kv_acuity(kv, result);
+}
+
+const char *view_acuity_text(char *buf, size_t cap, const json_t *obj)
+{
+    const json_t *acuity = json_object_get(obj, "acuity");
     const json_t *version = json_object_get(acuity, "version");
     const char *name = json_string_value(json_object_get(acuity, "name"));
-    if (name && json_is_integer(version))
-        view_kv_add(kv, "acuity", "%s version %lld", name, (long long)json_integer_value(version));
-    else if (name)
-        view_kv_add(kv, "acuity", "%s", name);
+    if (!name)
+        return NULL;
+    if (json_is_integer(version))
+        snprintf(buf, cap, "%s version %lld", name, (long long)json_integer_value(version));
+    else
+        snprintf(buf, cap, "%s", name);
+    return buf;
+}
+
+void view_kv_acuity(view_kv *kv, const json_t *obj)
+{
+    char buf[96];
+    if (view_acuity_text(buf, sizeof buf, obj))
+        view_kv_add(kv, "acuity", "%s", buf);
 }
 
 const char *view_str(const json_t *v)

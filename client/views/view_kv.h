@@ -24,8 +24,13 @@ void view_kv_number(view_kv *kv, const char *key, const json_t *v, int decimals)
 void view_kv_print(FILE *out, const view_kv *kv);
 
 /* Adds "executor  slurm, 8 shards, reproducible" (or "best effort": a time budget) of an
- * optimizer kind's result; nothing for results made before those fields existed. */
+ * optimizer kind's result, then its acuity line; nothing for results made before those fields
+ * existed. */
 void view_kv_execution(view_kv *kv, const json_t *result);
+/* Which acuity table the E2 values use: "naiman version 2" (or "custom") of obj["acuity"]
+ * (results and evaluations since issue 17); NULL / nothing added when absent. */
+const char *view_acuity_text(char *buf, size_t cap, const json_t *obj);
+void view_kv_acuity(view_kv *kv, const json_t *obj);
 /* The string, or "-" when v is not one. */
 const char *view_str(const json_t *v);
 /* Adds the "scene" line, "siemens-star 64x64", of a scene object. */

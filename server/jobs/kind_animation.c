@@ -32,6 +32,8 @@ static int animation_run(void *params, job_ctx *ctx, proto_animation_result *out
     out->scene = rp.scene;
     snprintf(out->family, sizeof out->family, "%s", ap->pattern.family);
     out->samples_per_pixel = ap->pattern.cost_spp;
+    proto_acuity_ref_set(&ap->common.acuity, out->acuity_name, sizeof out->acuity_name,
+                         &out->acuity_version);
     out->frames = calloc(F > 0 ? (size_t)F : 1, sizeof *out->frames);
     if (!out->frames)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");

@@ -37,6 +37,8 @@ static int compare_run(void *params, job_ctx *ctx, proto_compare_result *out, aa
     out->reference_spp = cp->common.ref.params.spp;
     out->reference_seed = (long long)cp->common.ref.params.seed;
     snprintf(out->filter, sizeof out->filter, "%s", f ? f->name : "mitchell");
+    proto_acuity_ref_set(&cp->common.acuity, out->acuity_name, sizeof out->acuity_name,
+                         &out->acuity_version);
     out->rows = calloc(cp->count, sizeof *out->rows);
     if (!out->rows)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");

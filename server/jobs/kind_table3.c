@@ -5,11 +5,13 @@
  * and the paper's value), the random-stats result is a stable wire form, and one table3 job
  * gives both of the paper's rows.
  * Split (job_split.h), one stage of K shards, one per rng_seed ({"seed_index": i}); a shard runs
- * every distribution of its seed in turn and outputs {"rng_seed", "cells": [{"distribution",
+ * the distributions of its seed side by side on the threads it may use (shard_ctx.workers; in
+ * turn on one) and outputs {"rng_seed", "cells": [{"distribution",
  * "min", "avg", "max", "opt_w", "opt_wp", "best_index"}], "best": its lowest Opt W+P pattern,
  * "best_e2"}; merge keeps the outputs in seed order, finish computes the statistics. The trace
  * is the Opt W+P progress: the best Opt W+P E2 so far against the Opt W+P seconds spent. */
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,23 +72,118 @@ static int plan(const void *params, int stage, const json_t *prior, size_t max_s
     return *shards ? AA_OK : aa_error_set(err, AA_ENOMEM, "", "out of memory");
 }
 
-/* Engine progress of one cell -> the shard: the random patterns are the first 10 % of a cell,
- * Opt W the next 10 %, Opt W+P the rest (and the trace). */
-typedef struct cell_report {
-    opt_bridge *b;
-    double base, span;
-} cell_report;
-
+/* Engine progress of one cell -> the cell's bridge: the random patterns are the first 10 % of
+ * a cell, Opt W the next 10 %, Opt W+P the rest (and the trace). */
 static int cell_progress(void *user, const aa_table3_progress *p)
 {
-    cell_report *c = user;
+    opt_bridge *b = user;
     if (p->phase == 2) {
-        c->b->base = c->base + 0.2 * c->span;
-        c->b->span = 0.8 * c->span;
-        return opt_bridge_progress(c->b, p->opt);
+        b->base = 0.2;
+        b->span = 0.8;
+        return opt_bridge_progress(b, p->opt);
     }
-    double f = p->phase == 0 ? 0.1 * p->random_fraction : 0.1 + 0.1 * p->opt->fraction;
-    return opt_bridge_report(c->b, c->base + c->span * f);
+    b->base = 0;
+    b->span = 1;
+    return opt_bridge_report(b, p->phase == 0 ? 0.1 * p->random_fraction
+                                              : 0.1 + 0.1 * p->opt->fraction);
+}
+
+/* The cells of a shard (one per distribution) run side by side when the shard may use more
+ * than one thread, one after the other otherwise; either way each reports through a bridge of
+ * its own to this hub, which passes them on to the shard under one lock: progress as the mean
+ * of the cells', the trace as their summed Opt W+P work against the best Opt W+P E2 of any
+ * (so run in turn, the trace is the one continuous line it was), a best so far when it
+ * improves, and a stop to every cell once the shard says stop or a cell fails. */
+typedef struct cell_hub {
+    pthread_mutex_t lock;
+    const shard_ctx *outer;
+    size_t count;
+    double fraction[PROTO_MAX_DISTRIBUTIONS];
+    job_trace_point work[PROTO_MAX_DISTRIBUTIONS]; /* each cell's latest point */
+    double best_posted;
+    bool stopped;
+} cell_hub;
+
+typedef struct cell_slot {
+    cell_hub *hub;
+    size_t index;
+    shard_ctx ctx; /* this cell's reports, into the hub */
+    opt_bridge bridge;
+    /* the run */
+    const proto_table3_spec *sp;
+    const aa_metric_params *metric;
+    const aa_table3_params *tp;
+    uint64_t seed;
+    aa_table3_cell cell;
+    int rc;
+    aa_error err;
+} cell_slot;
+
+static bool hub_progress(void *user, double fraction, json_t *best_so_far)
+{
+    cell_slot *c = user;
+    cell_hub *h = c->hub;
+    pthread_mutex_lock(&h->lock);
+    h->fraction[c->index] = fraction;
+    double sum = 0;
+    for (size_t k = 0; k < h->count; k++)
+        sum += h->fraction[k];
+    const json_t *e2 = json_object_get(best_so_far, "e2");
+    json_t *forward = NULL;
+    if (json_is_number(e2) && json_number_value(e2) < h->best_posted) {
+        h->best_posted = json_number_value(e2);
+        forward = best_so_far;
+    }
+    /* The shard's context may pause this thread (the daemon's fair share): the other cells
+     * wait here meanwhile, and the job's clock stands still for all. */
+    if (!h->stopped && h->outer->progress &&
+        h->outer->progress(h->outer->user, sum / (double)h->count, forward))
+        h->stopped = true;
+    bool stop = h->stopped;
+    pthread_mutex_unlock(&h->lock);
+    return stop;
+}
+
+/* The cells' summed work and best E2 (h->lock held). */
+static job_trace_point hub_total_locked(const cell_hub *h)
+{
+    job_trace_point t = {0, 0, 0, INFINITY};
+    for (size_t k = 0; k < h->count; k++) {
+        t.seconds += h->work[k].seconds;
+        t.iterations += h->work[k].iterations;
+        t.evaluations += h->work[k].evaluations;
+        t.best_e2 = fmin(t.best_e2, h->work[k].best_e2);
+    }
+    return t;
+}
+
+static void hub_trace(void *user, const job_trace_point *p)
+{
+    cell_slot *c = user;
+    cell_hub *h = c->hub;
+    pthread_mutex_lock(&h->lock);
+    h->work[c->index] = *p;
+    job_trace_point t = hub_total_locked(h);
+    if (h->outer->trace)
+        h->outer->trace(h->outer->user, &t);
+    pthread_mutex_unlock(&h->lock);
+}
+
+static void run_cell(void *item)
+{
+    cell_slot *c = item;
+    const proto_table3_spec *sp = c->sp;
+    c->rc = aa_table3_cell_run(&sp->family, sp->kinds[c->index], c->metric, c->tp, c->seed,
+                               cell_progress, &c->bridge, &c->cell, &c->err);
+    if (!c->rc) {
+        opt_bridge_add(&c->bridge, c->cell.opt_wp_run.iterations, c->cell.opt_wp_run.evaluations,
+                       c->cell.opt_wp_run.seconds);
+        opt_bridge_end(&c->bridge); /* the cell's whole Opt W+P work into the hub */
+    } else if (c->rc != AA_ECANCELED) {
+        pthread_mutex_lock(&c->hub->lock);
+        c->hub->stopped = true; /* the shard fails: the other cells need not finish */
+        pthread_mutex_unlock(&c->hub->lock);
+    }
 }
 
 static json_t *cell_json(aa_seed_kind kind, const aa_table3_cell *c)
@@ -95,6 +192,30 @@ static json_t *cell_json(aa_seed_kind kind, const aa_table3_cell *c)
                      "min", proto_real(c->random.min), "avg", proto_real(c->random.avg), "max",
                      proto_real(c->random.max), "opt_w", proto_real(c->opt_w), "opt_wp",
                      proto_real(c->opt_wp), "best_index", (json_int_t)c->best_index);
+}
+
+/* The shard's output from its finished cells, in distribution order (the lowest Opt W+P
+ * pattern, the first of equals, is its best). */
+static int shard_output(const proto_table3_spec *sp, uint64_t seed, cell_slot *slots,
+                        json_t **output, aa_error *err)
+{
+    json_t *cells = json_array();
+    const aa_pattern *best = NULL;
+    double best_e2 = INFINITY;
+    bool ok = cells != NULL;
+    for (size_t k = 0; ok && k < sp->kind_count; k++) {
+        ok = !json_array_append_new(cells, cell_json(sp->kinds[k], &slots[k].cell));
+        if (slots[k].cell.opt_wp < best_e2) {
+            best_e2 = slots[k].cell.opt_wp;
+            best = &slots[k].cell.opt_wp_pattern;
+        }
+    }
+    json_t *pattern = ok && best ? proto_encode_pattern(best) : NULL;
+    *output = pattern ? json_pack("{s:I,s:O,s:o,s:o}", "rng_seed", (json_int_t)seed, "cells", cells,
+                                  "best", pattern, "best_e2", proto_real(best_e2))
+                      : NULL;
+    json_decref(cells);
+    return *output ? AA_OK : aa_error_set(err, AA_ENOMEM, "", "out of memory");
 }
 
 static int run_shard(const void *params, int stage, const json_t *shard, const json_t *prior,
@@ -122,41 +243,43 @@ static int run_shard(const void *params, int stage, const json_t *shard, const j
         tp.opt_w_seconds = 0; /* a clock-free budget: Opt W runs until it stalls */
     if (!sp->common.method_auto)
         tp.opt_wp_method = (int)sp->common.method;
-    tp.clock = ctx->clock;
-    opt_bridge b = opt_bridge_make(ctx, 0, 1);
-    json_t *cells = json_array();
-    aa_pattern best;
-    memset(&best, 0, sizeof best);
-    double best_e2 = INFINITY;
-    int rc = cells ? AA_OK : aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    for (size_t k = 0; !rc && k < sp->kind_count; k++) {
-        cell_report cr = {&b, (double)k / (double)sp->kind_count, 1.0 / (double)sp->kind_count};
-        aa_table3_cell c;
-        rc = aa_table3_cell_run(&sp->family, sp->kinds[k], &metric, &tp, seed, cell_progress, &cr,
-                                &c, err);
-        if (!rc) {
-            opt_bridge_add(&b, c.opt_wp_run.iterations, c.opt_wp_run.evaluations,
-                           c.opt_wp_run.seconds);
-            if (json_array_append_new(cells, cell_json(sp->kinds[k], &c)))
-                rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
-            if (c.opt_wp < best_e2) {
-                best_e2 = c.opt_wp;
-                aa_pattern_free(&best);
-                best = c.opt_wp_pattern;
-                memset(&c.opt_wp_pattern, 0, sizeof c.opt_wp_pattern);
-            }
+    tp.clock = ctx->clock; /* the job's clock: each cell's budget is its own run time */
+    cell_hub hub = {.outer = ctx, .count = sp->kind_count, .best_posted = INFINITY};
+    cell_slot slots[PROTO_MAX_DISTRIBUTIONS];
+    memset(slots, 0, sizeof slots);
+    if (pthread_mutex_init(&hub.lock, NULL))
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    for (size_t k = 0; k < sp->kind_count; k++) {
+        hub.work[k] = (job_trace_point){0, 0, 0, INFINITY};
+        cell_slot *c = &slots[k];
+        *c = (cell_slot){
+            .hub = &hub, .index = k, .sp = sp, .metric = &metric, .tp = &tp, .seed = seed};
+        c->ctx = (shard_ctx){hub_progress, hub_trace, c, ctx->clock, 1};
+        c->bridge = opt_bridge_make(&c->ctx, 0, 1);
+    }
+    /* As many cells at once as the shard has threads; every cell's streams are its own, so a
+     * clock-free budget gives the same output either way. */
+    size_t batch = ctx->workers > 1 ? (size_t)ctx->workers : 1;
+    for (size_t k = 0; k < sp->kind_count; k += batch) {
+        size_t n = sp->kind_count - k < batch ? sp->kind_count - k : batch;
+        aa_fork_join(&slots[k], sizeof slots[0], (int)n, run_cell);
+    }
+    /* A cell's own failure before the cancel it caused in the others. */
+    int rc = AA_OK;
+    for (size_t k = 0; k < sp->kind_count && (!rc || rc == AA_ECANCELED); k++)
+        if (slots[k].rc && (!rc || slots[k].rc != AA_ECANCELED)) {
+            rc = slots[k].rc;
+            *err = slots[k].err;
         }
-        aa_table3_cell_free(&c);
-    }
     if (!rc) {
-        opt_bridge_end(&b);
-        *output = json_pack("{s:I,s:O,s:o,s:o}", "rng_seed", (json_int_t)seed, "cells", cells,
-                            "best", proto_encode_pattern(&best), "best_e2", proto_real(best_e2));
-        if (!*output)
-            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        job_trace_point total = hub_total_locked(&hub); /* the threads have joined */
+        if (ctx->trace)
+            ctx->trace(ctx->user, &total); /* the shard's last point: its whole work */
+        rc = shard_output(sp, seed, slots, output, err);
     }
-    json_decref(cells);
-    aa_pattern_free(&best);
+    for (size_t k = 0; k < sp->kind_count; k++)
+        aa_table3_cell_free(&slots[k].cell);
+    pthread_mutex_destroy(&hub.lock);
     return rc;
 }
 

@@ -293,8 +293,12 @@ static void compare_view(void **state)
 {
     json_t *job = fixture("job_compare.json");
     const json_t *rows = json_object_get(result_of(job), "rows");
-    /* As a result from before the edge model: no prediction (the fixture has one). */
+    /* The fixture's result names its acuity table; the copy below keeps it. */
+    json_t *with = json_deep_copy(job);
+    /* As a result from before the edge model and the acuity record: no prediction, no acuity
+     * (the fixture has both). */
     json_object_del((json_t *)result_of(job), "prediction");
+    json_object_del((json_t *)result_of(job), "acuity");
     size_t i;
     json_t *row;
     json_array_foreach(rows, i, row) json_object_del(row, "predicted_rmse");
@@ -311,17 +315,18 @@ static void compare_view(void **state)
     /* No prediction: the column shows "-". */
     contains(text, "17.1704          -");
     assert_null(strstr(text, "prediction rho"));
+    assert_null(strstr(text, "acuity"));
     capture_free(&c);
     /* With the prediction: its rho above the table, the row's value in the column. */
-    json_t *with = json_deep_copy(job);
     json_t *res = (json_t *)result_of(with);
+    json_array_foreach(json_object_get(res, "rows"), i, row) json_object_del(row, "predicted_rmse");
     json_object_set_new(res, "prediction",
                         json_pack("{s:f, s:f}", "spearman", 0.5, "subpixel_area_share", 0.001));
     json_object_set_new(json_array_get(json_object_get(res, "rows"), 0), "predicted_rmse",
                         json_real(16.25));
     job_print(capture_begin(&c), with, false);
     text = capture_end(&c);
-    contains(text, "prediction rho    0.500\n");
+    contains(text, "prediction rho    0.500\nacuity            naiman version 2\n");
     contains(text, "17.1704    16.2500");
     capture_free(&c);
     json_decref(with);
@@ -345,6 +350,7 @@ static void animation_view(void **state)
     const char *text = capture_end(&c);
     contains(text, "scene              translating-circle 48x48\n");
     contains(text, "pattern            P(1,1,4), 4.00 spp\n");
+    contains(text, "acuity             naiman version 2\n");
     contains(text, "frame    rmse  max_dev  pixels_recomputed");
     char want[64], rmse[32];
     for (size_t i = 0; i < json_array_size(frames); i++) {

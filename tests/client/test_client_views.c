@@ -51,6 +51,20 @@ static void evaluation_summary_and_detail(void **state)
     contains(text, "argmax angle_deg  35.0\n");
     contains(text, "cost_spp          2.0000\n");
     assert_null(strstr(text, "weighted"));
+    assert_null(strstr(text, "acuity")); /* a daemon from before evaluations named the table */
+    capture_free(&c);
+
+    /* The table the E2 uses, as the job views print it. */
+    json_object_set_new(r, "acuity", doc("{\"name\":\"naiman\",\"version\":2}"));
+    eval_print(capture_begin(&c), r, false, false);
+    contains(capture_end(&c), "argmax angle_deg  35.0\nacuity            naiman version 2\n");
+    capture_free(&c);
+    eval_print(capture_begin(&c), r, false, true);
+    contains(capture_end(&c), "acuity,naiman version 2");
+    capture_free(&c);
+    json_object_set_new(r, "acuity", doc("{\"name\":\"custom\"}"));
+    eval_print(capture_begin(&c), r, false, false);
+    contains(capture_end(&c), "acuity            custom\n");
     capture_free(&c);
 
     eval_print(capture_begin(&c), r, true, false);

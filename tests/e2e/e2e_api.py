@@ -322,6 +322,35 @@ def test_enumerate_render(d):
     expect_error(d.get("/v1/tiles/0123456789abcdef0123456789abcdef.png"), 404)
 
 
+def test_render_jobs_acuity(d):
+    """compare and animation results record the acuity table their E2 values use, by name and
+    version, like evaluations and the optimizer kinds; custom knots are "custom"."""
+    versions = {t["name"]: t["version"] for t in d.get("/v1/acuity").json()["tables"]}
+    scene = {"name": "siemens-star", "width": 16, "height": 16}
+    specs = [({"kind": "compare", "scene": scene, "reference": {"spp": 16}, "tiles": False,
+               "patterns": ["rgss"], "acuity": {"name": "naiman-envelope"}},
+              {"name": "naiman-envelope", "version": versions["naiman-envelope"]}),
+             ({"kind": "animation", "scene": {"name": "translating-circle", "width": 16,
+                                              "height": 16, "frames": 2},
+               "reference": {"spp": 16}, "tiles": False, "pattern": "rgss"},
+              {"name": "naiman", "version": versions["naiman"]}),
+             ({"kind": "animation", "scene": {"name": "translating-circle", "width": 16,
+                                              "height": 16, "frames": 2},
+               "reference": {"spp": 16}, "tiles": False, "pattern": "rgss",
+               "acuity": {"knots": [[0, 1], [45, 2]]}}, {"name": "custom"})]
+    for spec, want in specs:
+        r = d.post("/v1/jobs", spec)
+        check(r.status == 202, r)
+        j = d.wait_job(r.json()["id"], timeout=60)
+        check(j["state"] == "done", j)
+        res = j["result"]
+        check(res["acuity"] == want, (spec["kind"], res["acuity"], want))
+        e2 = res["rows"][0]["e2"] if spec["kind"] == "compare" else res["e2"]
+        e = d.post("/v1/evaluate", {"pattern": {"preset": "rgss"},
+                                    "acuity": spec.get("acuity", {"name": "naiman"})}).json()
+        check(abs(e["e2"] - e2) < 1e-9 and e["acuity"] == want, (e, e2, want))
+
+
 def test_tcp(d):
     auth = {"Authorization": "Bearer " + d.token}
     # every API request over TCP needs the token, reads included
@@ -364,6 +393,7 @@ def main():
         test_optimize_methods(d)
         test_optimizer_traces(d)
         test_enumerate_render(d)
+        test_render_jobs_acuity(d)
         test_tcp(d)
         check(d.stop() == 0, "clean exit on SIGTERM")
         check(not os.path.exists(d.sock), "socket removed at exit")

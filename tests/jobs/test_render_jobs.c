@@ -164,6 +164,12 @@ static void test_compare_rows(void **state)
     assert_int_equal(rc, AA_OK);
     json_t *rows = json_object_get(res, "rows");
     assert_int_equal(json_array_size(rows), 5);
+    /* The rows' E2 use the default table, recorded by name and version. */
+    json_t *acuity = json_object_get(res, "acuity");
+    aa_acuity naiman;
+    aa_acuity_naiman(&naiman);
+    assert_string_equal(json_string_value(json_object_get(acuity, "name")), "naiman");
+    assert_int_equal(json_integer_value(json_object_get(acuity, "version")), naiman.version);
     /* Odd and even kernels are compared against references on their own output grids. */
     assert_int_equal(json_array_size(json_object_get(json_object_get(res, "reference"), "renders")),
                      2);
@@ -252,8 +258,12 @@ static void test_animation_frames_and_cancel(void **state)
     aa_error err = {0};
     const char *spec = "{\"kind\":\"animation\",\"scene\":{\"name\":\"rotating-triangle\","
                        "\"width\":48,\"height\":40,\"frames\":3},\"pattern\":\"quincunx\","
-                       "\"reference\":{\"spp\":16}}";
+                       "\"reference\":{\"spp\":16},\"acuity\":{\"name\":\"naiman-envelope\"}}";
     assert_int_equal(run(&job_kind_animation, spec, &ctx, &res, &err), AA_OK);
+    /* e2 uses the table the spec named, and the result says which. */
+    json_t *acuity = json_object_get(res, "acuity");
+    assert_string_equal(json_string_value(json_object_get(acuity, "name")), "naiman-envelope");
+    assert_int_equal(json_integer_value(json_object_get(acuity, "version")), 1);
     json_t *frames = json_object_get(res, "frames");
     assert_int_equal(json_array_size(frames), 3);
     json_t *total = json_object_get(res, "total");

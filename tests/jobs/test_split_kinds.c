@@ -236,6 +236,23 @@ static void local_run_cancels(void **state)
     kinds[1].free_params(params);
 }
 
+/* table3 runs a seed's distributions side by side when the shard has threads (the stub lends
+ * 2): a cancel reaches every cell, however long its budget, and the run ends AA_ECANCELED
+ * without a result. */
+static void table3_local_run_cancels(void **state)
+{
+    (void)state;
+    void *params = decode(&kinds[3], "{\"family\":\"P(4,4,2)\",\"seeds\":2,\"count\":8,"
+                                     "\"max_iterations\":10000000}");
+    job_ctx ctx = {.cancel_after = 40};
+    void *result = NULL;
+    aa_error err = {0};
+    assert_int_equal(kinds[3].run(params, &ctx, &result, &err), AA_ECANCELED);
+    assert_null(result);
+    assert_true(ctx.last_fraction < 0.5); /* stopped within the first seed */
+    kinds[3].free_params(params);
+}
+
 /* Plans: at most max_shards contiguous ranges covering every seed once; random-stats' second
  * stage has its two fixed parts. */
 static void plans_cover_the_range(void **state)
@@ -277,6 +294,7 @@ int main(void)
         cmocka_unit_test(table3_splits_alike),
         cmocka_unit_test(reproducible_follows_the_budget),
         cmocka_unit_test(local_run_cancels),
+        cmocka_unit_test(table3_local_run_cancels),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

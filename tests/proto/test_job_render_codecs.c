@@ -82,6 +82,44 @@ static void test_compare_spec(void **state)
                  "{\"patterns\":[\"flipquad\"],\"tiles\":1}", AA_EINVAL, "tiles");
 }
 
+/* The "acuity" a result records: absent in results stored before it was, so it decodes to no
+ * name; a named table without its version is refused naming acuity.version. decode returns the
+ * decoded name (or NULL on error) through the result it frees. */
+typedef int (*acuity_decode_fn)(const json_t *j, char *name, size_t cap, aa_error *err);
+static int decode_compare_acuity(const json_t *j, char *name, size_t cap, aa_error *err)
+{
+    proto_compare_result r;
+    int rc = proto_decode_compare_result(j, &r, err);
+    snprintf(name, cap, "%s", rc ? "" : r.acuity_name);
+    proto_compare_result_free(&r);
+    return rc;
+}
+static int decode_animation_acuity(const json_t *j, char *name, size_t cap, aa_error *err)
+{
+    proto_animation_result r;
+    int rc = proto_decode_animation_result(j, &r, err);
+    snprintf(name, cap, "%s", rc ? "" : r.acuity_name);
+    proto_animation_result_free(&r);
+    return rc;
+}
+static void assert_acuity_optional(const json_t *j, acuity_decode_fn decode)
+{
+    char name[24];
+    aa_error err = {0};
+    json_t *old = with(j, "acuity", NULL);
+    assert_int_equal(decode(old, name, sizeof name, &err), AA_OK);
+    assert_string_equal(name, "");
+    json_decref(old);
+    json_t *bad = with(j, "acuity", parse("{\"name\":\"naiman\"}"));
+    assert_int_not_equal(decode(bad, name, sizeof name, &err), AA_OK);
+    assert_string_equal(err.field, "acuity.version");
+    json_decref(bad);
+    bad = with(j, "acuity", json_string("naiman"));
+    assert_int_not_equal(decode(bad, name, sizeof name, &err), AA_OK);
+    assert_string_equal(err.field, "acuity");
+    json_decref(bad);
+}
+
 static void test_compare_result(void **state)
 {
     (void)state;
@@ -122,9 +160,17 @@ static void test_compare_result(void **state)
     r.have_prediction = true;
     r.spearman_predicted = NAN; /* encoded as null */
     r.subpixel_area_share = 0.25;
+    aa_acuity naiman;
+    aa_acuity_naiman(&naiman);
+    proto_acuity_ref_set(&naiman, r.acuity_name, sizeof r.acuity_name, &r.acuity_version);
     json_t *j;
     ROUND_TRIP(proto_compare_result, proto_encode_compare_result, proto_decode_compare_result,
                proto_compare_result_free, &r, j);
+    assert_string_equal(json_string_value(json_object_get(json_object_get(j, "acuity"), "name")),
+                        "naiman");
+    assert_int_equal(json_integer_value(json_object_get(json_object_get(j, "acuity"), "version")),
+                     naiman.version);
+    assert_acuity_optional(j, decode_compare_acuity);
     json_t *row0 = json_array_get(json_object_get(j, "rows"), 0);
     assert_non_null(json_object_get(json_object_get(row0, "tiles"), "pattern"));
     assert_null(json_object_get(json_object_get(row0, "tiles"), "difference"));
@@ -199,8 +245,13 @@ static void test_animation(void **state)
     r.reference_seconds = 0.04;
     r.pixels_recomputed = 150;
     r.pixels_all_frames = 600;
+    strcpy(r.acuity_name, "custom"); /* knots given in the spec */
     ROUND_TRIP(proto_animation_result, proto_encode_animation_result, proto_decode_animation_result,
                proto_animation_result_free, &r, j);
+    assert_string_equal(json_string_value(json_object_get(json_object_get(j, "acuity"), "name")),
+                        "custom");
+    assert_null(json_object_get(json_object_get(j, "acuity"), "version"));
+    assert_acuity_optional(j, decode_animation_acuity);
     assert_string_equal(json_string_value(json_object_get(json_object_get(j, "scene"), "name")),
                         "translating-circle");
     RESULT_FAILS(proto_animation_result, proto_decode_animation_result, proto_animation_result_free,
