@@ -6,7 +6,7 @@
 set -eu
 src=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$src/build-tsan}
-tests=${AALAB_TSAN_TESTS:-test_job_manager_stress|test_job_manager_share|test_fair_share|test_job_store|test_api|test_metric_threads}
+tests=${AALAB_TSAN_TESTS:-test_job_manager_stress|test_job_manager_share|test_fair_share|test_job_store|test_api|test_metric_threads|test_split_kinds}
 cmake -S "$src" -B "$build" -G "Unix Makefiles" -DAALAB_TSAN=ON -DAALAB_SANITIZE=OFF \
   -DAALAB_FUZZ=OFF -DAALAB_WEB_TESTS=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j2
