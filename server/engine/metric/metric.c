@@ -23,19 +23,21 @@ void aa_metric_workspace_free(aa_metric_workspace *ws)
 {
     free(ws->p);
     free(ws->w);
-    free(ws->x);
-    free(ws->y);
+    free(ws->in_x);
+    free(ws->in_y);
+    free(ws->in_w);
+    free(ws->in_p);
     free(ws->index);
     free(ws->tail);
     memset(ws, 0, sizeof *ws);
 }
 
-static int grow(void **ptr, size_t bytes)
+static int grow_doubles(double **a, size_t cap)
 {
-    void *q = realloc(*ptr, bytes);
+    double *q = realloc(*a, cap * sizeof *q);
     if (!q)
         return AA_ENOMEM;
-    *ptr = q;
+    *a = q;
     return AA_OK;
 }
 
@@ -46,15 +48,15 @@ static int reserve(aa_metric_workspace *ws, size_t n)
     size_t cap = ws->capacity ? ws->capacity : 16;
     while (cap < n)
         cap *= 2;
-    ws->order_of = NULL; /* the arrays move: forget the order */
-    /* index holds a second half for the merge sort's scratch */
-    if (grow((void **)&ws->p, cap * sizeof(double)) ||
-        grow((void **)&ws->w, cap * sizeof(double)) ||
-        grow((void **)&ws->x, cap * sizeof(double)) ||
-        grow((void **)&ws->y, cap * sizeof(double)) ||
-        grow((void **)&ws->tail, cap * sizeof(double)) ||
-        grow((void **)&ws->index, 2 * cap * sizeof(uint32_t)))
+    if (grow_doubles(&ws->p, cap) || grow_doubles(&ws->w, cap) || grow_doubles(&ws->in_x, cap) ||
+        grow_doubles(&ws->in_y, cap) || grow_doubles(&ws->in_w, cap) ||
+        grow_doubles(&ws->in_p, cap) || grow_doubles(&ws->tail, cap))
         return AA_ENOMEM;
+    /* index has a second half: the merge sort's scratch */
+    uint32_t *ix = realloc(ws->index, 2 * cap * sizeof *ix);
+    if (!ix)
+        return AA_ENOMEM;
+    ws->index = ix;
     ws->capacity = cap;
     return AA_OK;
 }
@@ -84,39 +86,25 @@ static inline bool before(double pa, uint32_t ia, double pb, uint32_t ib)
     return pa < pb || (pa == pb && ia < ib);
 }
 
-/* Insertion pass over ws's arrays (p, index, w, and x, y when carry_xy): nearly linear when
- * they are almost sorted, as after the previous angle of the same kernel. Elements already in
- * place cost one comparison. */
-static void insertion_pass(aa_metric_workspace *ws, size_t n, bool carry_xy)
+/* Insertion pass over ws's keys (p, index): nearly linear when they are almost sorted, as after
+ * the previous angle of the same kernel. Elements already in place cost one comparison. */
+static void insertion_pass(aa_metric_workspace *ws, size_t n)
 {
-    double *p = ws->p, *w = ws->w, *x = ws->x, *y = ws->y;
+    double *p = ws->p;
     uint32_t *ix = ws->index;
     for (size_t i = 1; i < n; i++) {
         double pi = p[i];
         uint32_t ii = ix[i];
         if (!before(pi, ii, p[i - 1], ix[i - 1]))
             continue;
-        double wi = w[i], xi = 0, yi = 0;
-        if (carry_xy)
-            xi = x[i], yi = y[i];
         size_t j = i;
         do {
             p[j] = p[j - 1];
             ix[j] = ix[j - 1];
-            w[j] = w[j - 1];
-            if (carry_xy) {
-                x[j] = x[j - 1];
-                y[j] = y[j - 1];
-            }
             j--;
         } while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1]));
         p[j] = pi;
         ix[j] = ii;
-        w[j] = wi;
-        if (carry_xy) {
-            x[j] = xi;
-            y[j] = yi;
-        }
     }
 }
 
@@ -154,15 +142,14 @@ static void merge_sort_keys(aa_metric_workspace *ws, size_t n)
     }
 }
 
-/* A first sort from the input order: projections of s on (ct, st) with their indices, sorted,
- * then w (and x, y when carry_xy) gathered in that order. */
-static void fresh_sort(const aa_sample *s, size_t n, double ct, double st, aa_metric_workspace *ws,
-                       bool carry_xy)
+/* A first sort from the input order: the projections p_i (in_p, computed by the caller) with
+ * their indices, sorted. */
+static void fresh_sort(size_t n, aa_metric_workspace *ws)
 {
     double *p = ws->p;
     uint32_t *ix = ws->index;
     for (size_t i = 0; i < n; i++) {
-        p[i] = s[i].x * ct + s[i].y * st;
+        p[i] = ws->in_p[i];
         ix[i] = (uint32_t)i;
     }
     if (n > 32) {
@@ -181,14 +168,6 @@ static void fresh_sort(const aa_sample *s, size_t n, double ct, double st, aa_me
             ix[j] = ii;
         }
     }
-    for (size_t k = 0; k < n; k++) {
-        const aa_sample *q = &s[ix[k]];
-        ws->w[k] = q->w;
-        if (carry_xy) {
-            ws->x[k] = q->x;
-            ws->y[k] = q->y;
-        }
-    }
 }
 
 /* Projects the kernel on (ct, st) into ws's arrays, sorted by (p, index). Starts from the order
@@ -202,25 +181,37 @@ static void project_sorted(const aa_sample *s, size_t n, double ct, double st,
         for (size_t k = 0; k < n; k++) {
             const aa_sample *q = &s[ws->index[k]];
             ws->p[k] = q->x * ct + q->y * st;
-            ws->w[k] = q->w;
         }
-        insertion_pass(ws, n, false);
+        insertion_pass(ws, n);
     } else {
-        fresh_sort(s, n, ct, st, ws, false);
+        for (size_t i = 0; i < n; i++)
+            ws->in_p[i] = s[i].x * ct + s[i].y * st;
+        fresh_sort(n, ws);
     }
+    for (size_t k = 0; k < n; k++)
+        ws->w[k] = s[ws->index[k]].w;
     ws->order_of = s;
     ws->order_n = n;
 }
 
-/* The block's projection: x, y, w already in ws in the previous angle's order (fixed samples),
- * so the projection is a contiguous loop over the arrays, vectorised. */
-static void project_block(size_t n, double ct, double st, aa_metric_workspace *ws)
+/* The block's projection: the kernel's coordinates as arrays in input order (in_x, in_y), one
+ * contiguous loop (vectorised), then the keys gathered into the previous angle's order and an
+ * insertion pass, then the weights gathered into the new order. */
+static void project_block(size_t n, double ct, double st, bool first, aa_metric_workspace *ws)
 {
-    double *restrict p = ws->p;
-    const double *restrict x = ws->x, *restrict y = ws->y;
+    double *restrict q = ws->in_p;
+    const double *restrict x = ws->in_x, *restrict y = ws->in_y;
+    for (size_t i = 0; i < n; i++)
+        q[i] = x[i] * ct + y[i] * st;
+    if (first) {
+        fresh_sort(n, ws);
+    } else {
+        for (size_t k = 0; k < n; k++)
+            ws->p[k] = q[ws->index[k]];
+        insertion_pass(ws, n);
+    }
     for (size_t k = 0; k < n; k++)
-        p[k] = x[k] * ct + y[k] * st;
-    insertion_pass(ws, n, true);
+        ws->w[k] = ws->in_w[ws->index[k]];
 }
 
 /* Integral over [u, v] of (c - g)^2 (and of (c - g) when want_linear) where g is filter
@@ -361,7 +352,10 @@ static inline void add_weight(double *c, double *lo, double w)
     *c = x;
 }
 
-static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace *ws)
+/* want_prefix is a constant at each call site (closed_form_e1, closed_form_prefix): the E1-only
+ * copy skips the prefix integrals. */
+static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metric_workspace *ws,
+                                           const bool want_prefix)
 {
     const double *pp = ws->p, *pw = ws->w;
     double *prefix = ws->tail, r = f->radius, c = 0, lo = 0, lin = 0;
@@ -380,7 +374,8 @@ static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace
         double cc = c + lo, len = pp[k] - a;
         add_term(&acc, cc * cc * len);
         lin += cc * len;
-        prefix[k] = lin;
+        if (want_prefix)
+            prefix[k] = lin;
         add_weight(&c, &lo, pw[k]);
         a = pp[k];
     }
@@ -396,7 +391,8 @@ static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace
         lin += u * len;
         double big = closed_gamma_value(f, p);
         add_term(&gam, 2 * pw[k] * big);
-        prefix[k] = lin - big;
+        if (want_prefix)
+            prefix[k] = lin - big;
         add_weight(&c, &lo, pw[k]);
         a = p;
     }
@@ -408,7 +404,8 @@ static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace
         double d = (c - 1) + lo, l = pp[k] - a;
         add_term(&acc, d * d * l);
         lin += d * l;
-        prefix[k] = lin;
+        if (want_prefix)
+            prefix[k] = lin;
         add_weight(&c, &lo, pw[k]);
         a = pp[k];
     }
@@ -419,6 +416,16 @@ static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace
     return (closed_sums){acc.sum + acc.comp, sqrt(spread2)};
 }
 
+static closed_sums closed_form_e1(const aa_filter *f, size_t n, aa_metric_workspace *ws)
+{
+    return closed_form_impl(f, n, ws, false);
+}
+
+static closed_sums closed_form_prefix(const aa_filter *f, size_t n, aa_metric_workspace *ws)
+{
+    return closed_form_impl(f, n, ws, true);
+}
+
 /* Whether the closed form's error estimate is within AA_E1_CLOSED_REL_ERROR (metric.h). */
 static bool closed_acceptable(const closed_sums *cs)
 {
@@ -426,13 +433,12 @@ static bool closed_acceptable(const closed_sums *cs)
 }
 
 /* E1^2 by the method over ws's sorted arrays. With want_prefix, ws->tail[k] holds the prefix
- * integral P_k of the k-th sorted sample afterwards (the closed form always fills it; the
- * quadrature sweep only when asked). */
+ * integral P_k of the k-th sorted sample afterwards. */
 static double e1_squared_sorted(const aa_filter *f, size_t n, aa_e1_method method,
                                 aa_metric_workspace *ws, bool want_prefix)
 {
     if (method != AA_E1_QUADRATURE && f->closed_pieces > 0) {
-        closed_sums cs = closed_form(f, n, ws);
+        closed_sums cs = want_prefix ? closed_form_prefix(f, n, ws) : closed_form_e1(f, n, ws);
         ws->closed_condition = cs.spread / cs.e1sq;
         if (method == AA_E1_CLOSED || closed_acceptable(&cs)) {
             ws->closed_calls++;
@@ -549,12 +555,14 @@ static int kernel_block(const aa_filter *f, const aa_sample *s, size_t n, const 
     if (reserve(ws, n))
         return AA_ENOMEM;
     bool want_grad = factor && (gx || gy || gw);
+    for (size_t i = 0; i < n; i++) {
+        ws->in_x[i] = s[i].x;
+        ws->in_y[i] = s[i].y;
+        ws->in_w[i] = s[i].w;
+    }
     for (size_t a = 0; a < na; a++) {
         double ct = dir_c[a], st = dir_s[a];
-        if (a == 0)
-            fresh_sort(s, n, ct, st, ws, true);
-        else
-            project_block(n, ct, st, ws);
+        project_block(n, ct, st, a == 0, ws);
         bool grad = want_grad && factor[a] != 0;
         double e = sqrt(e1_squared_sorted(f, n, method, ws, grad && gw));
         e1[a] = e;

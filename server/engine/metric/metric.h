@@ -37,17 +37,19 @@
 
 /* Scratch memory for the per-angle computation; reuse it across calls to avoid allocation.
  * One workspace per thread. The projections are kept sorted as a structure of arrays (p, w,
- * index and, in the kernel-block functions, the sample coordinates x, y permuted alongside, so
- * that projecting is one contiguous loop the compiler vectorises). It also remembers the sorted
+ * index). The kernel-block functions also keep the kernel's samples as arrays in input order
+ * (in_x, in_y, in_w), so that projecting on a direction is one contiguous loop the compiler
+ * vectorises, and the sort then moves keys and indices only. The workspace remembers the sorted
  * order of the last kernel it saw (identified by its sample pointer and count): the next angle
  * of the same kernel starts its insertion sort from that order, nearly linear for neighbouring
  * angles. The result never depends on it (ties are ordered by input index either way). */
 typedef struct aa_metric_workspace {
     size_t capacity;
-    double *p, *w, *x, *y; /* [capacity] each, in sorted order */
-    uint32_t *index;       /* input position of each sorted entry */
-    double *tail;          /* prefix integrals for the weight gradient */
-    const void *order_of;  /* samples whose sorted order the arrays hold (NULL: none) */
+    double *p, *w;                     /* [capacity] each, in sorted order */
+    uint32_t *index;                   /* input position of each sorted entry */
+    double *in_x, *in_y, *in_w, *in_p; /* the block's kernel and projection, input order */
+    double *tail;                      /* prefix integrals for the weight gradient */
+    const void *order_of;              /* samples whose sorted order the arrays hold (NULL: none) */
     size_t order_n;
     long closed_calls, fallback_calls; /* how often the closed form was conditioned enough */
     double closed_condition; /* of the last closed form: sqrt(sum of its squared terms) / E1^2 */
