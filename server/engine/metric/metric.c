@@ -29,6 +29,7 @@ void aa_metric_workspace_free(aa_metric_workspace *ws)
     free(ws->in_p);
     free(ws->index);
     free(ws->tail);
+    free(ws->cdf);
     memset(ws, 0, sizeof *ws);
 }
 
@@ -50,7 +51,7 @@ static int reserve(aa_metric_workspace *ws, size_t n)
         cap *= 2;
     if (grow_doubles(&ws->p, cap) || grow_doubles(&ws->w, cap) || grow_doubles(&ws->in_x, cap) ||
         grow_doubles(&ws->in_y, cap) || grow_doubles(&ws->in_w, cap) ||
-        grow_doubles(&ws->in_p, cap) || grow_doubles(&ws->tail, cap))
+        grow_doubles(&ws->in_p, cap) || grow_doubles(&ws->tail, cap) || grow_doubles(&ws->cdf, cap))
         return AA_ENOMEM;
     /* index has a second half: the merge sort's scratch */
     uint32_t *ix = realloc(ws->index, 2 * cap * sizeof *ix);
@@ -374,8 +375,10 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
         double cc = c + lo, len = pp[k] - a;
         add_term(&acc, cc * cc * len);
         lin += cc * len;
-        if (want_prefix)
+        if (want_prefix) {
             prefix[k] = lin;
+            ws->cdf[k] = 0;
+        }
         add_weight(&c, &lo, pw[k]);
         a = pp[k];
     }
@@ -389,7 +392,14 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
         double p = pp[k], u = (c - 0.5) + lo, len = p - a;
         add_term(&acc, u * u * len);
         lin += u * len;
-        double big = closed_gamma_value(f, p);
+        double big;
+        if (want_prefix) {
+            double gamma;
+            big = closed_gamma(f, p, &gamma);
+            ws->cdf[k] = 0.5 + gamma; /* g(p), as cdf_at computes it */
+        } else {
+            big = closed_gamma_value(f, p);
+        }
         add_term(&gam, 2 * pw[k] * big);
         if (want_prefix)
             prefix[k] = lin - big;
@@ -404,11 +414,15 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
         double d = (c - 1) + lo, l = pp[k] - a;
         add_term(&acc, d * d * l);
         lin += d * l;
-        if (want_prefix)
+        if (want_prefix) {
             prefix[k] = lin;
+            ws->cdf[k] = 1;
+        }
         add_weight(&c, &lo, pw[k]);
         a = pp[k];
     }
+    if (want_prefix)
+        ws->cdf_valid = true;
     /* Beyond the last sample the integrand is (c - 1)^2 = 0 when the weights sum to 1. */
     double spread2 = acc.sq + gam.sq;
     add_term(&acc, gam.sum);
@@ -432,11 +446,13 @@ static bool closed_acceptable(const closed_sums *cs)
     return cs->spread * AA_E1_CLOSED_SAFETY * 0x1.0p-52 <= AA_E1_CLOSED_REL_ERROR * cs->e1sq;
 }
 
-/* E1^2 by the method over ws's sorted arrays. With want_prefix, ws->tail[k] holds the prefix
- * integral P_k of the k-th sorted sample afterwards. */
+/* E1^2 by the method over ws's sorted arrays. With want_prefix (gradients), ws->tail[k] holds
+ * the prefix integral P_k of the k-th sorted sample afterwards, and where the closed form ran,
+ * ws->cdf[k] = g(p_k) (cdf_valid), a by-product of its Gamma evaluation. */
 static double e1_squared_sorted(const aa_filter *f, size_t n, aa_e1_method method,
                                 aa_metric_workspace *ws, bool want_prefix)
 {
+    ws->cdf_valid = false;
     if (method != AA_E1_QUADRATURE && f->closed_pieces > 0) {
         closed_sums cs = want_prefix ? closed_form_prefix(f, n, ws) : closed_form_e1(f, n, ws);
         ws->closed_condition = cs.spread / cs.e1sq;
@@ -504,7 +520,8 @@ static void gradient_sorted(const aa_filter *f, size_t n, double ct, double st, 
         double sorted_before = 0; /* S_i: weight sorted before i */
         for (size_t k = 0; k < n; k++) {
             double w = pw[k];
-            double dp = w * (2 * cdf_at(f, pp[k]) - 2 * sorted_before - w) * 0.5 * inv;
+            double g = ws->cdf_valid ? ws->cdf[k] : cdf_at(f, pp[k]);
+            double dp = w * (2 * g - 2 * sorted_before - w) * 0.5 * inv;
             if (dx)
                 dx[ix[k]] = accumulate ? dx[ix[k]] + factor * (dp * ct) : dp * ct;
             if (dy)
@@ -534,7 +551,7 @@ int aa_e1_gradient_at_direction(const aa_filter *f, const aa_sample *s, size_t n
         return AA_EINVAL;
     if (reserve(ws, n))
         return AA_ENOMEM;
-    double e = sqrt(e1_squared(f, s, n, ct, st, method, ws, dw != NULL));
+    double e = sqrt(e1_squared(f, s, n, ct, st, method, ws, dx || dy || dw));
     *e1 = e;
     gradient_sorted(f, n, ct, st, e, 1, false, ws, dx, dy, dw);
     return AA_OK;
@@ -564,7 +581,7 @@ static int kernel_block(const aa_filter *f, const aa_sample *s, size_t n, const 
         double ct = dir_c[a], st = dir_s[a];
         project_block(n, ct, st, a == 0, ws);
         bool grad = want_grad && factor[a] != 0;
-        double e = sqrt(e1_squared_sorted(f, n, method, ws, grad && gw));
+        double e = sqrt(e1_squared_sorted(f, n, method, ws, grad));
         e1[a] = e;
         if (grad && e > 0)
             gradient_sorted(f, n, ct, st, e, factor[a], true, ws, gx, gy, gw);

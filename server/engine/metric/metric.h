@@ -49,7 +49,9 @@ typedef struct aa_metric_workspace {
     uint32_t *index;                   /* input position of each sorted entry */
     double *in_x, *in_y, *in_w, *in_p; /* the block's kernel and projection, input order */
     double *tail;                      /* prefix integrals for the weight gradient */
-    const void *order_of;              /* samples whose sorted order the arrays hold (NULL: none) */
+    double *cdf;          /* g(p_k) of the sorted projections, from the closed form's prefix pass */
+    bool cdf_valid;       /* cdf holds the current projections' values */
+    const void *order_of; /* samples whose sorted order the arrays hold (NULL: none) */
     size_t order_n;
     long closed_calls, fallback_calls; /* how often the closed form was conditioned enough */
     double closed_condition; /* of the last closed form: sqrt(sum of its squared terms) / E1^2 */
