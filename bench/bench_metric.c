@@ -8,7 +8,13 @@
  * about 1e-6; the achieved error is printed. Then whole-pattern E2 (aa_evaluate on the default 36
  * angles) for Quincunx and a P(16,16,4) pattern (4x4 tile, 4 jittered samples per pixel, 4x4
  * kernels, weights from the filter), each beside the dense-quadrature estimate for the same
- * kernel-angles. Figures vary with the machine; the ratios are the point. */
+ * kernel-angles, and beside the per-call path (aa_e1_at_direction per kernel-angle, as aa_evaluate
+ * ran before the kernel x angle block). Then the whole-pattern gradient of the mean weighted E1
+ * (every kernel-angle, factor W(theta) / (kernels x angles)): the block
+ * (aa_e1_gradient_kernel_block) beside the per-call gradient and the previous method. Times are
+ * thread CPU time (other processes share the machine); the load average is printed with them.
+ * Figures vary with the machine; the ratios are the point. */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime(CLOCK_THREAD_CPUTIME_ID) */
 #include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -38,8 +44,21 @@ static double rng_uniform(double lo, double hi)
 static double now_s(void)
 {
     struct timespec ts;
-    timespec_get(&ts, TIME_UTC);
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The 1-minute load average (Linux), printed beside the timings; NaN where unknown. */
+static double load_average(void)
+{
+    double l = NAN;
+    FILE *fp = fopen("/proc/loadavg", "r");
+    if (fp) {
+        if (fscanf(fp, "%lf", &l) != 1)
+            l = NAN;
+        fclose(fp);
+    }
+    return l;
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -193,6 +212,113 @@ static double e2_old(const aa_pattern *p, const aa_acuity *acuity, const aa_filt
     return e2;
 }
 
+/* Whole-pattern E2 by single calls (aa_e1_at_direction per kernel-angle, kernel-major, sort
+ * reused between neighbouring angles): aa_evaluate before the kernel x angle block. */
+static double e2_per_call(const aa_pattern *p, const aa_filter *f, const double *dc,
+                          const double *ds, const double *weight, size_t na,
+                          aa_metric_workspace *ws)
+{
+    double e2 = 0.0;
+    for (size_t k = 0; k < p->kernel_count; k++)
+        for (size_t a = 0; a < na; a++) {
+            double e1 = 0.0;
+            aa_e1_at_direction(f, p->kernels[k].samples, p->kernels[k].count, dc[a], ds[a],
+                               AA_E1_AUTO, ws, &e1);
+            e2 = fmax(e2, weight[a] * e1);
+        }
+    return e2;
+}
+
+/* The gradient of the mean of W E1 over every kernel-angle, per kernel into g (3 x 64 doubles
+ * per kernel: dx, dy, dw). how: 0 the block, 1 per-call AUTO, 2 the previous method (per call,
+ * sort from the input order, quadrature). */
+static void gradient_whole(const aa_pattern *p, const aa_filter *f, const double *dc,
+                           const double *ds, const double *factor, size_t na, int how,
+                           aa_metric_workspace *ws, double *g)
+{
+    double e1[AA_MAX_ANGLES], gx[64], gy[64], gw[64];
+    for (size_t k = 0; k < p->kernel_count; k++) {
+        const aa_kernel *ker = &p->kernels[k];
+        double *out = g + k * 192;
+        memset(out, 0, 192 * sizeof *out);
+        if (how == 0) {
+            aa_e1_gradient_kernel_block(f, ker->samples, ker->count, dc, ds, na, factor, AA_E1_AUTO,
+                                        ws, e1, out, out + 64, out + 128);
+            continue;
+        }
+        for (size_t a = 0; a < na; a++) {
+            double e = 0.0;
+            if (how == 2)
+                ws->order_of = NULL;
+            aa_e1_gradient_at_direction(f, ker->samples, ker->count, dc[a], ds[a],
+                                        how == 2 ? AA_E1_QUADRATURE : AA_E1_AUTO, ws, &e, gx, gy,
+                                        gw);
+            if (!(e > 0))
+                continue;
+            for (size_t i = 0; i < ker->count; i++) {
+                out[i] += factor[a] * gx[i];
+                out[64 + i] += factor[a] * gy[i];
+                out[128 + i] += factor[a] * gw[i];
+            }
+        }
+    }
+}
+
+/* CPU microseconds per whole-pattern gradient by how (gradient_whole), into g. */
+static double time_gradient(const aa_pattern *p, const aa_filter *f, const double *dc,
+                            const double *ds, const double *factor, size_t na, int how, double *g)
+{
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    long runs = 0;
+    double t0 = now_s(), t1;
+    do {
+        gradient_whole(p, f, dc, ds, factor, na, how, &ws, g);
+        runs++;
+        t1 = now_s();
+    } while (t1 - t0 < 0.3);
+    aa_metric_workspace_free(&ws);
+    return 1e6 * (t1 - t0) / (double)runs;
+}
+
+static void bench_gradient(const char *label, const aa_pattern *p, const aa_filter *f,
+                           const aa_acuity *acuity)
+{
+    double angles[AA_MAX_ANGLES], dc[AA_MAX_ANGLES], ds[AA_MAX_ANGLES], factor[AA_MAX_ANGLES];
+    size_t na = aa_acuity_default_angles(acuity, angles, AA_MAX_ANGLES);
+    for (size_t a = 0; a < na; a++) {
+        aa_metric_direction(angles[a] * (PI_D / 180), &dc[a], &ds[a]);
+        factor[a] = aa_acuity_weight(acuity, angles[a]) / (double)(na * p->kernel_count);
+    }
+    for (size_t k = 0; k < p->kernel_count; k++)
+        if (p->kernels[k].count > 64) {
+            printf("whole-pattern gradient %s: kernels of more than 64 samples not benchmarked\n",
+                   label);
+            return;
+        }
+    size_t len = 192 * p->kernel_count;
+    double *g[3];
+    for (int h = 0; h < 3; h++)
+        g[h] = calloc(len, sizeof(double));
+    double us[3];
+    for (int h = 0; h < 3; h++)
+        us[h] = time_gradient(p, f, dc, ds, factor, na, h, g[h]);
+    double diff[2] = {0, 0}, scale = 0;
+    for (size_t i = 0; i < len; i++)
+        scale = fmax(scale, fabs(g[2][i]));
+    for (int h = 0; h < 2; h++)
+        for (size_t i = 0; i < len; i++)
+            diff[h] = fmax(diff[h], fabs(g[h][i] - g[2][i]) / scale);
+    printf("whole-pattern gradient %-12s %s (mean W E1, %zu kernels x %zu angles; load %.2f): "
+           "kernel x angle block %.1f us | per-call %.1f us (%.2fx) | previous method %.1f us "
+           "(%.2fx) | max difference from the previous method, relative to its largest "
+           "component: block %.1e, per-call %.1e\n",
+           label, p->family, p->kernel_count, na, load_average(), us[0], us[1], us[1] / us[0],
+           us[2], us[2] / us[0], diff[0], diff[1]);
+    for (int h = 0; h < 3; h++)
+        free(g[h]);
+}
+
 static void bench_pattern(const char *label, const aa_pattern *p, const aa_filter *f,
                           const aa_acuity *acuity, double dense_ns_per_kernel_angle)
 {
@@ -223,6 +349,21 @@ static void bench_pattern(const char *label, const aa_pattern *p, const aa_filte
         t1 = now_s();
     } while (t1 - t0 < 0.3);
     double old_us = 1e6 * (t1 - t0) / (double)runs;
+    double pc_angles[AA_MAX_ANGLES], dc[AA_MAX_ANGLES], ds[AA_MAX_ANGLES], wt[AA_MAX_ANGLES];
+    size_t pna = aa_acuity_default_angles(acuity, pc_angles, AA_MAX_ANGLES);
+    for (size_t a = 0; a < pna; a++) {
+        aa_metric_direction(pc_angles[a] * (PI_D / 180), &dc[a], &ds[a]);
+        wt[a] = aa_acuity_weight(acuity, pc_angles[a]);
+    }
+    double e2pc = 0.0;
+    runs = 0;
+    t0 = now_s();
+    do {
+        e2pc = e2_per_call(p, f, dc, ds, wt, pna, &ws);
+        runs++;
+        t1 = now_s();
+    } while (t1 - t0 < 0.3);
+    double pc_us = 1e6 * (t1 - t0) / (double)runs;
     /* the share of kernel-angles the closed form took */
     aa_metric_workspace_free(&ws);
     aa_metric_workspace_init(&ws);
@@ -238,11 +379,13 @@ static void bench_pattern(const char *label, const aa_pattern *p, const aa_filte
     aa_metric_workspace_free(&ws);
     size_t ka = p->kernel_count * na;
     double dense_us = 1e-3 * dense_ns_per_kernel_angle * (double)ka;
-    printf("whole-pattern E2 %-18s %s: E2 = %.6f (previous %.6f), %zu kernels x %zu angles: "
-           "%.1f us per evaluation (%.0f ns per kernel-angle, closed form taken %.0f%%) | "
-           "previous method %.1f us (%.2fx) | dense-quadrature estimate %.0f us (%.0fx)\n",
-           label, p->family, e2, e2o, p->kernel_count, na, us, 1e3 * us / (double)ka, 100 * share,
-           old_us, old_us / us, dense_us, dense_us / us);
+    printf("whole-pattern E2 %-18s %s: E2 = %.6f (per-call %.6f, previous %.6f), %zu kernels x "
+           "%zu angles (load %.2f): %.1f us per evaluation (%.0f ns per kernel-angle, closed form "
+           "taken %.0f%%) | per-call path %.1f us (%.2fx) | previous method %.1f us (%.2fx) | "
+           "dense-quadrature estimate %.0f us (%.0fx)\n",
+           label, p->family, e2, e2pc, e2o, p->kernel_count, na, load_average(), us,
+           1e3 * us / (double)ka, 100 * share, pc_us, pc_us / us, old_us, old_us / us, dense_us,
+           dense_us / us);
 }
 
 int main(void)
@@ -252,7 +395,8 @@ int main(void)
     aa_filter_default(&f);
     aa_acuity_naiman(&acuity);
     printf("bench_metric: Mitchell-Netravali (1/3, 1/3), Naiman acuity; random kernels in "
-           "[-1,1]^2, positive weights\n");
+           "[-1,1]^2, positive weights; thread CPU time; load average %.2f at the start\n",
+           load_average());
     /* N per size: the midpoint rule's error comes from the jumps of ghat (O(h) each), so more
      * samples need more points for the same ~1e-6. */
     size_result r4 = bench_size(&f, 4, 1L << 21);
@@ -281,6 +425,7 @@ int main(void)
         return 1;
     }
     bench_pattern("jittered 4x4 tile", &p16, &f, &acuity, r64.dense_ns);
+    bench_gradient("jittered 4x4", &p16, &f, &acuity);
     aa_pattern_free(&p16);
     return 0;
 }

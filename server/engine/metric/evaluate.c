@@ -76,8 +76,8 @@ int aa_evaluate(const aa_pattern *p, const aa_metric_params *params, aa_evaluati
     out->angle_count = na;
     out->e2 = -1;
     out->lp_norm = NAN;
-    /* Directions once per call; each kernel then runs through the angles in order, so its
-     * sort starts from the previous angle's order (metric.h). */
+    /* Directions once per call; each kernel is one kernel x angle block (aa_e1_kernel_block):
+     * its samples copied once, its sort reused from angle to angle (metric.h). */
     double *dir_c = malloc(2 * na * sizeof *dir_c), *dir_s = dir_c ? dir_c + na : NULL;
     if (!dir_c) {
         aa_evaluation_free(out);
@@ -93,15 +93,15 @@ int aa_evaluate(const aa_pattern *p, const aa_metric_params *params, aa_evaluati
     double sum = 0, sum_p = 0;
     for (size_t k = 0; k < nk && !rc; k++) {
         const aa_kernel *ker = &p->kernels[k];
+        double *row = out->e1 + k * na;
+        rc = aa_e1_kernel_block(params->filter, ker->samples, ker->count, dir_c, dir_s, na,
+                                AA_E1_AUTO, &ws, row);
+        if (rc) {
+            aa_error_set(err, rc, "", "out of memory");
+            break;
+        }
         for (size_t a = 0; a < na; a++) {
-            double e1;
-            rc = aa_e1_at_direction(params->filter, ker->samples, ker->count, dir_c[a], dir_s[a],
-                                    AA_E1_AUTO, &ws, &e1);
-            if (rc) {
-                aa_error_set(err, rc, "", "out of memory");
-                break;
-            }
-            if (!isfinite(e1)) {
+            if (!isfinite(row[a])) {
                 char field[48];
                 snprintf(field, sizeof field, "pattern.kernels[%zu]", k);
                 rc =
@@ -109,8 +109,7 @@ int aa_evaluate(const aa_pattern *p, const aa_metric_params *params, aa_evaluati
                                  "E1 overflows for kernel %zu (weights or positions too large)", k);
                 break;
             }
-            out->e1[k * na + a] = e1;
-            double v = out->weight[a] * e1;
+            double v = out->weight[a] * row[a];
             sum += v;
             if (params->lp != 0)
                 sum_p += pow(v, params->lp);

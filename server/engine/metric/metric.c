@@ -7,11 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct aa_projection {
-    double p, w;
-    uint32_t index; /* position in the input, for scattering gradients and stable ties */
-} aa_projection;
-
 void aa_metric_workspace_init(aa_metric_workspace *ws)
 {
     memset(ws, 0, sizeof *ws);
@@ -26,9 +21,25 @@ void aa_metric_workspace_init(aa_metric_workspace *ws)
 
 void aa_metric_workspace_free(aa_metric_workspace *ws)
 {
-    free(ws->proj);
+    free(ws->p);
+    free(ws->w);
+    free(ws->in_x);
+    free(ws->in_y);
+    free(ws->in_w);
+    free(ws->in_p);
+    free(ws->index);
     free(ws->tail);
+    free(ws->cdf);
     memset(ws, 0, sizeof *ws);
+}
+
+static int grow_doubles(double **a, size_t cap)
+{
+    double *q = realloc(*a, cap * sizeof *q);
+    if (!q)
+        return AA_ENOMEM;
+    *a = q;
+    return AA_OK;
 }
 
 static int reserve(aa_metric_workspace *ws, size_t n)
@@ -38,14 +49,15 @@ static int reserve(aa_metric_workspace *ws, size_t n)
     size_t cap = ws->capacity ? ws->capacity : 16;
     while (cap < n)
         cap *= 2;
-    aa_projection *p = realloc(ws->proj, cap * sizeof *p);
-    if (!p)
+    if (grow_doubles(&ws->p, cap) || grow_doubles(&ws->w, cap) || grow_doubles(&ws->in_x, cap) ||
+        grow_doubles(&ws->in_y, cap) || grow_doubles(&ws->in_w, cap) ||
+        grow_doubles(&ws->in_p, cap) || grow_doubles(&ws->tail, cap) || grow_doubles(&ws->cdf, cap))
         return AA_ENOMEM;
-    ws->proj = p;
-    double *t = realloc(ws->tail, cap * sizeof *t);
-    if (!t)
+    /* index has a second half: the merge sort's scratch */
+    uint32_t *ix = realloc(ws->index, 2 * cap * sizeof *ix);
+    if (!ix)
         return AA_ENOMEM;
-    ws->tail = t;
+    ws->index = ix;
     ws->capacity = cap;
     return AA_OK;
 }
@@ -69,28 +81,138 @@ void aa_metric_direction(double theta, double *c, double *s)
     *s = ss;
 }
 
-static int projection_less(const aa_projection *a, const aa_projection *b)
+/* Sorted order: by p, ties by input index. */
+static inline bool before(double pa, uint32_t ia, double pb, uint32_t ib)
 {
-    return a->p < b->p || (a->p == b->p && a->index < b->index);
+    return pa < pb || (pa == pb && ia < ib);
 }
 
-static int projection_cmp(const void *pa, const void *pb)
+/* Insertion pass over ws's keys (p, index): nearly linear when they are almost sorted, as after
+ * the previous angle of the same kernel. Elements already in place cost one comparison. */
+static void insertion_pass(aa_metric_workspace *ws, size_t n)
 {
-    const aa_projection *a = pa, *b = pb;
-    return projection_less(b, a) - projection_less(a, b);
-}
-
-static void sort_projections(aa_projection *v, size_t n)
-{
+    double *p = ws->p;
+    uint32_t *ix = ws->index;
     for (size_t i = 1; i < n; i++) {
-        aa_projection x = v[i];
+        double pi = p[i];
+        uint32_t ii = ix[i];
+        if (!before(pi, ii, p[i - 1], ix[i - 1]))
+            continue;
         size_t j = i;
-        while (j > 0 && projection_less(&x, &v[j - 1])) {
-            v[j] = v[j - 1];
+        do {
+            p[j] = p[j - 1];
+            ix[j] = ix[j - 1];
             j--;
-        }
-        v[j] = x;
+        } while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1]));
+        p[j] = pi;
+        ix[j] = ii;
     }
+}
+
+/* Stable bottom-up merge sort of (p, index) from input order (ties stay in index order), for a
+ * first sort of many samples; index's second half and tail are the scratch. */
+static void merge_sort_keys(aa_metric_workspace *ws, size_t n)
+{
+    double *p = ws->p, *pt = ws->tail;
+    uint32_t *ix = ws->index, *it = ws->index + ws->capacity;
+    for (size_t width = 1; width < n; width *= 2) {
+        for (size_t lo = 0; lo < n; lo += 2 * width) {
+            size_t mid = lo + width < n ? lo + width : n,
+                   hi = lo + 2 * width < n ? lo + 2 * width : n;
+            size_t i = lo, j = mid, k = lo;
+            while (i < mid && j < hi) {
+                if (p[j] < p[i]) {
+                    pt[k] = p[j];
+                    it[k++] = ix[j++];
+                } else {
+                    pt[k] = p[i];
+                    it[k++] = ix[i++];
+                }
+            }
+            while (i < mid) {
+                pt[k] = p[i];
+                it[k++] = ix[i++];
+            }
+            while (j < hi) {
+                pt[k] = p[j];
+                it[k++] = ix[j++];
+            }
+        }
+        memcpy(p, pt, n * sizeof *p);
+        memcpy(ix, it, n * sizeof *ix);
+    }
+}
+
+/* A first sort from the input order: the projections p_i (in_p, computed by the caller) with
+ * their indices, sorted. */
+static void fresh_sort(size_t n, aa_metric_workspace *ws)
+{
+    double *p = ws->p;
+    uint32_t *ix = ws->index;
+    for (size_t i = 0; i < n; i++) {
+        p[i] = ws->in_p[i];
+        ix[i] = (uint32_t)i;
+    }
+    if (n > 32) {
+        merge_sort_keys(ws, n);
+    } else {
+        for (size_t i = 1; i < n; i++) {
+            double pi = p[i];
+            uint32_t ii = ix[i];
+            size_t j = i;
+            while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1])) {
+                p[j] = p[j - 1];
+                ix[j] = ix[j - 1];
+                j--;
+            }
+            p[j] = pi;
+            ix[j] = ii;
+        }
+    }
+}
+
+/* Projects the kernel on (ct, st) into ws's arrays, sorted by (p, index). Starts from the order
+ * of the previous call when it was for the same samples (neighbouring angles of one kernel):
+ * the samples are read again in that order (the caller may have moved them), then an insertion
+ * pass; else a first sort from the input order. */
+static void project_sorted(const aa_sample *s, size_t n, double ct, double st,
+                           aa_metric_workspace *ws)
+{
+    if (ws->order_of == (const void *)s && ws->order_n == n) {
+        for (size_t k = 0; k < n; k++) {
+            const aa_sample *q = &s[ws->index[k]];
+            ws->p[k] = q->x * ct + q->y * st;
+        }
+        insertion_pass(ws, n);
+    } else {
+        for (size_t i = 0; i < n; i++)
+            ws->in_p[i] = s[i].x * ct + s[i].y * st;
+        fresh_sort(n, ws);
+    }
+    for (size_t k = 0; k < n; k++)
+        ws->w[k] = s[ws->index[k]].w;
+    ws->order_of = s;
+    ws->order_n = n;
+}
+
+/* The block's projection: the kernel's coordinates as arrays in input order (in_x, in_y), one
+ * contiguous loop (vectorised), then the keys gathered into the previous angle's order and an
+ * insertion pass, then the weights gathered into the new order. */
+static void project_block(size_t n, double ct, double st, bool first, aa_metric_workspace *ws)
+{
+    double *restrict q = ws->in_p;
+    const double *restrict x = ws->in_x, *restrict y = ws->in_y;
+    for (size_t i = 0; i < n; i++)
+        q[i] = x[i] * ct + y[i] * st;
+    if (first) {
+        fresh_sort(n, ws);
+    } else {
+        for (size_t k = 0; k < n; k++)
+            ws->p[k] = q[ws->index[k]];
+        insertion_pass(ws, n);
+    }
+    for (size_t k = 0; k < n; k++)
+        ws->w[k] = ws->in_w[ws->index[k]];
 }
 
 /* Integral over [u, v] of (c - g)^2 (and of (c - g) when want_linear) where g is filter
@@ -126,56 +248,26 @@ static void segment_integral(const aa_filter *f, int j, double c, double u, doub
     *lin += s1 * 0.5 * len;
 }
 
-/* Projects the kernel on (ct, st) into ws->proj, sorted by (p, index). Starts from the order of
- * the previous call when it was for the same samples (neighbouring angles of one kernel),
- * else from the input order; insertion sort either way (qsort beyond 160 samples without a
- * previous order). */
-static void project_sorted(const aa_sample *s, size_t n, double ct, double st,
-                           aa_metric_workspace *ws)
-{
-    aa_projection *pr = ws->proj;
-    bool reuse = ws->order_of == (const void *)s && ws->order_n == n;
-    if (reuse) {
-        for (size_t k = 0; k < n; k++) {
-            const aa_sample *q = &s[pr[k].index];
-            pr[k].p = q->x * ct + q->y * st;
-            pr[k].w = q->w;
-        }
-    } else {
-        for (size_t i = 0; i < n; i++) {
-            pr[i].p = s[i].x * ct + s[i].y * st;
-            pr[i].w = s[i].w;
-            pr[i].index = (uint32_t)i;
-        }
-    }
-    if (!reuse && n > 160)
-        qsort(pr, n, sizeof *pr, projection_cmp);
-    else
-        sort_projections(pr, n);
-    ws->order_of = s;
-    ws->order_n = n;
-}
-
-/* The quadrature sweep over ws->proj (sorted). When tail is wanted, ws->tail[k] = integral of
+/* The quadrature sweep over ws->p, ws->w (sorted). When tail is wanted, ws->tail[k] = integral of
  * (ghat - g) from -inf to the k-th sorted projection. Returns E1^2. */
 static double sweep(const aa_filter *f, size_t n, aa_metric_workspace *ws, bool want_tail)
 {
-    aa_projection *pr = ws->proj;
+    const double *pp = ws->p, *pw = ws->w;
     const double *knot = f->knot;
     int pieces = f->pieces;
-    double lo = fmin(pr[0].p, knot[0]), hi = fmax(pr[n - 1].p, knot[pieces]);
+    double lo = fmin(pp[0], knot[0]), hi = fmax(pp[n - 1], knot[pieces]);
     /* j: piece of the filter that the current point a lies in (-1 before the support). */
     int j = lo < knot[0] ? -1 : 0;
     double a = lo, c = 0, sq = 0, lin = 0;
     size_t i = 0;
-    while (i < n && pr[i].p <= a) {
+    while (i < n && pp[i] <= a) {
         if (want_tail)
             ws->tail[i] = lin;
-        c += pr[i++].w;
+        c += pw[i++];
     }
     while (a < hi) {
         double next_knot = j + 1 <= pieces ? knot[j + 1] : INFINITY;
-        double b = i < n ? fmin(pr[i].p, next_knot) : next_knot;
+        double b = i < n ? fmin(pp[i], next_knot) : next_knot;
         if (b > hi)
             b = hi;
         if (b > a)
@@ -183,10 +275,10 @@ static double sweep(const aa_filter *f, size_t n, aa_metric_workspace *ws, bool 
         a = b;
         while (j + 1 <= pieces && knot[j + 1] <= a)
             j++;
-        while (i < n && pr[i].p <= a) {
+        while (i < n && pp[i] <= a) {
             if (want_tail)
                 ws->tail[i] = lin;
-            c += pr[i++].w;
+            c += pw[i++];
         }
         if (i >= n && j >= pieces)
             break; /* beyond both: ghat = 1 = g (weights sum to 1) */
@@ -228,7 +320,7 @@ static inline double closed_gamma_value(const aa_filter *f, double a)
     return v;
 }
 
-/* Sums of the closed form over ws->proj (sorted). The line is cut at -r and r: left of -r the
+/* Sums of the closed form over ws->p, ws->w (sorted). The line is cut at -r and r: left of -r the
  * integrand is c^2, right of r (c - 1)^2 (no cancellation); in between E1^2's share is
  * V + sum (c - 1/2)^2 len + 2 sum w Gamma(p), whose terms cancel down to E1^2. They are summed
  * with a compensated (TwoSum) accumulator, so the summation adds about eps E1^2; what remains
@@ -261,9 +353,12 @@ static inline void add_weight(double *c, double *lo, double w)
     *c = x;
 }
 
-static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace *ws)
+/* want_prefix is a constant at each call site (closed_form_e1, closed_form_prefix): the E1-only
+ * copy skips the prefix integrals. */
+static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metric_workspace *ws,
+                                           const bool want_prefix)
 {
-    const aa_projection *pr = ws->proj;
+    const double *pp = ws->p, *pw = ws->w;
     double *prefix = ws->tail, r = f->radius, c = 0, lo = 0, lin = 0;
     compensated acc = {f->closed_var, 0, f->closed_var * f->closed_var};
     compensated gam = {0, 0, 0}; /* the Gamma terms: a second dependency chain */
@@ -271,18 +366,21 @@ static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace
      * region tests inside them. ws->tail[k] gets P_k = integral_{-inf}^{p_k} (ghat - g) for the
      * weight gradient: the running integral of the constant parts minus Gamma(p_k). */
     size_t i0 = 0, i1 = n;
-    while (i0 < n && !(pr[i0].p > -r))
+    while (i0 < n && !(pp[i0] > -r))
         i0++;
-    while (i1 > i0 && !(pr[i1 - 1].p < r))
+    while (i1 > i0 && !(pp[i1 - 1] < r))
         i1--;
-    double a = i0 > 0 ? pr[0].p : -r;
+    double a = i0 > 0 ? pp[0] : -r;
     for (size_t k = 0; k < i0; k++) {
-        double cc = c + lo, len = pr[k].p - a;
+        double cc = c + lo, len = pp[k] - a;
         add_term(&acc, cc * cc * len);
         lin += cc * len;
-        prefix[k] = lin;
-        add_weight(&c, &lo, pr[k].w);
-        a = pr[k].p;
+        if (want_prefix) {
+            prefix[k] = lin;
+            ws->cdf[k] = 0;
+        }
+        add_weight(&c, &lo, pw[k]);
+        a = pp[k];
     }
     if (i0 > 0) {
         double cc = c + lo, len = -r - a;
@@ -291,13 +389,21 @@ static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace
         a = -r;
     }
     for (size_t k = i0; k < i1; k++) {
-        double p = pr[k].p, u = (c - 0.5) + lo, len = p - a;
+        double p = pp[k], u = (c - 0.5) + lo, len = p - a;
         add_term(&acc, u * u * len);
         lin += u * len;
-        double big = closed_gamma_value(f, p);
-        add_term(&gam, 2 * pr[k].w * big);
-        prefix[k] = lin - big;
-        add_weight(&c, &lo, pr[k].w);
+        double big;
+        if (want_prefix) {
+            double gamma;
+            big = closed_gamma(f, p, &gamma);
+            ws->cdf[k] = 0.5 + gamma; /* g(p), as cdf_at computes it */
+        } else {
+            big = closed_gamma_value(f, p);
+        }
+        add_term(&gam, 2 * pw[k] * big);
+        if (want_prefix)
+            prefix[k] = lin - big;
+        add_weight(&c, &lo, pw[k]);
         a = p;
     }
     double u = (c - 0.5) + lo, len = r - a;
@@ -305,18 +411,33 @@ static closed_sums closed_form(const aa_filter *f, size_t n, aa_metric_workspace
     lin += u * len;
     a = r;
     for (size_t k = i1; k < n; k++) {
-        double d = (c - 1) + lo, l = pr[k].p - a;
+        double d = (c - 1) + lo, l = pp[k] - a;
         add_term(&acc, d * d * l);
         lin += d * l;
-        prefix[k] = lin;
-        add_weight(&c, &lo, pr[k].w);
-        a = pr[k].p;
+        if (want_prefix) {
+            prefix[k] = lin;
+            ws->cdf[k] = 1;
+        }
+        add_weight(&c, &lo, pw[k]);
+        a = pp[k];
     }
+    if (want_prefix)
+        ws->cdf_valid = true;
     /* Beyond the last sample the integrand is (c - 1)^2 = 0 when the weights sum to 1. */
     double spread2 = acc.sq + gam.sq;
     add_term(&acc, gam.sum);
     acc.comp += gam.comp;
     return (closed_sums){acc.sum + acc.comp, sqrt(spread2)};
+}
+
+static closed_sums closed_form_e1(const aa_filter *f, size_t n, aa_metric_workspace *ws)
+{
+    return closed_form_impl(f, n, ws, false);
+}
+
+static closed_sums closed_form_prefix(const aa_filter *f, size_t n, aa_metric_workspace *ws)
+{
+    return closed_form_impl(f, n, ws, true);
 }
 
 /* Whether the closed form's error estimate is within AA_E1_CLOSED_REL_ERROR (metric.h). */
@@ -325,15 +446,15 @@ static bool closed_acceptable(const closed_sums *cs)
     return cs->spread * AA_E1_CLOSED_SAFETY * 0x1.0p-52 <= AA_E1_CLOSED_REL_ERROR * cs->e1sq;
 }
 
-/* Projects, sorts and returns E1^2 by the method. With want_prefix, ws->tail[k] holds the prefix
- * integral P_k of the k-th sorted sample afterwards (the closed form always fills it; the
- * quadrature sweep only when asked). */
-static double e1_squared(const aa_filter *f, const aa_sample *s, size_t n, double ct, double st,
-                         aa_e1_method method, aa_metric_workspace *ws, bool want_prefix)
+/* E1^2 by the method over ws's sorted arrays. With want_prefix (gradients), ws->tail[k] holds
+ * the prefix integral P_k of the k-th sorted sample afterwards, and where the closed form ran,
+ * ws->cdf[k] = g(p_k) (cdf_valid), a by-product of its Gamma evaluation. */
+static double e1_squared_sorted(const aa_filter *f, size_t n, aa_e1_method method,
+                                aa_metric_workspace *ws, bool want_prefix)
 {
-    project_sorted(s, n, ct, st, ws);
+    ws->cdf_valid = false;
     if (method != AA_E1_QUADRATURE && f->closed_pieces > 0) {
-        closed_sums cs = closed_form(f, n, ws);
+        closed_sums cs = want_prefix ? closed_form_prefix(f, n, ws) : closed_form_e1(f, n, ws);
         ws->closed_condition = cs.spread / cs.e1sq;
         if (method == AA_E1_CLOSED || closed_acceptable(&cs)) {
             ws->closed_calls++;
@@ -342,6 +463,13 @@ static double e1_squared(const aa_filter *f, const aa_sample *s, size_t n, doubl
         ws->fallback_calls++;
     }
     return sweep(f, n, ws, want_prefix);
+}
+
+static double e1_squared(const aa_filter *f, const aa_sample *s, size_t n, double ct, double st,
+                         aa_e1_method method, aa_metric_workspace *ws, bool want_prefix)
+{
+    project_sorted(s, n, ct, st, ws);
+    return e1_squared_sorted(f, n, method, ws, want_prefix);
 }
 
 int aa_e1_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct, double st,
@@ -379,28 +507,26 @@ static double cdf_at(const aa_filter *f, double p)
     return 0.5 + gamma;
 }
 
-int aa_e1_gradient_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct,
-                                double st, aa_e1_method method, aa_metric_workspace *ws, double *e1,
-                                double *dx, double *dy, double *dw)
+/* The gradient at one direction from ws's sorted arrays and tail (E1 = e): written to dx, dy, dw
+ * (each may be NULL), or added times factor when accumulate. */
+static void gradient_sorted(const aa_filter *f, size_t n, double ct, double st, double e,
+                            double factor, bool accumulate, const aa_metric_workspace *ws,
+                            double *dx, double *dy, double *dw)
 {
-    if (n == 0 || !isfinite(ct) || !isfinite(st))
-        return AA_EINVAL;
-    if (reserve(ws, n))
-        return AA_ENOMEM;
-    double e = sqrt(e1_squared(f, s, n, ct, st, method, ws, dw != NULL));
-    *e1 = e;
     double inv = e > 0 ? 1.0 / e : 0;
-    const aa_projection *pr = ws->proj;
+    const double *pp = ws->p, *pw = ws->w;
+    const uint32_t *ix = ws->index;
     if (dx || dy) {
-        double before = 0; /* S_i: weight sorted before i */
+        double sorted_before = 0; /* S_i: weight sorted before i */
         for (size_t k = 0; k < n; k++) {
-            double w = pr[k].w;
-            double dp = w * (2 * cdf_at(f, pr[k].p) - 2 * before - w) * 0.5 * inv;
+            double w = pw[k];
+            double g = ws->cdf_valid ? ws->cdf[k] : cdf_at(f, pp[k]);
+            double dp = w * (2 * g - 2 * sorted_before - w) * 0.5 * inv;
             if (dx)
-                dx[pr[k].index] = dp * ct;
+                dx[ix[k]] = accumulate ? dx[ix[k]] + factor * (dp * ct) : dp * ct;
             if (dy)
-                dy[pr[k].index] = dp * st;
-            before += w;
+                dy[ix[k]] = accumulate ? dy[ix[k]] + factor * (dp * st) : dp * st;
+            sorted_before += w;
         }
     }
     if (dw) {
@@ -410,10 +536,75 @@ int aa_e1_gradient_at_direction(const aa_filter *f, const aa_sample *s, size_t n
         for (size_t k = 0; k < n; k++)
             mean += ws->tail[k];
         mean /= (double)n;
-        for (size_t k = 0; k < n; k++)
-            dw[pr[k].index] = (mean - ws->tail[k]) * inv;
+        for (size_t k = 0; k < n; k++) {
+            double g = (mean - ws->tail[k]) * inv;
+            dw[ix[k]] = accumulate ? dw[ix[k]] + factor * g : g;
+        }
     }
+}
+
+int aa_e1_gradient_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct,
+                                double st, aa_e1_method method, aa_metric_workspace *ws, double *e1,
+                                double *dx, double *dy, double *dw)
+{
+    if (n == 0 || !isfinite(ct) || !isfinite(st))
+        return AA_EINVAL;
+    if (reserve(ws, n))
+        return AA_ENOMEM;
+    double e = sqrt(e1_squared(f, s, n, ct, st, method, ws, dx || dy || dw));
+    *e1 = e;
+    gradient_sorted(f, n, ct, st, e, 1, false, ws, dx, dy, dw);
     return AA_OK;
+}
+
+/* The kernel x angle block: one copy of the samples into the arrays, then per direction a
+ * vectorised projection, an insertion pass, the E1 sums and (when factor[a] != 0 and wanted)
+ * the gradient accumulated. */
+static int kernel_block(const aa_filter *f, const aa_sample *s, size_t n, const double *dir_c,
+                        const double *dir_s, size_t na, const double *factor, aa_e1_method method,
+                        aa_metric_workspace *ws, double *e1, double *gx, double *gy, double *gw)
+{
+    if (n == 0)
+        return AA_EINVAL;
+    for (size_t a = 0; a < na; a++)
+        if (!isfinite(dir_c[a]) || !isfinite(dir_s[a]))
+            return AA_EINVAL;
+    if (reserve(ws, n))
+        return AA_ENOMEM;
+    bool want_grad = factor && (gx || gy || gw);
+    for (size_t i = 0; i < n; i++) {
+        ws->in_x[i] = s[i].x;
+        ws->in_y[i] = s[i].y;
+        ws->in_w[i] = s[i].w;
+    }
+    for (size_t a = 0; a < na; a++) {
+        double ct = dir_c[a], st = dir_s[a];
+        project_block(n, ct, st, a == 0, ws);
+        bool grad = want_grad && factor[a] != 0;
+        double e = sqrt(e1_squared_sorted(f, n, method, ws, grad));
+        e1[a] = e;
+        if (grad && e > 0)
+            gradient_sorted(f, n, ct, st, e, factor[a], true, ws, gx, gy, gw);
+    }
+    /* the arrays hold s's order now: a following single call may start from it */
+    ws->order_of = s;
+    ws->order_n = n;
+    return AA_OK;
+}
+
+int aa_e1_kernel_block(const aa_filter *f, const aa_sample *s, size_t n, const double *dir_c,
+                       const double *dir_s, size_t na, aa_e1_method method, aa_metric_workspace *ws,
+                       double *e1)
+{
+    return kernel_block(f, s, n, dir_c, dir_s, na, NULL, method, ws, e1, NULL, NULL, NULL);
+}
+
+int aa_e1_gradient_kernel_block(const aa_filter *f, const aa_sample *s, size_t n,
+                                const double *dir_c, const double *dir_s, size_t na,
+                                const double *factor, aa_e1_method method, aa_metric_workspace *ws,
+                                double *e1, double *gx, double *gy, double *gw)
+{
+    return kernel_block(f, s, n, dir_c, dir_s, na, factor, method, ws, e1, gx, gy, gw);
 }
 
 int aa_e1_gradient_at_angle(const aa_filter *f, const aa_sample *s, size_t n, double theta,

@@ -29,21 +29,29 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "acuity.h"
 #include "aa_core.h"
 #include "aa_pattern.h"
 
 /* Scratch memory for the per-angle computation; reuse it across calls to avoid allocation.
- * One workspace per thread. It also remembers the sorted order of the last kernel it saw
- * (identified by its sample pointer and count): the next angle of the same kernel starts its
- * insertion sort from that order, nearly linear for neighbouring angles. The result never
- * depends on it (ties are ordered by input index either way). */
+ * One workspace per thread. The projections are kept sorted as a structure of arrays (p, w,
+ * index). The kernel-block functions also keep the kernel's samples as arrays in input order
+ * (in_x, in_y, in_w), so that projecting on a direction is one contiguous loop the compiler
+ * vectorises, and the sort then moves keys and indices only. The workspace remembers the sorted
+ * order of the last kernel it saw (identified by its sample pointer and count): the next angle
+ * of the same kernel starts its insertion sort from that order, nearly linear for neighbouring
+ * angles. The result never depends on it (ties are ordered by input index either way). */
 typedef struct aa_metric_workspace {
     size_t capacity;
-    struct aa_projection *proj;
-    double *tail;         /* prefix integrals for the weight gradient */
-    const void *order_of; /* samples whose sorted order proj holds (NULL: none) */
+    double *p, *w;                     /* [capacity] each, in sorted order */
+    uint32_t *index;                   /* input position of each sorted entry */
+    double *in_x, *in_y, *in_w, *in_p; /* the block's kernel and projection, input order */
+    double *tail;                      /* prefix integrals for the weight gradient */
+    double *cdf;          /* g(p_k) of the sorted projections, from the closed form's prefix pass */
+    bool cdf_valid;       /* cdf holds the current projections' values */
+    const void *order_of; /* samples whose sorted order the arrays hold (NULL: none) */
     size_t order_n;
     long closed_calls, fallback_calls; /* how often the closed form was conditioned enough */
     double closed_condition; /* of the last closed form: sqrt(sum of its squared terms) / E1^2 */
@@ -80,6 +88,24 @@ int aa_e1_gradient_at_angle(const aa_filter *f, const aa_sample *s, size_t n, do
 int aa_e1_gradient_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct,
                                 double st, aa_e1_method method, aa_metric_workspace *ws, double *e1,
                                 double *dx, double *dy, double *dw);
+
+/* One kernel at na directions (dir_c/dir_s from aa_metric_direction, neighbouring directions
+ * next to each other for the sort reuse): the kernel × angle block of whole-pattern E2. The
+ * samples are copied once into the workspace's arrays, each direction is projected by one
+ * vectorised loop and sorted by an insertion pass over the previous direction's order. e1[na]
+ * gets the same numbers as aa_e1_at_direction per direction (bit for bit: same sums, same
+ * order). Errors as aa_e1_at_direction. */
+int aa_e1_kernel_block(const aa_filter *f, const aa_sample *s, size_t n, const double *dir_c,
+                       const double *dir_s, size_t na, aa_e1_method method, aa_metric_workspace *ws,
+                       double *e1);
+/* The same block with the gradient of sum_a factor[a] E1_a: e1[na] as above, and gx, gy, gw
+ * (n each, each may be NULL) get += factor[a] * (dx, dy, dw of aa_e1_gradient_at_direction) for
+ * every direction with factor[a] != 0 and E1_a > 0 (at E1 = 0 the gradient is not defined).
+ * Directions with factor 0 cost what aa_e1_kernel_block costs. */
+int aa_e1_gradient_kernel_block(const aa_filter *f, const aa_sample *s, size_t n,
+                                const double *dir_c, const double *dir_s, size_t na,
+                                const double *factor, aa_e1_method method, aa_metric_workspace *ws,
+                                double *e1, double *gx, double *gy, double *gw);
 
 typedef struct aa_metric_params {
     const aa_filter *filter;
