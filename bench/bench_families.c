@@ -37,6 +37,23 @@ static double cpu_per_worker(void *user)
     return ((double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec) / *(const int *)user;
 }
 
+typedef struct trace_state {
+    double last_e2, last_t;
+} trace_state;
+
+/* --trace: the best E2 against the budget's clock, at improvements (at most every 5 s) */
+static int trace_progress(void *user, const aa_optimize_progress *p)
+{
+    trace_state *ts = user;
+    if (p->best_e2 < ts->last_e2 && p->seconds - ts->last_t >= 5) {
+        printf("  trace %7.1f s  %.4f  (%ld steps)\n", p->seconds, p->best_e2, p->iterations);
+        fflush(stdout);
+        ts->last_e2 = p->best_e2;
+        ts->last_t = p->seconds;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *acuity_name = "naiman";
@@ -47,6 +64,10 @@ int main(int argc, char **argv)
     int workers = 2;
     unsigned long long rng_seed = 1;
     const char *only = NULL;
+    long seed_pool = -1; /* -1: the default (as optimize jobs) */
+    bool trace = false;
+    double perturb_sigma = 0;
+    int perturb_stall = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             family_seconds = 4;
@@ -70,6 +91,14 @@ int main(int argc, char **argv)
             acuity_name = argv[++i];
         } else if (!strcmp(argv[i], "--cpu-clock")) {
             cpu_clock = true;
+        } else if (!strcmp(argv[i], "--seed-pool") && i + 1 < argc) {
+            seed_pool = atol(argv[++i]);
+        } else if (!strcmp(argv[i], "--perturb-sigma") && i + 1 < argc) {
+            perturb_sigma = atof(argv[++i]);
+        } else if (!strcmp(argv[i], "--perturb-stall") && i + 1 < argc) {
+            perturb_stall = atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--trace")) {
+            trace = true;
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             only = argv[++i];
         } else {
@@ -126,9 +155,17 @@ int main(int argc, char **argv)
         if (aa_family_perturbable(&fam))
             mp.perturb.rounds = AA_PERTURB_UNTIL_STALL;
 
+        if (perturb_sigma > 0)
+            mp.perturb.sigma = perturb_sigma;
+        if (perturb_stall > 0)
+            mp.perturb.stall = perturb_stall;
+        if (seed_pool >= 0)
+            mp.seed_pool = (size_t)seed_pool;
+
         aa_pattern best;
         aa_multistart_result r;
-        int rc = aa_multistart(&mp, &metric, NULL, NULL, &best, &r, &err);
+        trace_state ts = {INFINITY, -1};
+        int rc = aa_multistart(&mp, &metric, trace ? trace_progress : NULL, &ts, &best, &r, &err);
         if (rc && rc != AA_ECANCELED) {
             fprintf(stderr, "%s: %s\n", cases[c].label, err.message);
             return 1;
@@ -140,6 +177,12 @@ int main(int argc, char **argv)
         fflush(stdout);
         total++;
         short_count += diff > 0.005;
+        if (trace)
+            for (size_t s = 0; s < r.seed_count; s++)
+                if (!isnan(r.per_seed[s].e2))
+                    printf("  seed %zu: %s %.4f -> %.4f (%ld steps)\n", s,
+                           r.per_seed[s].kind == AA_SEED_POISSON ? "poisson" : "other",
+                           r.per_seed[s].initial_e2, r.per_seed[s].e2, r.per_seed[s].iterations);
         aa_pattern_free(&best);
         aa_multistart_result_free(&r);
     }

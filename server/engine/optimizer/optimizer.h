@@ -189,6 +189,11 @@ typedef struct aa_multistart_params {
     /* > 0: a seed's descent and its refinement together take at most this many steps (the
      * clock-free budget "seeds x max_iterations"); 0: the refinement has perturb's budgets. */
     long seed_iterations;
+    /* Family seeds that are neither given nor mirrored, > 1: each seed is the lowest-E2 of this
+     * many random patterns of its distribution (L&A Table 3's "best of 1000" start: P(16,16,4)
+     * descends from it to far lower optima than from one draw). Candidate j of seed i draws from
+     * its own stream, so the choice is deterministic per seed. 0 or 1: one draw (the default). */
+    size_t seed_pool;
 } aa_multistart_params;
 
 void aa_multistart_params_default(aa_multistart_params *p);
