@@ -67,7 +67,7 @@ int main(int argc, char **argv)
     long seed_pool = -1; /* -1: the default (as optimize jobs) */
     bool trace = false;
     double perturb_sigma = 0;
-    int perturb_stall = 0;
+    int perturb_stall = 0, perturb_redraw = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             family_seconds = 4;
@@ -97,6 +97,8 @@ int main(int argc, char **argv)
             perturb_sigma = atof(argv[++i]);
         } else if (!strcmp(argv[i], "--perturb-stall") && i + 1 < argc) {
             perturb_stall = atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--perturb-redraw") && i + 1 < argc) {
+            perturb_redraw = atoi(argv[++i]);
         } else if (!strcmp(argv[i], "--trace")) {
             trace = true;
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
@@ -159,6 +161,8 @@ int main(int argc, char **argv)
             mp.perturb.sigma = perturb_sigma;
         if (perturb_stall > 0)
             mp.perturb.stall = perturb_stall;
+        if (perturb_redraw > 0)
+            mp.perturb.redraw = perturb_redraw;
         if (seed_pool >= 0)
             mp.seed_pool = (size_t)seed_pool;
 

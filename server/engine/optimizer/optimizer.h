@@ -126,9 +126,12 @@ typedef struct aa_perturb_params {
     /* Steps of the whole search (every round's descent), a clock-free budget; 0: none (each
      * round keeps local's max_iterations). */
     long max_iterations;
+    /* Samples (distinct, chosen at random) also drawn afresh, uniformly in their own pixel, in
+     * every round: a larger move than the jitter alone; default 0. */
+    int redraw;
 } aa_perturb_params;
 #define AA_PERTURB_UNTIL_STALL 1000000000L
-/* rounds 0 (off), sigma 0.01, stall 30, no budgets of its own. */
+/* rounds 0 (off), sigma 0.01, stall 30, no budgets of its own, no redraws. */
 void aa_perturb_params_default(aa_perturb_params *pp);
 bool aa_perturbable(const aa_pattern *p);
 /* The families whose optimizations use the search: tiled (T > 1) without border samples, i.e.
