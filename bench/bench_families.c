@@ -68,6 +68,8 @@ int main(int argc, char **argv)
     bool trace = false;
     double perturb_sigma = 0;
     int perturb_stall = 0, perturb_redraw = 0;
+    long first_seed = 0;
+    bool poisson_only = false;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             family_seconds = 4;
@@ -99,6 +101,10 @@ int main(int argc, char **argv)
             perturb_stall = atoi(argv[++i]);
         } else if (!strcmp(argv[i], "--perturb-redraw") && i + 1 < argc) {
             perturb_redraw = atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--first-seed") && i + 1 < argc) {
+            first_seed = atol(argv[++i]);
+        } else if (!strcmp(argv[i], "--poisson-only")) {
+            poisson_only = true;
         } else if (!strcmp(argv[i], "--trace")) {
             trace = true;
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
@@ -163,6 +169,12 @@ int main(int argc, char **argv)
             mp.perturb.stall = perturb_stall;
         if (perturb_redraw > 0)
             mp.perturb.redraw = perturb_redraw;
+        static const aa_seed_kind poisson[1] = {AA_SEED_POISSON};
+        if (poisson_only) {
+            mp.kinds = poisson;
+            mp.kind_count = 1;
+        }
+        mp.first_seed = (size_t)first_seed;
         if (seed_pool >= 0)
             mp.seed_pool = (size_t)seed_pool;
 
