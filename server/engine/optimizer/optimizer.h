@@ -168,8 +168,8 @@ typedef struct aa_multistart_params {
     int workers;             /* 1..64 threads */
     double max_seconds;      /* whole call; <= 0: none */
     const aa_family *family; /* random seeds of this family, or NULL to use seeds[] */
-    /* Distributions used in turn; NULL: Poisson and jittered for the tiled families without
-     * border samples (aa_family_perturbable), all five otherwise. */
+    /* Distributions used in turn; NULL: Poisson disks for the tiled families without border
+     * samples (aa_family_perturbable), all five otherwise. */
     const aa_seed_kind *kinds;
     size_t kind_count;
     const aa_pattern *seeds; /* given seeds (family == NULL): seed_count of them */
@@ -187,7 +187,9 @@ typedef struct aa_multistart_params {
     size_t screen_top;
     /* After each seed's descent, iterated local search (aa_optimize_perturbed) on its result
      * when the pattern allows it; perturb.rounds = 0 (the default) turns it off. Each seed's
-     * rounds draw from their own stream, so the result stays deterministic per seed. */
+     * rounds draw from their own stream, so the result stays deterministic per seed. Default:
+     * aa_perturb_params_default with sigma 0.03 (measured on P(16,16,4), optimizer_multistart.c).
+     */
     aa_perturb_params perturb;
     /* > 0: a seed's descent and its refinement together take at most this many steps (the
      * clock-free budget "seeds x max_iterations"); 0: the refinement has perturb's budgets. */
