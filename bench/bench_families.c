@@ -4,7 +4,10 @@
  * 30 s for P(16,16,4)), --workers W (default 2), --seed K, --only LABEL, --method
  * auto|laine-aila|minimax|smooth (default auto: the step rule optimize jobs choose), --acuity
  * NAME (default naiman, version 2; naiman-envelope is version 1), --cpu-clock (budgets in the
- * process's CPU seconds divided by the workers, for a machine shared with other work). */
+ * process's CPU seconds divided by the workers, for a machine shared with other work), --trace
+ * (best E2 against the budget's clock, every seed's end point). To study the search on one
+ * family (defaults: as optimize jobs): --first-seed K, --poisson-only, --seed-pool N (each seed
+ * the best of N draws), --perturb-sigma S, --perturb-stall N, --perturb-redraw N. */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
 #include <stdio.h>
@@ -112,7 +115,10 @@ int main(int argc, char **argv)
         } else {
             fprintf(stderr,
                     "usage: %s [--quick] [--family-seconds S] [--p16-seconds S] [--workers W] "
-                    "[--seed K] [--only LABEL] [--acuity NAME] [--cpu-clock]\n",
+                    "[--seed K] [--only LABEL] [--acuity NAME] [--cpu-clock] [--trace] "
+                    "[--first-seed K] "
+                    "[--poisson-only] [--seed-pool N] [--perturb-sigma S] [--perturb-stall N] "
+                    "[--perturb-redraw N]\n",
                     argv[0]);
             return 2;
         }
