@@ -4,7 +4,10 @@
  * 30 s for P(16,16,4)), --workers W (default 2), --seed K, --only LABEL, --method
  * auto|laine-aila|minimax|smooth (default auto: the step rule optimize jobs choose), --acuity
  * NAME (default naiman, version 2; naiman-envelope is version 1), --cpu-clock (budgets in the
- * process's CPU seconds divided by the workers, for a machine shared with other work). */
+ * process's CPU seconds divided by the workers, for a machine shared with other work), --trace
+ * (best E2 against the budget's clock, every seed's end point). To study the search on one
+ * family (defaults: as optimize jobs): --first-seed K, --poisson-only, --seed-pool N (each seed
+ * the best of N draws), --perturb-sigma S, --perturb-stall N, --perturb-redraw N. */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
 #include <stdio.h>
@@ -37,6 +40,23 @@ static double cpu_per_worker(void *user)
     return ((double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec) / *(const int *)user;
 }
 
+typedef struct trace_state {
+    double last_e2, last_t;
+} trace_state;
+
+/* --trace: the best E2 against the budget's clock, at improvements (at most every 5 s) */
+static int trace_progress(void *user, const aa_optimize_progress *p)
+{
+    trace_state *ts = user;
+    if (p->best_e2 < ts->last_e2 && p->seconds - ts->last_t >= 5) {
+        printf("  trace %7.1f s  %.4f  (%ld steps)\n", p->seconds, p->best_e2, p->iterations);
+        fflush(stdout);
+        ts->last_e2 = p->best_e2;
+        ts->last_t = p->seconds;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *acuity_name = "naiman";
@@ -47,6 +67,12 @@ int main(int argc, char **argv)
     int workers = 2;
     unsigned long long rng_seed = 1;
     const char *only = NULL;
+    long seed_pool = -1; /* -1: the default (as optimize jobs) */
+    bool trace = false;
+    double perturb_sigma = 0;
+    int perturb_stall = 0, perturb_redraw = 0;
+    long first_seed = 0;
+    bool poisson_only = false;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             family_seconds = 4;
@@ -70,12 +96,29 @@ int main(int argc, char **argv)
             acuity_name = argv[++i];
         } else if (!strcmp(argv[i], "--cpu-clock")) {
             cpu_clock = true;
+        } else if (!strcmp(argv[i], "--seed-pool") && i + 1 < argc) {
+            seed_pool = atol(argv[++i]);
+        } else if (!strcmp(argv[i], "--perturb-sigma") && i + 1 < argc) {
+            perturb_sigma = atof(argv[++i]);
+        } else if (!strcmp(argv[i], "--perturb-stall") && i + 1 < argc) {
+            perturb_stall = atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--perturb-redraw") && i + 1 < argc) {
+            perturb_redraw = atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--first-seed") && i + 1 < argc) {
+            first_seed = atol(argv[++i]);
+        } else if (!strcmp(argv[i], "--poisson-only")) {
+            poisson_only = true;
+        } else if (!strcmp(argv[i], "--trace")) {
+            trace = true;
         } else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             only = argv[++i];
         } else {
             fprintf(stderr,
                     "usage: %s [--quick] [--family-seconds S] [--p16-seconds S] [--workers W] "
-                    "[--seed K] [--only LABEL] [--acuity NAME] [--cpu-clock]\n",
+                    "[--seed K] [--only LABEL] [--acuity NAME] [--cpu-clock] [--trace] "
+                    "[--first-seed K] "
+                    "[--poisson-only] [--seed-pool N] [--perturb-sigma S] [--perturb-stall N] "
+                    "[--perturb-redraw N]\n",
                     argv[0]);
             return 2;
         }
@@ -126,9 +169,25 @@ int main(int argc, char **argv)
         if (aa_family_perturbable(&fam))
             mp.perturb.rounds = AA_PERTURB_UNTIL_STALL;
 
+        if (perturb_sigma > 0)
+            mp.perturb.sigma = perturb_sigma;
+        if (perturb_stall > 0)
+            mp.perturb.stall = perturb_stall;
+        if (perturb_redraw > 0)
+            mp.perturb.redraw = perturb_redraw;
+        static const aa_seed_kind poisson[1] = {AA_SEED_POISSON};
+        if (poisson_only) {
+            mp.kinds = poisson;
+            mp.kind_count = 1;
+        }
+        mp.first_seed = (size_t)first_seed;
+        if (seed_pool >= 0)
+            mp.seed_pool = (size_t)seed_pool;
+
         aa_pattern best;
         aa_multistart_result r;
-        int rc = aa_multistart(&mp, &metric, NULL, NULL, &best, &r, &err);
+        trace_state ts = {INFINITY, -1};
+        int rc = aa_multistart(&mp, &metric, trace ? trace_progress : NULL, &ts, &best, &r, &err);
         if (rc && rc != AA_ECANCELED) {
             fprintf(stderr, "%s: %s\n", cases[c].label, err.message);
             return 1;
@@ -140,6 +199,12 @@ int main(int argc, char **argv)
         fflush(stdout);
         total++;
         short_count += diff > 0.005;
+        if (trace)
+            for (size_t s = 0; s < r.seed_count; s++)
+                if (!isnan(r.per_seed[s].e2))
+                    printf("  seed %zu: %s %.4f -> %.4f (%ld steps)\n", s,
+                           r.per_seed[s].kind == AA_SEED_POISSON ? "poisson" : "other",
+                           r.per_seed[s].initial_e2, r.per_seed[s].e2, r.per_seed[s].iterations);
         aa_pattern_free(&best);
         aa_multistart_result_free(&r);
     }

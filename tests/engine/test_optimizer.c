@@ -242,9 +242,8 @@ static void tile_sites_and_pixels_are_preserved(void **state)
 
 /* Iterated local search: never worse than its start, same family and per-pixel structure,
  * deterministic for a given rng state, refused where samples sit on borders. */
-static void perturbed_search_keeps_structure_and_is_deterministic(void **state)
+static void check_perturbed_search(int redraw)
 {
-    (void)state;
     aa_pattern seed, local, a, b;
     seed_of("P(4,4,2)", 5, &seed);
     aa_optimize_params op;
@@ -258,6 +257,7 @@ static void perturbed_search_keeps_structure_and_is_deterministic(void **state)
     aa_perturb_params_default(&pp);
     pp.rounds = 8;
     pp.sigma = 0.02;
+    pp.redraw = redraw;
     aa_rng rng;
     aa_rng_seed(&rng, 9, 1);
     assert_int_equal(
@@ -299,6 +299,13 @@ static void perturbed_search_keeps_structure_and_is_deterministic(void **state)
     aa_pattern_free(&b);
 }
 
+static void perturbed_search_keeps_structure_and_is_deterministic(void **state)
+{
+    (void)state;
+    check_perturbed_search(0);
+    check_perturbed_search(3); /* with samples drawn afresh in their pixels */
+}
+
 static void run_multistart_of(const char *label, size_t seeds, uint64_t rng_seed, long iterations,
                               long perturb_rounds, int workers, aa_pattern *best,
                               aa_multistart_result *r)
@@ -335,6 +342,40 @@ static void perturbed_multistart_is_deterministic(void **state)
         aa_pattern_free(&best);
         aa_multistart_result_free(&r);
     }
+    assert_true(e2[0] == e2[1]);
+}
+
+/* Seeds from a pool: the best of 12 draws starts lower than one draw (mean over 6 seeds), and
+ * the result is the same for 1 and 2 workers. */
+static void pooled_seeds_start_lower_and_are_deterministic(void **state)
+{
+    (void)state;
+    aa_family fam;
+    assert_int_equal(aa_family_parse("P(4,4,1)", &fam, NULL), AA_OK);
+    double mean_start[2] = {0, 0}, e2[2];
+    for (int run = 0; run < 3; run++) {
+        aa_multistart_params mp;
+        aa_multistart_params_default(&mp);
+        mp.family = &fam;
+        mp.seed_count = 6;
+        mp.workers = run == 2 ? 2 : 1;
+        mp.rng_seed = 7;
+        mp.max_seconds = 0;
+        mp.local.max_iterations = 60;
+        mp.seed_pool = run == 0 ? 1 : 12;
+        aa_pattern best;
+        aa_multistart_result r;
+        assert_int_equal(aa_multistart(&mp, &metric, NULL, NULL, &best, &r, NULL), AA_OK);
+        assert_int_equal(r.seeds_run, 6);
+        if (run < 2)
+            for (size_t i = 0; i < 6; i++)
+                mean_start[run] += r.per_seed[i].initial_e2 / 6;
+        if (run > 0)
+            e2[run - 1] = r.e2;
+        aa_pattern_free(&best);
+        aa_multistart_result_free(&r);
+    }
+    assert_true(mean_start[1] < mean_start[0]);
     assert_true(e2[0] == e2[1]);
 }
 
@@ -598,6 +639,7 @@ int main(void)
         cmocka_unit_test(every_method_is_deterministic),
         cmocka_unit_test(perturbed_search_keeps_structure_and_is_deterministic),
         cmocka_unit_test(perturbed_multistart_is_deterministic),
+        cmocka_unit_test(pooled_seeds_start_lower_and_are_deterministic),
         cmocka_unit_test(cancel_stops_within_100ms),
         cmocka_unit_test(trace_is_monotone),
         cmocka_unit_test(screened_run_reports_one_monotone_trace),

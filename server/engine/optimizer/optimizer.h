@@ -126,9 +126,12 @@ typedef struct aa_perturb_params {
     /* Steps of the whole search (every round's descent), a clock-free budget; 0: none (each
      * round keeps local's max_iterations). */
     long max_iterations;
+    /* Samples (distinct, chosen at random) also drawn afresh, uniformly in their own pixel, in
+     * every round: a larger move than the jitter alone; default 0. */
+    int redraw;
 } aa_perturb_params;
 #define AA_PERTURB_UNTIL_STALL 1000000000L
-/* rounds 0 (off), sigma 0.01, stall 30, no budgets of its own. */
+/* rounds 0 (off), sigma 0.01, stall 30, no budgets of its own, no redraws. */
 void aa_perturb_params_default(aa_perturb_params *pp);
 bool aa_perturbable(const aa_pattern *p);
 /* The families whose optimizations use the search: tiled (T > 1) without border samples, i.e.
@@ -165,8 +168,8 @@ typedef struct aa_multistart_params {
     int workers;             /* 1..64 threads */
     double max_seconds;      /* whole call; <= 0: none */
     const aa_family *family; /* random seeds of this family, or NULL to use seeds[] */
-    /* Distributions used in turn; NULL: Poisson and jittered for the tiled families without
-     * border samples (aa_family_perturbable), all five otherwise. */
+    /* Distributions used in turn; NULL: Poisson disks for the tiled families without border
+     * samples (aa_family_perturbable), all five otherwise. */
     const aa_seed_kind *kinds;
     size_t kind_count;
     const aa_pattern *seeds; /* given seeds (family == NULL): seed_count of them */
@@ -184,11 +187,18 @@ typedef struct aa_multistart_params {
     size_t screen_top;
     /* After each seed's descent, iterated local search (aa_optimize_perturbed) on its result
      * when the pattern allows it; perturb.rounds = 0 (the default) turns it off. Each seed's
-     * rounds draw from their own stream, so the result stays deterministic per seed. */
+     * rounds draw from their own stream, so the result stays deterministic per seed. Default:
+     * aa_perturb_params_default with sigma 0.03 (measured on P(16,16,4), optimizer_multistart.c).
+     */
     aa_perturb_params perturb;
     /* > 0: a seed's descent and its refinement together take at most this many steps (the
      * clock-free budget "seeds x max_iterations"); 0: the refinement has perturb's budgets. */
     long seed_iterations;
+    /* Family seeds that are neither given nor mirrored, > 1: each seed is the lowest-E2 of this
+     * many random patterns of its distribution (L&A Table 3's "best of 1000" start: P(16,16,4)
+     * descends from it to far lower optima than from one draw). Candidate j of seed i draws from
+     * its own stream, so the choice is deterministic per seed. 0 or 1: one draw (the default). */
+    size_t seed_pool;
 } aa_multistart_params;
 
 void aa_multistart_params_default(aa_multistart_params *p);

@@ -38,7 +38,7 @@ static int forward_progress(void *user, const aa_optimize_progress *p)
 
 void aa_perturb_params_default(aa_perturb_params *pp)
 {
-    *pp = (aa_perturb_params){0, 0.01, 30, 0, 0};
+    *pp = (aa_perturb_params){0, 0.01, 30, 0, 0, 0};
 }
 
 bool aa_family_perturbable(const aa_family *f)
@@ -59,8 +59,8 @@ bool aa_perturbable(const aa_pattern *p)
 
 /* The jittered neighbour of p: every sample moved by N(0, sigma^2) in x and y, kept inside its
  * own pixel (so the per-pixel structure and the cost stay), weights from the filter. */
-static int jittered_neighbour(const aa_pattern *p, double sigma, const aa_filter *filter,
-                              aa_rng *rng, aa_pattern *out, aa_error *err)
+static int jittered_neighbour(const aa_pattern *p, double sigma, int redraw,
+                              const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err)
 {
     aa_point *pts = malloc(p->tile_count * sizeof *pts);
     if (!pts)
@@ -72,6 +72,29 @@ static int jittered_neighbour(const aa_pattern *p, double sigma, const aa_filter
         pts[i].x = fmin(fmax(x + sigma * normal_deviate(rng), px + margin), px + 1 - margin);
         pts[i].y = fmin(fmax(y + sigma * normal_deviate(rng), py + margin), py + 1 - margin);
     }
+    /* Partial Fisher-Yates: the first `redraw` entries of a shuffled index list. */
+    size_t n = p->tile_count, k = redraw > 0 ? ((size_t)redraw < n ? (size_t)redraw : n) : 0;
+    size_t *order = k ? malloc(n * sizeof *order) : NULL;
+    if (k && !order) {
+        free(pts);
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    for (size_t i = 0; i < k; i++) {
+        if (i == 0)
+            for (size_t j = 0; j < n; j++)
+                order[j] = j;
+        size_t j = i + (size_t)(aa_rng_uniform(rng) * (double)(n - i));
+        if (j >= n)
+            j = n - 1;
+        size_t t = order[i];
+        order[i] = order[j];
+        order[j] = t;
+        aa_point *q = &pts[order[i]];
+        double px = floor(q->x), py = floor(q->y);
+        q->x = px + margin + (1 - 2 * margin) * aa_rng_uniform(rng);
+        q->y = py + margin + (1 - 2 * margin) * aa_rng_uniform(rng);
+    }
+    free(order);
     aa_tile_spec spec = {p->tile, p->kernel_size, p->border, p->tile_count,
                          pts,     NULL,           NULL,      filter};
     int rc = aa_pattern_from_tile(out, &spec, 0, err);
@@ -106,7 +129,8 @@ int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metri
     chain_progress chain = {progress, user, 0, 0, 0};
     for (long round = 0; round < pp->rounds && since_better < pp->stall; round++) {
         aa_pattern trial, out;
-        if ((rc = jittered_neighbour(best, pp->sigma, metric->filter, rng, &trial, err)))
+        if ((rc =
+                 jittered_neighbour(best, pp->sigma, pp->redraw, metric->filter, rng, &trial, err)))
             break;
         aa_optimize_params round_params = *local;
         if (pp->max_iterations > 0) {
