@@ -52,7 +52,8 @@ typedef enum opt_id {
     OPT_KERNEL,
     OPT_WEIGHTS,
     OPT_ANGLE,
-    OPT_BLEND
+    OPT_BLEND,
+    OPT_MODEL
 } opt_id;
 
 typedef struct opt_spec {
@@ -104,6 +105,7 @@ static const opt_spec OPTIONS[] = {
     {"size", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_SIZE},
     {"angle", 0, true, BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_ANGLE},
     {"blend", 0, true, BIT(CMD_OPTIMIZE), OPT_BLEND},
+    {"model", 0, true, BIT(CMD_PREDICT), OPT_MODEL},
     {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT) | BIT(CMD_CONVERT), OPT_OUTPUT},
     {"image", 0, true, BIT(CMD_RENDER), OPT_IMAGE},
     {"format", 'f', true, BIT(CMD_EXPORT) | BIT(CMD_CONVERT), OPT_FORMAT},
@@ -231,6 +233,7 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
     static const char *const METHODS[] = {"auto", "laine-aila", "minimax", "smooth", NULL};
     static const char *const EXECUTORS[] = {"local", "slurm", NULL};
     static const char *const IMAGES[] = {"pattern", "reference", "difference", NULL};
+    static const char *const MODELS[] = {"edge", "reference-profile", "exact", NULL};
     static const char *const FORMATS[] = {"json",        "utk",    "xyw",   "csv",
                                           "points-json", "vulkan", "d3d12", NULL};
     static const char *const POINTS_FORMATS[] = {"utk", "xyw", "csv", "json", NULL};
@@ -341,6 +344,11 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
         if (parse_double(v, -1e6, 1e6, &a->angle))
             return fail(err, cap, "--angle wants degrees, got '%s'", v);
         a->has_angle = true;
+        break;
+    case OPT_MODEL:
+        if (!one_of(v, MODELS))
+            return fail(err, cap, "--model wants edge, reference-profile or exact, got '%s'", v);
+        a->model = v;
         break;
     case OPT_BLEND:
         if (parse_double(v, 0, 1, &a->blend))

@@ -79,6 +79,8 @@ typedef struct cli_args {
     /* predict: the scene's angle (degrees) */
     double angle;
     bool has_angle;
+    /* predict --model: edge | reference-profile | exact; NULL: not sent (the daemon's edge) */
+    const char *model;
     /* optimize --scene: the blend with E2 of the scene objective */
     double blend;
     bool has_blend;

@@ -8,7 +8,38 @@
 #include "codec.h"
 
 static const char *const predict_keys[] = {"scene",     "size",        "pattern", "patterns",
-                                           "reference", "e1_by_angle", NULL};
+                                           "reference", "e1_by_angle", "model",   NULL};
+
+static const struct {
+    const char *name;
+    unsigned flags;
+} MODELS[] = {
+    {"edge", 0},
+    {"reference-profile", AA_PREDICT_REFERENCE_PROFILE},
+    {"exact", AA_PREDICT_EXACT_REFERENCE},
+};
+
+const char *proto_predict_model_name(unsigned model)
+{
+    for (size_t i = 0; i < sizeof MODELS / sizeof MODELS[0]; i++)
+        if (MODELS[i].flags == model)
+            return MODELS[i].name;
+    return NULL;
+}
+
+static int decode_model(const json_t *v, unsigned *out, aa_error *err)
+{
+    *out = 0;
+    if (!v)
+        return AA_OK;
+    for (size_t i = 0; json_is_string(v) && i < sizeof MODELS / sizeof MODELS[0]; i++)
+        if (!strcmp(json_string_value(v), MODELS[i].name)) {
+            *out = MODELS[i].flags;
+            return AA_OK;
+        }
+    return aa_error_set(err, AA_EINVAL, "model",
+                        "model must be \"edge\", \"reference-profile\" or \"exact\"");
+}
 
 void proto_predict_request_free(proto_predict_request *r)
 {
@@ -83,6 +114,8 @@ int proto_decode_predict_request(const json_t *body, proto_predict_request *out,
     if (!rc && by_angle && !json_is_boolean(by_angle))
         rc = aa_error_set(err, AA_EINVAL, "e1_by_angle", "must be true or false");
     out->e1_by_angle = json_is_true(by_angle);
+    if (!rc)
+        rc = decode_model(json_object_get(body, "model"), &out->model, err);
     if (rc)
         proto_predict_request_free(out);
     return rc;
@@ -188,7 +221,8 @@ json_t *proto_encode_predictions(const proto_predict_request *r, const aa_edge_h
     if (!list)
         return NULL;
     const aa_filter *f = r->reference.params.filter;
-    return json_pack("{s:o, s:{s:s}, s:o, s:o}", "scene", proto_encode_scene(&r->scene),
-                     "reference", "filter", f ? f->name : "mitchell", "edges", encode_edges(h),
-                     "predictions", list);
+    const char *model = proto_predict_model_name(r->model);
+    return json_pack("{s:o, s:{s:s}, s:s, s:o, s:o}", "scene", proto_encode_scene(&r->scene),
+                     "reference", "filter", f ? f->name : "mitchell", "model",
+                     model ? model : "edge", "edges", encode_edges(h), "predictions", list);
 }

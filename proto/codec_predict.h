@@ -3,11 +3,15 @@
  *
  * Request: {"scene": name | {...}, "size": [w, h], "pattern": name | {...} or
  *           "patterns": [name | {...}, ...] (exactly one of the two; at most
- *           PROTO_PREDICT_MAX_PATTERNS), "reference": {...}, "e1_by_angle": bool}
+ *           PROTO_PREDICT_MAX_PATTERNS), "reference": {...}, "e1_by_angle": bool,
+ *           "model": "edge" | "reference-profile" | "exact"}
  * scene, size and pattern as in POST /v1/render (codec_render.h); of "reference" only the filter
  * matters (spp and seed are accepted, so that a render request's body predicts as is).
  * "e1_by_angle": true adds each pattern's E1 at all 180 bins (for drawing it, as the dashboard's
- * Tiles view does); off by default, since it costs E1 at every angle, not only the scene's. */
+ * Tiles view does); off by default, since it costs E1 at every angle, not only the scene's.
+ * "model" picks predict.h's model flags: "edge" (0, the default), "reference-profile"
+ * (AA_PREDICT_REFERENCE_PROFILE) or "exact" (AA_PREDICT_EXACT_REFERENCE); E1 everywhere in the
+ * answer (angles[].e1_rms, e1_by_angle) is then measured against the same reference. */
 #ifndef AALAB_PROTO_CODEC_PREDICT_H
 #define AALAB_PROTO_CODEC_PREDICT_H
 
@@ -29,6 +33,7 @@ typedef struct proto_predict_request {
     proto_reference_spec reference; /* reference.params.filter points into it: no copies */
     bool single;                    /* "pattern" (not "patterns") */
     bool e1_by_angle;               /* answer with E1 at every bin */
+    unsigned model;                 /* predict.h's AA_PREDICT_* flags */
 } proto_predict_request;
 
 /* On error out holds nothing to free; on success free it with proto_predict_request_free.
@@ -38,7 +43,10 @@ void proto_predict_request_free(proto_predict_request *r);
 /* JSON field of pattern i as the request named it: "pattern" or "patterns[i]". */
 void proto_predict_pattern_field(const proto_predict_request *r, size_t i, char *out, size_t cap);
 
-/* {"scene", "reference": {"filter"}, "edges": {...}, "predictions": [...]}
+/* The wire name of model flags: "edge", "reference-profile", "exact" (NULL: no wire name). */
+const char *proto_predict_model_name(unsigned model);
+
+/* {"scene", "reference": {"filter"}, "model", "edges": {...}, "predictions": [...]}
  * (proto/schemas/predict_response.json). pred[i] belongs to r->patterns[i]; e1_by_angle[i]
  * (aa_predict_e1_rms at every bin), when not NULL, is encoded as predictions[i].e1_by_angle.
  * NULL on allocation failure. */

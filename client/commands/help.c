@@ -113,10 +113,13 @@ static const struct {
                "Prints the render statistics; -o - writes the PNG to stdout (stats to stderr).\n"},
     {"predict", "usage: aalab predict --pattern NAME|FILE[,NAME|FILE...] [--scene siemens-star]\n"
                 "                     [--size 256x256] [--angle DEG] [--csv]\n"
+                "                     [--model edge|reference-profile|exact]\n"
                 "The edge model's RMSE (0..255) of each pattern on the scene, as a render would\n"
                 "measure it, from the scene's edge lengths per angle and the patterns' E1\n"
                 "(docs/predict.md). Pixel-locked edges are exact; detail below the pixel scale\n"
-                "is not predicted (its image share is printed).\n"},
+                "is not predicted (its image share is printed). --model reference-profile\n"
+                "measures E1 against the render's own reference across each angle; exact adds\n"
+                "exact sums over straight edges' pixels (half-planes near 27 and 63 degrees).\n"},
     {"export", "usage: aalab export ID [--format json|utk|xyw|csv|points-json|vulkan|d3d12]\n"
                "                    [-o FILE]\n"
                "The best pattern of a job: json, aalab's pattern JSON (the default); utk, xyw,\n"

@@ -1,5 +1,5 @@
-/* aalab predict --pattern NAME|FILE[,NAME|FILE...] [--scene S] [--size WxH] [--angle DEG]:
- * the edge model's predicted RMSE of each pattern on a scene (POST /v1/predict), no render. */
+/* aalab predict --pattern NAME|FILE[,NAME|FILE...] [--scene S] [--size WxH] [--angle DEG]
+ * [--model M]: the predicted RMSE of each pattern on a scene (POST /v1/predict), no render. */
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
@@ -47,6 +47,8 @@ int predict_request(const cli_args *a, json_t **req, char *err, size_t errcap)
         json_object_set_new(r, "scene", json_string(scene));
     if (a->width > 0)
         json_object_set_new(r, "size", json_pack("[ii]", a->width, a->height));
+    if (a->model)
+        json_object_set_new(r, "model", json_string(a->model));
     *req = r;
     return 0;
 }
@@ -105,6 +107,10 @@ void predict_print(FILE *out, const json_t *resp, bool csv)
         fprintf(out, "; %.1f%% of the image is below the pixel scale (its error is not predicted)",
                 100 * sub);
     fprintf(out, "\n");
+    const char *model = json_string_value(json_object_get(resp, "model"));
+    if (model)
+        fprintf(out, "model %s, reference filter %s\n", model,
+                fmt_string(json_object_get(json_object_get(resp, "reference"), "filter")));
 }
 
 int cmd_predict(cli_session *s)

@@ -395,6 +395,9 @@ if jq -e '.render == true' <<<"$health" >/dev/null; then
   expect 0 "predict two presets and a job's pattern" -- A predict --pattern "rgss,quincunx,job:$id" --scene half-plane --angle 27 --size 64x64
   has "predicted RMSE" "predict prints the predicted RMSE"
   has "edge length" "predict prints the scene's edge length"
+  has "model edge," "predict prints the model (edge by default)"
+  expect 0 "predict with the exact model" -- A predict --pattern rgss --scene half-plane --angle 27 --size 64x64 --model exact
+  has "model exact," "predict --model exact prints the model"
   expect 2 "predict an unknown preset" -- A predict --pattern rgss,no-such-preset
 elif expected render; then bad "this build should render (health.render is false)"
 else echo "skip render: no renderer in this build"; fi

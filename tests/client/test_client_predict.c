@@ -57,6 +57,12 @@ static void parsing(void **state)
     assert_int_equal(PARSE(&a, "predict", "--pattern", "rgss", "--angle", "x"), -1);
     assert_int_equal(PARSE(&a, "render", "--pattern", "rgss", "--angle", "3", "--json"), -1);
     assert_int_equal(PARSE(&a, "predict", "--pattern", "rgss", "-o", "x.png"), -1);
+    assert_null(a.model);
+    assert_int_equal(PARSE(&a, "predict", "--pattern", "rgss", "--model", "exact"), 0);
+    assert_string_equal(a.model, "exact");
+    assert_int_equal(PARSE(&a, "predict", "--pattern", "rgss", "--model", "segments"), -1);
+    assert_non_null(strstr(err, "--model"));
+    assert_int_equal(PARSE(&a, "render", "--pattern", "rgss", "--model", "exact", "--json"), -1);
 }
 
 static void request_bodies(void **state)
@@ -78,6 +84,11 @@ static void request_bodies(void **state)
     assert_json(req, "{\"patterns\":[{\"preset\":\"rgss\"}],"
                      "\"scene\":{\"name\":\"half-plane\",\"angle\":27.5}}");
     json_decref(req);
+    cli_args m = {.command = CMD_PREDICT, .pattern = "rgss", .model = "reference-profile"};
+    assert_int_equal(predict_request(&m, &req, err, sizeof err), 0);
+    assert_json(req, "{\"patterns\":[{\"preset\":\"rgss\"}],\"scene\":\"siemens-star\","
+                     "\"model\":\"reference-profile\"}");
+    json_decref(req);
     cli_args c = {.command = CMD_PREDICT, .pattern = ","};
     assert_int_equal(predict_request(&c, &req, err, sizeof err), -1);
     cli_args d = {.command = CMD_PREDICT, .pattern = "rgss,job:../x"};
@@ -88,7 +99,7 @@ static void request_bodies(void **state)
  * star; shortened to two angles). */
 static const char ANSWER[] =
     "{\"scene\":{\"name\":\"siemens-star\",\"width\":256,\"height\":256},"
-    "\"reference\":{\"filter\":\"mitchell\"},"
+    "\"reference\":{\"filter\":\"mitchell\"},\"model\":\"exact\","
     "\"edges\":{\"total_length\":4110.2,\"locked_length\":439.0,\"subpixel_area_share\":0.0012},"
     "\"predictions\":[{\"pattern\":{\"name\":\"rgss\",\"family\":\"P(1,1,4)\","
     "\"samples_per_pixel\":4,\"kernels\":1},\"predicted_rmse\":4.25,\"locked_share\":0.125,"
@@ -113,12 +124,14 @@ static void view(void **state)
     assert_non_null(strstr(text, "9.500"));
     assert_non_null(strstr(text, "edge length 4110.2 px (439.0 px pixel-locked)"));
     assert_non_null(strstr(text, "0.1% of the image is below the pixel scale"));
+    assert_non_null(strstr(text, "\nmodel exact, reference filter mitchell\n"));
     capture_free(&c);
     predict_print(capture_begin(&c), r, true);
     text = capture_end(&c);
     assert_non_null(strstr(text, "pattern,family,spp,predicted RMSE,locked share,costliest angle"));
     assert_non_null(strstr(text, "rgss,\"P(1,1,4)\",4.000,4.250,0.125,45° 3%"));
     assert_null(strstr(text, "edge length"));
+    assert_null(strstr(text, "model exact"));
     capture_free(&c);
     json_decref(r);
 }

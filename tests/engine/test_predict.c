@@ -217,6 +217,31 @@ static void test_e1_at_every_bin(void **state)
     aa_error err = {0};
     assert_int_equal(aa_predict_e1_rms(&empty, NULL, NULL, all, &err), AA_EINVAL);
     assert_string_equal(err.field, "pattern");
+    /* Against g_θ with tables shared by the caller (as POST /v1/predict does): the values of
+     * tables built in the call, and different from E1 against g off the axes. */
+    aa_predict_tables *t = NULL;
+    assert_int_equal(aa_predict_tables_new(NULL, NULL, NULL, &t, NULL), AA_OK);
+    double own[AA_EDGE_BINS], shared[AA_EDGE_BINS];
+    assert_int_equal(
+        aa_predict_e1_rms_with(&p, NULL, NULL, AA_PREDICT_REFERENCE_PROFILE, own, NULL), AA_OK);
+    assert_int_equal(
+        aa_predict_e1_rms_tables(&p, NULL, NULL, AA_PREDICT_REFERENCE_PROFILE, t, shared, NULL),
+        AA_OK);
+    for (int d = 0; d < AA_EDGE_BINS; d++)
+        assert_true(own[d] == shared[d]);
+    assert_true(fabs(shared[30] - all[30]) > 1e-6 * all[30]);
+    aa_predict_tables_free(t);
+    /* Tables lacking a bin are refused. */
+    assert_int_equal(aa_predict_tables_new(NULL, NULL, want, &t, NULL), AA_OK);
+    assert_int_equal(
+        aa_predict_e1_rms_tables(&p, NULL, NULL, AA_PREDICT_REFERENCE_PROFILE, t, shared, &err),
+        AA_EINVAL);
+    assert_string_equal(err.field, "tables");
+    assert_int_equal(
+        aa_predict_e1_rms_tables(&p, NULL, want, AA_PREDICT_REFERENCE_PROFILE, t, shared, NULL),
+        AA_OK);
+    assert_true(shared[30] == own[30]);
+    aa_predict_tables_free(t);
     aa_pattern_free(&p);
 }
 

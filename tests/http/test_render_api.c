@@ -1,6 +1,6 @@
-/* POST /v1/render, GET /v1/tiles/{id}.png, POST /v1/predict's e1_by_angle and the render job kinds
- * through the daemon's own api_handle() (router, access checks, pattern references, worker pool),
- * no socket. */
+/* POST /v1/render, GET /v1/tiles/{id}.png, POST /v1/predict's e1_by_angle and model and the
+ * render job kinds through the daemon's own api_handle() (router, access checks, pattern
+ * references, worker pool), no socket. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -16,6 +16,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "aa_pattern.h"
+#include "aa_render.h"
 #include "api_fixture.h"
 #include "png_encode.h"
 
@@ -228,6 +230,88 @@ static void test_predict_e1_by_angle(void **state)
     expect_error("/v1/predict", "{\"pattern\":\"rgss\",\"e1_by_angle\":1}", 400, "e1_by_angle");
 }
 
+/* POST /v1/predict's model: each gives the engine's own value (aa_predict_rmse_with on the same
+ * scene, pattern and histogram) for the phase-locked 27° half-plane, the default is the edge
+ * model, the answer names the model, and a bad value is named. */
+static double engine_prediction(unsigned model)
+{
+    aa_error err = {0};
+    aa_pattern p;
+    assert_int_equal(aa_pattern_from_preset(&p, aa_preset_find("rgss"), &err), 0);
+    aa_scene_params sp = aa_scene_params_default(aa_scene_kind_from_name("half-plane"));
+    sp.width = 96;
+    sp.height = 64;
+    sp.angle_deg = 27;
+    sp.offset = 0.37;
+    aa_scene scene;
+    assert_int_equal(aa_scene_init(&scene, &sp, &err), 0);
+    aa_edge_histogram *h = malloc(sizeof *h);
+    assert_non_null(h);
+    assert_int_equal(aa_edge_histogram_of_scene(&scene, h, &err), 0);
+    aa_prediction pred;
+    assert_int_equal(aa_predict_rmse_with(&p, NULL, h, model, &pred, &err), 0);
+    free(h);
+    aa_pattern_free(&p);
+    return pred.rmse;
+}
+
+static double served_prediction(const char *model_key, const char *want_model)
+{
+    char body[256];
+    snprintf(body, sizeof body,
+             "{\"scene\":{\"name\":\"half-plane\",\"width\":96,\"height\":64,\"angle\":27,"
+             "\"offset\":0.37},\"pattern\":\"rgss\",\"e1_by_angle\":true%s}",
+             model_key);
+    api_response r = call("POST", "/v1/predict", body);
+    assert_int_equal(r.status, 200);
+    json_t *j = json_of(&r);
+    assert_string_equal(json_string_value(json_object_get(j, "model")), want_model);
+    json_t *pred = json_array_get(json_object_get(j, "predictions"), 0);
+    double rmse = json_real_value(json_object_get(pred, "predicted_rmse"));
+    /* E1 at every angle is against the same reference as the prediction's bins. */
+    json_t *top = json_array_get(json_object_get(pred, "angles"), 0);
+    double at27 = json_real_value(json_array_get(json_object_get(pred, "e1_by_angle"), 27));
+    assert_int_equal(json_integer_value(json_object_get(top, "angle")), 27);
+    assert_float_equal(at27, json_real_value(json_object_get(top, "e1_rms")), 1e-12 * at27);
+    json_decref(j);
+    api_response_free(&r);
+    return rmse;
+}
+
+static void test_predict_models(void **state)
+{
+    (void)state;
+    double edge = engine_prediction(0), profile = engine_prediction(AA_PREDICT_REFERENCE_PROFILE),
+           exact = engine_prediction(AA_PREDICT_EXACT_REFERENCE);
+    /* The three differ on this scene, so each comparison below tells the models apart. */
+    assert_true(fabs(edge - exact) > 1e-3 * exact && fabs(profile - exact) > 1e-3 * exact &&
+                fabs(edge - profile) > 1e-6 * edge);
+    double got = served_prediction("", "edge");
+    assert_float_equal(got, edge, 1e-12 * edge);
+    got = served_prediction(",\"model\":\"edge\"", "edge");
+    assert_float_equal(got, edge, 1e-12 * edge);
+    got = served_prediction(",\"model\":\"reference-profile\"", "reference-profile");
+    assert_float_equal(got, profile, 1e-12 * profile);
+    got = served_prediction(",\"model\":\"exact\"", "exact");
+    assert_float_equal(got, exact, 1e-12 * exact);
+    /* The exact sums count towards the work bound: 64 patterns on a 4096² half-plane at 27° are
+     * within it for the edge model, not for the exact one. */
+    char body[2048];
+    int n = snprintf(body, sizeof body,
+                     "{\"scene\":{\"name\":\"half-plane\",\"width\":4096,"
+                     "\"height\":4096,\"angle\":27},\"patterns\":[");
+    for (int i = 0; i < 64; i++)
+        n += snprintf(body + n, sizeof body - (size_t)n, "%s\"d3d-16x\"", i ? "," : "");
+    snprintf(body + n, sizeof body - (size_t)n, "],\"model\":\"exact\"}");
+    expect_error("/v1/predict", body, 400, "patterns");
+    snprintf(strstr(body, ",\"model\""), 20, "}");
+    api_response r = call("POST", "/v1/predict", body);
+    assert_int_equal(r.status, 200);
+    api_response_free(&r);
+    expect_error("/v1/predict", "{\"pattern\":\"rgss\",\"model\":\"segments\"}", 400, "model");
+    expect_error("/v1/predict", "{\"pattern\":\"rgss\",\"model\":3}", 400, "model");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -235,6 +319,7 @@ int main(void)
         cmocka_unit_test(test_render_errors_name_fields),
         cmocka_unit_test(test_compare_job_through_the_pool),
         cmocka_unit_test(test_predict_e1_by_angle),
+        cmocka_unit_test(test_predict_models),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -253,6 +253,13 @@ int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
 int aa_predict_e1_rms_with(const aa_pattern *p, const aa_filter *f, const bool *want,
                            unsigned model, double e1_rms[AA_EDGE_BINS], aa_error *err)
 {
+    return aa_predict_e1_rms_tables(p, f, want, model, NULL, e1_rms, err);
+}
+
+int aa_predict_e1_rms_tables(const aa_pattern *p, const aa_filter *f, const bool *want,
+                             unsigned model, const aa_predict_tables *tables,
+                             double e1_rms[AA_EDGE_BINS], aa_error *err)
+{
     memset(e1_rms, 0, AA_EDGE_BINS * sizeof e1_rms[0]);
     if (!p || p->kernel_count == 0)
         return aa_error_set(err, AA_EINVAL, "pattern", "pattern has no usable kernels");
@@ -261,15 +268,19 @@ int aa_predict_e1_rms_with(const aa_pattern *p, const aa_filter *f, const bool *
         aa_filter_default(&fd);
         f = &fd;
     }
-    aa_predict_tables *t = NULL;
-    int rc = model & AA_PREDICT_REFERENCE_PROFILE ? aa_predict_tables_new(f, NULL, want, &t, err)
-                                                  : AA_OK;
+    aa_predict_tables *own = NULL;
+    int rc = model & AA_PREDICT_REFERENCE_PROFILE && !tables
+                 ? aa_predict_tables_new(f, NULL, want, &own, err)
+                 : AA_OK;
+    if (own)
+        tables = own;
     double mean_sq[AA_EDGE_BINS];
     if (!rc)
-        rc = e1_mean_sq(p, f, want, t, mean_sq, err);
+        rc = e1_mean_sq(p, f, want, model & AA_PREDICT_REFERENCE_PROFILE ? tables : NULL, mean_sq,
+                        err);
     for (int d = 0; d < AA_EDGE_BINS && !rc; d++)
         e1_rms[d] = sqrt(mean_sq[d]);
-    aa_predict_tables_free(t);
+    aa_predict_tables_free(own);
     return rc;
 }
 

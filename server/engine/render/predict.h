@@ -82,6 +82,12 @@ int aa_predict_e1_rms(const aa_pattern *p, const aa_filter *f, const bool *want,
                       double e1_rms[AA_EDGE_BINS], aa_error *err);
 int aa_predict_e1_rms_with(const aa_pattern *p, const aa_filter *f, const bool *want,
                            unsigned model, double e1_rms[AA_EDGE_BINS], aa_error *err);
+/* aa_predict_e1_rms_with with shared tables (aa_predict_tables_new with the same filter and a
+ * want covering this one; NULL: built and freed in this call). AA_EINVAL ("tables") when they
+ * lack a bin. */
+int aa_predict_e1_rms_tables(const aa_pattern *p, const aa_filter *f, const bool *want,
+                             unsigned model, const aa_predict_tables *tables,
+                             double e1_rms[AA_EDGE_BINS], aa_error *err);
 
 /* A scene to predict on, for callbacks: aa_predict_rmse_of(user = an aa_predict_target, ...) has
  * the signature of aa_scene_objective.exact (objective_scene.h) and writes the prediction's rmse.
