@@ -43,6 +43,24 @@ static long long floor_mod(long long v, long long m)
     return r < 0 ? r + m : r;
 }
 
+/* Squared error of output point (i, j) at offset a from the edge: its tile's kernel, or the
+ * mean over the kernels of a pattern without a tile. */
+static double pixel_sq_error(const aa_pattern *p, int T, long long i, long long j, double nx,
+                             double ny, double a, double ref)
+{
+    if (p->tile > 0) {
+        size_t k = (size_t)(floor_mod(j, T) * T + floor_mod(i, T));
+        double err = step_error(&p->kernels[k], nx, ny, a, ref);
+        return err * err;
+    }
+    double s = 0;
+    for (size_t k = 0; k < p->kernel_count; k++) {
+        double err = step_error(&p->kernels[k], nx, ny, a, ref);
+        s += err * err;
+    }
+    return s / (double)p->kernel_count;
+}
+
 /* Summed squared error per unit length of the locked line p x + q y = c. The output points
  * (i + off, j + off) meet it at offsets a = (c - p x - q y) / |(p, q)| and along-line integer
  * coordinates m = p j - q i; the lattice step T (-q, p) (T the tile, keeping every pixel's
@@ -82,19 +100,7 @@ static double locked_per_length(const aa_pattern *p, const aa_filter *f, const a
             double a = d - (nx * (i + off) + ny * (j + off));
             if (fabs(a) > band)
                 continue;
-            double g = aa_edge_profile_exact(f, nx, ny, a);
-            if (p->tile > 0) {
-                size_t k = (size_t)(floor_mod(j, T) * T + floor_mod(i, T));
-                double err = step_error(&p->kernels[k], nx, ny, a, g);
-                sum += err * err;
-            } else {
-                double s = 0;
-                for (size_t k = 0; k < p->kernel_count; k++) {
-                    double err = step_error(&p->kernels[k], nx, ny, a, g);
-                    s += err * err;
-                }
-                sum += s / (double)p->kernel_count;
-            }
+            sum += pixel_sq_error(p, T, i, j, nx, ny, a, aa_edge_profile_exact(f, nx, ny, a));
         }
     return sum / period;
 }
@@ -124,19 +130,7 @@ static double segment_sum(const aa_pattern *p, const aa_edge_profile *prof,
             double t = tx * (ox - g->x0) + ty * (oy - g->y0);
             if (fabs(a) > band || t < t0 || t >= t1)
                 continue;
-            double ref = aa_edge_profile_eval(prof, a);
-            if (p->tile > 0) {
-                size_t k = (size_t)(floor_mod(j, T) * T + floor_mod(i, T));
-                double err = step_error(&p->kernels[k], nx, ny, a, ref);
-                sum += err * err;
-            } else {
-                double s = 0;
-                for (size_t k = 0; k < p->kernel_count; k++) {
-                    double err = step_error(&p->kernels[k], nx, ny, a, ref);
-                    s += err * err;
-                }
-                sum += s / (double)p->kernel_count;
-            }
+            sum += pixel_sq_error(p, T, i, j, nx, ny, a, aa_edge_profile_eval(prof, a));
         }
     return sum * g->length / len;
 }
