@@ -24,26 +24,6 @@
 #define PREDICT_SCAN_PER_WORK 64.0
 #define PREDICT_BAND_PX 16.0
 
-/* The g_θ tables aa_predict_tables_new builds for the handler's want (predict.c: one per
- * distinct |cos|, |sin| pair of the bins, 46 at most, plus one per segment). */
-static double tables_work(const aa_edge_histogram *h, bool every_bin)
-{
-    bool built[46] = {false};
-    size_t n = 0;
-    for (int d = 0; d < AA_EDGE_BINS; d++) {
-        bool locked = false;
-        for (size_t k = 0; k < h->locked_count && !locked; k++)
-            locked = aa_locked_edge_bin(&h->locked[k]) == d;
-        if (!every_bin && !(h->length[d] > 0) && !locked)
-            continue;
-        int b = d > 90 ? 180 - d : d;
-        b = b > 45 ? 90 - b : b;
-        n += !built[b];
-        built[b] = true;
-    }
-    return (double)(n + h->segment_count) * PREDICT_TABLE_WORK;
-}
-
 /* One pattern's segment sums: each segment's bounding box (plus its band) scanned, and the band's
  * pixels evaluated with up to every kernel sample. */
 static double segments_work(const aa_edge_histogram *h, size_t samples)
@@ -59,14 +39,15 @@ static double segments_work(const aa_edge_histogram *h, size_t samples)
     return work;
 }
 
-static int check_work(const proto_predict_request *rq, const aa_edge_histogram *h, aa_error *err)
+static int check_work(const proto_predict_request *rq, const aa_edge_histogram *h, const bool *want,
+                      aa_error *err)
 {
     size_t angles = 0;
     for (int d = 0; d < AA_EDGE_BINS; d++)
         angles += h->length[d] > 0 || d == 0 || d == 90;
     if (rq->e1_by_angle)
         angles += AA_EDGE_BINS;
-    double work = rq->model ? tables_work(h, rq->e1_by_angle) : 0;
+    double work = rq->model ? (double)aa_predict_tables_count(h, want) * PREDICT_TABLE_WORK : 0;
     for (size_t i = 0; i < rq->pattern_count; i++) {
         size_t samples = aa_pattern_total_kernel_samples(&rq->patterns[i]);
         work += (double)samples * (double)angles;
@@ -110,17 +91,16 @@ void handle_predict(api_context *ctx, const api_request *req, api_response *resp
     }
     if (!rc)
         rc = aa_edge_histogram_of_scene(&scene, h, &err);
-    if (!rc)
-        rc = check_work(&rq, h, &err);
     /* The model's g_θ tables, once per request and read-only across the patterns: the scene's
      * bins and segments, and every bin when E1 is wanted at every angle. */
+    bool want[AA_EDGE_BINS];
+    for (int d = 0; !rc && d < AA_EDGE_BINS; d++)
+        want[d] = rq.e1_by_angle || h->length[d] > 0;
+    if (!rc)
+        rc = check_work(&rq, h, want, &err);
     aa_predict_tables *tables = NULL;
-    if (!rc && rq.model) {
-        bool every[AA_EDGE_BINS];
-        for (int d = 0; d < AA_EDGE_BINS; d++)
-            every[d] = rq.e1_by_angle || h->length[d] > 0;
-        rc = aa_predict_tables_new(rq.reference.params.filter, h, every, &tables, &err);
-    }
+    if (!rc && rq.model)
+        rc = aa_predict_tables_new(rq.reference.params.filter, h, want, &tables, &err);
     for (size_t i = 0; !rc && i < rq.pattern_count; i++) {
         char field[32];
         proto_predict_pattern_field(&rq, i, field, sizeof field);

@@ -10,8 +10,6 @@
 
 typedef struct scene_bridge {
     const shard_ctx *ctx;
-    const aa_filter *filter;
-    const aa_edge_histogram *h;
     double max_seconds;
     long max_iterations;
     double last_post;
@@ -23,17 +21,15 @@ static int scene_progress(void *user, const aa_scene_progress *p)
     double f = b->max_seconds > 0 ? p->seconds / b->max_seconds
                                   : (double)p->iterations / (double)b->max_iterations;
     json_t *best = NULL;
-    /* The pattern JSON and the prediction are the expensive part: at most 10 a second. */
+    /* The pattern JSON is the expensive part: at most 10 a second. p->scene is the exact
+     * prediction (the objective's exact callback, aa_predict_rmse_of). */
     if (p->best && p->seconds - b->last_post >= 0.1) {
         b->last_post = p->seconds;
-        aa_prediction pred;
         json_t *pj = proto_encode_pattern(p->best);
-        if (pj && !aa_predict_rmse(p->best, b->filter, b->h, &pred, NULL))
+        if (pj)
             best = json_pack("{s:o,s:o,s:o,s:o}", "pattern", pj, "e2", proto_real(p->e2),
-                             "predicted_rmse", proto_real(pred.rmse), "objective",
+                             "predicted_rmse", proto_real(p->scene), "objective",
                              proto_real(p->objective));
-        else
-            json_decref(pj);
     }
     bool stop =
         b->ctx->progress && b->ctx->progress(b->ctx->user, 0.5 + 0.5 * fmin(fmax(f, 0), 1), best);
@@ -71,7 +67,7 @@ int kind_optimize_scene_refine(const proto_optimize_spec *op, const aa_metric_pa
     /* F = 1 at the global-E2 optimum: both terms relative to it. */
     sp.scene_ref = opt_pred.rmse;
     sp.e2_ref = out->e2;
-    scene_bridge b = {ctx, o.filter, &h, seconds, sp.local.max_iterations, -1};
+    scene_bridge b = {ctx, seconds, sp.local.max_iterations, -1};
     aa_pattern best;
     aa_scene_optimize_result r;
     rc = aa_optimize_scene(&out->best, metric, &o, &sp, scene_progress, &b, &best, &r, err);
@@ -79,16 +75,14 @@ int kind_optimize_scene_refine(const proto_optimize_spec *op, const aa_metric_pa
         aa_pattern_free(&best);
         return rc;
     }
-    aa_evaluation ev;
-    aa_prediction pred;
-    if ((rc = aa_evaluate(&best, metric, &ev, err)) ||
-        (rc = aa_predict_rmse(&best, o.filter, &h, &pred, err))) {
+    aa_evaluation ev; /* for the argmax; r.scene is already the exact prediction */
+    if ((rc = aa_evaluate(&best, metric, &ev, err))) {
         aa_pattern_free(&best);
         return rc;
     }
     out->scene = (proto_scene_objective_result){.spec = op->objective,
                                                 .objective = r.objective,
-                                                .predicted_rmse = pred.rmse,
+                                                .predicted_rmse = r.scene,
                                                 .e2 = ev.e2,
                                                 .optimum_predicted_rmse = opt_pred.rmse,
                                                 .optimum_e2 = out->e2};

@@ -62,7 +62,7 @@ typedef struct aa_scene_optimize_params {
 
 typedef struct aa_scene_optimize_result {
     double objective; /* F of the best */
-    double scene;     /* its S (folded bins) */
+    double scene;     /* its S: o->exact's value when set, else the folded bins' */
     double e2;        /* its true E2 */
     double initial_objective, initial_scene, initial_e2;
     double scene_ref, e2_ref;

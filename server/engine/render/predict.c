@@ -141,6 +141,17 @@ static int segment_bin(const aa_edge_segment *g)
     return aa_edge_bin(atan2(g->x1 - g->x0, -(g->y1 - g->y0)) * 180 / PI);
 }
 
+/* f, or the default filter in *fd when f is NULL. */
+static const aa_filter *filter_or_default(const aa_filter *f, aa_filter *fd)
+{
+    if (f)
+        return f;
+    aa_filter_default(fd);
+    return fd;
+}
+
+#define PROFILE_BINS 46
+
 /* The profile bin 0..45 sharing bin d's g_θ (it depends on |cos θ| and |sin θ| only). */
 static int profile_bin(int d)
 {
@@ -152,39 +163,48 @@ static int profile_bin(int d)
 
 /* The g_θ tables: one per distinct bin profile, one per kept segment (at its exact angle). */
 struct aa_predict_tables {
-    bool built[46];
-    aa_edge_profile bin[46];
+    bool built[PROFILE_BINS];
+    aa_edge_profile bin[PROFILE_BINS];
     size_t segment_count;
     aa_edge_profile segment[AA_EDGE_MAX_SEGMENTS];
 };
+
+/* Marks the profile bins (0..45) the tables need: where want[d] (NULL: where h has length),
+ * and the bins of h's locked edges. Returns how many. */
+static size_t needed_profile_bins(const aa_edge_histogram *h, const bool *want,
+                                  bool need[PROFILE_BINS])
+{
+    memset(need, 0, PROFILE_BINS * sizeof need[0]);
+    for (int d = 0; d < AA_EDGE_BINS; d++)
+        if (want ? want[d] : !h || h->length[d] > 0)
+            need[profile_bin(d)] = true;
+    for (size_t k = 0; h && k < h->locked_count; k++)
+        need[profile_bin(aa_locked_edge_bin(&h->locked[k]))] = true;
+    size_t n = 0;
+    for (int b = 0; b < PROFILE_BINS; b++)
+        n += need[b];
+    return n;
+}
+
+size_t aa_predict_tables_count(const aa_edge_histogram *h, const bool *want)
+{
+    bool need[PROFILE_BINS];
+    return needed_profile_bins(h, want, need) + (h ? h->segment_count : 0);
+}
 
 int aa_predict_tables_new(const aa_filter *f, const aa_edge_histogram *h, const bool *want,
                           aa_predict_tables **out, aa_error *err)
 {
     *out = NULL;
     aa_filter fd;
-    if (!f) {
-        aa_filter_default(&fd);
-        f = &fd;
-    }
+    f = filter_or_default(f, &fd);
     aa_predict_tables *t = calloc(1, sizeof *t);
     if (!t)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    for (int d = 0; d < AA_EDGE_BINS; d++) {
-        bool need = want ? want[d] : !h || h->length[d] > 0;
-        int b = profile_bin(d);
-        if (need && !t->built[b]) {
+    needed_profile_bins(h, want, t->built);
+    for (int b = 0; b < PROFILE_BINS; b++)
+        if (t->built[b])
             aa_edge_profile_init(&t->bin[b], f, b * PI / 180.0);
-            t->built[b] = true;
-        }
-    }
-    for (size_t k = 0; h && k < h->locked_count; k++) {
-        int b = profile_bin(aa_locked_edge_bin(&h->locked[k]));
-        if (!t->built[b]) {
-            aa_edge_profile_init(&t->bin[b], f, b * PI / 180.0);
-            t->built[b] = true;
-        }
-    }
     for (size_t k = 0; h && k < h->segment_count; k++) {
         const aa_edge_segment *g = &h->segment[k];
         aa_edge_profile_init(&t->segment[k], f, atan2(g->x1 - g->x0, -(g->y1 - g->y0)));
@@ -258,10 +278,7 @@ int aa_predict_e1_rms_tables(const aa_pattern *p, const aa_filter *f, const bool
     if (!p || p->kernel_count == 0)
         return aa_error_set(err, AA_EINVAL, "pattern", "pattern has no usable kernels");
     aa_filter fd;
-    if (!f) {
-        aa_filter_default(&fd);
-        f = &fd;
-    }
+    f = filter_or_default(f, &fd);
     aa_predict_tables *own = NULL;
     int rc = model & AA_PREDICT_REFERENCE_PROFILE && !tables
                  ? aa_predict_tables_new(f, NULL, want, &own, err)
@@ -298,10 +315,7 @@ int aa_predict_rmse_tables(const aa_pattern *p, const aa_filter *f, const aa_edg
     if (!p || p->kernel_count == 0 || (p->tile > 0 && p->kernel_count != (size_t)p->tile * p->tile))
         return aa_error_set(err, AA_EINVAL, "pattern", "pattern has no usable kernels");
     aa_filter fd;
-    if (!f) {
-        aa_filter_default(&fd);
-        f = &fd;
-    }
+    f = filter_or_default(f, &fd);
     aa_predict_tables *own = NULL;
     if (model && !tables) {
         int rc = aa_predict_tables_new(f, h, NULL, &own, err);

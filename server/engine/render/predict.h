@@ -67,6 +67,8 @@ typedef struct aa_predict_tables aa_predict_tables;
 int aa_predict_tables_new(const aa_filter *f, const aa_edge_histogram *h, const bool *want,
                           aa_predict_tables **out, aa_error *err);
 void aa_predict_tables_free(aa_predict_tables *t);
+/* How many g_θ tables aa_predict_tables_new(f, h, want) builds (for callers that cap work). */
+size_t aa_predict_tables_count(const aa_edge_histogram *h, const bool *want);
 
 /* aa_predict_rmse_with with tables from aa_predict_tables_new(f, h, NULL) (NULL: built and freed
  * in this call). AA_EINVAL ("tables") when they lack a bin the histogram needs. */
