@@ -69,41 +69,23 @@ static int optimize_stage(const aa_pattern *seed, const aa_metric_params *metric
     aa_optimize_params_default(&op);
     op.mode = mode;
     op.method = method;
-    op.max_seconds = seconds;
+    op.max_seconds = seconds; /* 0: the search runs until it stalls */
     op.max_iterations = proto_optimizer_spec_iterations(&sp->common, 1000000);
     op.stall_iterations = 2000;
     op.clock = b->ctx->clock;
-    int rc = aa_optimize(seed, metric, &op, opt_bridge_progress, b, out, r, err);
+    /* Opt W+P: the descent stops at a kink within its budget, iterated local search from its
+     * optimum spends the rest (as optimize jobs do for tiled families); the spec's
+     * max_iterations bounds the stage's whole work. */
+    aa_perturb_params pp;
+    aa_perturb_params_default(&pp);
+    pp.rounds = AA_PERTURB_UNTIL_STALL;
+    aa_rng rng;
+    aa_rng_seed(&rng, sp->common.rng_seed, PERTURB_STREAM);
+    memset(r, 0, sizeof *r);
+    int rc = aa_optimize_refined(seed, metric, &op, sp->common.max_iterations, &pp, &rng,
+                                 opt_bridge_progress, b, out, r, err);
     opt_bridge_add(b, r->iterations, r->evaluations, r->seconds);
-    /* Without a time budget (seconds 0) the search runs until it stalls. */
-    /* The spec's max_iterations bounds the stage's whole work, its refinement included. */
-    long refine_steps =
-        sp->common.max_iterations > 0 ? sp->common.max_iterations - r->iterations : 0;
-    if (rc == AA_OK && mode == AA_OPTIMIZE_BOTH && aa_perturbable(out) &&
-        (seconds <= 0 || r->seconds < seconds) &&
-        (sp->common.max_iterations <= 0 || refine_steps > 0)) {
-        /* The descent stops at a kink within seconds: spend the rest of the stage's budget on
-         * iterated local search from its optimum (as optimize jobs do for tiled families). */
-        aa_perturb_params pp;
-        aa_perturb_params_default(&pp);
-        pp.rounds = AA_PERTURB_UNTIL_STALL;
-        pp.max_seconds = seconds > 0 ? seconds - r->seconds : 0;
-        pp.max_iterations = refine_steps;
-        aa_rng rng;
-        aa_rng_seed(&rng, sp->common.rng_seed, PERTURB_STREAM);
-        aa_pattern refined;
-        aa_optimize_result rr;
-        int prc = aa_optimize_perturbed(out, metric, &op, &pp, &rng, opt_bridge_progress, b,
-                                        &refined, &rr, err);
-        if (prc == AA_OK || prc == AA_ECANCELED) {
-            opt_bridge_add(b, rr.iterations, rr.evaluations, rr.seconds);
-            aa_pattern_free(out);
-            *out = refined;
-            aa_optimize_result_chain(r, &rr);
-            rc = prc; /* AA_ECANCELED: the job was cancelled */
-        }
-    }
-    return rc;
+    return rc; /* AA_ECANCELED: the job was cancelled, *out is the best so far */
 }
 
 static int plan(const void *params, int stage, const json_t *prior, size_t max_shards,

@@ -306,6 +306,73 @@ static void perturbed_search_keeps_structure_and_is_deterministic(void **state)
     check_perturbed_search(3); /* with samples drawn afresh in their pixels */
 }
 
+/* Progress of a descent-then-search stage: what the caller saw, checked as it comes. */
+typedef struct stage_watch {
+    int calls;
+    double fraction;
+    long iterations;
+} stage_watch;
+
+static int watch_stage(void *user, const aa_optimize_progress *p)
+{
+    stage_watch *w = user;
+    assert_true(p->fraction >= w->fraction && p->fraction <= 1);
+    assert_true(p->iterations >= w->iterations);
+    w->fraction = p->fraction;
+    w->iterations = p->iterations;
+    w->calls++;
+    return 0;
+}
+
+/* aa_optimize_refined is the descent, then the search for the rest of the stage's steps, as
+ * one run: the same pattern and counts as the two calls made by hand, and a progress whose
+ * fraction (steps spent of the stage's) and counters never step back across the two. */
+static void refined_stage_is_descent_then_search(void **state)
+{
+    (void)state;
+    aa_pattern seed, by_hand, descended, refined;
+    seed_of("P(4,4,2)", 5, &seed);
+    aa_optimize_params op;
+    aa_optimize_params_default(&op);
+    op.max_iterations = 400;
+    op.max_seconds = 0;
+    op.stall_iterations = 100;
+    const long stage_steps = 1500;
+    aa_perturb_params pp;
+    aa_perturb_params_default(&pp);
+    pp.rounds = AA_PERTURB_UNTIL_STALL;
+    pp.stall = 4;
+    aa_rng rng;
+    aa_rng_seed(&rng, 3, 7);
+    stage_watch w = {0, 0, 0};
+    aa_optimize_result r, rd, rs;
+    assert_int_equal(aa_optimize_refined(&seed, &metric, &op, stage_steps, &pp, &rng, watch_stage,
+                                         &w, &refined, &r, NULL),
+                     AA_OK);
+    assert_true(w.calls > 0);
+    assert_true(r.iterations <= stage_steps);
+    assert_true(w.iterations <= r.iterations);
+    assert_true(w.fraction <= (double)r.iterations / (double)stage_steps + 1e-12);
+
+    assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &descended, &rd, NULL), AA_OK);
+    assert_true(rd.iterations < stage_steps); /* the search ran: the case under test */
+    aa_perturb_params rest = pp;
+    rest.max_iterations = stage_steps - rd.iterations;
+    aa_rng_seed(&rng, 3, 7);
+    assert_int_equal(aa_optimize_perturbed(&descended, &metric, &op, &rest, &rng, NULL, NULL,
+                                           &by_hand, &rs, NULL),
+                     AA_OK);
+    assert_true(rs.iterations > 0);
+    assert_int_equal(r.iterations, rd.iterations + rs.iterations);
+    assert_true(r.e2 == rs.e2);
+    assert_memory_equal(refined.tile_samples, by_hand.tile_samples,
+                        refined.tile_count * sizeof *refined.tile_samples);
+    aa_pattern_free(&seed);
+    aa_pattern_free(&descended);
+    aa_pattern_free(&by_hand);
+    aa_pattern_free(&refined);
+}
+
 static void run_multistart_of(const char *label, size_t seeds, uint64_t rng_seed, long iterations,
                               long perturb_rounds, int workers, aa_pattern *best,
                               aa_multistart_result *r)
@@ -639,6 +706,7 @@ int main(void)
         cmocka_unit_test(every_method_is_deterministic),
         cmocka_unit_test(perturbed_search_keeps_structure_and_is_deterministic),
         cmocka_unit_test(perturbed_multistart_is_deterministic),
+        cmocka_unit_test(refined_stage_is_descent_then_search),
         cmocka_unit_test(pooled_seeds_start_lower_and_are_deterministic),
         cmocka_unit_test(cancel_stops_within_100ms),
         cmocka_unit_test(trace_is_monotone),

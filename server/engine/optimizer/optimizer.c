@@ -224,7 +224,7 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
     opt_state_apply(&L.cur);
     L.best_e2 = INFINITY; /* until the seed has been evaluated */
     bool cancelled = false;
-    L.ps = (opt_progress_state){progress, user, L.start, L.start, true, &params->clock};
+    L.ps = (opt_progress_state){progress, user, L.start, L.start, 0, true, &params->clock};
     L.run.loop = &L;
     if (!rc)
         rc = opt_run_eval_e2(&L.run, &L.cur, &L.e2);

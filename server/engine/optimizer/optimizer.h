@@ -146,6 +146,20 @@ int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metri
                           aa_optimize_progress_fn progress, void *user, aa_pattern *best,
                           aa_optimize_result *result, aa_error *err);
 
+/* A descent from start with `local`, then, when it stops early (a kink of the max) and the
+ * result can be perturbed (mode BOTH, aa_perturbable), iterated local search from its optimum
+ * for the rest of the stage's budget: local->max_seconds (<= 0: none) and stage_iterations
+ * steps over both (<= 0: none; the descent keeps local->max_iterations, the search runs until it
+ * stalls). `search` gives the search's rounds, sigma, stall and redraws; its budgets are the
+ * rest. progress sees one run: counters continue from the descent into the search, and the
+ * fraction is the share of the stage's budgets spent, never stepping back. result chains both
+ * runs; AA_ECANCELED leaves the best so far in *out. */
+int aa_optimize_refined(const aa_pattern *start, const aa_metric_params *metric,
+                        const aa_optimize_params *local, long stage_iterations,
+                        const aa_perturb_params *search, aa_rng *rng,
+                        aa_optimize_progress_fn progress, void *user, aa_pattern *out,
+                        aa_optimize_result *result, aa_error *err);
+
 /* Multi-start: seed_count local runs from random seeds of a family (or given patterns), spread
  * over worker threads (seed i goes to worker i % workers; each seed draws from its own PCG32
  * stream (rng_seed, i), so the seeds do not depend on the worker count). The best is the lowest

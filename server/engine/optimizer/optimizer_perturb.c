@@ -18,21 +18,30 @@ static double normal_deviate(aa_rng *rng)
 }
 
 /* Forwards each round's progress with the earlier rounds' seconds, iterations and evaluations
- * added, so that the caller sees one run whose counters only grow. */
+ * added, so that the caller sees one run whose counters only grow, and whose fraction is the
+ * share of the search's budgets spent (a round's own fraction restarts at 0 and ends at 1). */
 typedef struct chain_progress {
     aa_optimize_progress_fn fn;
     void *user;
+    const aa_perturb_params *pp;
     double seconds;
     long iterations, evaluations;
+    double fraction; /* the last reported: it never steps back */
 } chain_progress;
 
 static int forward_progress(void *user, const aa_optimize_progress *p)
 {
-    const chain_progress *c = user;
+    chain_progress *c = user;
     aa_optimize_progress q = *p;
     q.seconds += c->seconds;
     q.iterations += c->iterations;
     q.evaluations += c->evaluations;
+    double f = c->fraction;
+    if (c->pp->max_iterations > 0)
+        f = fmax(f, (double)q.iterations / (double)c->pp->max_iterations);
+    if (c->pp->max_seconds > 0)
+        f = fmax(f, q.seconds / c->pp->max_seconds);
+    c->fraction = q.fraction = fmin(f, 1); /* without budgets: 0 until the search ends */
     return c->fn(c->user, &q);
 }
 
@@ -126,7 +135,7 @@ int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metri
     if ((rc = aa_pattern_copy(best, start)))
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     int since_better = 0;
-    chain_progress chain = {progress, user, 0, 0, 0};
+    chain_progress chain = {progress, user, pp, 0, 0, 0, 0};
     for (long round = 0; round < pp->rounds && since_better < pp->stall; round++) {
         aa_pattern trial, out;
         if ((rc =

@@ -155,6 +155,9 @@ int opt_report(opt_progress_state *ps, const opt_state *best, double best_e2, lo
     if (!force && t - ps->last_call < 0.01)
         return 0;
     ps->last_call = t;
+    if (fraction < 0)
+        fraction = ps->last_fraction; /* a poll: the fraction must not step back */
+    ps->last_fraction = fraction;
     aa_pattern snap;
     aa_error e;
     bool have = opt_state_to_pattern(best, &snap, &e) == AA_OK;
@@ -172,7 +175,8 @@ int opt_poll_cancel(const opt_run *r)
     opt_loop *L = r->loop;
     if (!L || !L->ps.fn)
         return 0;
-    return opt_report(&L->ps, &L->top, L->best_e2, L->it, r->evaluations, -1, false);
+    return opt_report(&L->ps, &L->top, L->best_e2, L->it, r->evaluations, -1 /* no estimate */,
+                      false);
 }
 
 int opt_loop_tick(opt_loop *L)

@@ -16,6 +16,7 @@ typedef struct opt_progress_state {
     aa_optimize_progress_fn fn;
     void *user;
     double start, last_call;
+    double last_fraction; /* a cancel poll (no estimate of its own) reports this again */
     bool improved;
     const aa_clock *clock;
 } opt_progress_state;

@@ -82,29 +82,15 @@ static int opt_stage(const aa_pattern *start, const aa_metric_params *metric, aa
     op.max_iterations = iterations > 0 ? iterations : 1000000;
     op.stall_iterations = 2000;
     op.clock = tp->clock;
-    int rc = aa_optimize(start, metric, &op, relay_opt, rl, out, r, err);
-    long rest = iterations > 0 ? iterations - r->iterations : 0;
-    if (rc || mode != AA_OPTIMIZE_BOTH || !aa_perturbable(out) ||
-        (seconds > 0 && r->seconds >= seconds) || (iterations > 0 && rest <= 0))
-        return rc;
-    /* The descent stops at a kink well within its budget: iterated local search for the rest. */
+    /* Opt W+P: the descent stops at a kink well within its budget, iterated local search
+     * spends the rest. */
     aa_perturb_params pp;
     aa_perturb_params_default(&pp);
     pp.rounds = AA_PERTURB_UNTIL_STALL;
-    pp.max_seconds = seconds > 0 ? seconds - r->seconds : 0;
-    pp.max_iterations = rest;
     aa_rng rng;
     aa_rng_seed(&rng, rng_seed, PERTURB_STREAM);
-    aa_pattern refined;
-    aa_optimize_result rr;
-    int prc = aa_optimize_perturbed(out, metric, &op, &pp, &rng, relay_opt, rl, &refined, &rr, err);
-    if (prc == AA_OK || prc == AA_ECANCELED) {
-        aa_pattern_free(out);
-        *out = refined;
-        aa_optimize_result_chain(r, &rr);
-        rc = prc;
-    }
-    return rc;
+    return aa_optimize_refined(start, metric, &op, iterations, &pp, &rng, relay_opt, rl, out, r,
+                               err);
 }
 
 int aa_table3_cell_run(const aa_family *family, aa_seed_kind kind, const aa_metric_params *metric,
