@@ -43,10 +43,37 @@ def submit(d, seconds, status=202, **extra):
     return r
 
 
+def stop_fake_tasks(fake):
+    """Kills every fake array element that may still run (each is a session of its own: setsid
+    in sbatch), so that none writes into a directory being removed (seen: a worker's stage
+    output landing in shared/ after the daemon's directory was removed)."""
+    piddir = os.path.join(fake, "pid")
+    for name in os.listdir(piddir) if os.path.isdir(piddir) else []:
+        try:
+            with open(os.path.join(piddir, name)) as f:
+                os.killpg(int(f.read()), signal.SIGKILL)
+        except (OSError, ValueError):
+            pass  # gone already
+
+
+def remove_fake(fake):
+    stop_fake_tasks(fake)
+    for _ in range(20):  # a dying task may still drop a file while the tree goes
+        shutil.rmtree(fake, True)
+        if not os.path.exists(fake):
+            return
+        time.sleep(0.1)
+
+
+def cleanup(d, fake):
+    stop_fake_tasks(fake)
+    d.cleanup()
+
+
 def main():
     binary = sys.argv[1]
     fake = tempfile.mkdtemp(prefix="aalab-fake-slurm-")
-    atexit.register(shutil.rmtree, fake, True)  # the fake queue and logs, whatever the outcome
+    atexit.register(remove_fake, fake)  # the fake queue and logs, whatever the outcome
     os.environ["FAKE_SLURM_DIR"] = fake
     os.environ["PATH"] = os.path.join(HERE, "fake_slurm") + ":" + os.environ.get("PATH", "/usr/bin:/bin")
     sbatch_log = os.path.join(fake, "sbatch.log")
@@ -147,7 +174,7 @@ def main():
         e = expect_error(submit(d, 0.1, status=503), 503, "executor")
         check("not answering" in e["message"], e)
     finally:
-        d.cleanup()
+        cleanup(d, fake)
 
     # --max-job-seconds stops a Slurm job too: its arrays are scancelled, the job fails with
     # time_limit.
@@ -167,7 +194,7 @@ def main():
         check(len(lines(scancel_log)) == cancels + 1, lines(scancel_log))
         check(not os.listdir(os.path.join(fake, "queue")), os.listdir(os.path.join(fake, "queue")))
     finally:
-        d.cleanup()
+        cleanup(d, fake)
     print("daemon_fake_slurm: ok")
 
 
