@@ -26,8 +26,11 @@ void progress_line(char *buf, size_t cap, double fraction, const json_t *job, in
     bar[width] = '\0';
     const json_t *state = json_object_get(job, "state");
     const json_t *e2 = job_best_e2(job);
-    int n = snprintf(buf, cap, "[%s] %3.0f%%  %s", bar, 100 * fraction,
-                     json_is_string(state) ? json_string_value(state) : "");
+    /* A paused job is running but waits for another user's job to take its turn. */
+    bool paused = json_is_true(json_object_get(job, "paused"));
+    int n = snprintf(buf, cap, "[%s] %3.0f%%  %s%s", bar, 100 * fraction,
+                     json_is_string(state) ? json_string_value(state) : "",
+                     paused ? " (paused: another user's turn)" : "");
     if (e2 && n > 0 && (size_t)n < cap)
         snprintf(buf + n, cap - (size_t)n, "  best E2 %.6f", json_number_value(e2));
 }

@@ -918,8 +918,13 @@ static void overlay_live(json_t *o, const job *j)
         json_object_set_new(o, "cancel_requested", json_true());
     if (j->paused) /* gave its worker to another user's job; resumes where it stopped */
         json_object_set_new(o, "paused", json_true());
-    if (j->state == JOB_RUNNING)
+    if (j->state == JOB_RUNNING) {
         json_object_set_new(o, "started", json_real(j->started));
+        /* Why a job runs longer than its budget: the turns it gave to other users so far. */
+        double paused = (double)atomic_load(&j->paused_ns) * 1e-9 +
+                        (j->paused ? aa_monotonic_seconds() - j->paused_since : 0);
+        json_object_set_new(o, "paused_seconds", json_real(paused));
+    }
 }
 
 json_t *job_manager_get(job_manager *jm, long long id)

@@ -162,6 +162,10 @@ static void progress_bar(void **state)
     progress_line(line, sizeof line, -1, j, 4);
     assert_string_equal(line, "[....]   0%  queued");
     json_decref(j);
+    j = doc("{\"state\":\"running\",\"paused\":true,\"paused_seconds\":3.5}");
+    progress_line(line, sizeof line, 0.25, j, 4);
+    assert_string_equal(line, "[#...]  25%  running (paused: another user's turn)");
+    json_decref(j);
 }
 
 static void render_summary(void **state)
