@@ -30,6 +30,8 @@ void aa_metric_workspace_free(aa_metric_workspace *ws)
     free(ws->index);
     free(ws->tail);
     free(ws->cdf);
+    free(ws->u);
+    free(ws->len);
     memset(ws, 0, sizeof *ws);
 }
 
@@ -51,7 +53,8 @@ static int reserve(aa_metric_workspace *ws, size_t n)
         cap *= 2;
     if (grow_doubles(&ws->p, cap) || grow_doubles(&ws->w, cap) || grow_doubles(&ws->in_x, cap) ||
         grow_doubles(&ws->in_y, cap) || grow_doubles(&ws->in_w, cap) ||
-        grow_doubles(&ws->in_p, cap) || grow_doubles(&ws->tail, cap) || grow_doubles(&ws->cdf, cap))
+        grow_doubles(&ws->in_p, cap) || grow_doubles(&ws->tail, cap) ||
+        grow_doubles(&ws->cdf, cap) || grow_doubles(&ws->u, cap) || grow_doubles(&ws->len, cap))
         return AA_ENOMEM;
     /* index has a second half: the merge sort's scratch */
     uint32_t *ix = realloc(ws->index, 2 * cap * sizeof *ix);
@@ -353,6 +356,93 @@ static inline void add_weight(double *c, double *lo, double w)
     *c = x;
 }
 
+/* Two lanes of double (SSE2 on x86-64, NEON on arm64; plain scalar code elsewhere): the closed
+ * form's per-sample work is independent between samples once the prefix sums are known, so two
+ * samples share each arithmetic instruction. Every lane operation is the scalar one (no FMA: ISO C
+ * without contraction), so a lane computes exactly what the scalar code computes. */
+typedef double v2d __attribute__((vector_size(16)));
+
+typedef struct compensated2 {
+    v2d sum, comp, sq;
+} compensated2;
+
+static inline void add_term2(compensated2 *acc, v2d t)
+{
+    v2d x = acc->sum + t, z = x - acc->sum;
+    acc->comp += (acc->sum - (x - z)) + (t - z);
+    acc->sum = x;
+    acc->sq += t * t;
+}
+
+/* x added to acc's compensated sum (its square is already in a spread). */
+static inline void fold_sum(compensated *acc, double x)
+{
+    double y = acc->sum + x, z = y - acc->sum;
+    acc->comp += (acc->sum - (y - z)) + (x - z);
+    acc->sum = y;
+}
+
+static inline v2d load2(const double *a)
+{
+    v2d v;
+    memcpy(&v, a, sizeof v);
+    return v;
+}
+
+static inline void store2(double *a, v2d v)
+{
+    memcpy(a, &v, sizeof v);
+}
+
+/* The inside samples [k, kb) of one table piece (coefficients cf, middle mid), two at a time;
+ * an odd last sample is paired with an empty lane (u = len = w = 0, s = 0), whose terms are
+ * exact zeros. ws->u, ws->len hold u_k and len_k from the prefix pass; with want_prefix
+ * ws->tail[k] holds the running integral of the constant parts, from which Gamma(p_k) is taken,
+ * and ws->cdf[k] gets g(p_k). */
+static inline void closed_piece_run(const double *cf, double mid, size_t k, size_t kb,
+                                    aa_metric_workspace *ws, compensated2 *acc, compensated2 *gam,
+                                    const bool want_prefix)
+{
+    const double *pp = ws->p, *pw = ws->w, *uu = ws->u, *ll = ws->len;
+    v2d vm = {mid, mid}, two = {2, 2}, half = {0.5, 0.5};
+    v2d c[AA_FILTER_CLOSED_DEGREE + 1];
+    for (int m = 0; m <= AA_FILTER_CLOSED_DEGREE; m++)
+        c[m] = (v2d){cf[m], cf[m]};
+    for (; k < kb; k += 2) {
+        bool pair = k + 1 < kb;
+        v2d p, u, len, w;
+        if (pair) {
+            p = load2(pp + k);
+            u = load2(uu + k);
+            len = load2(ll + k);
+            w = load2(pw + k);
+        } else {
+            p = (v2d){pp[k], mid};
+            u = (v2d){uu[k], 0};
+            len = (v2d){ll[k], 0};
+            w = (v2d){pw[k], 0};
+        }
+        add_term2(acc, u * u * len);
+        v2d s = p - vm, v = c[AA_FILTER_CLOSED_DEGREE], d = {0, 0};
+        for (int m = AA_FILTER_CLOSED_DEGREE - 1; m >= 0; m--) {
+            if (want_prefix)
+                d = d * s + v;
+            v = v * s + c[m];
+        }
+        add_term2(gam, two * w * v);
+        if (want_prefix) {
+            v2d g = half + d, pre = (pair ? load2(ws->tail + k) : (v2d){ws->tail[k], 0}) - v;
+            if (pair) {
+                store2(ws->cdf + k, g);
+                store2(ws->tail + k, pre);
+            } else {
+                ws->cdf[k] = g[0];
+                ws->tail[k] = pre[0];
+            }
+        }
+    }
+}
+
 /* want_prefix is a constant at each call site (closed_form_e1, closed_form_prefix): the E1-only
  * copy skips the prefix integrals. */
 static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metric_workspace *ws,
@@ -361,7 +451,8 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
     const double *pp = ws->p, *pw = ws->w;
     double *prefix = ws->tail, r = f->radius, c = 0, lo = 0, lin = 0;
     compensated acc = {f->closed_var, 0, f->closed_var * f->closed_var};
-    compensated gam = {0, 0, 0}; /* the Gamma terms: a second dependency chain */
+    /* The inside terms in two lanes each: (c - 1/2)^2 len, and 2 w Gamma(p) (a second chain). */
+    compensated2 accv = {{0, 0}, {0, 0}, {0, 0}}, gamv = {{0, 0}, {0, 0}, {0, 0}};
     /* The sorted samples fall into three runs: p <= -r, inside, p >= r. One loop each, no
      * region tests inside them. ws->tail[k] gets P_k = integral_{-inf}^{p_k} (ghat - g) for the
      * weight gradient: the running integral of the constant parts minus Gamma(p_k). */
@@ -388,45 +479,59 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
         lin += cc * len;
         a = -r;
     }
+    /* Inside, first the serial part: the prefix sums (u_k = c_k - 1/2 before sample k) and the
+     * lengths, then per table piece the independent per-sample work in two lanes. The piece of
+     * a sample is closed_piece's, floor((p + r) / width) clamped, found by a scan (p sorted). */
+    double *uu = ws->u, *ll = ws->len;
     for (size_t k = i0; k < i1; k++) {
         double p = pp[k], u = (c - 0.5) + lo, len = p - a;
-        add_term(&acc, u * u * len);
-        lin += u * len;
-        double big;
+        uu[k] = u;
+        ll[k] = len;
         if (want_prefix) {
-            double gamma;
-            big = closed_gamma(f, p, &gamma);
-            ws->cdf[k] = 0.5 + gamma; /* g(p), as cdf_at computes it */
-        } else {
-            big = closed_gamma_value(f, p);
+            lin += u * len;
+            prefix[k] = lin;
         }
-        add_term(&gam, 2 * pw[k] * big);
-        if (want_prefix)
-            prefix[k] = lin - big;
         add_weight(&c, &lo, pw[k]);
         a = p;
+    }
+    double inv = f->closed_inv_width;
+    size_t k = i0;
+    for (int j = 0; j < f->closed_pieces && k < i1; j++) {
+        size_t kb = i1;
+        if (j + 1 < f->closed_pieces) {
+            double next = j + 1;
+            kb = k;
+            while (kb < i1 && (pp[kb] + r) * inv < next)
+                kb++;
+        }
+        closed_piece_run(f->closed_gamma[j], f->closed_mid[j], k, kb, ws, &accv, &gamv,
+                         want_prefix);
+        k = kb;
     }
     double u = (c - 0.5) + lo, len = r - a;
     add_term(&acc, u * u * len);
     lin += u * len;
     a = r;
-    for (size_t k = i1; k < n; k++) {
-        double d = (c - 1) + lo, l = pp[k] - a;
+    for (size_t m = i1; m < n; m++) {
+        double d = (c - 1) + lo, l = pp[m] - a;
         add_term(&acc, d * d * l);
         lin += d * l;
         if (want_prefix) {
-            prefix[k] = lin;
-            ws->cdf[k] = 1;
+            prefix[m] = lin;
+            ws->cdf[m] = 1;
         }
-        add_weight(&c, &lo, pw[k]);
-        a = pp[k];
+        add_weight(&c, &lo, pw[m]);
+        a = pp[m];
     }
     if (want_prefix)
         ws->cdf_valid = true;
     /* Beyond the last sample the integrand is (c - 1)^2 = 0 when the weights sum to 1. */
-    double spread2 = acc.sq + gam.sq;
-    add_term(&acc, gam.sum);
-    acc.comp += gam.comp;
+    double spread2 = acc.sq + (accv.sq[0] + accv.sq[1]) + (gamv.sq[0] + gamv.sq[1]);
+    fold_sum(&acc, accv.sum[0]);
+    fold_sum(&acc, accv.sum[1]);
+    fold_sum(&acc, gamv.sum[0]);
+    fold_sum(&acc, gamv.sum[1]);
+    acc.comp += (accv.comp[0] + accv.comp[1]) + (gamv.comp[0] + gamv.comp[1]);
     return (closed_sums){acc.sum + acc.comp, sqrt(spread2)};
 }
 
