@@ -90,18 +90,14 @@ static inline bool before(double pa, uint32_t ia, double pb, uint32_t ib)
     return pa < pb || (pa == pb && ia < ib);
 }
 
-/* Insertion pass over ws's keys (p, index): nearly linear when they are almost sorted, as after
- * the previous angle of the same kernel. Elements already in place cost one comparison. */
-static void insertion_pass(aa_metric_workspace *ws, size_t n)
+/* Insertion of the entries listed in moves[count] (increasing positions, each sorting before
+ * some entry ahead of it) into the sorted prefix ahead of it. */
+static void insert_listed(double *p, uint32_t *ix, const uint32_t *moves, size_t count)
 {
-    double *p = ws->p;
-    uint32_t *ix = ws->index;
-    for (size_t i = 1; i < n; i++) {
+    for (size_t m = 0; m < count; m++) {
+        size_t i = moves[m], j = i;
         double pi = p[i];
         uint32_t ii = ix[i];
-        if (!before(pi, ii, p[i - 1], ix[i - 1]))
-            continue;
-        size_t j = i;
         do {
             p[j] = p[j - 1];
             ix[j] = ix[j - 1];
@@ -110,6 +106,45 @@ static void insertion_pass(aa_metric_workspace *ws, size_t n)
         p[j] = pi;
         ix[j] = ii;
     }
+}
+
+/* Insertion pass over ws's keys (p, index): nearly linear when they are almost sorted, as after
+ * the previous angle of the same kernel. An entry moves iff it sorts before the largest entry
+ * ahead of it (when its turn comes, the prefix ahead holds the same entries, sorted), so a first
+ * loop lists the entries that move without a branch per entry: on neighbouring angles of a
+ * pattern's kernel about half of the entries move, and a branch per entry mispredicts about
+ * every other time. The list compares p alone; where an entry ties with the largest p ahead of
+ * it, the index decides and the list is made again with the indices. The list goes to the
+ * second half of ws->index. */
+static void insertion_pass(aa_metric_workspace *ws, size_t n)
+{
+    double *p = ws->p, mp = p[0];
+    uint32_t *ix = ws->index, *moves = ws->index + ws->capacity;
+    size_t count = 0;
+    int ties = 0;
+    for (size_t i = 1; i < n; i++) {
+        double pi = p[i];
+        moves[count] = (uint32_t)i;
+        count += (size_t)(pi < mp);
+        ties |= pi == mp;
+        mp = pi > mp ? pi : mp;
+    }
+    if (ties) {
+        /* (p, index) as the order: the largest ahead by both, with masks, not a branch */
+        uint32_t mi = ix[0];
+        mp = p[0];
+        count = 0;
+        for (size_t i = 1; i < n; i++) {
+            double pi = p[i];
+            uint32_t ii = ix[i], eq = pi == mp, take = (uint32_t)(pi > mp) | (eq & (ii > mi));
+            moves[count] = (uint32_t)i;
+            count += (size_t)((pi < mp) | (eq & (ii < mi)));
+            uint32_t mask = 0u - take;
+            mi = (ii & mask) | (mi & ~mask);
+            mp = pi > mp ? pi : mp;
+        }
+    }
+    insert_listed(p, ix, moves, count);
 }
 
 /* Stable bottom-up merge sort of (p, index) from input order (ties stay in index order), for a
