@@ -90,61 +90,37 @@ static inline bool before(double pa, uint32_t ia, double pb, uint32_t ib)
     return pa < pb || (pa == pb && ia < ib);
 }
 
-/* Insertion of the entries listed in moves[count] (increasing positions, each sorting before
- * some entry ahead of it) into the sorted prefix ahead of it. */
-static void insert_listed(double *p, uint32_t *ix, const uint32_t *moves, size_t count)
-{
-    for (size_t m = 0; m < count; m++) {
-        size_t i = moves[m], j = i;
-        double pi = p[i];
-        uint32_t ii = ix[i];
-        do {
-            p[j] = p[j - 1];
-            ix[j] = ix[j - 1];
-            j--;
-        } while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1]));
-        p[j] = pi;
-        ix[j] = ii;
-    }
-}
-
 /* Insertion pass over ws's keys (p, index): nearly linear when they are almost sorted, as after
- * the previous angle of the same kernel. An entry moves iff it sorts before the largest entry
- * ahead of it (when its turn comes, the prefix ahead holds the same entries, sorted), so a first
- * loop lists the entries that move without a branch per entry: on neighbouring angles of a
- * pattern's kernel about half of the entries move, and a branch per entry mispredicts about
- * every other time. The list compares p alone; where an entry ties with the largest p ahead of
- * it, the index decides and the list is made again with the indices. The list goes to the
- * second half of ws->index. */
+ * the previous angle of the same kernel. An entry moves only if it sorts before the largest
+ * entry ahead of it (when its turn comes, the prefix ahead holds the same entries, sorted), so a
+ * first loop lists the entries whose p is at most the largest p ahead, without a branch per
+ * entry: on neighbouring angles of a pattern's kernel about half of the entries move, and a
+ * branch per entry mispredicts about every other time. Then each listed entry is inserted (an
+ * entry that ties that p stays if its index is larger). The list goes to the second half of
+ * ws->index. */
 static void insertion_pass(aa_metric_workspace *ws, size_t n)
 {
     double *p = ws->p, mp = p[0];
     uint32_t *ix = ws->index, *moves = ws->index + ws->capacity;
     size_t count = 0;
-    int ties = 0;
     for (size_t i = 1; i < n; i++) {
         double pi = p[i];
         moves[count] = (uint32_t)i;
-        count += (size_t)(pi < mp);
-        ties |= pi == mp;
+        count += (size_t)(pi <= mp);
         mp = pi > mp ? pi : mp;
     }
-    if (ties) {
-        /* (p, index) as the order: the largest ahead by both, with masks, not a branch */
-        uint32_t mi = ix[0];
-        mp = p[0];
-        count = 0;
-        for (size_t i = 1; i < n; i++) {
-            double pi = p[i];
-            uint32_t ii = ix[i], eq = pi == mp, take = (uint32_t)(pi > mp) | (eq & (ii > mi));
-            moves[count] = (uint32_t)i;
-            count += (size_t)((pi < mp) | (eq & (ii < mi)));
-            uint32_t mask = 0u - take;
-            mi = (ii & mask) | (mi & ~mask);
-            mp = pi > mp ? pi : mp;
+    for (size_t m = 0; m < count; m++) {
+        size_t i = moves[m], j = i;
+        double pi = p[i];
+        uint32_t ii = ix[i];
+        while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1])) {
+            p[j] = p[j - 1];
+            ix[j] = ix[j - 1];
+            j--;
         }
+        p[j] = pi;
+        ix[j] = ii;
     }
-    insert_listed(p, ix, moves, count);
 }
 
 /* Stable bottom-up merge sort of (p, index) from input order (ties stay in index order), for a
@@ -478,6 +454,24 @@ static inline void closed_piece_run(const double *cf, double mid, size_t k, size
     }
 }
 
+/* The first position in [k, end) whose table piece, floor((p + r) * inv), is at least next, or
+ * end: the piece index is monotone in p (sorted), so a bisection whose steps depend on the length
+ * alone finds it (a scan would mispredict at each piece's end). */
+static inline size_t piece_end(const double *pp, size_t k, size_t end, double r, double inv,
+                               double next)
+{
+    if (k == end)
+        return end;
+    const double *base = pp + k;
+    size_t len = end - k;
+    while (len > 1) {
+        size_t half = len / 2;
+        base = (base[half] + r) * inv < next ? base + half : base;
+        len -= half;
+    }
+    return (size_t)(base - pp) + ((base[0] + r) * inv < next);
+}
+
 /* want_prefix is a constant at each call site (closed_form_e1, closed_form_prefix): the E1-only
  * copy skips the prefix integrals. */
 static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metric_workspace *ws,
@@ -532,13 +526,7 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
     double inv = f->closed_inv_width;
     size_t k = i0;
     for (int j = 0; j < f->closed_pieces && k < i1; j++) {
-        size_t kb = i1;
-        if (j + 1 < f->closed_pieces) {
-            double next = j + 1;
-            kb = k;
-            while (kb < i1 && (pp[kb] + r) * inv < next)
-                kb++;
-        }
+        size_t kb = j + 1 < f->closed_pieces ? piece_end(pp, k, i1, r, inv, j + 1) : i1;
         closed_piece_run(f->closed_gamma[j], f->closed_mid[j], k, kb, ws, &accv, &gamv,
                          want_prefix);
         k = kb;
