@@ -644,7 +644,18 @@ static void gradient_sorted(const aa_filter *f, size_t n, double ct, double st, 
     double inv = e > 0 ? 1.0 / e : 0;
     const double *pp = ws->p, *pw = ws->w;
     const uint32_t *ix = ws->index;
-    if (dx || dy) {
+    if (accumulate && dx && dy && ws->cdf_valid) {
+        /* the block's common case, the same arithmetic without the per-entry tests */
+        const double *cdf = ws->cdf;
+        double sorted_before = 0;
+        for (size_t k = 0; k < n; k++) {
+            double w = pw[k], dp = w * (2 * cdf[k] - 2 * sorted_before - w) * 0.5 * inv;
+            uint32_t i = ix[k];
+            dx[i] = dx[i] + factor * (dp * ct);
+            dy[i] = dy[i] + factor * (dp * st);
+            sorted_before += w;
+        }
+    } else if (dx || dy) {
         double sorted_before = 0; /* S_i: weight sorted before i */
         for (size_t k = 0; k < n; k++) {
             double w = pw[k];
@@ -664,9 +675,12 @@ static void gradient_sorted(const aa_filter *f, size_t n, double ct, double st, 
         for (size_t k = 0; k < n; k++)
             mean += ws->tail[k];
         mean /= (double)n;
-        for (size_t k = 0; k < n; k++) {
-            double g = (mean - ws->tail[k]) * inv;
-            dw[ix[k]] = accumulate ? dw[ix[k]] + factor * g : g;
+        if (accumulate) {
+            for (size_t k = 0; k < n; k++)
+                dw[ix[k]] += factor * ((mean - ws->tail[k]) * inv);
+        } else {
+            for (size_t k = 0; k < n; k++)
+                dw[ix[k]] = (mean - ws->tail[k]) * inv;
         }
     }
 }
