@@ -454,22 +454,36 @@ static inline void closed_piece_run(const double *cf, double mid, size_t k, size
     }
 }
 
-/* The first position in [k, end) whose table piece, floor((p + r) * inv), is at least next, or
- * end: the piece index is monotone in p (sorted), so a bisection whose steps depend on the length
- * alone finds it (a scan would mispredict at each piece's end). */
-static inline size_t piece_end(const double *pp, size_t k, size_t end, double r, double inv,
-                               double next)
+/* The table pieces' ends among the inside samples [k, end): ends[j] is the first position whose
+ * piece, floor((p + r) * inv), exceeds j (end for the last piece). The piece index is monotone in
+ * p (sorted), so bisections find them, with steps that depend on the length alone (a scan would
+ * mispredict at each piece's end), all pieces' searches interleaved (each step waits for a load
+ * and a comparison: one search alone is bound by that latency). */
+static inline void piece_ends(const double *pp, size_t k, size_t end, double r, double inv,
+                              int pieces, size_t *ends)
 {
-    if (k == end)
-        return end;
-    const double *base = pp + k;
+    const double *base[AA_FILTER_CLOSED_MAX_PIECES];
+    double next[AA_FILTER_CLOSED_MAX_PIECES];
+    int searched = pieces - 1;
+    ends[searched] = end;
+    if (k == end) {
+        for (int j = 0; j < searched; j++)
+            ends[j] = end;
+        return;
+    }
+    for (int j = 0; j < searched; j++) {
+        base[j] = pp + k;
+        next[j] = j + 1;
+    }
     size_t len = end - k;
     while (len > 1) {
         size_t half = len / 2;
-        base = (base[half] + r) * inv < next ? base + half : base;
+        for (int j = 0; j < searched; j++)
+            base[j] = (base[j][half] + r) * inv < next[j] ? base[j] + half : base[j];
         len -= half;
     }
-    return (size_t)(base - pp) + ((base[0] + r) * inv < next);
+    for (int j = 0; j < searched; j++)
+        ends[j] = (size_t)(base[j] - pp) + ((base[j][0] + r) * inv < next[j]);
 }
 
 /* want_prefix is a constant at each call site (closed_form_e1, closed_form_prefix): the E1-only
@@ -524,12 +538,12 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
         a = p;
     }
     double inv = f->closed_inv_width;
-    size_t k = i0;
-    for (int j = 0; j < f->closed_pieces && k < i1; j++) {
-        size_t kb = j + 1 < f->closed_pieces ? piece_end(pp, k, i1, r, inv, j + 1) : i1;
-        closed_piece_run(f->closed_gamma[j], f->closed_mid[j], k, kb, ws, &accv, &gamv,
+    size_t ends[AA_FILTER_CLOSED_MAX_PIECES], k = i0;
+    piece_ends(pp, i0, i1, r, inv, f->closed_pieces, ends);
+    for (int j = 0; j < f->closed_pieces; j++) {
+        closed_piece_run(f->closed_gamma[j], f->closed_mid[j], k, ends[j], ws, &accv, &gamv,
                          want_prefix);
-        k = kb;
+        k = ends[j];
     }
     double u = (c - 0.5) + lo, len = r - a;
     add_term(&acc, u * u * len);
