@@ -486,6 +486,11 @@ static inline void piece_ends(const double *pp, size_t k, size_t end, double r, 
         ends[j] = (size_t)(base[j] - pp) + ((base[j][0] + r) * inv < next[j]);
 }
 
+/* Up to this many samples inside the support, the closed form runs in one lane (one pass): the
+ * two-lane form's setup (a second pass, the pieces' ends, broadcast coefficients) costs more than
+ * it saves there (bench_metric's 4 and 16 samples). */
+#define AA_CLOSED_ONE_LANE_MAX 16
+
 /* want_prefix is a constant at each call site (closed_form_e1, closed_form_prefix): the E1-only
  * copy skips the prefix integrals. */
 static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metric_workspace *ws,
@@ -494,6 +499,7 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
     const double *pp = ws->p, *pw = ws->w;
     double *prefix = ws->tail, r = f->radius, c = 0, lo = 0, lin = 0;
     compensated acc = {f->closed_var, 0, f->closed_var * f->closed_var};
+    compensated gam = {0, 0, 0}; /* the Gamma terms (one lane): a second dependency chain */
     /* The inside terms in two lanes each: (c - 1/2)^2 len, and 2 w Gamma(p) (a second chain). */
     compensated2 accv = {{0, 0}, {0, 0}, {0, 0}}, gamv = {{0, 0}, {0, 0}, {0, 0}};
     /* The sorted samples fall into three runs: p <= -r, inside, p >= r. One loop each, no
@@ -522,28 +528,49 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
         lin += cc * len;
         a = -r;
     }
-    /* Inside, first the serial part: the prefix sums (u_k = c_k - 1/2 before sample k) and the
-     * lengths, then per table piece the independent per-sample work in two lanes. The piece of
-     * a sample is closed_piece's, floor((p + r) / width) clamped, found by a scan (p sorted). */
-    double *uu = ws->u, *ll = ws->len;
-    for (size_t k = i0; k < i1; k++) {
-        double p = pp[k], u = (c - 0.5) + lo, len = p - a;
-        uu[k] = u;
-        ll[k] = len;
-        if (want_prefix) {
+    bool two_lanes = i1 - i0 > AA_CLOSED_ONE_LANE_MAX;
+    if (!two_lanes) {
+        /* few samples inside: one pass, one lane (the two-lane setup would cost more) */
+        for (size_t k = i0; k < i1; k++) {
+            double p = pp[k], u = (c - 0.5) + lo, len = p - a;
+            add_term(&acc, u * u * len);
             lin += u * len;
-            prefix[k] = lin;
+            double big;
+            if (want_prefix) {
+                double gamma;
+                big = closed_gamma(f, p, &gamma);
+                ws->cdf[k] = 0.5 + gamma; /* g(p), as cdf_at computes it */
+                prefix[k] = lin - big;
+            } else {
+                big = closed_gamma_value(f, p);
+            }
+            add_term(&gam, 2 * pw[k] * big);
+            add_weight(&c, &lo, pw[k]);
+            a = p;
         }
-        add_weight(&c, &lo, pw[k]);
-        a = p;
-    }
-    double inv = f->closed_inv_width;
-    size_t ends[AA_FILTER_CLOSED_MAX_PIECES], k = i0;
-    piece_ends(pp, i0, i1, r, inv, f->closed_pieces, ends);
-    for (int j = 0; j < f->closed_pieces; j++) {
-        closed_piece_run(f->closed_gamma[j], f->closed_mid[j], k, ends[j], ws, &accv, &gamv,
-                         want_prefix);
-        k = ends[j];
+    } else {
+        /* First the serial part: the prefix sums (u_k = c_k - 1/2 before sample k) and the
+         * lengths, then per table piece the independent per-sample work in two lanes. The piece
+         * of a sample is closed_piece's, floor((p + r) / width) clamped (piece_ends). */
+        double *uu = ws->u, *ll = ws->len;
+        for (size_t k = i0; k < i1; k++) {
+            double p = pp[k], u = (c - 0.5) + lo, len = p - a;
+            uu[k] = u;
+            ll[k] = len;
+            if (want_prefix) {
+                lin += u * len;
+                prefix[k] = lin;
+            }
+            add_weight(&c, &lo, pw[k]);
+            a = p;
+        }
+        size_t ends[AA_FILTER_CLOSED_MAX_PIECES], k = i0;
+        piece_ends(pp, i0, i1, r, f->closed_inv_width, f->closed_pieces, ends);
+        for (int j = 0; j < f->closed_pieces; j++) {
+            closed_piece_run(f->closed_gamma[j], f->closed_mid[j], k, ends[j], ws, &accv, &gamv,
+                             want_prefix);
+            k = ends[j];
+        }
     }
     double u = (c - 0.5) + lo, len = r - a;
     add_term(&acc, u * u * len);
@@ -563,12 +590,17 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
     if (want_prefix)
         ws->cdf_valid = true;
     /* Beyond the last sample the integrand is (c - 1)^2 = 0 when the weights sum to 1. */
-    double spread2 = acc.sq + (accv.sq[0] + accv.sq[1]) + (gamv.sq[0] + gamv.sq[1]);
-    fold_sum(&acc, accv.sum[0]);
-    fold_sum(&acc, accv.sum[1]);
-    fold_sum(&acc, gamv.sum[0]);
-    fold_sum(&acc, gamv.sum[1]);
-    acc.comp += (accv.comp[0] + accv.comp[1]) + (gamv.comp[0] + gamv.comp[1]);
+    double spread2 = acc.sq + gam.sq;
+    fold_sum(&acc, gam.sum);
+    acc.comp += gam.comp;
+    if (two_lanes) {
+        spread2 += (accv.sq[0] + accv.sq[1]) + (gamv.sq[0] + gamv.sq[1]);
+        fold_sum(&acc, accv.sum[0]);
+        fold_sum(&acc, accv.sum[1]);
+        fold_sum(&acc, gamv.sum[0]);
+        fold_sum(&acc, gamv.sum[1]);
+        acc.comp += (accv.comp[0] + accv.comp[1]) + (gamv.comp[0] + gamv.comp[1]);
+    }
     return (closed_sums){acc.sum + acc.comp, sqrt(spread2)};
 }
 
