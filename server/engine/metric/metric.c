@@ -30,6 +30,8 @@ void aa_metric_workspace_free(aa_metric_workspace *ws)
     free(ws->index);
     free(ws->tail);
     free(ws->cdf);
+    free(ws->u);
+    free(ws->len);
     memset(ws, 0, sizeof *ws);
 }
 
@@ -51,7 +53,8 @@ static int reserve(aa_metric_workspace *ws, size_t n)
         cap *= 2;
     if (grow_doubles(&ws->p, cap) || grow_doubles(&ws->w, cap) || grow_doubles(&ws->in_x, cap) ||
         grow_doubles(&ws->in_y, cap) || grow_doubles(&ws->in_w, cap) ||
-        grow_doubles(&ws->in_p, cap) || grow_doubles(&ws->tail, cap) || grow_doubles(&ws->cdf, cap))
+        grow_doubles(&ws->in_p, cap) || grow_doubles(&ws->tail, cap) ||
+        grow_doubles(&ws->cdf, cap) || grow_doubles(&ws->u, cap) || grow_doubles(&ws->len, cap))
         return AA_ENOMEM;
     /* index has a second half: the merge sort's scratch */
     uint32_t *ix = realloc(ws->index, 2 * cap * sizeof *ix);
@@ -88,22 +91,33 @@ static inline bool before(double pa, uint32_t ia, double pb, uint32_t ib)
 }
 
 /* Insertion pass over ws's keys (p, index): nearly linear when they are almost sorted, as after
- * the previous angle of the same kernel. Elements already in place cost one comparison. */
+ * the previous angle of the same kernel. An entry moves only if it sorts before the largest
+ * entry ahead of it (when its turn comes, the prefix ahead holds the same entries, sorted), so a
+ * first loop lists the entries whose p is at most the largest p ahead, without a branch per
+ * entry: on neighbouring angles of a pattern's kernel about half of the entries move, and a
+ * branch per entry mispredicts about every other time. Then each listed entry is inserted (an
+ * entry that ties that p stays if its index is larger). The list goes to the second half of
+ * ws->index. */
 static void insertion_pass(aa_metric_workspace *ws, size_t n)
 {
-    double *p = ws->p;
-    uint32_t *ix = ws->index;
+    double *p = ws->p, mp = p[0];
+    uint32_t *ix = ws->index, *moves = ws->index + ws->capacity;
+    size_t count = 0;
     for (size_t i = 1; i < n; i++) {
         double pi = p[i];
+        moves[count] = (uint32_t)i;
+        count += (size_t)(pi <= mp);
+        mp = pi > mp ? pi : mp;
+    }
+    for (size_t m = 0; m < count; m++) {
+        size_t i = moves[m], j = i;
+        double pi = p[i];
         uint32_t ii = ix[i];
-        if (!before(pi, ii, p[i - 1], ix[i - 1]))
-            continue;
-        size_t j = i;
-        do {
+        while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1])) {
             p[j] = p[j - 1];
             ix[j] = ix[j - 1];
             j--;
-        } while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1]));
+        }
         p[j] = pi;
         ix[j] = ii;
     }
@@ -353,6 +367,130 @@ static inline void add_weight(double *c, double *lo, double w)
     *c = x;
 }
 
+/* Two lanes of double (SSE2 on x86-64, NEON on arm64; plain scalar code elsewhere): the closed
+ * form's per-sample work is independent between samples once the prefix sums are known, so two
+ * samples share each arithmetic instruction. Every lane operation is the scalar one (no FMA: ISO C
+ * without contraction), so a lane computes exactly what the scalar code computes. */
+typedef double v2d __attribute__((vector_size(16)));
+
+typedef struct compensated2 {
+    v2d sum, comp, sq;
+} compensated2;
+
+static inline void add_term2(compensated2 *acc, v2d t)
+{
+    v2d x = acc->sum + t, z = x - acc->sum;
+    acc->comp += (acc->sum - (x - z)) + (t - z);
+    acc->sum = x;
+    acc->sq += t * t;
+}
+
+/* x added to acc's compensated sum (its square is already in a spread). */
+static inline void fold_sum(compensated *acc, double x)
+{
+    double y = acc->sum + x, z = y - acc->sum;
+    acc->comp += (acc->sum - (y - z)) + (x - z);
+    acc->sum = y;
+}
+
+static inline v2d load2(const double *a)
+{
+    v2d v;
+    memcpy(&v, a, sizeof v);
+    return v;
+}
+
+static inline void store2(double *a, v2d v)
+{
+    memcpy(a, &v, sizeof v);
+}
+
+/* The inside samples [k, kb) of one table piece (coefficients cf, middle mid), two at a time;
+ * an odd last sample is paired with an empty lane (u = len = w = 0, s = 0), whose terms are
+ * exact zeros. ws->u, ws->len hold u_k and len_k from the prefix pass; with want_prefix
+ * ws->tail[k] holds the running integral of the constant parts, from which Gamma(p_k) is taken,
+ * and ws->cdf[k] gets g(p_k). */
+static inline void closed_piece_run(const double *cf, double mid, size_t k, size_t kb,
+                                    aa_metric_workspace *ws, compensated2 *acc, compensated2 *gam,
+                                    const bool want_prefix)
+{
+    const double *pp = ws->p, *pw = ws->w, *uu = ws->u, *ll = ws->len;
+    v2d vm = {mid, mid}, two = {2, 2}, half = {0.5, 0.5};
+    v2d c[AA_FILTER_CLOSED_DEGREE + 1];
+    for (int m = 0; m <= AA_FILTER_CLOSED_DEGREE; m++)
+        c[m] = (v2d){cf[m], cf[m]};
+    for (; k < kb; k += 2) {
+        bool pair = k + 1 < kb;
+        v2d p, u, len, w;
+        if (pair) {
+            p = load2(pp + k);
+            u = load2(uu + k);
+            len = load2(ll + k);
+            w = load2(pw + k);
+        } else {
+            p = (v2d){pp[k], mid};
+            u = (v2d){uu[k], 0};
+            len = (v2d){ll[k], 0};
+            w = (v2d){pw[k], 0};
+        }
+        add_term2(acc, u * u * len);
+        v2d s = p - vm, v = c[AA_FILTER_CLOSED_DEGREE], d = {0, 0};
+        for (int m = AA_FILTER_CLOSED_DEGREE - 1; m >= 0; m--) {
+            if (want_prefix)
+                d = d * s + v;
+            v = v * s + c[m];
+        }
+        add_term2(gam, two * w * v);
+        if (want_prefix) {
+            v2d g = half + d, pre = (pair ? load2(ws->tail + k) : (v2d){ws->tail[k], 0}) - v;
+            if (pair) {
+                store2(ws->cdf + k, g);
+                store2(ws->tail + k, pre);
+            } else {
+                ws->cdf[k] = g[0];
+                ws->tail[k] = pre[0];
+            }
+        }
+    }
+}
+
+/* The table pieces' ends among the inside samples [k, end): ends[j] is the first position whose
+ * piece, floor((p + r) * inv), exceeds j (end for the last piece). The piece index is monotone in
+ * p (sorted), so bisections find them, with steps that depend on the length alone (a scan would
+ * mispredict at each piece's end), all pieces' searches interleaved (each step waits for a load
+ * and a comparison: one search alone is bound by that latency). */
+static inline void piece_ends(const double *pp, size_t k, size_t end, double r, double inv,
+                              int pieces, size_t *ends)
+{
+    const double *base[AA_FILTER_CLOSED_MAX_PIECES];
+    double next[AA_FILTER_CLOSED_MAX_PIECES];
+    int searched = pieces - 1;
+    ends[searched] = end;
+    if (k == end) {
+        for (int j = 0; j < searched; j++)
+            ends[j] = end;
+        return;
+    }
+    for (int j = 0; j < searched; j++) {
+        base[j] = pp + k;
+        next[j] = j + 1;
+    }
+    size_t len = end - k;
+    while (len > 1) {
+        size_t half = len / 2;
+        for (int j = 0; j < searched; j++)
+            base[j] = (base[j][half] + r) * inv < next[j] ? base[j] + half : base[j];
+        len -= half;
+    }
+    for (int j = 0; j < searched; j++)
+        ends[j] = (size_t)(base[j] - pp) + ((base[j][0] + r) * inv < next[j]);
+}
+
+/* Up to this many samples inside the support, the closed form runs in one lane (one pass): the
+ * two-lane form's setup (a second pass, the pieces' ends, broadcast coefficients) costs more than
+ * it saves there (bench_metric's 4 and 16 samples). */
+#define AA_CLOSED_ONE_LANE_MAX 16
+
 /* want_prefix is a constant at each call site (closed_form_e1, closed_form_prefix): the E1-only
  * copy skips the prefix integrals. */
 static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metric_workspace *ws,
@@ -361,7 +499,9 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
     const double *pp = ws->p, *pw = ws->w;
     double *prefix = ws->tail, r = f->radius, c = 0, lo = 0, lin = 0;
     compensated acc = {f->closed_var, 0, f->closed_var * f->closed_var};
-    compensated gam = {0, 0, 0}; /* the Gamma terms: a second dependency chain */
+    compensated gam = {0, 0, 0}; /* the Gamma terms (one lane): a second dependency chain */
+    /* The inside terms in two lanes each: (c - 1/2)^2 len, and 2 w Gamma(p) (a second chain). */
+    compensated2 accv = {{0, 0}, {0, 0}, {0, 0}}, gamv = {{0, 0}, {0, 0}, {0, 0}};
     /* The sorted samples fall into three runs: p <= -r, inside, p >= r. One loop each, no
      * region tests inside them. ws->tail[k] gets P_k = integral_{-inf}^{p_k} (ghat - g) for the
      * weight gradient: the running integral of the constant parts minus Gamma(p_k). */
@@ -388,45 +528,79 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
         lin += cc * len;
         a = -r;
     }
-    for (size_t k = i0; k < i1; k++) {
-        double p = pp[k], u = (c - 0.5) + lo, len = p - a;
-        add_term(&acc, u * u * len);
-        lin += u * len;
-        double big;
-        if (want_prefix) {
-            double gamma;
-            big = closed_gamma(f, p, &gamma);
-            ws->cdf[k] = 0.5 + gamma; /* g(p), as cdf_at computes it */
-        } else {
-            big = closed_gamma_value(f, p);
+    bool two_lanes = i1 - i0 > AA_CLOSED_ONE_LANE_MAX;
+    if (!two_lanes) {
+        /* few samples inside: one pass, one lane (the two-lane setup would cost more) */
+        for (size_t k = i0; k < i1; k++) {
+            double p = pp[k], u = (c - 0.5) + lo, len = p - a;
+            add_term(&acc, u * u * len);
+            lin += u * len;
+            double big;
+            if (want_prefix) {
+                double gamma;
+                big = closed_gamma(f, p, &gamma);
+                ws->cdf[k] = 0.5 + gamma; /* g(p), as cdf_at computes it */
+                prefix[k] = lin - big;
+            } else {
+                big = closed_gamma_value(f, p);
+            }
+            add_term(&gam, 2 * pw[k] * big);
+            add_weight(&c, &lo, pw[k]);
+            a = p;
         }
-        add_term(&gam, 2 * pw[k] * big);
-        if (want_prefix)
-            prefix[k] = lin - big;
-        add_weight(&c, &lo, pw[k]);
-        a = p;
+    } else {
+        /* First the serial part: the prefix sums (u_k = c_k - 1/2 before sample k) and the
+         * lengths, then per table piece the independent per-sample work in two lanes. The piece
+         * of a sample is closed_piece's, floor((p + r) / width) clamped (piece_ends). */
+        double *uu = ws->u, *ll = ws->len;
+        for (size_t k = i0; k < i1; k++) {
+            double p = pp[k], u = (c - 0.5) + lo, len = p - a;
+            uu[k] = u;
+            ll[k] = len;
+            if (want_prefix) {
+                lin += u * len;
+                prefix[k] = lin;
+            }
+            add_weight(&c, &lo, pw[k]);
+            a = p;
+        }
+        size_t ends[AA_FILTER_CLOSED_MAX_PIECES], k = i0;
+        piece_ends(pp, i0, i1, r, f->closed_inv_width, f->closed_pieces, ends);
+        for (int j = 0; j < f->closed_pieces; j++) {
+            closed_piece_run(f->closed_gamma[j], f->closed_mid[j], k, ends[j], ws, &accv, &gamv,
+                             want_prefix);
+            k = ends[j];
+        }
     }
     double u = (c - 0.5) + lo, len = r - a;
     add_term(&acc, u * u * len);
     lin += u * len;
     a = r;
-    for (size_t k = i1; k < n; k++) {
-        double d = (c - 1) + lo, l = pp[k] - a;
+    for (size_t m = i1; m < n; m++) {
+        double d = (c - 1) + lo, l = pp[m] - a;
         add_term(&acc, d * d * l);
         lin += d * l;
         if (want_prefix) {
-            prefix[k] = lin;
-            ws->cdf[k] = 1;
+            prefix[m] = lin;
+            ws->cdf[m] = 1;
         }
-        add_weight(&c, &lo, pw[k]);
-        a = pp[k];
+        add_weight(&c, &lo, pw[m]);
+        a = pp[m];
     }
     if (want_prefix)
         ws->cdf_valid = true;
     /* Beyond the last sample the integrand is (c - 1)^2 = 0 when the weights sum to 1. */
     double spread2 = acc.sq + gam.sq;
-    add_term(&acc, gam.sum);
+    fold_sum(&acc, gam.sum);
     acc.comp += gam.comp;
+    if (two_lanes) {
+        spread2 += (accv.sq[0] + accv.sq[1]) + (gamv.sq[0] + gamv.sq[1]);
+        fold_sum(&acc, accv.sum[0]);
+        fold_sum(&acc, accv.sum[1]);
+        fold_sum(&acc, gamv.sum[0]);
+        fold_sum(&acc, gamv.sum[1]);
+        acc.comp += (accv.comp[0] + accv.comp[1]) + (gamv.comp[0] + gamv.comp[1]);
+    }
     return (closed_sums){acc.sum + acc.comp, sqrt(spread2)};
 }
 
@@ -516,7 +690,18 @@ static void gradient_sorted(const aa_filter *f, size_t n, double ct, double st, 
     double inv = e > 0 ? 1.0 / e : 0;
     const double *pp = ws->p, *pw = ws->w;
     const uint32_t *ix = ws->index;
-    if (dx || dy) {
+    if (accumulate && dx && dy && ws->cdf_valid) {
+        /* the block's common case, the same arithmetic without the per-entry tests */
+        const double *cdf = ws->cdf;
+        double sorted_before = 0;
+        for (size_t k = 0; k < n; k++) {
+            double w = pw[k], dp = w * (2 * cdf[k] - 2 * sorted_before - w) * 0.5 * inv;
+            uint32_t i = ix[k];
+            dx[i] = dx[i] + factor * (dp * ct);
+            dy[i] = dy[i] + factor * (dp * st);
+            sorted_before += w;
+        }
+    } else if (dx || dy) {
         double sorted_before = 0; /* S_i: weight sorted before i */
         for (size_t k = 0; k < n; k++) {
             double w = pw[k];
@@ -536,9 +721,12 @@ static void gradient_sorted(const aa_filter *f, size_t n, double ct, double st, 
         for (size_t k = 0; k < n; k++)
             mean += ws->tail[k];
         mean /= (double)n;
-        for (size_t k = 0; k < n; k++) {
-            double g = (mean - ws->tail[k]) * inv;
-            dw[ix[k]] = accumulate ? dw[ix[k]] + factor * g : g;
+        if (accumulate) {
+            for (size_t k = 0; k < n; k++)
+                dw[ix[k]] += factor * ((mean - ws->tail[k]) * inv);
+        } else {
+            for (size_t k = 0; k < n; k++)
+                dw[ix[k]] = (mean - ws->tail[k]) * inv;
         }
     }
 }

@@ -50,6 +50,7 @@ typedef struct aa_metric_workspace {
     double *in_x, *in_y, *in_w, *in_p; /* the block's kernel and projection, input order */
     double *tail;                      /* prefix integrals for the weight gradient */
     double *cdf;          /* g(p_k) of the sorted projections, from the closed form's prefix pass */
+    double *u, *len;      /* the closed form's c_k - 1/2 and interval lengths, sorted order */
     bool cdf_valid;       /* cdf holds the current projections' values */
     const void *order_of; /* samples whose sorted order the arrays hold (NULL: none) */
     size_t order_n;
