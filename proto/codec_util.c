@@ -27,16 +27,53 @@ void proto_utf8_trim(char *s)
         s[i - 1] = 0;
 }
 
+/* Length of the well-formed UTF-8 character at s (n bytes left), or 0 if there is none: the
+ * rules jansson's json_string applies (no overlong forms, no surrogates, nothing above
+ * U+10FFFF). */
+static size_t utf8_char_len(const unsigned char *s, size_t n)
+{
+    unsigned char c = s[0];
+    if (c < 0x80)
+        return 1;
+    size_t len;
+    unsigned char lo = 0x80, hi = 0xBF; /* the range of the second byte */
+    if (c >= 0xC2 && c <= 0xDF)
+        len = 2;
+    else if (c >= 0xE0 && c <= 0xEF) {
+        len = 3;
+        lo = c == 0xE0 ? 0xA0 : 0x80;
+        hi = c == 0xED ? 0x9F : 0xBF;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        len = 4;
+        lo = c == 0xF0 ? 0x90 : 0x80;
+        hi = c == 0xF4 ? 0x8F : 0xBF;
+    } else
+        return 0;
+    if (n < len || s[1] < lo || s[1] > hi)
+        return 0;
+    for (size_t i = 2; i < len; i++)
+        if ((s[i] & 0xC0) != 0x80)
+            return 0;
+    return len;
+}
+
 const char *proto_utf8_prefix(char *buf, size_t cap, const char *s, size_t max)
 {
-    size_t n = strlen(s);
-    if (n > max)
-        n = max;
-    if (n >= cap)
-        n = cap - 1;
-    memcpy(buf, s, n);
-    buf[n] = 0;
-    proto_utf8_trim(buf);
+    size_t n = strlen(s), out = 0;
+    const unsigned char *u = (const unsigned char *)s;
+    for (size_t i = 0; i < n && cap > 0;) {
+        size_t len = utf8_char_len(u + i, n - i), step = len ? len : 1;
+        if (i + step > max || out + step >= cap)
+            break; /* a character the limit would cut is left out whole */
+        if (len)
+            memcpy(buf + out, s + i, len);
+        else /* echoed input that is not UTF-8: one '?' per byte */
+            buf[out] = '?';
+        out += step;
+        i += step;
+    }
+    if (cap > 0)
+        buf[out] = 0;
     return buf;
 }
 

@@ -183,6 +183,24 @@ static void test_parse_errors(void **state)
     free(big);
 }
 
+/* jansson's error text echoes the input as it is: bytes that are not UTF-8 come out as '?', so
+ * the message can go into a JSON answer (found by fuzz_pointset_parser). */
+static void test_error_text_is_utf8(void **state)
+{
+    (void)state;
+    const char text[] = "{\"aal\\\xcf\x9d\xdd\xc5\x84\x82\xd0\"poi\x19s\":1}";
+    proto_pointset ps;
+    aa_error err = {0};
+    assert_int_not_equal(
+        proto_pointset_parse(text, sizeof text - 1, PROTO_POINTS_JSON, &ps, "t", &err), AA_OK);
+    json_t *js = json_string(err.message);
+    if (!js)
+        fail_msg("message is not UTF-8: %s", err.message);
+    json_decref(js);
+    if (!strstr(err.message, "near '\"aal\\?'")) /* jansson stops after the lone 0xcf */
+        fail_msg("message '%s' lacks the '?'", err.message);
+}
+
 static void test_points_form_errors(void **state)
 {
     (void)state;
@@ -480,6 +498,7 @@ int main(void)
         cmocka_unit_test(test_points_form_errors), cmocka_unit_test(test_coordinate_conventions),
         cmocka_unit_test(test_round_trip_presets), cmocka_unit_test(test_round_trip_families),
         cmocka_unit_test(test_without_header),     cmocka_unit_test(test_export_formats),
+        cmocka_unit_test(test_error_text_is_utf8),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
