@@ -9,40 +9,13 @@
 #include <string.h>
 
 #include "optimizer.h"
+#include "optimizer_run.h"
 
 /* A standard normal deviate (Box-Muller; u1 in (0, 1]). */
 static double normal_deviate(aa_rng *rng)
 {
     double u1 = 1.0 - aa_rng_uniform(rng), u2 = aa_rng_uniform(rng);
     return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
-}
-
-/* Forwards each round's progress with the earlier rounds' seconds, iterations and evaluations
- * added, so that the caller sees one run whose counters only grow, and whose fraction is the
- * share of the search's budgets spent (a round's own fraction restarts at 0 and ends at 1). */
-typedef struct chain_progress {
-    aa_optimize_progress_fn fn;
-    void *user;
-    const aa_perturb_params *pp;
-    double seconds;
-    long iterations, evaluations;
-    double fraction; /* the last reported: it never steps back */
-} chain_progress;
-
-static int forward_progress(void *user, const aa_optimize_progress *p)
-{
-    chain_progress *c = user;
-    aa_optimize_progress q = *p;
-    q.seconds += c->seconds;
-    q.iterations += c->iterations;
-    q.evaluations += c->evaluations;
-    double f = c->fraction;
-    if (c->pp->max_iterations > 0)
-        f = fmax(f, (double)q.iterations / (double)c->pp->max_iterations);
-    if (c->pp->max_seconds > 0)
-        f = fmax(f, q.seconds / c->pp->max_seconds);
-    c->fraction = q.fraction = fmin(f, 1); /* without budgets: 0 until the search ends */
-    return c->fn(c->user, &q);
 }
 
 void aa_perturb_params_default(aa_perturb_params *pp)
@@ -135,7 +108,8 @@ int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metri
     if ((rc = aa_pattern_copy(best, start)))
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     int since_better = 0;
-    chain_progress chain = {progress, user, pp, 0, 0, 0, 0};
+    /* The rounds as one run, against the search's budgets. */
+    opt_chained_progress chain = {progress, user, pp->max_seconds, pp->max_iterations, 0, 0, 0, 0};
     for (long round = 0; round < pp->rounds && since_better < pp->stall; round++) {
         aa_pattern trial, out;
         if ((rc =
@@ -161,8 +135,8 @@ int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metri
                 round_params.max_seconds = left;
         }
         aa_optimize_result r;
-        rc = aa_optimize(&trial, metric, &round_params, progress ? forward_progress : NULL, &chain,
-                         &out, &r, err);
+        rc = aa_optimize(&trial, metric, &round_params,
+                         progress ? opt_chained_progress_forward : NULL, &chain, &out, &r, err);
         aa_pattern_free(&trial);
         if (rc && rc != AA_ECANCELED)
             break;

@@ -240,3 +240,19 @@ void opt_loop_accept(opt_loop *L, double te2)
     L->e2 = te2;
     opt_loop_offer_best(L, &L->cur, L->e2);
 }
+
+int opt_chained_progress_forward(void *user, const aa_optimize_progress *p)
+{
+    opt_chained_progress *c = user;
+    aa_optimize_progress q = *p;
+    q.seconds += c->seconds;
+    q.iterations += c->iterations;
+    q.evaluations += c->evaluations;
+    double f = c->fraction;
+    if (c->budget_iterations > 0)
+        f = fmax(f, (double)q.iterations / (double)c->budget_iterations);
+    if (c->budget_seconds > 0)
+        f = fmax(f, q.seconds / c->budget_seconds);
+    c->fraction = q.fraction = fmin(f, 1);
+    return c->fn(c->user, &q);
+}

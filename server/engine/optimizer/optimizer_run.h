@@ -21,6 +21,23 @@ typedef struct opt_progress_state {
     const aa_clock *clock;
 } opt_progress_state;
 
+/* Several runs seen as one by the caller's progress (the rounds of an iterated local search, a
+ * descent and then its search): each report gets the earlier runs' seconds, iterations and
+ * evaluations added (the caller updates them between runs), and its fraction is the share of
+ * the budgets spent, never stepping back (a run's own fraction restarts at 0 and ends at 1). */
+typedef struct opt_chained_progress {
+    aa_optimize_progress_fn fn;
+    void *user;
+    double budget_seconds;  /* <= 0: none */
+    long budget_iterations; /* <= 0: none */
+    double seconds;         /* the earlier runs' */
+    long iterations, evaluations;
+    double fraction; /* the last reported; without budgets 0 until the runs end */
+} opt_chained_progress;
+
+/* An aa_optimize_progress_fn; user is an opt_chained_progress. */
+int opt_chained_progress_forward(void *user, const aa_optimize_progress *p);
+
 struct opt_loop;
 
 typedef struct opt_run {
