@@ -8,11 +8,13 @@
 #      packages, its pytest suite (tests/python) against build/ci's aalabd, docs/examples
 #   2. the whole ctest suite with AddressSanitizer + UBSan            build/ci-sanitize
 #   3. ThreadSanitizer: tests/tsan.sh's selection, then the end-to-end tests  build/ci-tsan
-#   4. tests labelled "fuzz" (60 s per target) in a clang libFuzzer build   build/ci-fuzz
+#   4. tests labelled "fuzz" (AALAB_FUZZ_SECONDS per target, default 30) in a clang libFuzzer
+#      build                                                          build/ci-fuzz
 #   5. systemd-analyze verify of systemd/*.socket|service (any output fails) and sysusers.d
 #   6. systemd-analyze security --offline=yes aalabd.service, exposure <= 2.0
 # and prints a summary with the time of each stage. Exit status 0 only if every stage passed.
-# Environment: AALAB_TEST_JOBS (default: nproc), AALAB_SKIP="tsan fuzz ..." to skip stages.
+# Environment: AALAB_TEST_JOBS (default: nproc), AALAB_SKIP="tsan fuzz ..." to skip stages,
+# AALAB_FUZZ_SECONDS (default 30).
 set -u
 
 cd "$(dirname "$0")/.."
@@ -114,7 +116,8 @@ tsan() {
 fuzz() {
   # libFuzzer needs clang, and the fuzz build needs ASan+UBSan (tests/fuzz/CMakeLists.txt).
   build build/ci-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=Debug -DAALAB_FUZZ=ON \
-    -DAALAB_SANITIZE=ON -DAALAB_WEB_TESTS=OFF || return 1
+    -DAALAB_SANITIZE=ON -DAALAB_WEB_TESTS=OFF -DAALAB_FUZZ_SECONDS="${AALAB_FUZZ_SECONDS:-30}" ||
+    return 1
   suite build/ci-fuzz -L fuzz
 }
 
