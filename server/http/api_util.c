@@ -56,7 +56,7 @@ void api_reply_wire(api_response *resp, proto_wire_error e, const char *field, c
     va_end(ap);
     json_t *doc = json_pack("{s:{s:s,s:s,s:s}}", "error", "code", row->code, "message", msg,
                             "field", field ? field : "");
-    if (!doc) /* message not valid UTF-8 (echoed input): drop it */
+    if (!doc) /* message not valid UTF-8 (echoed input; proto_json_error_message prevents it) */
         doc = json_pack("{s:{s:s,s:s,s:s}}", "error", "code", row->code, "message", "invalid input",
                         "field", "");
     api_reply_json(resp, row->status, doc);
@@ -73,8 +73,9 @@ json_t *api_parse_body(const api_request *req, api_response *resp)
     json_error_t je;
     json_t *j = json_loadb(req->body, req->body_len, JSON_REJECT_DUPLICATES, &je);
     if (!j) {
-        api_reply_wire(resp, WIRE_INVALID_JSON, "", "invalid JSON at line %d column %d: %s",
-                       je.line, je.column, je.text);
+        char msg[256];
+        proto_json_error_message(&je, msg, sizeof msg);
+        api_reply_wire(resp, WIRE_INVALID_JSON, "", "%s", msg);
         return NULL;
     }
     if (!json_is_object(j)) {

@@ -27,14 +27,9 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
         api_reply_wire(resp, WIRE_INTERNAL, "", "the tile store is not configured");
         return;
     }
-    json_error_t jerr;
-    json_t *root =
-        req->body_len ? json_loadb(req->body, req->body_len, JSON_REJECT_DUPLICATES, &jerr) : NULL;
-    if (!root) {
-        api_reply_wire(resp, WIRE_INVALID_JSON, "", "body is not JSON: %s",
-                       req->body_len ? jerr.text : "empty body");
+    json_t *root = api_parse_body(req, resp); /* the one body parser: its errors are UTF-8 */
+    if (!root)
         return;
-    }
     aa_error err = {0};
     proto_render_request rq;
     int rc = proto_decode_render_request(root, &rq, &err);

@@ -103,6 +103,18 @@ static void test_routes_and_errors(void **state)
     j = api_call(f, "POST", "/v1/evaluate", "{\"a\":1,\"a\":2}", 1000, &st);
     assert_int_equal(st, 400);
     json_decref(j);
+    /* A broken escape before a 2-byte character: jansson's text echoes "\\" and the lone first
+     * byte. The answer keeps where and why, with that byte as '?' (and is valid JSON text, or
+     * api_call could not parse it). */
+    j = api_call(f, "POST", "/v1/evaluate", "{\"aal\\\xcf\x9d\":1}", 1000, &st);
+    assert_int_equal(st, 400);
+    json_t *e = json_object_get(j, "error");
+    assert_string_equal(json_string_value(json_object_get(e, "code")), "invalid_json");
+    const char *msg = json_string_value(json_object_get(e, "message"));
+    assert_non_null(msg);
+    assert_non_null(strstr(msg, "invalid JSON at line 1 column "));
+    assert_non_null(strstr(msg, "near '\"aal\\?'"));
+    json_decref(j);
 }
 
 static void test_limits(void **state)
