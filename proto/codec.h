@@ -60,10 +60,10 @@ void proto_acuity_ref_set(const aa_acuity *acuity, char *name, size_t cap, int *
 bool proto_acuity_ref_encode(json_t *obj, const char *name, int version);
 int proto_acuity_ref_decode(const json_t *obj, char *name, size_t cap, int *version, aa_error *err);
 
-/* A JSON text that jansson could not parse, as a message for the client: "invalid JSON at line L
- * column C: TEXT" into out, always valid UTF-8 (jansson's TEXT echoes the input, so each byte of
- * it that is not part of a well-formed UTF-8 character becomes '?'). */
-void proto_json_error_message(const json_error_t *je, char *out, size_t cap);
+/* At most max bytes of s into buf (cap bytes), cut at a character boundary, each byte that is
+ * not part of a well-formed UTF-8 character replaced by '?': text that echoes input (jansson's
+ * error text does) made fit for a JSON string; returns buf. */
+const char *proto_utf8_prefix(char *buf, size_t cap, const char *s, size_t max);
 /* "prefix.sub" (or "prefix[..]" when sub starts with '['), written to out. */
 void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub);
 /* Rejects keys of obj not in the NULL-terminated allowed list, naming the first one

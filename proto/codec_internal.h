@@ -10,10 +10,6 @@
 /* Drops a last UTF-8 character that truncation left incomplete (error fields and messages go
  * into JSON, which must be UTF-8). */
 void proto_utf8_trim(char *s);
-/* At most max bytes of s into buf (cap bytes), cut at a character boundary, each byte that is
- * not part of a well-formed UTF-8 character replaced by '?' (jansson's error text echoes the
- * input as it is); returns buf. */
-const char *proto_utf8_prefix(char *buf, size_t cap, const char *s, size_t max);
 /* Sets err with field prefix+sub and a fixed message; returns code. */
 int proto_fail(aa_error *err, int code, const char *prefix, const char *sub, const char *msg);
 /* Prepends prefix to err->field (engine errors are relative to the engine object). */

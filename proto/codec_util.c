@@ -77,14 +77,6 @@ const char *proto_utf8_prefix(char *buf, size_t cap, const char *s, size_t max)
     return buf;
 }
 
-void proto_json_error_message(const json_error_t *je, char *out, size_t cap)
-{
-    char text[JSON_ERROR_TEXT_LENGTH];
-    proto_utf8_prefix(text, sizeof text, je->text, sizeof text - 1);
-    snprintf(out, cap, "invalid JSON at line %d column %d: %s", je->line, je->column, text);
-    proto_utf8_trim(out); /* cap may cut the last character */
-}
-
 void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub)
 {
     int n; /* a path longer than cap is cut short on purpose (checking n tells -O3 gcc so) */

@@ -49,18 +49,16 @@ void api_reply_json(api_response *resp, int status, json_t *body)
 void api_reply_wire(api_response *resp, proto_wire_error e, const char *field, const char *fmt, ...)
 {
     const proto_wire_row *row = proto_wire_row_of(e);
-    char msg[512];
+    char msg[512], text[512], name[256];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    json_t *doc = json_pack("{s:{s:s,s:s,s:s}}", "error", "code", row->code, "message", msg,
-                            "field", field ? field : "");
-    if (!doc) /* message not valid UTF-8 (echoed input; proto_json_error_message prevents it) */
-        doc = json_pack("{s:{s:s,s:s,s:s}}", "error", "code", row->code, "message", "invalid input",
-                        "field", "");
-    api_reply_json(resp, row->status, doc);
-    resp->status = row->status;
+    /* Messages may echo input (jansson's "near '...'"): every answer is UTF-8 all the same. */
+    json_t *doc = json_pack("{s:{s:s,s:s,s:s}}", "error", "code", row->code, "message",
+                            proto_utf8_prefix(text, sizeof text, msg, sizeof msg), "field",
+                            proto_utf8_prefix(name, sizeof name, field ? field : "", sizeof name));
+    api_reply_json(resp, row->status, doc); /* NULL (out of memory): a 500 answer */
     resp->retry_after = row->retry_after;
 }
 
@@ -73,9 +71,8 @@ json_t *api_parse_body(const api_request *req, api_response *resp)
     json_error_t je;
     json_t *j = json_loadb(req->body, req->body_len, JSON_REJECT_DUPLICATES, &je);
     if (!j) {
-        char msg[256];
-        proto_json_error_message(&je, msg, sizeof msg);
-        api_reply_wire(resp, WIRE_INVALID_JSON, "", "%s", msg);
+        api_reply_wire(resp, WIRE_INVALID_JSON, "", "invalid JSON at line %d column %d: %s",
+                       je.line, je.column, je.text);
         return NULL;
     }
     if (!json_is_object(j)) {
