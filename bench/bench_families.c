@@ -7,7 +7,9 @@
  * process's CPU seconds divided by the workers, for a machine shared with other work), --trace
  * (best E2 against the budget's clock, every seed's end point). To study the search on one
  * family (defaults: as optimize jobs): --first-seed K, --poisson-only, --seed-pool N (each seed
- * the best of N draws), --perturb-sigma S, --perturb-stall N, --perturb-redraw N. */
+ * the best of N draws), --perturb-sigma S, --perturb-stall N, --perturb-redraw N,
+ * --perturb-keep-pixels (the search's move before 2026-11-27: samples jittered inside their pixel).
+ */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
 #include <stdio.h>
@@ -71,6 +73,7 @@ int main(int argc, char **argv)
     bool trace = false;
     double perturb_sigma = 0;
     int perturb_stall = 0, perturb_redraw = 0;
+    bool perturb_keep_pixels = false;
     long first_seed = 0;
     bool poisson_only = false;
     for (int i = 1; i < argc; i++) {
@@ -104,6 +107,8 @@ int main(int argc, char **argv)
             perturb_stall = atoi(argv[++i]);
         } else if (!strcmp(argv[i], "--perturb-redraw") && i + 1 < argc) {
             perturb_redraw = atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--perturb-keep-pixels")) {
+            perturb_keep_pixels = true;
         } else if (!strcmp(argv[i], "--first-seed") && i + 1 < argc) {
             first_seed = atol(argv[++i]);
         } else if (!strcmp(argv[i], "--poisson-only")) {
@@ -118,7 +123,7 @@ int main(int argc, char **argv)
                     "[--seed K] [--only LABEL] [--acuity NAME] [--cpu-clock] [--trace] "
                     "[--first-seed K] "
                     "[--poisson-only] [--seed-pool N] [--perturb-sigma S] [--perturb-stall N] "
-                    "[--perturb-redraw N]\n",
+                    "[--perturb-redraw N] [--perturb-keep-pixels]\n",
                     argv[0]);
             return 2;
         }
@@ -175,6 +180,7 @@ int main(int argc, char **argv)
             mp.perturb.stall = perturb_stall;
         if (perturb_redraw > 0)
             mp.perturb.redraw = perturb_redraw;
+        mp.perturb.keep_pixels = perturb_keep_pixels;
         static const aa_seed_kind poisson[1] = {AA_SEED_POISSON};
         if (poisson_only) {
             mp.kinds = poisson;

@@ -242,7 +242,7 @@ static void tile_sites_and_pixels_are_preserved(void **state)
 
 /* Iterated local search: never worse than its start, same family and per-pixel structure,
  * deterministic for a given rng state, refused where samples sit on borders. */
-static void check_perturbed_search(int redraw)
+static void check_perturbed_search(int redraw, bool keep_pixels)
 {
     aa_pattern seed, local, a, b;
     seed_of("P(4,4,2)", 5, &seed);
@@ -258,6 +258,7 @@ static void check_perturbed_search(int redraw)
     pp.rounds = 8;
     pp.sigma = 0.02;
     pp.redraw = redraw;
+    pp.keep_pixels = keep_pixels;
     aa_rng rng;
     aa_rng_seed(&rng, 9, 1);
     assert_int_equal(
@@ -272,14 +273,25 @@ static void check_perturbed_search(int redraw)
     assert_int_equal(a.tile_count, local.tile_count);
     assert_memory_equal(a.tile_samples, b.tile_samples, a.tile_count * sizeof *a.tile_samples);
     assert_string_equal(a.family, local.family);
-    /* every pixel of the 2x2 tile keeps its number of samples */
-    int per_pixel[4] = {0}, before[4] = {0};
+    /* Samples may change pixels (the jitter crosses edges) but every one stays strictly inside
+     * a pixel of the tile, so no sample becomes an edge or corner sample. */
     for (size_t t = 0; t < a.tile_count; t++) {
-        per_pixel[(int)floor(a.tile_samples[t].y) * 2 + (int)floor(a.tile_samples[t].x)]++;
-        before[(int)floor(local.tile_samples[t].y) * 2 + (int)floor(local.tile_samples[t].x)]++;
+        const double c[2] = {a.tile_samples[t].x, a.tile_samples[t].y};
+        for (int k = 0; k < 2; k++) {
+            assert_true(c[k] >= 0 && c[k] < 2);
+            assert_true(c[k] - floor(c[k]) > 1e-7 && c[k] - floor(c[k]) < 1 - 1e-7);
+        }
     }
-    for (int px = 0; px < 4; px++)
-        assert_int_equal(per_pixel[px], before[px]);
+    assert_false(a.border);
+    if (keep_pixels) { /* every pixel of the 2x2 tile keeps its number of samples */
+        int per_pixel[4] = {0}, before[4] = {0};
+        for (size_t t = 0; t < a.tile_count; t++) {
+            per_pixel[(int)floor(a.tile_samples[t].y) * 2 + (int)floor(a.tile_samples[t].x)]++;
+            before[(int)floor(local.tile_samples[t].y) * 2 + (int)floor(local.tile_samples[t].x)]++;
+        }
+        for (int px = 0; px < 4; px++)
+            assert_int_equal(per_pixel[px], before[px]);
+    }
     aa_evaluation ev;
     assert_int_equal(aa_evaluate(&a, &metric, &ev, NULL), AA_OK);
     assert_true(fabs(ev.e2 - ra.e2) < 1e-12);
@@ -302,8 +314,9 @@ static void check_perturbed_search(int redraw)
 static void perturbed_search_keeps_structure_and_is_deterministic(void **state)
 {
     (void)state;
-    check_perturbed_search(0);
-    check_perturbed_search(3); /* with samples drawn afresh in their pixels */
+    check_perturbed_search(0, false);
+    check_perturbed_search(3, false); /* with samples drawn afresh in their pixels */
+    check_perturbed_search(0, true);  /* the move that keeps samples in their pixels */
 }
 
 /* Progress of a descent-then-search stage: what the caller saw, checked as it comes. */

@@ -112,8 +112,9 @@ int aa_optimize(const aa_pattern *seed, const aa_metric_params *metric,
                 aa_pattern *best, aa_optimize_result *result, aa_error *err);
 
 /* Iterated local search from a local optimum of a tile pattern without border samples
- * (aa_perturbable): up to `rounds` times, jitter every sample by N(0, sigma^2) pixels inside its
- * pixel, reset the weights to the filter's impulse response, descend with `local`, and keep the
+ * (aa_perturbable): up to `rounds` times, jitter every sample by N(0, sigma^2) pixels on the
+ * tile's torus (a sample may move into a neighbouring pixel; the descent itself keeps samples in
+ * their pixels), reset the weights to the filter's impulse response, descend with `local`, keep the
  * result if E2 is lower; stop after `stall` rounds in a row without improvement, when
  * max_seconds are spent (AA_OK), or when a round is cancelled (AA_ECANCELED, *best = the best so
  * far). result sums iterations, evaluations and seconds over the rounds; initial_e2 is start's.
@@ -129,9 +130,13 @@ typedef struct aa_perturb_params {
     /* Samples (distinct, chosen at random) also drawn afresh, uniformly in their own pixel, in
      * every round: a larger move than the jitter alone; default 0. */
     int redraw;
+    /* Jitter each sample inside its own pixel, so every pixel keeps its number of samples (the
+     * move before 2026-11-27, for comparison; default false: samples may change pixels). */
+    bool keep_pixels;
 } aa_perturb_params;
 #define AA_PERTURB_UNTIL_STALL 1000000000L
-/* rounds 0 (off), sigma 0.01, stall 30, no budgets of its own, no redraws. */
+/* rounds 0 (off), sigma 0.01, stall 30, no budgets of its own, no redraws, samples may change
+ * pixels. */
 void aa_perturb_params_default(aa_perturb_params *pp);
 bool aa_perturbable(const aa_pattern *p);
 /* The families whose optimizations use the search: tiled (T > 1) without border samples, i.e.

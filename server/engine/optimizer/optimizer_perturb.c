@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "optimizer.h"
+#include "optimizer_perturb.h"
 #include "optimizer_run.h"
 
 /* A standard normal deviate (Box-Muller; u1 in (0, 1]). */
@@ -20,7 +21,7 @@ static double normal_deviate(aa_rng *rng)
 
 void aa_perturb_params_default(aa_perturb_params *pp)
 {
-    *pp = (aa_perturb_params){0, 0.01, 30, 0, 0, 0};
+    *pp = (aa_perturb_params){0, 0.01, 30, 0, 0, 0, false};
 }
 
 bool aa_family_perturbable(const aa_family *f)
@@ -39,20 +40,34 @@ bool aa_perturbable(const aa_pattern *p)
     return p->form == AA_FORM_TILE && p->tile_count > 0 && !p->border;
 }
 
-/* The jittered neighbour of p: every sample moved by N(0, sigma^2) in x and y, kept inside its
- * own pixel (so the per-pixel structure and the cost stay), weights from the filter. */
-static int jittered_neighbour(const aa_pattern *p, double sigma, int redraw,
-                              const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err)
+/* x moved by d on the torus [0, T) and kept `margin` inside the pixel it lands in. A sample may
+ * leave its pixel: the descent keeps each sample inside its pixel (crossing an edge changes the
+ * kernels that read it, a jump in E2), so only these moves change how many samples each pixel
+ * holds. Letting them do so lowered the search's end points (docs/optimizer.md). */
+static double jittered_coordinate(double x, double d, int T, double margin, bool keep_pixel)
+{
+    if (keep_pixel)
+        return fmin(fmax(x + d, floor(x) + margin), floor(x) + 1 - margin);
+    double v = fmod(x + d, (double)T);
+    if (v < 0)
+        v += T;
+    double pixel = floor(v);
+    if (pixel >= T) /* fmod of a tiny negative value plus T rounds up to T */
+        pixel = T - 1;
+    return fmin(fmax(v, pixel + margin), pixel + 1 - margin);
+}
+
+int opt_jittered_neighbour(const aa_pattern *p, double sigma, int redraw, bool keep_pixels,
+                           const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err)
 {
     aa_point *pts = malloc(p->tile_count * sizeof *pts);
     if (!pts)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    const double margin = 1e-6;
+    const double margin = OPT_JITTER_MARGIN;
     for (size_t i = 0; i < p->tile_count; i++) {
-        double x = p->tile_samples[i].x, y = p->tile_samples[i].y;
-        double px = floor(x), py = floor(y);
-        pts[i].x = fmin(fmax(x + sigma * normal_deviate(rng), px + margin), px + 1 - margin);
-        pts[i].y = fmin(fmax(y + sigma * normal_deviate(rng), py + margin), py + 1 - margin);
+        double dx = sigma * normal_deviate(rng), dy = sigma * normal_deviate(rng);
+        pts[i].x = jittered_coordinate(p->tile_samples[i].x, dx, p->tile, margin, keep_pixels);
+        pts[i].y = jittered_coordinate(p->tile_samples[i].y, dy, p->tile, margin, keep_pixels);
     }
     /* Partial Fisher-Yates: the first `redraw` entries of a shuffled index list. */
     size_t n = p->tile_count, k = redraw > 0 ? ((size_t)redraw < n ? (size_t)redraw : n) : 0;
@@ -112,8 +127,8 @@ int aa_optimize_perturbed(const aa_pattern *start, const aa_metric_params *metri
     opt_chained_progress chain = {progress, user, pp->max_seconds, pp->max_iterations, 0, 0, 0, 0};
     for (long round = 0; round < pp->rounds && since_better < pp->stall; round++) {
         aa_pattern trial, out;
-        if ((rc =
-                 jittered_neighbour(best, pp->sigma, pp->redraw, metric->filter, rng, &trial, err)))
+        if ((rc = opt_jittered_neighbour(best, pp->sigma, pp->redraw, pp->keep_pixels,
+                                         metric->filter, rng, &trial, err)))
             break;
         aa_optimize_params round_params = *local;
         if (pp->max_iterations > 0) {
