@@ -15,7 +15,7 @@
 #include "aa_pattern.h"
 #include "optimizer_perturb.h"
 
-/* A uniform P(16,16,4) pattern with sample 0 OPT_JITTER_MARGIN inside the tile's right edge (x =
+/* A uniform P(16,16,4) pattern with sample 0 OPT_SITE_MARGIN inside the tile's right edge (x =
  * 4) and sample 1 that far inside the left edge of its pixel's right neighbour. */
 static void pattern_with_samples_at_edges(const aa_filter *filter, aa_pattern *out)
 {
@@ -41,8 +41,8 @@ static void pattern_with_samples_at_edges(const aa_filter *filter, aa_pattern *o
     /* Samples 0 and 1 of the built pattern (tile_samples keep the given order). */
     aa_point ordered[64];
     size_t n = 0;
-    ordered[n++] = (aa_point){4 - OPT_JITTER_MARGIN, pts[right].y};
-    ordered[n++] = (aa_point){1 + OPT_JITTER_MARGIN, pts[inner].y};
+    ordered[n++] = (aa_point){4 - OPT_SITE_MARGIN, pts[right].y};
+    ordered[n++] = (aa_point){1 + OPT_SITE_MARGIN, pts[inner].y};
     for (size_t i = 0; i < 64; i++)
         if (i != right && i != inner)
             ordered[n++] = pts[i];
@@ -72,7 +72,7 @@ static void draw_neighbours(const aa_pattern *p, bool keep_pixels, const aa_filt
                 double f = c[k] - floor(c[k]);
                 assert_true(c[k] >= 0 && c[k] < 4);
                 /* inside its pixel: at least the margin (up to rounding) from either edge */
-                assert_true(f >= 0.999 * OPT_JITTER_MARGIN && f <= 1 - 0.999 * OPT_JITTER_MARGIN);
+                assert_true(f >= 0.999 * OPT_SITE_MARGIN && f <= 1 - 0.999 * OPT_SITE_MARGIN);
             }
         }
         /* sample 0 sat against x = 4: a move to the right wraps round to x = 0+ */
@@ -90,8 +90,8 @@ static void jitter_crosses_pixel_edges_and_wraps(void **state)
     aa_filter_default(&filter);
     aa_pattern p;
     pattern_with_samples_at_edges(&filter, &p);
-    assert_true(p.tile_samples[0].x == 4 - OPT_JITTER_MARGIN);
-    assert_true(p.tile_samples[1].x == 1 + OPT_JITTER_MARGIN);
+    assert_true(p.tile_samples[0].x == 4 - OPT_SITE_MARGIN);
+    assert_true(p.tile_samples[1].x == 1 + OPT_SITE_MARGIN);
     int wrapped, crossed, draws = 200;
     draw_neighbours(&p, false, &filter, draws, &wrapped, &crossed);
     /* Each is a fair coin per draw (200 draws: 100 +- 7); clamping in place would give 0. */

@@ -40,21 +40,15 @@ bool aa_perturbable(const aa_pattern *p)
     return p->form == AA_FORM_TILE && p->tile_count > 0 && !p->border;
 }
 
-/* x moved by d on the torus [0, T) and kept `margin` inside the pixel it lands in. A sample may
- * leave its pixel: the descent keeps each sample inside its pixel (crossing an edge changes the
- * kernels that read it, a jump in E2), so only these moves change how many samples each pixel
- * holds. Letting them do so lowered the search's end points (docs/optimizer.md). */
-static double jittered_coordinate(double x, double d, int T, double margin, bool keep_pixel)
+/* x moved by d and kept `margin` inside the pixel it lands in (aa_pattern_from_tile wraps it
+ * into the tile). A sample may leave its pixel: the descent keeps each sample inside its pixel
+ * (crossing an edge changes the kernels that read it, a jump in E2), so only these moves change
+ * how many samples each pixel holds. Letting them do so lowered the search's end points
+ * (docs/optimizer.md). keep_pixel: the pixel is x's own. */
+static double jittered_coordinate(double x, double d, double margin, bool keep_pixel)
 {
-    if (keep_pixel)
-        return fmin(fmax(x + d, floor(x) + margin), floor(x) + 1 - margin);
-    double v = fmod(x + d, (double)T);
-    if (v < 0)
-        v += T;
-    double pixel = floor(v);
-    if (pixel >= T) /* fmod of a tiny negative value plus T rounds up to T */
-        pixel = T - 1;
-    return fmin(fmax(v, pixel + margin), pixel + 1 - margin);
+    double pixel = floor(keep_pixel ? x : x + d);
+    return fmin(fmax(x + d, pixel + margin), pixel + 1 - margin);
 }
 
 int opt_jittered_neighbour(const aa_pattern *p, double sigma, int redraw, bool keep_pixels,
@@ -63,11 +57,11 @@ int opt_jittered_neighbour(const aa_pattern *p, double sigma, int redraw, bool k
     aa_point *pts = malloc(p->tile_count * sizeof *pts);
     if (!pts)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    const double margin = OPT_JITTER_MARGIN;
+    const double margin = OPT_SITE_MARGIN;
     for (size_t i = 0; i < p->tile_count; i++) {
         double dx = sigma * normal_deviate(rng), dy = sigma * normal_deviate(rng);
-        pts[i].x = jittered_coordinate(p->tile_samples[i].x, dx, p->tile, margin, keep_pixels);
-        pts[i].y = jittered_coordinate(p->tile_samples[i].y, dy, p->tile, margin, keep_pixels);
+        pts[i].x = jittered_coordinate(p->tile_samples[i].x, dx, margin, keep_pixels);
+        pts[i].y = jittered_coordinate(p->tile_samples[i].y, dy, margin, keep_pixels);
     }
     /* Partial Fisher-Yates: the first `redraw` entries of a shuffled index list. */
     size_t n = p->tile_count, k = redraw > 0 ? ((size_t)redraw < n ? (size_t)redraw : n) : 0;
