@@ -8,7 +8,9 @@
  * (best E2 against the budget's clock, every seed's end point). To study the search on one
  * family (defaults: as optimize jobs): --first-seed K, --poisson-only, --seed-pool N (each seed
  * the best of N draws), --perturb-sigma S, --perturb-stall N, --perturb-redraw N,
- * --perturb-keep-pixels (the search's move before 2026-11-27: samples jittered inside their pixel).
+ * --perturb-keep-pixels (the search's move before 2026-11-27: samples jittered inside their pixel),
+ * --kink-width W (the smooth rule's first-stage width of E1's smoothed crossing kinks, pixels;
+ * 0: exact E1 throughout, as before 2026-11-27; default AA_SMOOTH_KINK_WIDTH).
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
@@ -74,6 +76,7 @@ int main(int argc, char **argv)
     double perturb_sigma = 0;
     int perturb_stall = 0, perturb_redraw = 0;
     bool perturb_keep_pixels = false;
+    double kink_width = AA_SMOOTH_KINK_WIDTH;
     long first_seed = 0;
     bool poisson_only = false;
     for (int i = 1; i < argc; i++) {
@@ -109,6 +112,8 @@ int main(int argc, char **argv)
             perturb_redraw = atoi(argv[++i]);
         } else if (!strcmp(argv[i], "--perturb-keep-pixels")) {
             perturb_keep_pixels = true;
+        } else if (!strcmp(argv[i], "--kink-width") && i + 1 < argc) {
+            kink_width = atof(argv[++i]);
         } else if (!strcmp(argv[i], "--first-seed") && i + 1 < argc) {
             first_seed = atol(argv[++i]);
         } else if (!strcmp(argv[i], "--poisson-only")) {
@@ -123,7 +128,7 @@ int main(int argc, char **argv)
                     "[--seed K] [--only LABEL] [--acuity NAME] [--cpu-clock] [--trace] "
                     "[--first-seed K] "
                     "[--poisson-only] [--seed-pool N] [--perturb-sigma S] [--perturb-stall N] "
-                    "[--perturb-redraw N] [--perturb-keep-pixels]\n",
+                    "[--perturb-redraw N] [--perturb-keep-pixels] [--kink-width W]\n",
                     argv[0]);
             return 2;
         }
@@ -138,9 +143,9 @@ int main(int argc, char **argv)
     }
     aa_metric_params metric = {&filter, &acuity, NULL, 0, 0};
     printf("bench_families: multi-start descent, Opt W+P, %d workers, rng_seed %llu, method %s, "
-           "acuity %s version %d%s\n",
+           "acuity %s version %d, kink width %g%s\n",
            workers, rng_seed, method_auto ? "auto" : aa_optimize_method_name(method), acuity.name,
-           acuity.version, cpu_clock ? ", budgets in CPU seconds per worker" : "");
+           acuity.version, kink_width, cpu_clock ? ", budgets in CPU seconds per worker" : "");
     printf("%-14s %8s %8s %9s %8s %7s %9s  %s\n", "family", "best_e2", "seconds", "published",
            "diff", "seeds", "ratio", "method");
     int short_count = 0, total = 0;
@@ -181,6 +186,7 @@ int main(int argc, char **argv)
         if (perturb_redraw > 0)
             mp.perturb.redraw = perturb_redraw;
         mp.perturb.keep_pixels = perturb_keep_pixels;
+        mp.local.kink_width = kink_width;
         static const aa_seed_kind poisson[1] = {AA_SEED_POISSON};
         if (poisson_only) {
             mp.kinds = poisson;

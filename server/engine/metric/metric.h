@@ -90,6 +90,22 @@ int aa_e1_gradient_at_direction(const aa_filter *f, const aa_sample *s, size_t n
                                 double st, aa_e1_method method, aa_metric_workspace *ws, double *e1,
                                 double *dx, double *dy, double *dw);
 
+/* E1 with its crossing kinks smoothed (e1_smoothed.c, docs/metric.md section 7), for the
+ * optimizer's descent: E1^2 = S - sum_{i<j} w_i w_j |p_i - p_j| with S smooth, and each |d|
+ * below kink_width (h, pixels) is replaced by the Huber function d^2/(2h) + h/2, which makes E1
+ * continuously differentiable in the positions. e1 gets the exact E1 (AUTO), e1_smoothed the
+ * smoothed one (the same when no two projections are closer than h; h = 0: exact; a negative
+ * E1_h^2, possible for wide h, is taken as 0 and has no gradient). The gradient
+ * (dx, dy, dw as aa_e1_gradient_at_direction, each may be NULL) is the smoothed one's. Errors as
+ * aa_e1_at_direction, and AA_EINVAL for a negative or non-finite kink_width. */
+int aa_e1_smoothed_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct,
+                                double st, double kink_width, aa_metric_workspace *ws, double *e1,
+                                double *e1_smoothed);
+int aa_e1_smoothed_gradient_at_direction(const aa_filter *f, const aa_sample *s, size_t n,
+                                         double ct, double st, double kink_width,
+                                         aa_metric_workspace *ws, double *e1, double *e1_smoothed,
+                                         double *dx, double *dy, double *dw);
+
 /* One kernel at na directions (dir_c/dir_s from aa_metric_direction, neighbouring directions
  * next to each other for the sort reuse): the kernel × angle block of whole-pattern E2. The
  * samples are copied once into the workspace's arrays, each direction is projected by one

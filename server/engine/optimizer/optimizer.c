@@ -19,6 +19,7 @@ void aa_optimize_params_default(aa_optimize_params *p)
     p->max_seconds = 10;
     p->stall_iterations = 500;
     p->rel_tolerance = 1e-6;
+    p->kink_width = AA_SMOOTH_KINK_WIDTH;
     p->grid_bits = 0;
     p->d3d12_range = false;
     p->clock = (aa_clock){NULL, NULL};
@@ -89,6 +90,8 @@ static int validate(const aa_pattern *seed, const aa_metric_params *metric,
         return aa_error_set(err, AA_EINVAL, "stall_iterations", "must be at least 1");
     if (!(p->rel_tolerance >= 0 && p->rel_tolerance < 1))
         return aa_error_set(err, AA_EINVAL, "rel_tolerance", "must be in [0, 1)");
+    if (!(p->kink_width >= 0 && p->kink_width <= 2))
+        return aa_error_set(err, AA_EINVAL, "kink_width", "must be in [0, 2] pixels");
     if (p->grid_bits < 0 || p->grid_bits > 12)
         return aa_error_set(err, AA_EINVAL, "grid.bits", "must be 0..12");
     return AA_OK;

@@ -69,6 +69,10 @@ typedef struct aa_optimize_params {
     double max_seconds;        /* wall budget for the whole call, default 10; <= 0: none */
     long stall_iterations;     /* default 500 */
     double rel_tolerance;      /* default 1e-6 */
+    /* AA_METHOD_SMOOTH: the width (pixels) below which E1's crossing kinks are smoothed in the
+     * first stage (p = 16); it halves with each doubling of p (aa_e1_smoothed_at_direction,
+     * docs/optimizer.md). 0: the exact E1 in every stage. Default AA_SMOOTH_KINK_WIDTH. */
+    double kink_width;
     /* Hardware grid: positions snapped to 1/2^grid_bits pixel after optimisation (and the
      * quantisation cost reported); d3d12_range also clamps offsets to [-8, 7]/16. */
     int grid_bits; /* 0: off; default 0 (4 = 1/16 pixel) */
@@ -76,6 +80,7 @@ typedef struct aa_optimize_params {
     aa_clock clock; /* default: CLOCK_MONOTONIC; multi-start uses local.clock for the call */
 } aa_optimize_params;
 
+#define AA_SMOOTH_KINK_WIDTH 0.3
 void aa_optimize_params_default(aa_optimize_params *p);
 
 /* Progress of a run: return nonzero to cancel (the call then returns AA_ECANCELED with the

@@ -13,6 +13,7 @@ void opt_run_free(opt_run *r)
     free(r->dir_c);
     free(r->weight);
     free(r->value);
+    free(r->smoothed);
     free(r->cur_value);
     free(r->gx);
     free(r->gy);
@@ -50,14 +51,15 @@ int opt_run_init(opt_run *r, const opt_state *st, const aa_metric_params *metric
     r->weight = malloc(n * sizeof *r->weight);
     r->value = malloc(n * st->work.kernel_count * sizeof *r->value);
     r->cur_value = malloc(n * st->work.kernel_count * sizeof *r->cur_value);
+    r->smoothed = malloc(n * st->work.kernel_count * sizeof *r->smoothed);
     r->gx = malloc(maxk * sizeof *r->gx);
     r->gy = malloc(maxk * sizeof *r->gy);
     r->gw = malloc(maxk * sizeof *r->gw);
     r->dir_x = calloc(st->point_count + 1, sizeof *r->dir_x);
     r->dir_y = calloc(st->point_count + 1, sizeof *r->dir_y);
     r->dir_w = calloc(st->weight_count + 1, sizeof *r->dir_w);
-    if (!r->theta || !r->dir_c || !r->weight || !r->value || !r->cur_value || !r->gx || !r->gy ||
-        !r->gw || !r->dir_x || !r->dir_y || !r->dir_w)
+    if (!r->theta || !r->dir_c || !r->weight || !r->value || !r->cur_value || !r->smoothed ||
+        !r->gx || !r->gy || !r->gw || !r->dir_x || !r->dir_y || !r->dir_w)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     for (size_t a = 0; a < n; a++) {
         char field[32];
@@ -80,13 +82,20 @@ int opt_run_eval_e2(opt_run *r, opt_state *st, double *e2)
         if (opt_poll_cancel(r))
             return AA_ECANCELED;
         for (size_t a = 0; a < r->angle_count; a++) {
-            double e1;
-            int rc = aa_e1_at_direction(r->metric->filter, ker->samples, ker->count, r->dir_c[a],
-                                        r->dir_s[a], AA_E1_AUTO, &r->ws, &e1);
+            double e1, e1s;
+            size_t i = k * r->angle_count + a;
+            int rc = r->kink_width > 0
+                         ? aa_e1_smoothed_at_direction(r->metric->filter, ker->samples, ker->count,
+                                                       r->dir_c[a], r->dir_s[a], r->kink_width,
+                                                       &r->ws, &e1, &e1s)
+                         : aa_e1_at_direction(r->metric->filter, ker->samples, ker->count,
+                                              r->dir_c[a], r->dir_s[a], AA_E1_AUTO, &r->ws, &e1);
             if (rc)
                 return rc;
             double v = r->weight[a] * e1;
-            r->value[k * r->angle_count + a] = v;
+            r->value[i] = v;
+            if (r->kink_width > 0)
+                r->smoothed[i] = r->weight[a] * e1s;
             if (v > best)
                 best = v;
         }
@@ -102,10 +111,17 @@ int opt_run_add_term_gradient(opt_run *r, const opt_state *st, size_t k, size_t 
     const aa_kernel *ker = &st->work.kernels[k];
     bool want_pos = r->params->mode != AA_OPTIMIZE_WEIGHTS;
     bool want_w = r->params->mode != AA_OPTIMIZE_POSITIONS;
-    double e1;
-    int rc = aa_e1_gradient_at_direction(
-        r->metric->filter, ker->samples, ker->count, r->dir_c[a], r->dir_s[a], AA_E1_AUTO, &r->ws,
-        &e1, want_pos ? r->gx : NULL, want_pos ? r->gy : NULL, want_w ? r->gw : NULL);
+    double e1, e1_exact; /* e1: of the function whose gradient this is */
+    double *gx = want_pos ? r->gx : NULL, *gy = want_pos ? r->gy : NULL,
+           *gw = want_w ? r->gw : NULL;
+    int rc =
+        r->kink_width > 0
+            ? aa_e1_smoothed_gradient_at_direction(r->metric->filter, ker->samples, ker->count,
+                                                   r->dir_c[a], r->dir_s[a], r->kink_width, &r->ws,
+                                                   &e1_exact, &e1, gx, gy, gw)
+            : aa_e1_gradient_at_direction(r->metric->filter, ker->samples, ker->count, r->dir_c[a],
+                                          r->dir_s[a], AA_E1_AUTO, &r->ws, &e1, gx, gy, gw);
+    (void)e1_exact;
     if (rc || !(e1 > 0))
         return rc; /* E1 = 0: a minimum of this term, its gradient is not defined */
     for (size_t i = 0; i < ker->count; i++) {

@@ -8,14 +8,20 @@
  * p = 256), and its gradient sum_i (f_i / F_p)^(p-1) grad f_i weights the near-maximal terms
  * automatically. L-BFGS (liblbfgs, More-Thuente line search) minimises F_p for p = 16, 32, ...,
  * 65536, each stage from the best pattern so far; the best true E2 seen at any evaluation is
- * kept, so the result and the trace are monotone in E2. Measured on P(16,16,4) from a Poisson
- * seed: 0.176-0.181 in 13-19 s, where the L&A rule stops at 0.196-0.199 and the minimax step at
- * 0.185-0.213 (bench_step_rules); neither of them improves the smooth rule's end point. Stages
- * past 4096 gain ~3e-5. Positions leave their box only at a quadratic penalty and are clamped
- * into it before E1 is evaluated; weights move along Sigma w = 1 (the metric's projected
- * gradients), so every iterate keeps the family's structure. Cost per evaluation of P(16,16,4):
- * all E1 values (~1.3 ms) and the gradients of the terms whose factor (f_i / F_p)^(p-1) exceeds
- * 1e-9. */
+ * kept, so the result and the trace are monotone in E2. E1 itself has kinks where two
+ * projections cross (docs/metric.md section 7), and optima collect pairs held aligned by them;
+ * the stages smooth those over a width kink_width * 16 / p (aa_e1_smoothed_at_direction: 0.3 px
+ * at p = 16 down to 7e-5 px at 65536 by default). The first stages thus descend a stand-in far
+ * from E1 (at 0.3 px most terms of an optimised P(16,16,4) drop to 0), the later ones one within
+ * a few per cent; measured, this reaches lower optima (P(16,16,4) 0.1548 against 0.1564 in
+ * 600 s). The E2 kept is always the exact one (docs/optimizer.md, "E1's crossing kinks"). Before
+ * it, on P(16,16,4) from a Poisson seed: 0.176-0.181 in 13-19 s, where the L&A rule stops at
+ * 0.196-0.199 and the minimax step at 0.185-0.213 (bench_step_rules); neither of them improves the
+ * smooth rule's end point. Stages past 4096 gain ~3e-5. Positions leave their box only at a
+ * quadratic penalty and are clamped into it before E1 is evaluated; weights move along Sigma w = 1
+ * (the metric's projected gradients), so every iterate keeps the family's structure. Cost per
+ * evaluation of P(16,16,4): all E1 values (~1.3 ms) and the gradients of the terms whose factor
+ * (f_i / F_p)^(p-1) exceeds 1e-9. */
 #include <lbfgs.h>
 #include <math.h>
 #include <stdlib.h>
@@ -28,6 +34,7 @@
 #define SMOOTH_PENALTY 1e4 /* per squared pixel outside a point's box */
 #define SMOOTH_RESTARTS 20
 #define SMOOTH_RESTART_GAIN 1e-4
+#define SMOOTH_MIN_KINK_WIDTH 1e-7 /* below: the exact E1 */
 
 typedef struct smooth_ctx {
     opt_loop *L;
@@ -78,14 +85,19 @@ static lbfgsfloatval_t evaluate(void *instance, const lbfgsfloatval_t *x, lbfgsf
     opt_loop_offer_best(L, st, e2);
     size_t kc = st->work.kernel_count, na = r->angle_count;
     /* F_p scaled by the max so that f^p neither overflows nor underflows. */
+    /* The stand-in is built from the smoothed terms in the stages that smooth E1's kinks. */
+    const double *f = r->kink_width > 0 ? r->smoothed : r->value;
+    double top = 0;
+    for (size_t i = 0; i < kc * na; i++)
+        top = fmax(top, f[i]);
     double sum = 0;
     for (size_t i = 0; i < kc * na; i++)
-        sum += pow(r->value[i] / e2, c->p);
-    double F = e2 * pow(sum, 1.0 / c->p);
+        sum += pow(f[i] / top, c->p);
+    double F = top * pow(sum, 1.0 / c->p);
     const opt_gradient_target to = {g, g + c->np, g + 2 * c->np, 0, 0, NULL, NULL};
     for (size_t k = 0; k < kc; k++)
         for (size_t a = 0; a < na; a++) {
-            double factor = pow(r->value[k * na + a] / F, c->p - 1) * r->weight[a];
+            double factor = pow(f[k * na + a] / F, c->p - 1) * r->weight[a];
             if (factor < 1e-9)
                 continue;
             if ((rc = opt_run_add_term_gradient(r, st, k, a, factor, &to))) {
@@ -118,6 +130,9 @@ int opt_descend_smooth(opt_loop *L)
         return aa_error_set(L->err, AA_ENOMEM, "", "out of memory");
     const aa_optimize_params *params = L->run.params;
     for (; c.p <= SMOOTH_MAX_P && !c.stop; c.p *= 2) {
+        /* E1's crossing kinks smoothed over a width that shrinks with the max's smoothing */
+        double h = params->kink_width * SMOOTH_FIRST_P / c.p;
+        L->run.kink_width = h >= SMOOTH_MIN_KINK_WIDTH ? h : 0;
         /* Each stage starts from the best pattern so far. When the line search gives up at a
          * kink of E1 (liblbfgs returns an error and the last good point), the stage goes on
          * from there with a fresh Hessian estimate as long as that still lowers F_p. */
@@ -142,6 +157,7 @@ int opt_descend_smooth(opt_loop *L)
             previous = fx;
         }
     }
+    L->run.kink_width = 0;
     lbfgs_free(x);
     int rc = c.stop; /* the result is read from top */
     return rc == 1 ? AA_OK : rc;

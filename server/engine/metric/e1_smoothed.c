@@ -1,0 +1,111 @@
+/* E1 with the kinks of its sample crossings smoothed, for the optimizer's descent.
+ *
+ * E1^2 = integral (ghat - g)^2 with ghat = sum_i w_i H(a - p_i). Expanding the square, the only
+ * part that is not continuously differentiable in the projections is the pairwise one:
+ *   E1^2 = S(p, w) - sum_{i<j} w_i w_j |p_i - p_j|,
+ * S smooth (docs/metric.md section 7). Where two projections cross, E1^2 has a kink of slope
+ * jump 2 |w_i w_j|: a V (a valley that holds the pair aligned) when the weights have opposite
+ * signs, a ridge when they have the same sign. Optimised P(16,16,4) patterns have dozens of
+ * pairs within 1e-6 px of such a crossing, mostly of opposite signs, and a quasi-Newton descent
+ * stalls on them. Replacing each |d| below the width h by the Huber function d^2/(2h) + h/2
+ * (equal value and slope at |d| = h) adds
+ *   C = -sum_{i<j, |d_ij| < h} w_i w_j (h - |d_ij|)^2 / (2h)
+ * and makes E1^2 continuously differentiable in the positions; h = 0 gives E1 exactly.
+ * Precision: the exact E1's (metric.h) plus a few ulp of C per pair. */
+#include <math.h>
+
+#include "metric.h"
+
+/* C of the sorted arrays ws->p, ws->w (left by the exact call). Pairs within h are neighbours
+ * in sorted order, so the inner loop stops at the first projection h or more away. */
+static double kink_correction(const aa_metric_workspace *ws, size_t n, double h)
+{
+    const double *p = ws->p, *w = ws->w;
+    double c = 0;
+    for (size_t k = 0; k + 1 < n; k++)
+        for (size_t m = k + 1; m < n && p[m] - p[k] < h; m++) {
+            double r = h - (p[m] - p[k]);
+            c -= w[k] * w[m] * r * r;
+        }
+    return c / (2 * h);
+}
+
+static int check_width(double h)
+{
+    return isfinite(h) && h >= 0 ? AA_OK : AA_EINVAL;
+}
+
+int aa_e1_smoothed_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct,
+                                double st, double kink_width, aa_metric_workspace *ws, double *e1,
+                                double *e1_smoothed)
+{
+    if (check_width(kink_width))
+        return AA_EINVAL;
+    int rc = aa_e1_at_direction(f, s, n, ct, st, AA_E1_AUTO, ws, e1);
+    if (rc)
+        return rc;
+    double sq = *e1 * *e1;
+    if (kink_width > 0)
+        sq += kink_correction(ws, n, kink_width);
+    *e1_smoothed = kink_width > 0 ? sqrt(sq > 0 ? sq : 0) : *e1;
+    return AA_OK;
+}
+
+int aa_e1_smoothed_gradient_at_direction(const aa_filter *f, const aa_sample *s, size_t n,
+                                         double ct, double st, double kink_width,
+                                         aa_metric_workspace *ws, double *e1, double *e1_smoothed,
+                                         double *dx, double *dy, double *dw)
+{
+    if (check_width(kink_width))
+        return AA_EINVAL;
+    int rc = aa_e1_gradient_at_direction(f, s, n, ct, st, AA_E1_AUTO, ws, e1, dx, dy, dw);
+    if (rc || kink_width == 0) {
+        *e1_smoothed = *e1;
+        return rc;
+    }
+    double h = kink_width, e = *e1, sq = e * e + kink_correction(ws, n, h);
+    double es = sqrt(sq > 0 ? sq : 0);
+    *e1_smoothed = es;
+    /* dE_s = (dE1^2 + dC) / (2 E_s) and dE1^2 = 2 E dE: the exact gradient scaled by E / E_s,
+     * plus dC / (2 E_s). At E_s = 0 the gradient is not defined (as the exact one at E1 = 0). */
+    double scale = es > 0 ? e / es : 0, inv = es > 0 ? 0.5 / es : 0;
+    for (size_t i = 0; i < n; i++) {
+        if (dx)
+            dx[i] *= scale;
+        if (dy)
+            dy[i] *= scale;
+        if (dw)
+            dw[i] *= scale;
+    }
+    if (!(es > 0))
+        return AA_OK;
+    const double *p = ws->p, *w = ws->w;
+    const uint32_t *ix = ws->index;
+    double dw_sum = 0;
+    for (size_t k = 0; k + 1 < n; k++)
+        for (size_t m = k + 1; m < n && p[m] - p[k] < h; m++) {
+            /* d = p_m - p_k >= 0, r = h - d: dC/dd = w_k w_m r / h */
+            double r = h - (p[m] - p[k]), g = inv * w[k] * w[m] * r / h;
+            if (dx) {
+                dx[ix[m]] += g * ct;
+                dx[ix[k]] -= g * ct;
+            }
+            if (dy) {
+                dy[ix[m]] += g * st;
+                dy[ix[k]] -= g * st;
+            }
+            if (dw) {
+                double q = -inv * r * r / (2 * h);
+                dw[ix[k]] += q * w[m];
+                dw[ix[m]] += q * w[k];
+                dw_sum += q * (w[m] + w[k]);
+            }
+        }
+    if (dw) {
+        /* projected onto sum(w) = 1, as the exact weight gradient is */
+        double mean = dw_sum / (double)n;
+        for (size_t i = 0; i < n; i++)
+            dw[i] -= mean;
+    }
+    return AA_OK;
+}
