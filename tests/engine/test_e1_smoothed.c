@@ -15,20 +15,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "aa_core.h"
 #include "aa_metric.h"
 #include "reference_metric.h"
 
 #define MAX_N 24
 
-static uint64_t rng_state = 41;
+static aa_rng rng;
 
 static double rng_uniform(double lo, double hi)
 {
-    uint64_t z = (rng_state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return lo + (hi - lo) * ((double)(z >> 11) * 0x1.0p-53);
+    return lo + (hi - lo) * aa_rng_uniform(&rng);
 }
 
 /* n samples in [-1.5, 1.5]^2, weights of both signs summing to 1; every third sample is put
@@ -249,6 +246,7 @@ static void test_width_zero_and_errors(void **state)
 
 int main(void)
 {
+    aa_rng_seed(&rng, 41, 0);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_value_against_reference),
         cmocka_unit_test(test_gradient_against_differences),
