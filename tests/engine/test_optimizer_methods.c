@@ -148,6 +148,17 @@ static void minimax_reaches_the_weights_optimum(void **state)
     }
 }
 
+/* The smoothed rule for a number of steps, no time budget (reproducible). */
+static aa_optimize_params smooth_steps(long steps)
+{
+    aa_optimize_params op;
+    aa_optimize_params_default(&op);
+    op.method = AA_METHOD_SMOOTH;
+    op.max_seconds = 0;
+    op.max_iterations = steps;
+    return op;
+}
+
 /* Mirrored families with several samples on one edge: long quasi-Newton steps clamp points to
  * the ends of their edge, where two would merge; the result must still be a valid pattern
  * (regression: P(4,1+,5) failed with "sample 0 is at the same position"). */
@@ -161,11 +172,7 @@ static void smooth_keeps_samples_apart(void **state)
         aa_rng_seed(&rng, s, 11);
         aa_pattern seed, best;
         assert_int_equal(aa_family_seed(&fam, AA_SEED_UNIFORM, &filter, &rng, &seed, NULL), AA_OK);
-        aa_optimize_params op;
-        aa_optimize_params_default(&op);
-        op.method = AA_METHOD_SMOOTH;
-        op.max_seconds = 0;
-        op.max_iterations = 400;
+        aa_optimize_params op = smooth_steps(400);
         aa_optimize_result r;
         aa_error err = {0};
         int rc = aa_optimize(&seed, &metric, &op, NULL, NULL, &best, &r, &err);
@@ -193,11 +200,7 @@ static void smooth_kink_width_reports_exact_e2(void **state)
         aa_rng_seed(&rng, 21, 5);
         aa_pattern seed, best;
         assert_int_equal(aa_family_seed(&fam, AA_SEED_POISSON, &filter, &rng, &seed, NULL), AA_OK);
-        aa_optimize_params op;
-        aa_optimize_params_default(&op);
-        op.method = AA_METHOD_SMOOTH;
-        op.max_seconds = 0;
-        op.max_iterations = 300;
+        aa_optimize_params op = smooth_steps(300);
         op.kink_width = widths[v];
         aa_optimize_result r;
         assert_int_equal(aa_optimize(&seed, &metric, &op, NULL, NULL, &best, &r, NULL), AA_OK);
