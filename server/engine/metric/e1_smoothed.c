@@ -16,18 +16,39 @@
 
 #include "metric.h"
 
-/* C of the sorted arrays ws->p, ws->w (left by the exact call). Pairs within h are neighbours
- * in sorted order, so the inner loop stops at the first projection h or more away. */
-static double kink_correction(const aa_metric_workspace *ws, size_t n, double h)
+/* One pass over the pairs within h of the sorted arrays ws->p, ws->w (left by the exact call;
+ * pairs within h are neighbours in sorted order, so the inner loop stops at the first projection
+ * h or more away). Returns C; when dx, dy, dw are given (input order, each may be NULL), adds
+ * half of C's gradient to them: dC/dd = w_k w_m r / h for d = p_m - p_k >= 0, r = h - d, and
+ * dC/dw_k = -w_m r^2 / (2h), the weight part projected onto sum(w) = 1. */
+static double kink_pairs(const aa_metric_workspace *ws, size_t n, double h, double ct, double st,
+                         double *dx, double *dy, double *dw)
 {
     const double *p = ws->p, *w = ws->w;
-    double c = 0;
+    const uint32_t *ix = ws->index;
+    double c = 0, dw_sum = 0;
     for (size_t k = 0; k + 1 < n; k++)
         for (size_t m = k + 1; m < n && p[m] - p[k] < h; m++) {
-            double r = h - (p[m] - p[k]);
-            c -= w[k] * w[m] * r * r;
+            double r = h - (p[m] - p[k]), rr = r * r / (2 * h), g = 0.5 * w[k] * w[m] * r / h;
+            c -= w[k] * w[m] * rr;
+            if (dx) {
+                dx[ix[m]] += g * ct;
+                dx[ix[k]] -= g * ct;
+            }
+            if (dy) {
+                dy[ix[m]] += g * st;
+                dy[ix[k]] -= g * st;
+            }
+            if (dw) {
+                dw[ix[k]] -= 0.5 * rr * w[m];
+                dw[ix[m]] -= 0.5 * rr * w[k];
+                dw_sum -= 0.5 * rr * (w[m] + w[k]);
+            }
         }
-    return c / (2 * h);
+    if (dw)
+        for (size_t i = 0; i < n; i++)
+            dw[i] -= dw_sum / (double)n;
+    return c;
 }
 
 static int check_width(double h)
@@ -46,7 +67,7 @@ int aa_e1_smoothed_at_direction(const aa_filter *f, const aa_sample *s, size_t n
         return rc;
     double sq = *e1 * *e1;
     if (kink_width > 0)
-        sq += kink_correction(ws, n, kink_width);
+        sq += kink_pairs(ws, n, kink_width, ct, st, NULL, NULL, NULL);
     *e1_smoothed = kink_width > 0 ? sqrt(sq > 0 ? sq : 0) : *e1;
     return AA_OK;
 }
@@ -63,49 +84,28 @@ int aa_e1_smoothed_gradient_at_direction(const aa_filter *f, const aa_sample *s,
         *e1_smoothed = *e1;
         return rc;
     }
-    double h = kink_width, e = *e1, sq = e * e + kink_correction(ws, n, h);
-    double es = sqrt(sq > 0 ? sq : 0);
-    *e1_smoothed = es;
-    /* dE_s = (dE1^2 + dC) / (2 E_s) and dE1^2 = 2 E dE: the exact gradient scaled by E / E_s,
-     * plus dC / (2 E_s). At E_s = 0 the gradient is not defined (as the exact one at E1 = 0). */
-    double scale = es > 0 ? e / es : 0, inv = es > 0 ? 0.5 / es : 0;
+    /* dE_s = (dE1^2 + dC) / (2 E_s) and dE1^2 = 2 E dE: the exact gradient times E, plus dC / 2
+     * (kink_pairs), all over E_s. At E_s = 0 the gradient is not defined (as the exact one at
+     * E1 = 0): zeros. */
+    double e = *e1;
     for (size_t i = 0; i < n; i++) {
         if (dx)
-            dx[i] *= scale;
+            dx[i] *= e;
         if (dy)
-            dy[i] *= scale;
+            dy[i] *= e;
         if (dw)
-            dw[i] *= scale;
+            dw[i] *= e;
     }
-    if (!(es > 0))
-        return AA_OK;
-    const double *p = ws->p, *w = ws->w;
-    const uint32_t *ix = ws->index;
-    double dw_sum = 0;
-    for (size_t k = 0; k + 1 < n; k++)
-        for (size_t m = k + 1; m < n && p[m] - p[k] < h; m++) {
-            /* d = p_m - p_k >= 0, r = h - d: dC/dd = w_k w_m r / h */
-            double r = h - (p[m] - p[k]), g = inv * w[k] * w[m] * r / h;
-            if (dx) {
-                dx[ix[m]] += g * ct;
-                dx[ix[k]] -= g * ct;
-            }
-            if (dy) {
-                dy[ix[m]] += g * st;
-                dy[ix[k]] -= g * st;
-            }
-            if (dw) {
-                double q = -inv * r * r / (2 * h);
-                dw[ix[k]] += q * w[m];
-                dw[ix[m]] += q * w[k];
-                dw_sum += q * (w[m] + w[k]);
-            }
-        }
-    if (dw) {
-        /* projected onto sum(w) = 1, as the exact weight gradient is */
-        double mean = dw_sum / (double)n;
-        for (size_t i = 0; i < n; i++)
-            dw[i] -= mean;
+    double sq = e * e + kink_pairs(ws, n, kink_width, ct, st, dx, dy, dw);
+    double es = sqrt(sq > 0 ? sq : 0), inv = es > 0 ? 1 / es : 0;
+    *e1_smoothed = es;
+    for (size_t i = 0; i < n; i++) {
+        if (dx)
+            dx[i] *= inv;
+        if (dy)
+            dy[i] *= inv;
+        if (dw)
+            dw[i] *= inv;
     }
     return AA_OK;
 }

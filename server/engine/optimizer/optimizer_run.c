@@ -82,20 +82,15 @@ int opt_run_eval_e2(opt_run *r, opt_state *st, double *e2)
         if (opt_poll_cancel(r))
             return AA_ECANCELED;
         for (size_t a = 0; a < r->angle_count; a++) {
-            double e1, e1s;
-            size_t i = k * r->angle_count + a;
-            int rc = r->kink_width > 0
-                         ? aa_e1_smoothed_at_direction(r->metric->filter, ker->samples, ker->count,
-                                                       r->dir_c[a], r->dir_s[a], r->kink_width,
-                                                       &r->ws, &e1, &e1s)
-                         : aa_e1_at_direction(r->metric->filter, ker->samples, ker->count,
-                                              r->dir_c[a], r->dir_s[a], AA_E1_AUTO, &r->ws, &e1);
+            double e1, e1s; /* aa_e1_smoothed_at_direction: e1s = e1 at width 0 */
+            int rc = aa_e1_smoothed_at_direction(r->metric->filter, ker->samples, ker->count,
+                                                 r->dir_c[a], r->dir_s[a], r->kink_width, &r->ws,
+                                                 &e1, &e1s);
             if (rc)
                 return rc;
             double v = r->weight[a] * e1;
-            r->value[i] = v;
-            if (r->kink_width > 0)
-                r->smoothed[i] = r->weight[a] * e1s;
+            r->value[k * r->angle_count + a] = v;
+            r->smoothed[k * r->angle_count + a] = r->weight[a] * e1s;
             if (v > best)
                 best = v;
         }
@@ -111,17 +106,11 @@ int opt_run_add_term_gradient(opt_run *r, const opt_state *st, size_t k, size_t 
     const aa_kernel *ker = &st->work.kernels[k];
     bool want_pos = r->params->mode != AA_OPTIMIZE_WEIGHTS;
     bool want_w = r->params->mode != AA_OPTIMIZE_POSITIONS;
-    double e1, e1_exact; /* e1: of the function whose gradient this is */
-    double *gx = want_pos ? r->gx : NULL, *gy = want_pos ? r->gy : NULL,
-           *gw = want_w ? r->gw : NULL;
-    int rc =
-        r->kink_width > 0
-            ? aa_e1_smoothed_gradient_at_direction(r->metric->filter, ker->samples, ker->count,
-                                                   r->dir_c[a], r->dir_s[a], r->kink_width, &r->ws,
-                                                   &e1_exact, &e1, gx, gy, gw)
-            : aa_e1_gradient_at_direction(r->metric->filter, ker->samples, ker->count, r->dir_c[a],
-                                          r->dir_s[a], AA_E1_AUTO, &r->ws, &e1, gx, gy, gw);
-    (void)e1_exact;
+    double e1_exact, e1; /* e1: of the function whose gradient this is (E1 at width 0) */
+    int rc = aa_e1_smoothed_gradient_at_direction(r->metric->filter, ker->samples, ker->count,
+                                                  r->dir_c[a], r->dir_s[a], r->kink_width, &r->ws,
+                                                  &e1_exact, &e1, want_pos ? r->gx : NULL,
+                                                  want_pos ? r->gy : NULL, want_w ? r->gw : NULL);
     if (rc || !(e1 > 0))
         return rc; /* E1 = 0: a minimum of this term, its gradient is not defined */
     for (size_t i = 0; i < ker->count; i++) {

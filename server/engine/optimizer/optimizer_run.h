@@ -48,9 +48,10 @@ typedef struct opt_run {
     double *dir_c, *dir_s; /* aa_metric_direction of each theta */
     double *weight;        /* W(theta) */
     double *value;         /* W E1 per kernel x angle, kernel-major, of the last eval */
-    /* The smoothed rule's stages set kink_width > 0 (0 otherwise): evaluations then also fill
-     * smoothed with W E1 of the kink-smoothed E1 (aa_e1_smoothed_at_direction), and term
-     * gradients are its gradients; value stays exact (the best pattern, the trace). */
+    /* The smoothed rule's stages set kink_width > 0 (0 otherwise). Evaluations fill smoothed
+     * with W E1 of the kink-smoothed E1 (aa_e1_smoothed_at_direction; the same as value at
+     * width 0), and term gradients are its gradients; value stays exact (the best pattern, the
+     * trace). */
     double kink_width;
     double *smoothed;
     double *cur_value;             /* the same of the loop's cur (opt_loop_accept keeps it) */
@@ -100,8 +101,8 @@ int opt_descend_smooth(opt_loop *L);
 int opt_run_init(opt_run *r, const opt_state *st, const aa_metric_params *metric,
                  const aa_optimize_params *params, aa_error *err);
 void opt_run_free(opt_run *r);
-/* E2 of the state's current kernels (opt_state_apply first); fills r->value (and r->smoothed
- * when r->kink_width > 0). AA_ECANCELED when the progress callback asks to stop. */
+/* E2 of the state's current kernels (opt_state_apply first); fills r->value and r->smoothed.
+ * AA_ECANCELED when the progress callback asks to stop. */
 int opt_run_eval_e2(opt_run *r, opt_state *st, double *e2);
 /* Calls the progress callback (rate-limited unless force) with a snapshot of best. */
 int opt_report(opt_progress_state *ps, const opt_state *best, double best_e2, long it, long evals,

@@ -85,8 +85,8 @@ static lbfgsfloatval_t evaluate(void *instance, const lbfgsfloatval_t *x, lbfgsf
     opt_loop_offer_best(L, st, e2);
     size_t kc = st->work.kernel_count, na = r->angle_count;
     /* F_p scaled by the max so that f^p neither overflows nor underflows. */
-    /* The stand-in is built from the smoothed terms in the stages that smooth E1's kinks. */
-    const double *f = r->kink_width > 0 ? r->smoothed : r->value;
+    /* The stand-in is built from the smoothed terms (exact at kink width 0). */
+    const double *f = r->smoothed;
     double top = 0;
     for (size_t i = 0; i < kc * na; i++)
         top = fmax(top, f[i]);
