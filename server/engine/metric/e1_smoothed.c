@@ -51,6 +51,19 @@ static double kink_pairs(const aa_metric_workspace *ws, size_t n, double h, doub
     return c;
 }
 
+/* dx, dy, dw (each may be NULL) times s. */
+static void scale_gradient(size_t n, double s, double *dx, double *dy, double *dw)
+{
+    for (size_t i = 0; i < n; i++) {
+        if (dx)
+            dx[i] *= s;
+        if (dy)
+            dy[i] *= s;
+        if (dw)
+            dw[i] *= s;
+    }
+}
+
 static int check_width(double h)
 {
     return isfinite(h) && h >= 0 ? AA_OK : AA_EINVAL;
@@ -88,24 +101,10 @@ int aa_e1_smoothed_gradient_at_direction(const aa_filter *f, const aa_sample *s,
      * (kink_pairs), all over E_s. At E_s = 0 the gradient is not defined (as the exact one at
      * E1 = 0): zeros. */
     double e = *e1;
-    for (size_t i = 0; i < n; i++) {
-        if (dx)
-            dx[i] *= e;
-        if (dy)
-            dy[i] *= e;
-        if (dw)
-            dw[i] *= e;
-    }
+    scale_gradient(n, e, dx, dy, dw);
     double sq = e * e + kink_pairs(ws, n, kink_width, ct, st, dx, dy, dw);
     double es = sqrt(sq > 0 ? sq : 0), inv = es > 0 ? 1 / es : 0;
     *e1_smoothed = es;
-    for (size_t i = 0; i < n; i++) {
-        if (dx)
-            dx[i] *= inv;
-        if (dy)
-            dy[i] *= inv;
-        if (dw)
-            dw[i] *= inv;
-    }
+    scale_gradient(n, inv, dx, dy, dw);
     return AA_OK;
 }
