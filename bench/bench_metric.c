@@ -9,9 +9,11 @@
  * angles) for Quincunx and a P(16,16,4) pattern (4x4 tile, 4 jittered samples per pixel, 4x4
  * kernels, weights from the filter), each beside the dense-quadrature estimate for the same
  * kernel-angles, and beside the per-call path (aa_e1_at_direction per kernel-angle, as aa_evaluate
- * ran before the kernel x angle block). Then the whole-pattern gradient of the mean weighted E1
- * (every kernel-angle, factor W(theta) / (kernels x angles)): the block
- * (aa_e1_gradient_kernel_block) beside the per-call gradient and the previous method. Times are
+ * ran before the kernel x angle block), and the blocks alone with the re-sort aa_evaluate chose
+ * (the rank pass where the CPU has AVX2 or AVX-512, order.h) beside the insertion pass only. Then
+ * the whole-pattern gradient of the mean weighted E1 (every kernel-angle, factor W(theta) /
+ * (kernels x angles)): the block (aa_e1_gradient_kernel_block) beside the block with the
+ * insertion pass only, the per-call gradient and the previous method. Times are
  * thread CPU time (other processes share the machine); the load average is printed with them.
  * Figures vary with the machine; the ratios are the point. */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime(CLOCK_THREAD_CPUTIME_ID) */
@@ -229,9 +231,36 @@ static double e2_per_call(const aa_pattern *p, const aa_filter *f, const double 
     return e2;
 }
 
+/* Whole-pattern E2 by kernel x angle blocks (aa_evaluate's loop) with ws's order_pass. */
+static double e2_blocks(const aa_pattern *p, const aa_filter *f, const double *dc, const double *ds,
+                        const double *weight, size_t na, aa_metric_workspace *ws)
+{
+    double e2 = 0.0, e1[AA_MAX_ANGLES];
+    for (size_t k = 0; k < p->kernel_count; k++) {
+        aa_e1_kernel_block(f, p->kernels[k].samples, p->kernels[k].count, dc, ds, na, AA_E1_AUTO,
+                           ws, e1);
+        for (size_t a = 0; a < na; a++)
+            e2 = fmax(e2, weight[a] * e1[a]);
+    }
+    return e2;
+}
+
+static const char *order_pass_name(aa_order_pass pass)
+{
+    switch (pass) {
+    case AA_ORDER_RANK_AVX512:
+        return "rank pass (AVX-512)";
+    case AA_ORDER_RANK_AVX2:
+        return "rank pass (AVX2)";
+    default:
+        return "insertion pass";
+    }
+}
+
 /* The gradient of the mean of W E1 over every kernel-angle, per kernel into g (3 x 64 doubles
  * per kernel: dx, dy, dw). how: 0 the block, 1 per-call AUTO, 2 the previous method (per call,
- * sort from the input order, quadrature). */
+ * sort from the input order, quadrature), 3 the block with the insertion pass only (ws's
+ * order_pass, set by the caller). */
 static void gradient_whole(const aa_pattern *p, const aa_filter *f, const double *dc,
                            const double *ds, const double *factor, size_t na, int how,
                            aa_metric_workspace *ws, double *g)
@@ -241,7 +270,7 @@ static void gradient_whole(const aa_pattern *p, const aa_filter *f, const double
         const aa_kernel *ker = &p->kernels[k];
         double *out = g + k * 192;
         memset(out, 0, 192 * sizeof *out);
-        if (how == 0) {
+        if (how == 0 || how == 3) {
             aa_e1_gradient_kernel_block(f, ker->samples, ker->count, dc, ds, na, factor, AA_E1_AUTO,
                                         ws, e1, out, out + 64, out + 128);
             continue;
@@ -270,6 +299,8 @@ static double time_gradient(const aa_pattern *p, const aa_filter *f, const doubl
 {
     aa_metric_workspace ws;
     aa_metric_workspace_init(&ws);
+    if (how == 3)
+        ws.order_pass = AA_ORDER_INSERTION;
     long runs = 0;
     double t0 = now_s(), t1;
     do {
@@ -297,11 +328,11 @@ static void bench_gradient(const char *label, const aa_pattern *p, const aa_filt
             return;
         }
     size_t len = 192 * p->kernel_count;
-    double *g[3];
-    for (int h = 0; h < 3; h++)
+    double *g[4];
+    for (int h = 0; h < 4; h++)
         g[h] = calloc(len, sizeof(double));
-    double us[3];
-    for (int h = 0; h < 3; h++)
+    double us[4];
+    for (int h = 0; h < 4; h++)
         us[h] = time_gradient(p, f, dc, ds, factor, na, h, g[h]);
     double diff[2] = {0, 0}, scale = 0;
     for (size_t i = 0; i < len; i++)
@@ -310,12 +341,12 @@ static void bench_gradient(const char *label, const aa_pattern *p, const aa_filt
         for (size_t i = 0; i < len; i++)
             diff[h] = fmax(diff[h], fabs(g[h][i] - g[2][i]) / scale);
     printf("whole-pattern gradient %-12s %s (mean W E1, %zu kernels x %zu angles; load %.2f): "
-           "kernel x angle block %.1f us | per-call %.1f us (%.2fx) | previous method %.1f us "
-           "(%.2fx) | max difference from the previous method, relative to its largest "
-           "component: block %.1e, per-call %.1e\n",
-           label, p->family, p->kernel_count, na, load_average(), us[0], us[1], us[1] / us[0],
-           us[2], us[2] / us[0], diff[0], diff[1]);
-    for (int h = 0; h < 3; h++)
+           "kernel x angle block %.1f us | block, insertion pass only %.1f us (%.2fx) | per-call "
+           "%.1f us (%.2fx) | previous method %.1f us (%.2fx) | max difference from the previous "
+           "method, relative to its largest component: block %.1e, per-call %.1e\n",
+           label, p->family, p->kernel_count, na, load_average(), us[0], us[3], us[3] / us[0],
+           us[1], us[1] / us[0], us[2], us[2] / us[0], diff[0], diff[1]);
+    for (int h = 0; h < 4; h++)
         free(g[h]);
 }
 
@@ -364,6 +395,29 @@ static void bench_pattern(const char *label, const aa_pattern *p, const aa_filte
         t1 = now_s();
     } while (t1 - t0 < 0.3);
     double pc_us = 1e6 * (t1 - t0) / (double)runs;
+    /* aa_evaluate's blocks by hand, with the re-sort it chose (AUTO) and with the insertion
+     * pass only (the re-sort before the rank pass), one after the other */
+    double blk_us[2], e2blk[2];
+    for (int q = 0; q < 2; q++) {
+        aa_metric_workspace_free(&ws);
+        aa_metric_workspace_init(&ws);
+        ws.order_pass = q == 0 ? AA_ORDER_AUTO : AA_ORDER_INSERTION;
+        runs = 0;
+        t0 = now_s();
+        do {
+            e2blk[q] = e2_blocks(p, f, dc, ds, wt, pna, &ws);
+            runs++;
+            t1 = now_s();
+        } while (t1 - t0 < 0.3);
+        blk_us[q] = 1e6 * (t1 - t0) / (double)runs;
+    }
+    /* which re-sort the blocks ran (AUTO), and how often */
+    aa_metric_workspace_free(&ws);
+    aa_metric_workspace_init(&ws);
+    e2_blocks(p, f, dc, ds, wt, pna, &ws);
+    aa_order_pass used = ws.kernel_pass;
+    double resorts = (double)(ws.rank_passes + ws.insertion_passes);
+    double rank_share = resorts > 0 ? (double)ws.rank_passes / resorts : 0;
     /* the share of kernel-angles the closed form took */
     aa_metric_workspace_free(&ws);
     aa_metric_workspace_init(&ws);
@@ -379,13 +433,18 @@ static void bench_pattern(const char *label, const aa_pattern *p, const aa_filte
     aa_metric_workspace_free(&ws);
     size_t ka = p->kernel_count * na;
     double dense_us = 1e-3 * dense_ns_per_kernel_angle * (double)ka;
-    printf("whole-pattern E2 %-18s %s: E2 = %.6f (per-call %.6f, previous %.6f), %zu kernels x "
-           "%zu angles (load %.2f): %.1f us per evaluation (%.0f ns per kernel-angle, closed form "
-           "taken %.0f%%) | per-call path %.1f us (%.2fx) | previous method %.1f us (%.2fx) | "
-           "dense-quadrature estimate %.0f us (%.0fx)\n",
-           label, p->family, e2, e2pc, e2o, p->kernel_count, na, load_average(), us,
+    printf("whole-pattern E2 %-18s %s: E2 = %.6f (per-call %.6f, insertion only %.6f, previous "
+           "%.6f), %zu kernels x %zu angles (load %.2f): %.1f us per evaluation (%.0f ns per "
+           "kernel-angle, closed form taken %.0f%%) | per-call path %.1f us (%.2fx) | previous "
+           "method %.1f us (%.2fx) | dense-quadrature estimate %.0f us (%.0fx) | the blocks alone: "
+           "%.1f us with %s (%.0f%% of the angles after each kernel's first), %.1f us with the "
+           "insertion pass only (%.2fx)\n",
+           label, p->family, e2, e2pc, e2blk[1], e2o, p->kernel_count, na, load_average(), us,
            1e3 * us / (double)ka, 100 * share, pc_us, pc_us / us, old_us, old_us / us, dense_us,
-           dense_us / us);
+           dense_us / us, blk_us[0],
+           used == AA_ORDER_INSERTION ? "the insertion pass" : order_pass_name(used),
+           100 * (used == AA_ORDER_INSERTION ? 1 - rank_share : rank_share), blk_us[1],
+           blk_us[1] / blk_us[0]);
 }
 
 int main(void)

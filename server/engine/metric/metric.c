@@ -1,6 +1,7 @@
 /* Exact E1: the closed form with its error estimate, and the quadrature sweep it falls back to;
  * see metric.h for the formulas and precision, docs/metric.md for the derivation. */
 #include "metric.h"
+#include "order.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -32,6 +33,7 @@ void aa_metric_workspace_free(aa_metric_workspace *ws)
     free(ws->cdf);
     free(ws->u);
     free(ws->len);
+    free(ws->padded);
     memset(ws, 0, sizeof *ws);
 }
 
@@ -54,9 +56,10 @@ static int reserve(aa_metric_workspace *ws, size_t n)
     if (grow_doubles(&ws->p, cap) || grow_doubles(&ws->w, cap) || grow_doubles(&ws->in_x, cap) ||
         grow_doubles(&ws->in_y, cap) || grow_doubles(&ws->in_w, cap) ||
         grow_doubles(&ws->in_p, cap) || grow_doubles(&ws->tail, cap) ||
-        grow_doubles(&ws->cdf, cap) || grow_doubles(&ws->u, cap) || grow_doubles(&ws->len, cap))
+        grow_doubles(&ws->cdf, cap) || grow_doubles(&ws->u, cap) || grow_doubles(&ws->len, cap) ||
+        grow_doubles(&ws->padded, cap + 2 * AA_ORDER_WINDOW))
         return AA_ENOMEM;
-    /* index has a second half: the merge sort's scratch */
+    /* index has a second half: scratch for the sorts (order.c) */
     uint32_t *ix = realloc(ws->index, 2 * cap * sizeof *ix);
     if (!ix)
         return AA_ENOMEM;
@@ -84,111 +87,10 @@ void aa_metric_direction(double theta, double *c, double *s)
     *s = ss;
 }
 
-/* Sorted order: by p, ties by input index. */
-static inline bool before(double pa, uint32_t ia, double pb, uint32_t ib)
-{
-    return pa < pb || (pa == pb && ia < ib);
-}
-
-/* Insertion pass over ws's keys (p, index): nearly linear when they are almost sorted, as after
- * the previous angle of the same kernel. An entry moves only if it sorts before the largest
- * entry ahead of it (when its turn comes, the prefix ahead holds the same entries, sorted), so a
- * first loop lists the entries whose p is at most the largest p ahead, without a branch per
- * entry: on neighbouring angles of a pattern's kernel about half of the entries move, and a
- * branch per entry mispredicts about every other time. Then each listed entry is inserted (an
- * entry that ties that p stays if its index is larger). The list goes to the second half of
- * ws->index. */
-static void insertion_pass(aa_metric_workspace *ws, size_t n)
-{
-    double *p = ws->p, mp = p[0];
-    uint32_t *ix = ws->index, *moves = ws->index + ws->capacity;
-    size_t count = 0;
-    for (size_t i = 1; i < n; i++) {
-        double pi = p[i];
-        moves[count] = (uint32_t)i;
-        count += (size_t)(pi <= mp);
-        mp = pi > mp ? pi : mp;
-    }
-    for (size_t m = 0; m < count; m++) {
-        size_t i = moves[m], j = i;
-        double pi = p[i];
-        uint32_t ii = ix[i];
-        while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1])) {
-            p[j] = p[j - 1];
-            ix[j] = ix[j - 1];
-            j--;
-        }
-        p[j] = pi;
-        ix[j] = ii;
-    }
-}
-
-/* Stable bottom-up merge sort of (p, index) from input order (ties stay in index order), for a
- * first sort of many samples; index's second half and tail are the scratch. */
-static void merge_sort_keys(aa_metric_workspace *ws, size_t n)
-{
-    double *p = ws->p, *pt = ws->tail;
-    uint32_t *ix = ws->index, *it = ws->index + ws->capacity;
-    for (size_t width = 1; width < n; width *= 2) {
-        for (size_t lo = 0; lo < n; lo += 2 * width) {
-            size_t mid = lo + width < n ? lo + width : n,
-                   hi = lo + 2 * width < n ? lo + 2 * width : n;
-            size_t i = lo, j = mid, k = lo;
-            while (i < mid && j < hi) {
-                if (p[j] < p[i]) {
-                    pt[k] = p[j];
-                    it[k++] = ix[j++];
-                } else {
-                    pt[k] = p[i];
-                    it[k++] = ix[i++];
-                }
-            }
-            while (i < mid) {
-                pt[k] = p[i];
-                it[k++] = ix[i++];
-            }
-            while (j < hi) {
-                pt[k] = p[j];
-                it[k++] = ix[j++];
-            }
-        }
-        memcpy(p, pt, n * sizeof *p);
-        memcpy(ix, it, n * sizeof *ix);
-    }
-}
-
-/* A first sort from the input order: the projections p_i (in_p, computed by the caller) with
- * their indices, sorted. */
-static void fresh_sort(size_t n, aa_metric_workspace *ws)
-{
-    double *p = ws->p;
-    uint32_t *ix = ws->index;
-    for (size_t i = 0; i < n; i++) {
-        p[i] = ws->in_p[i];
-        ix[i] = (uint32_t)i;
-    }
-    if (n > 32) {
-        merge_sort_keys(ws, n);
-    } else {
-        for (size_t i = 1; i < n; i++) {
-            double pi = p[i];
-            uint32_t ii = ix[i];
-            size_t j = i;
-            while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1])) {
-                p[j] = p[j - 1];
-                ix[j] = ix[j - 1];
-                j--;
-            }
-            p[j] = pi;
-            ix[j] = ii;
-        }
-    }
-}
-
 /* Projects the kernel on (ct, st) into ws's arrays, sorted by (p, index). Starts from the order
  * of the previous call when it was for the same samples (neighbouring angles of one kernel):
- * the samples are read again in that order (the caller may have moved them), then an insertion
- * pass; else a first sort from the input order. */
+ * the samples are read again in that order (the caller may have moved them) and re-sorted
+ * (order.h); else a first sort from the input order. */
 static void project_sorted(const aa_sample *s, size_t n, double ct, double st,
                            aa_metric_workspace *ws)
 {
@@ -197,11 +99,11 @@ static void project_sorted(const aa_sample *s, size_t n, double ct, double st,
             const aa_sample *q = &s[ws->index[k]];
             ws->p[k] = q->x * ct + q->y * st;
         }
-        insertion_pass(ws, n);
+        aa_order_resort(ws, n);
     } else {
         for (size_t i = 0; i < n; i++)
             ws->in_p[i] = s[i].x * ct + s[i].y * st;
-        fresh_sort(n, ws);
+        aa_order_fresh(ws, n);
     }
     for (size_t k = 0; k < n; k++)
         ws->w[k] = s[ws->index[k]].w;
@@ -210,8 +112,8 @@ static void project_sorted(const aa_sample *s, size_t n, double ct, double st,
 }
 
 /* The block's projection: the kernel's coordinates as arrays in input order (in_x, in_y), one
- * contiguous loop (vectorised), then the keys gathered into the previous angle's order and an
- * insertion pass, then the weights gathered into the new order. */
+ * contiguous loop (vectorised), then the keys gathered into the previous angle's order and
+ * re-sorted (order.h), then the weights gathered into the new order. */
 static void project_block(size_t n, double ct, double st, bool first, aa_metric_workspace *ws)
 {
     double *restrict q = ws->in_p;
@@ -219,11 +121,11 @@ static void project_block(size_t n, double ct, double st, bool first, aa_metric_
     for (size_t i = 0; i < n; i++)
         q[i] = x[i] * ct + y[i] * st;
     if (first) {
-        fresh_sort(n, ws);
+        aa_order_fresh(ws, n);
     } else {
         for (size_t k = 0; k < n; k++)
             ws->p[k] = q[ws->index[k]];
-        insertion_pass(ws, n);
+        aa_order_resort(ws, n);
     }
     for (size_t k = 0; k < n; k++)
         ws->w[k] = ws->in_w[ws->index[k]];
@@ -746,7 +648,7 @@ int aa_e1_gradient_at_direction(const aa_filter *f, const aa_sample *s, size_t n
 }
 
 /* The kernel x angle block: one copy of the samples into the arrays, then per direction a
- * vectorised projection, an insertion pass, the E1 sums and (when factor[a] != 0 and wanted)
+ * vectorised projection, a re-sort (order.h), the E1 sums and (when factor[a] != 0 and wanted)
  * the gradient accumulated. */
 static int kernel_block(const aa_filter *f, const aa_sample *s, size_t n, const double *dir_c,
                         const double *dir_s, size_t na, const double *factor, aa_e1_method method,

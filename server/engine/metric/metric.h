@@ -35,14 +35,24 @@
 #include "aa_core.h"
 #include "aa_pattern.h"
 
+/* How the sorted order is carried from one angle of a kernel to the next (order.h). Every pass
+ * gives the same order; AUTO takes the fastest this CPU runs. */
+typedef enum aa_order_pass {
+    AA_ORDER_AUTO = 0,
+    AA_ORDER_INSERTION,   /* an insertion pass */
+    AA_ORDER_RANK_AVX2,   /* ranks counted in a window, four lanes (x86-64 with AVX2) */
+    AA_ORDER_RANK_AVX512, /* the same in eight lanes (x86-64 with AVX-512F) */
+} aa_order_pass;
+
 /* Scratch memory for the per-angle computation; reuse it across calls to avoid allocation.
  * One workspace per thread. The projections are kept sorted as a structure of arrays (p, w,
  * index). The kernel-block functions also keep the kernel's samples as arrays in input order
  * (in_x, in_y, in_w), so that projecting on a direction is one contiguous loop the compiler
  * vectorises, and the sort then moves keys and indices only. The workspace remembers the sorted
  * order of the last kernel it saw (identified by its sample pointer and count): the next angle
- * of the same kernel starts its insertion sort from that order, nearly linear for neighbouring
- * angles. The result never depends on it (ties are ordered by input index either way). */
+ * of the same kernel is re-sorted from that order (order.h: a rank pass or an insertion pass,
+ * nearly linear for neighbouring angles). The result never depends on it (ties are ordered by
+ * input index either way). */
 typedef struct aa_metric_workspace {
     size_t capacity;
     double *p, *w;                     /* [capacity] each, in sorted order */
@@ -54,7 +64,11 @@ typedef struct aa_metric_workspace {
     bool cdf_valid;       /* cdf holds the current projections' values */
     const void *order_of; /* samples whose sorted order the arrays hold (NULL: none) */
     size_t order_n;
-    long closed_calls, fallback_calls; /* how often the closed form was conditioned enough */
+    double *padded; /* [capacity + 2 AA_ORDER_WINDOW]: the rank pass's keys between pads */
+    aa_order_pass order_pass;           /* the caller's choice (AUTO after init) */
+    aa_order_pass kernel_pass;          /* the pass for the current kernel's next angle */
+    long rank_passes, insertion_passes; /* how each angle after a kernel's first was sorted */
+    long closed_calls, fallback_calls;  /* how often the closed form was conditioned enough */
     double closed_condition; /* of the last closed form: sqrt(sum of its squared terms) / E1^2 */
 } aa_metric_workspace;
 
@@ -109,7 +123,7 @@ int aa_e1_smoothed_gradient_at_direction(const aa_filter *f, const aa_sample *s,
 /* One kernel at na directions (dir_c/dir_s from aa_metric_direction, neighbouring directions
  * next to each other for the sort reuse): the kernel × angle block of whole-pattern E2. The
  * samples are copied once into the workspace's arrays, each direction is projected by one
- * vectorised loop and sorted by an insertion pass over the previous direction's order. e1[na]
+ * vectorised loop and re-sorted from the previous direction's order (order.h). e1[na]
  * gets the same numbers as aa_e1_at_direction per direction (bit for bit: same sums, same
  * order). Errors as aa_e1_at_direction. */
 int aa_e1_kernel_block(const aa_filter *f, const aa_sample *s, size_t n, const double *dir_c,
