@@ -16,6 +16,21 @@ static inline bool before(double pa, uint32_t ia, double pb, uint32_t ib)
     return pa < pb || (pa == pb && ia < ib);
 }
 
+/* Entry i moved back to its place in the sorted entries before it. */
+static inline void insert_entry(double *p, uint32_t *ix, size_t i)
+{
+    double pi = p[i];
+    uint32_t ii = ix[i];
+    size_t j = i;
+    while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1])) {
+        p[j] = p[j - 1];
+        ix[j] = ix[j - 1];
+        j--;
+    }
+    p[j] = pi;
+    ix[j] = ii;
+}
+
 /* Insertion pass over ws's keys (p, index): nearly linear when they are almost sorted, as after
  * the previous angle of the same kernel. An entry moves only if it sorts before the largest
  * entry ahead of it (when its turn comes, the prefix ahead holds the same entries, sorted), so a
@@ -35,18 +50,8 @@ void aa_order_insertion_pass(aa_metric_workspace *ws, size_t n)
         count += (size_t)(pi <= mp);
         mp = pi > mp ? pi : mp;
     }
-    for (size_t m = 0; m < count; m++) {
-        size_t i = moves[m], j = i;
-        double pi = p[i];
-        uint32_t ii = ix[i];
-        while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1])) {
-            p[j] = p[j - 1];
-            ix[j] = ix[j - 1];
-            j--;
-        }
-        p[j] = pi;
-        ix[j] = ii;
-    }
+    for (size_t m = 0; m < count; m++)
+        insert_entry(p, ix, moves[m]);
 }
 
 /* Stable bottom-up merge sort of (p, index) from input order (ties stay in index order), for a
@@ -124,18 +129,8 @@ void aa_order_fresh(aa_metric_workspace *ws, size_t n)
     if (n > 32) {
         merge_sort_keys(ws, n);
     } else {
-        for (size_t i = 1; i < n; i++) {
-            double pi = p[i];
-            uint32_t ii = ix[i];
-            size_t j = i;
-            while (j > 0 && before(pi, ii, p[j - 1], ix[j - 1])) {
-                p[j] = p[j - 1];
-                ix[j] = ix[j - 1];
-                j--;
-            }
-            p[j] = pi;
-            ix[j] = ii;
-        }
+        for (size_t i = 1; i < n; i++)
+            insert_entry(p, ix, i);
     }
     ws->kernel_pass = AA_ORDER_AUTO; /* chosen at the kernel's first re-sort */
 }
