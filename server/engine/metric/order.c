@@ -240,28 +240,27 @@ __attribute__((target("avx2,popcnt"))) static bool rank_places_avx2(aa_metric_wo
 }
 #endif
 
-bool aa_order_rank_pass(aa_metric_workspace *ws, size_t n, aa_order_pass pass)
+/* A rank pass of a kind this CPU runs, on n >= 2 entries (checked once per kernel, by
+ * choose_pass, not at every angle). */
+static bool rank_pass(aa_metric_workspace *ws, size_t n, aa_order_pass pass)
 {
 #ifdef AA_ORDER_X86
-    if (n < 2 || !aa_order_pass_supported(pass))
-        return false;
-    const double *pp;
-    switch (pass) {
-    case AA_ORDER_RANK_AVX512:
-        pp = rank_setup(ws, n);
-        return rank_check(ws, n, rank_places_avx512(ws, pp, n));
-    case AA_ORDER_RANK_AVX2:
-        pp = rank_setup(ws, n);
-        return rank_check(ws, n, rank_places_avx2(ws, pp, n));
-    default:
-        return false;
-    }
+    if (pass == AA_ORDER_RANK_AVX512)
+        return rank_check(ws, n, rank_places_avx512(ws, rank_setup(ws, n), n));
+    if (pass == AA_ORDER_RANK_AVX2)
+        return rank_check(ws, n, rank_places_avx2(ws, rank_setup(ws, n), n));
 #else
     (void)ws;
     (void)n;
     (void)pass;
-    return false;
 #endif
+    return false;
+}
+
+bool aa_order_rank_pass(aa_metric_workspace *ws, size_t n, aa_order_pass pass)
+{
+    return n >= 2 && pass != AA_ORDER_INSERTION && aa_order_pass_supported(pass) &&
+           rank_pass(ws, n, pass);
 }
 
 void aa_order_resort(aa_metric_workspace *ws, size_t n)
@@ -269,7 +268,7 @@ void aa_order_resort(aa_metric_workspace *ws, size_t n)
     if (ws->kernel_pass == AA_ORDER_AUTO)
         ws->kernel_pass = choose_pass(ws->order_pass, n);
     if (ws->kernel_pass != AA_ORDER_INSERTION) {
-        if (aa_order_rank_pass(ws, n, ws->kernel_pass)) {
+        if (rank_pass(ws, n, ws->kernel_pass)) {
             ws->rank_passes++;
             return;
         }
