@@ -66,6 +66,7 @@ void config_defaults(aalab_config *cfg)
     cfg->test_kinds = false;
     cfg->compute_threads = cfg->workers * 2 < 4 ? 4 : cfg->workers * 2 > 32 ? 32 : cfg->workers * 2;
     cfg->user_evaluates = 2;
+    cfg->inline_work = 2048;
     cfg->user_renders = 1;
     cfg->user_connections = 32;
     cfg->token_connections = 32;
@@ -131,6 +132,9 @@ void config_usage(FILE *out)
             "  --compute-threads N  threads running evaluate and render requests (default:\n"
             "                       2 x cores, 4..32)\n"
             "  --user-evaluates N   running evaluates per user, 429 beyond (default 2)\n"
+            "  --inline-work N      evaluates of at most N kernel samples x angles run on the\n"
+            "                       HTTP thread, larger ones on the compute pool (default\n"
+            "                       2048; 0: every evaluate on the pool)\n"
             "  --user-renders N     running renders per user, 429 beyond (default 1)\n"
             "  --user-connections N open connections per peer uid on each listener (default 32)\n"
             "  --token-connections N open connections per bearer token on TCP (default 32)\n"
@@ -236,6 +240,7 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
                                             "--max-job-seconds",
                                             "--compute-threads",
                                             "--user-evaluates",
+                                            "--inline-work",
                                             "--user-renders",
                                             "--user-connections",
                                             "--token-connections",
@@ -311,6 +316,8 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
             cfg->compute_threads = (int)n;
         else if (!strcmp(a, "--user-evaluates") && !(bad = parse_long(v, 1, 1024, &n)))
             cfg->user_evaluates = (int)n;
+        else if (!strcmp(a, "--inline-work") && !(bad = parse_long(v, 0, 1L << 23, &n)))
+            cfg->inline_work = (size_t)n;
         else if (!strcmp(a, "--user-renders") && !(bad = parse_long(v, 1, 1024, &n)))
             cfg->user_renders = (int)n;
         else if (!strcmp(a, "--user-connections") && !(bad = parse_long(v, 1, 100000, &n)))

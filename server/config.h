@@ -38,6 +38,7 @@ typedef struct aalab_config {
     bool test_kinds;         /* the "sleep" test kind is available (tests only) */
     int compute_threads;     /* threads of the evaluate/render pool */
     int user_evaluates;      /* running evaluates per user (429 beyond) */
+    size_t inline_work;      /* evaluates up to this work run on the HTTP thread; 0 = never */
     int user_renders;        /* running renders per user (429 beyond) */
     int user_connections;    /* open connections per peer uid, each listener */
     int token_connections;   /* open connections per bearer token on TCP */

@@ -42,16 +42,32 @@ typedef struct api_request {
      * and fair share only: ownership on TCP does not come from it. */
     bool tcp_peer_known;
     uid_t tcp_peer_uid;
+    /* 0: the handler may do all the work the codec allows (a compute-pool thread, a test).
+     * Otherwise the request runs on an HTTP thread: a handler whose estimated work (kernel
+     * samples x angles for evaluate) is larger, or that would read the job store, answers
+     * nothing and sets api_response.needs_pool, and the caller hands the request to the pool. */
+    size_t inline_work_limit;
 } api_request;
 
-typedef struct api_response {
+/* The rest of a handler's work, decoded on an HTTP thread and found too large to finish there
+ * (api_request.inline_work_limit): the caller runs it on the compute pool, then frees it. */
+typedef struct api_deferred api_deferred;
+typedef struct api_response api_response;
+struct api_deferred {
+    void (*run)(api_deferred *d, api_response *resp);
+    void (*free)(api_deferred *d);
+};
+
+struct api_response {
     int status;
     const char *content_type; /* static string */
     char *body;               /* malloc'd, owned by the response */
     size_t body_len;
     int retry_after;           /* seconds, > 0 adds Retry-After */
     const char *cache_control; /* static string or NULL */
-} api_response;
+    bool needs_pool;           /* no answer: too much work for inline_work_limit */
+    api_deferred *deferred;    /* with needs_pool: the work left, or NULL to run it all again */
+};
 
 /* Requests the HTTP layer runs on the compute pool rather than on an HTTP thread. */
 /* API_CLASS_PREDICT runs in the evaluate share but is never answered from the evaluate cache. */

@@ -103,6 +103,16 @@ compute_admit compute_pool_submit(compute_pool *cp, compute_task *t)
     return a;
 }
 
+bool compute_pool_acquire_share(compute_pool *cp, compute_kind kind, uint64_t user)
+{
+    return key_counts_acquire(cp->load[kind], user, cp->share[kind]);
+}
+
+void compute_pool_release_share(compute_pool *cp, compute_kind kind, uint64_t user)
+{
+    key_counts_release(cp->load[kind], user);
+}
+
 int compute_pool_share(const compute_pool *cp, compute_kind kind)
 {
     return cp->share[kind];

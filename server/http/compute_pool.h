@@ -7,6 +7,7 @@
 #ifndef AALAB_COMPUTE_POOL_H
 #define AALAB_COMPUTE_POOL_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 typedef enum { COMPUTE_EVALUATE, COMPUTE_RENDER } compute_kind;
@@ -37,6 +38,11 @@ compute_pool *compute_pool_create(int threads, int user_evaluates, int user_rend
 compute_admit compute_pool_submit(compute_pool *cp, compute_task *t);
 /* The share of a kind (for the 429 message). */
 int compute_pool_share(const compute_pool *cp, compute_kind kind);
+/* Work done by the caller itself (an evaluate small enough to run on the HTTP thread) counts
+ * in the same per-user share: true if the user had room, and then the caller must give it back
+ * with compute_pool_release_share once the work is done. */
+bool compute_pool_acquire_share(compute_pool *cp, compute_kind kind, uint64_t user);
+void compute_pool_release_share(compute_pool *cp, compute_kind kind, uint64_t user);
 /* Tasks of kind the user has admitted now. */
 int compute_pool_user_load(compute_pool *cp, compute_kind kind, uint64_t user);
 /* Refuses new tasks, runs every admitted one to the end and joins the threads. */

@@ -1,8 +1,10 @@
 /* POST /v1/evaluate: {"pattern","filter"?,"acuity"?,"angles"?,"lp"?,"detail"?} -> E2 and its
  * argmax, family and cost (and per-kernel, per-angle detail on request). Identical request
- * bodies are answered from an LRU cache. Runs on the compute pool (http/compute_pool.c; cache
- * hits on the HTTP thread): a 4-sample pattern over the 36 default angles costs microseconds;
- * the size limits of the codec bound the worst case. */
+ * bodies are answered from an LRU cache. Cache hits and evaluates of at most --inline-work
+ * kernel samples x angles run on the HTTP thread (a 4-sample pattern over the 36 default angles
+ * costs microseconds, less than the hand-off); larger ones, and job references, on the compute
+ * pool (http/compute_pool.c; docs/http.md gives the threshold's measurement). The size limits of
+ * the codec bound the worst case. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -46,112 +48,182 @@ static int check_finite(const aa_pattern *p, const aa_evaluation *ev, aa_error *
  * here) so that no request holds a compute thread for long. Larger studies belong in jobs. */
 #define EVALUATE_MAX_WORK (1L << 23)
 
-static int check_work(const aa_pattern *p, const aa_acuity *a, size_t angle_count, aa_error *err)
+/* The work of an evaluate: kernel samples x angles (the default angles when none are given). */
+static double evaluate_work(const aa_pattern *p, const aa_acuity *a, size_t angle_count)
 {
     size_t angles = angle_count;
     if (!angles) {
         static _Thread_local double buf[AA_MAX_ANGLES];
         angles = aa_acuity_default_angles(a, buf, AA_MAX_ANGLES);
     }
-    double work = (double)aa_pattern_total_kernel_samples(p) * (double)angles;
+    return (double)aa_pattern_total_kernel_samples(p) * (double)angles;
+}
+
+static int check_work(const aa_pattern *p, double work, size_t angle_count, aa_error *err)
+{
     if (work <= (double)EVALUATE_MAX_WORK)
         return AA_OK;
     return aa_error_set(err, AA_ERANGE, angle_count ? "angles" : "pattern",
-                        "%zu kernel samples x %zu angles is more than a synchronous evaluate "
+                        "%zu kernel samples x %.0f angles is more than a synchronous evaluate "
                         "does (%ld); use fewer angles or samples",
-                        aa_pattern_total_kernel_samples(p), angles, EVALUATE_MAX_WORK);
+                        aa_pattern_total_kernel_samples(p),
+                        work / (double)aa_pattern_total_kernel_samples(p), EVALUATE_MAX_WORK);
 }
 
-void handle_evaluate(api_context *ctx, const api_request *req, api_response *resp)
-{
-    eval_cache *cache = api_context_eval_cache(ctx);
-    char *hit;
-    size_t hit_len;
-    if (eval_cache_get(cache, req->body, req->body_len, &hit, &hit_len)) {
-        api_reply_owned(resp, 200, hit, hit_len);
-        return;
-    }
-    json_t *body = api_parse_body(req, resp);
-    if (!body)
-        return;
-    if (api_reject_unknown(body, evaluate_keys, "", resp)) {
-        json_decref(body);
-        return;
-    }
-    aa_error err = {0};
+/* A decoded evaluate: what handle_evaluate runs at once, or hands over (api_deferred) when it
+ * is too large for the HTTP thread it was decoded on. */
+typedef struct evaluate_call {
+    api_deferred deferred;
+    eval_cache *cache;
+    const char *key; /* the request body, the cache key: alive until the answer is sent */
+    size_t key_len;
+    bool cacheable, detail;
+    json_t *body;
     aa_pattern pattern;
-    memset(&pattern, 0, sizeof pattern);
     aa_filter filter;
     aa_acuity acuity;
-    double *angles = NULL;
-    size_t angle_count = 0;
-    double lp = 0;
-    bool detail = false;
+    double *angles;
+    size_t angle_count;
+    double lp;
+} evaluate_call;
+
+static void evaluate_call_free(api_deferred *d)
+{
+    evaluate_call *c = (evaluate_call *)d;
+    aa_pattern_free(&c->pattern);
+    free(c->angles);
+    json_decref(c->body);
+    free(c);
+}
+
+static void evaluate_call_run(api_deferred *d, api_response *resp)
+{
+    evaluate_call *c = (evaluate_call *)d;
+    aa_error err = {0};
     aa_evaluation ev;
-    bool have_ev = false;
+    aa_metric_params mp = {.filter = &c->filter,
+                           .acuity = &c->acuity,
+                           .angles_deg = c->angles,
+                           .angle_count = c->angle_count,
+                           .lp = c->lp};
+    int rc = aa_evaluate(&c->pattern, &mp, &ev, &err);
+    bool have_ev = rc == AA_OK;
+    if (rc == AA_OK) {
+        rc = check_finite(&c->pattern, &ev, &err);
+    } else if (err.field[0] && strncmp(err.field, "angles", 6) && strcmp(err.field, "lp") &&
+               strncmp(err.field, "pattern", 7)) {
+        char f[sizeof err.field];
+        proto_join_field(f, sizeof f, "pattern", err.field);
+        memcpy(err.field, f, sizeof f);
+    }
+    if (rc) {
+        api_reply_aa_error(resp, &err);
+    } else {
+        json_t *o = proto_encode_evaluation(&ev, &c->pattern, c->detail);
+        if (o)
+            json_object_set_new(o, "acuity", proto_encode_acuity_ref(&c->acuity));
+        api_reply_json(resp, 200, o);
+        if (resp->status == 200 && c->cacheable)
+            eval_cache_put(c->cache, c->key, c->key_len, resp->body, resp->body_len);
+    }
+    if (have_ev)
+        aa_evaluation_free(&ev);
+}
+
+/* Parses and decodes: 0 with *out set, or an error already answered in resp (or needs_pool
+ * without a deferred call: a job reference on an HTTP thread). */
+static int evaluate_decode(api_context *ctx, const api_request *req, api_response *resp,
+                           evaluate_call **out)
+{
+    json_t *body = api_parse_body(req, resp);
+    if (!body)
+        return -1;
+    if (api_reject_unknown(body, evaluate_keys, "", resp)) {
+        json_decref(body);
+        return -1;
+    }
     json_t *pj = json_object_get(body, "pattern");
-    json_t *dj = json_object_get(body, "detail");
-    json_t *lj = json_object_get(body, "lp");
-    int rc = AA_OK;
     /* A job's best pattern changes while it runs: such answers are not cached. */
     bool has_ref = pj && json_is_object(pj) && json_object_get(pj, "job");
+    /* A job reference reads the job store: never on an HTTP thread. */
+    if (has_ref && req->inline_work_limit) {
+        resp->needs_pool = true;
+        json_decref(body);
+        return -1;
+    }
+    evaluate_call *c = calloc(1, sizeof *c);
+    if (!c) {
+        json_decref(body);
+        api_reply_wire(resp, WIRE_INTERNAL, "", "out of memory");
+        return -1;
+    }
+    *c = (evaluate_call){.deferred = {.run = evaluate_call_run, .free = evaluate_call_free},
+                         .cache = api_context_eval_cache(ctx),
+                         .key = req->body,
+                         .key_len = req->body_len,
+                         .cacheable = !has_ref,
+                         .body = body};
+    aa_error err = {0};
+    int rc = AA_OK;
     if (has_ref)
         rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
     pj = json_object_get(body, "pattern");
+    json_t *dj = json_object_get(body, "detail");
+    json_t *lj = json_object_get(body, "lp");
     if (!rc && !pj)
         rc = aa_error_set(&err, AA_EINVAL, "pattern", "pattern is required");
     if (!rc && dj && !json_is_boolean(dj))
         rc = aa_error_set(&err, AA_EINVAL, "detail", "must be true or false");
-    detail = dj && json_is_true(dj);
+    c->detail = dj && json_is_true(dj);
     if (!rc && lj) {
         if (!json_is_number(lj) || !(json_number_value(lj) >= 1) ||
             !isfinite(json_number_value(lj)))
             rc = aa_error_set(&err, AA_EINVAL, "lp", "must be a number >= 1");
         else
-            lp = json_number_value(lj);
+            c->lp = json_number_value(lj);
     }
     /* The filter first: a "points" pattern may take its weights from it. */
     if (!rc)
-        rc = proto_decode_filter(json_object_get(body, "filter"), &filter, "filter", &err);
+        rc = proto_decode_filter(json_object_get(body, "filter"), &c->filter, "filter", &err);
     if (!rc)
-        rc = proto_decode_pattern_filtered(pj, 0, &filter, &pattern, "pattern", &err);
+        rc = proto_decode_pattern_filtered(pj, 0, &c->filter, &c->pattern, "pattern", &err);
     if (!rc)
-        rc = proto_decode_acuity(json_object_get(body, "acuity"), &acuity, "acuity", &err);
+        rc = proto_decode_acuity(json_object_get(body, "acuity"), &c->acuity, "acuity", &err);
     if (!rc)
-        rc = proto_decode_angles(json_object_get(body, "angles"), &angles, &angle_count, "angles",
-                                 &err);
-    if (!rc)
-        rc = check_work(&pattern, &acuity, angle_count, &err);
-    if (!rc) {
-        aa_metric_params mp = {.filter = &filter,
-                               .acuity = &acuity,
-                               .angles_deg = angles,
-                               .angle_count = angle_count,
-                               .lp = lp};
-        rc = aa_evaluate(&pattern, &mp, &ev, &err);
-        if (rc == AA_OK) {
-            have_ev = true;
-            rc = check_finite(&pattern, &ev, &err);
-        } else if (err.field[0] && strncmp(err.field, "angles", 6) && strcmp(err.field, "lp") &&
-                   strncmp(err.field, "pattern", 7)) {
-            char f[sizeof err.field];
-            proto_join_field(f, sizeof f, "pattern", err.field);
-            memcpy(err.field, f, sizeof f);
-        }
-    }
+        rc = proto_decode_angles(json_object_get(body, "angles"), &c->angles, &c->angle_count,
+                                 "angles", &err);
     if (rc) {
         api_reply_aa_error(resp, &err);
-    } else {
-        json_t *o = proto_encode_evaluation(&ev, &pattern, detail);
-        if (o)
-            json_object_set_new(o, "acuity", proto_encode_acuity_ref(&acuity));
-        api_reply_json(resp, 200, o);
-        if (resp->status == 200 && !has_ref)
-            eval_cache_put(cache, req->body, req->body_len, resp->body, resp->body_len);
+        evaluate_call_free(&c->deferred);
+        return -1;
     }
-    if (have_ev)
-        aa_evaluation_free(&ev);
-    aa_pattern_free(&pattern);
-    free(angles);
-    json_decref(body);
+    *out = c;
+    return 0;
+}
+
+void handle_evaluate(api_context *ctx, const api_request *req, api_response *resp)
+{
+    char *hit;
+    size_t hit_len;
+    if (eval_cache_get(api_context_eval_cache(ctx), req->body, req->body_len, &hit, &hit_len)) {
+        api_reply_owned(resp, 200, hit, hit_len);
+        return;
+    }
+    evaluate_call *c;
+    if (evaluate_decode(ctx, req, resp, &c))
+        return;
+    aa_error err = {0};
+    double work = evaluate_work(&c->pattern, &c->acuity, c->angle_count);
+    if (check_work(&c->pattern, work, c->angle_count, &err)) {
+        api_reply_aa_error(resp, &err);
+        evaluate_call_free(&c->deferred);
+        return;
+    }
+    if (req->inline_work_limit && work > (double)req->inline_work_limit) {
+        resp->needs_pool = true; /* decoded here, computed on the pool */
+        resp->deferred = &c->deferred;
+        return;
+    }
+    evaluate_call_run(&c->deferred, resp);
+    evaluate_call_free(&c->deferred);
 }

@@ -29,9 +29,9 @@
  * with MHD_add_connection to one of --http-threads libmicrohttpd daemons (round robin; each
  * has one epoll thread and no listen socket, since MHD_USE_NO_LISTEN_SOCKET rules out MHD's own
  * thread pool). Refused connections get a complete 429/503 JSON answer and are closed. The
- * counts are given back at MHD_CONNECTION_NOTIFY_CLOSED. POST /v1/evaluate (unless cached), POST
- * /v1/predict and POST /v1/render are suspended and run on the shared compute pool, which resumes
- * them. */
+ * counts are given back at MHD_CONNECTION_NOTIFY_CLOSED. POST /v1/evaluate (unless cached or
+ * within --inline-work), POST /v1/predict and POST /v1/render are suspended and run on the shared
+ * compute pool, which resumes them. */
 #define MAX_HTTP_DAEMONS 64
 
 struct http_listener {
@@ -40,6 +40,7 @@ struct http_listener {
     unsigned next; /* round robin; only the accept thread touches it */
     api_context *ctx;
     size_t max_body;
+    size_t inline_work; /* --inline-work */
     bool is_unix;
     int fd;
     request_deadline *deadline;
@@ -62,6 +63,7 @@ typedef struct request_state {
     struct MHD_Connection *conn;
     api_request req;
     api_response resp;
+    api_deferred *deferred; /* decoded on the HTTP thread, run on the pool (try_inline) */
     char query[1024];
     compute_task task;
 } request_state;
@@ -282,7 +284,14 @@ static enum MHD_Result reply_simple_error(struct MHD_Connection *conn, proto_wir
 static void pool_run(void *arg)
 {
     request_state *st = arg;
-    api_handle(st->l->ctx, &st->req, &st->resp);
+    if (st->deferred) {
+        memset(&st->resp, 0, sizeof st->resp);
+        st->deferred->run(st->deferred, &st->resp);
+        st->deferred->free(st->deferred);
+        st->deferred = NULL;
+    } else {
+        api_handle(st->l->ctx, &st->req, &st->resp);
+    }
 }
 
 static void pool_done(void *arg)
@@ -293,10 +302,44 @@ static void pool_done(void *arg)
     MHD_resume_connection(conn); /* last touch: the connection may be answered and freed now */
 }
 
-/* Evaluate (not cached) and render go to the compute pool: the connection is suspended until
- * the pool has the answer. True if the request was taken (suspended or answered 429/503). */
+/* Bodies up to this size are decoded on the HTTP thread to see whether the evaluate is small
+ * enough to run there (about 48 explicit samples). Larger bodies go to the pool undecoded: a
+ * 10 KB pattern of 256 samples decodes in hundreds of microseconds, and a second user's flood of
+ * such bodies decoded here made the first user's p50 2.2 ms instead of 0.5 ms (bench_http_pool,
+ * with a 16 KiB limit). */
+#define INLINE_MAX_BODY (2u << 10)
+
+/* An uncached evaluate small enough to cost less than the hand-off to the compute pool runs
+ * here, in the user's evaluate share (docs/http.md: the threshold and its measurement). True if
+ * it was answered (*ret then holds the result); false to hand it to the pool, with the decoded
+ * call in st->deferred when the handler got that far (the pool does not decode it again). */
+static bool try_inline(http_listener *l, struct MHD_Connection *conn, request_state *st,
+                       const api_request *req, uint64_t user, enum MHD_Result *ret)
+{
+    if (!l->inline_work || req->body_len > INLINE_MAX_BODY || strcmp(req->path, "/v1/evaluate"))
+        return false;
+    if (!compute_pool_acquire_share(l->pool, COMPUTE_EVALUATE, user))
+        return false; /* the pool's admission answers 429 */
+    api_request small = *req;
+    small.inline_work_limit = l->inline_work;
+    api_response resp;
+    api_handle(l->ctx, &small, &resp);
+    compute_pool_release_share(l->pool, COMPUTE_EVALUATE, user);
+    if (resp.needs_pool) {
+        st->deferred = resp.deferred;
+        resp.deferred = NULL;
+        api_response_free(&resp);
+        return false;
+    }
+    *ret = send_response(conn, &resp, false);
+    return true;
+}
+
+/* Evaluate (not cached, not small: try_inline) and render go to the compute pool: the
+ * connection is suspended until the pool has the answer. True if the request was taken
+ * (suspended, answered inline or answered 429/503); *ret is then what to return. */
 static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_state *st,
-                        const api_request *req)
+                        const api_request *req, enum MHD_Result *ret)
 {
     api_request_class cls = api_classify(req->method, req->path);
     if (!l->pool || cls == API_CLASS_OTHER)
@@ -308,20 +351,25 @@ static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_s
     compute_kind kind = cls == API_CLASS_RENDER ? COMPUTE_RENDER : COMPUTE_EVALUATE;
     bool known = l->is_unix ? req->peer_known : req->tcp_peer_known;
     uid_t uid = l->is_unix ? req->peer_uid : req->tcp_peer_uid;
+    uint64_t user = known ? (uint64_t)uid : COMPUTE_USER_UNKNOWN;
+    *ret = MHD_YES;
+    if (cls == API_CLASS_EVALUATE && try_inline(l, conn, st, req, user, ret))
+        return true;
     st->l = l;
     st->conn = conn;
     st->req = *req;
-    st->task = (compute_task){.run = pool_run,
-                              .done = pool_done,
-                              .arg = st,
-                              .kind = kind,
-                              .user = known ? (uint64_t)uid : COMPUTE_USER_UNKNOWN};
+    st->task =
+        (compute_task){.run = pool_run, .done = pool_done, .arg = st, .kind = kind, .user = user};
     /* Suspend before submitting: the pool may resume the connection at once. */
     st->offloaded = true;
     MHD_suspend_connection(conn);
     compute_admit a = compute_pool_submit(l->pool, &st->task);
     if (a == COMPUTE_QUEUED)
         return true;
+    if (st->deferred) {
+        st->deferred->free(st->deferred);
+        st->deferred = NULL;
+    }
     api_response *r = &st->resp;
     if (a == COMPUTE_OVER_SHARE)
         api_reply_wire(r, WIRE_TOO_MANY_REQUESTS, "",
@@ -435,8 +483,9 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
         }
     }
     request_deadline_received(conn);
-    if (run_on_pool(l, conn, st, &req))
-        return MHD_YES;
+    enum MHD_Result ret;
+    if (run_on_pool(l, conn, st, &req, &ret))
+        return ret;
     api_response resp;
     api_handle(l->ctx, &req, &resp);
     return send_response(conn, &resp, false);
@@ -570,6 +619,7 @@ http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, in
     }
     l->ctx = ctx;
     l->max_body = cfg->max_body;
+    l->inline_work = cfg->inline_work;
     l->is_unix = is_unix;
     l->fd = fd;
     l->pool = pool;

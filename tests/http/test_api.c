@@ -187,6 +187,65 @@ static void test_evaluate_work_limit(void **state)
     free(body);
 }
 
+/* An evaluate as the HTTP thread sends it (inline_work_limit set): answered at once when small;
+ * otherwise no answer, the decoded call handed over (api_deferred), whose answer is byte for
+ * byte the answer of the request run whole; a job reference is never decoded there. */
+static void evaluate_inline(fixture *f, const char *body, size_t limit, api_response *resp)
+{
+    api_request req = {.method = "POST",
+                       .path = "/v1/evaluate",
+                       .content_type = "application/json",
+                       .body = body,
+                       .body_len = strlen(body),
+                       .peer_known = true,
+                       .peer_uid = 1000,
+                       .inline_work_limit = limit};
+    api_handle(f->ctx, &req, resp);
+}
+
+static void test_evaluate_inline_limit(void **state)
+{
+    fixture *f = *state;
+    f->cfg.eval_cache = 0; /* every call computes */
+    api_fixture_restart(f);
+    const char *rgss = "{\"pattern\":{\"preset\":\"rgss\"}}"; /* 4 samples x 36 angles */
+    api_response small, whole, big;
+    evaluate_inline(f, rgss, 144, &small);
+    assert_false(small.needs_pool);
+    assert_null(small.deferred);
+    assert_int_equal(small.status, 200);
+    api_request_raw(f, "POST", "/v1/evaluate", rgss, 1000, &whole);
+    assert_int_equal(whole.body_len, small.body_len);
+    assert_memory_equal(whole.body, small.body, whole.body_len);
+
+    evaluate_inline(f, rgss, 143, &big); /* one unit over the limit */
+    assert_true(big.needs_pool);
+    assert_non_null(big.deferred);
+    assert_null(big.body);
+    api_response later = {0};
+    big.deferred->run(big.deferred, &later);
+    big.deferred->free(big.deferred);
+    assert_int_equal(later.status, 200);
+    assert_int_equal(later.body_len, whole.body_len);
+    assert_memory_equal(later.body, whole.body, whole.body_len);
+    api_response_free(&small);
+    api_response_free(&whole);
+    api_response_free(&later);
+
+    /* A bad request is answered on the HTTP thread whatever its size. */
+    api_response bad;
+    evaluate_inline(f, "{\"pattern\":{\"preset\":\"rgss\"},\"lp\":0}", 1, &bad);
+    assert_false(bad.needs_pool);
+    assert_int_equal(bad.status, 400);
+    api_response_free(&bad);
+
+    api_response ref;
+    evaluate_inline(f, "{\"pattern\":{\"job\":1}}", 1 << 20, &ref);
+    assert_true(ref.needs_pool);
+    assert_null(ref.deferred);
+    assert_null(ref.body);
+}
+
 /* One request over the "TCP listener" with an optional bearer token. */
 static json_t *call_tcp(fixture *f, const char *method, const char *path, const char *body,
                         const char *token, int *status)
@@ -629,6 +688,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_limits, setup, teardown),
         cmocka_unit_test_setup_teardown(test_tcp_access, setup, teardown),
         cmocka_unit_test_setup_teardown(test_evaluate_work_limit, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_evaluate_inline_limit, setup, teardown),
         cmocka_unit_test_setup_teardown(test_enumerate_cached, setup, teardown),
         cmocka_unit_test_setup_teardown(test_jobs_owner_quota_queue, setup, teardown),
         cmocka_unit_test_setup_teardown(test_pattern_refs, setup, teardown),
