@@ -10,5 +10,6 @@
 #include "../seeds.h"
 #include "../presets.h"
 #include "../enumerate.h"
+#include "../point_set.h"
 
 #endif
