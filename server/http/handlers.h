@@ -33,6 +33,8 @@ void handle_preset_get(api_context *ctx, const api_request *req, api_response *r
 void handle_filters(api_context *ctx, const api_request *req, api_response *resp);
 void handle_acuity(api_context *ctx, const api_request *req, api_response *resp);
 void handle_evaluate(api_context *ctx, const api_request *req, api_response *resp);
+/* POST /v1/analyze (handlers_analyze.c). */
+void handle_analyze(api_context *ctx, const api_request *req, api_response *resp);
 /* POST /v1/predict (handlers_predict.c). */
 void handle_predict(api_context *ctx, const api_request *req, api_response *resp);
 void handle_jobs_post(api_context *ctx, const api_request *req, api_response *resp);

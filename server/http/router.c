@@ -103,6 +103,7 @@ static const route routes[] = {
     {"GET", "/v1/filters", ARG_NONE, handle_filters, NULL},
     {"GET", "/v1/acuity", ARG_NONE, handle_acuity, NULL},
     {"POST", "/v1/evaluate", ARG_NONE, handle_evaluate, NULL},
+    {"POST", "/v1/analyze", ARG_NONE, handle_analyze, NULL},
     {"POST", "/v1/jobs", ARG_NONE, handle_jobs_post, NULL},
     {"GET", "/v1/jobs", ARG_NONE, handle_jobs_list, NULL},
     {"GET", "/v1/jobs/", ARG_TAIL, NULL, handle_job_get},
@@ -149,8 +150,10 @@ api_request_class api_classify(const char *method, const char *path)
 {
     if (!method || !path || strcmp(method, "POST"))
         return API_CLASS_OTHER;
-    /* An export decodes and writes a posted pattern of up to --max-body: evaluate's share. */
-    if (!strcmp(path, "/v1/evaluate") || !strcmp(path, "/v1/patterns/export"))
+    /* An export decodes and writes a posted pattern of up to --max-body, an analysis sums over
+     * pairs of up to 4,096 points: evaluate's share. */
+    if (!strcmp(path, "/v1/evaluate") || !strcmp(path, "/v1/patterns/export") ||
+        !strcmp(path, "/v1/analyze"))
         return API_CLASS_EVALUATE;
     if (!strcmp(path, "/v1/predict"))
         return API_CLASS_PREDICT;

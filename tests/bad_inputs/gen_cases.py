@@ -408,6 +408,30 @@ case("optimize_objective_animation", 400, "objective.scene", path="/v1/jobs", bo
 case("optimize_objective_blend_high", 400, "objective.blend", path="/v1/jobs", body_json=dict(OSC, objective={"scene": "rings", "blend": 1.5}))
 case("optimize_objective_blend_string", 400, "objective.blend", path="/v1/jobs", body_json=dict(OSC, objective={"scene": "rings", "blend": "0.5"}))
 case("optimize_objective_with_grid", 400, "objective", path="/v1/jobs", body_json=dict(OSC, objective={"scene": "rings"}, grid={"bits": 4}))
+# --- POST /v1/analyze: point-set analysis of a pattern's tile
+AN = "/v1/analyze"
+FQ = {"preset": "flipquad"}
+case("analyze_ok_flipquad", 200, None, path=AN, body_json={"pattern": FQ})
+case("analyze_no_pattern", 400, "pattern", path=AN, body_json={"metrics": ["spacing"]})
+case("analyze_unknown_key", 400, "bogus", path=AN, body_json={"pattern": FQ, "bogus": 1})
+case("analyze_metrics_empty", 400, "metrics", path=AN, body_json={"pattern": FQ, "metrics": []})
+case("analyze_metrics_unknown", 400, "metrics[1]", path=AN, body_json={"pattern": FQ, "metrics": ["pcf", "fft"]})
+case("analyze_metrics_not_string", 400, "metrics[0]", path=AN, body_json={"pattern": FQ, "metrics": [3]})
+case("analyze_radius_zero", 400, "spectrum.radius", path=AN, body_json={"pattern": FQ, "spectrum": {"radius": 0}})
+case("analyze_radius_over", 400, "spectrum.radius", path=AN, body_json={"pattern": FQ, "spectrum": {"radius": 129}})
+case("analyze_radius_real", 400, "spectrum.radius", path=AN, body_json={"pattern": FQ, "spectrum": {"radius": 2.5}})
+case("analyze_spectrum_not_object", 400, "spectrum", path=AN, body_json={"pattern": FQ, "spectrum": 4})
+case("analyze_spectrum_unknown_key", 400, "spectrum.size", path=AN, body_json={"pattern": FQ, "spectrum": {"size": 4}})
+case("analyze_pcf_bins_zero", 400, "pcf.bins", path=AN, body_json={"pattern": FQ, "pcf": {"bins": 0}})
+case("analyze_pcf_r_max_over", 400, "pcf.r_max", path=AN, body_json={"pattern": FQ, "pcf": {"r_max": 0.6}})
+case("analyze_pcf_sigma_negative", 400, "pcf.sigma", path=AN, body_json={"pattern": FQ, "pcf": {"sigma": -1}})
+case("analyze_pcf_sigma_string", 400, "pcf.sigma", path=AN, body_json={"pattern": FQ, "pcf": {"sigma": "0.1"}})
+case("analyze_one_point", 400, "pattern", path=AN, body_json={"pattern": {"preset": "centroid"}})
+case("analyze_no_tile", 400, "pattern", path=AN, body_json={"pattern": {"kernels": [[[0, 0, 0.5], [0.1, 0.2, 0.5]], [[0, 0, 1]]]}})
+case("analyze_bad_kernel", 400, "pattern.kernels[0][0][1]", path=AN, body_json={"pattern": {"kernels": [[[0, "x", 1]]]}})
+case("analyze_job_ref_unknown", 400, "pattern.job", path=AN, body_json={"pattern": {"job": 999999999}})
+case("analyze_not_object", 400, None, path=AN, body_json=[1, 2])
+case("analyze_get", 405, None, method="GET", path=AN)
 with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "cases.jsonl"), "w") as f:
     for c in C:
         f.write(json.dumps(c, separators=(",", ":")) + "\n")

@@ -22,6 +22,7 @@ ROUTES = [
     ("GET", r"/v1/filters", {200: "filters_response.json"}),
     ("GET", r"/v1/acuity", {200: "acuity_response.json"}),
     ("POST", r"/v1/evaluate", {200: "evaluate_response.json"}),
+    ("POST", r"/v1/analyze", {200: "analyze_response.json"}),
     ("POST", r"/v1/jobs", {202: "job.json"}),
     ("GET", r"/v1/jobs", {200: "jobs_list.json"}),
     ("GET", r"/v1/jobs/[^/]+", {200: "job.json"}),

@@ -29,10 +29,10 @@ static inline double aa_torus_distance_sq(aa_point a, aa_point b)
 int aa_pattern_unit_points(const aa_pattern *p, aa_point **out, size_t *n, aa_error *err);
 
 /* Hickernell's L2 discrepancies in closed form, as scipy.stats.qmc.discrepancy defines them
- * (which returns the squares): each as the root and its square. Pair sums are compensated
- * (Neumaier): the squares carry an absolute error of a few eps times the largest term (about
- * 1.2 for CD, 1.8 for WD, 2.0 for MD, 1.0 for L2-star), which is relative to the square's
- * size. */
+ * (which returns the squares of CD, WD and MD, and the root of L2-star): each as the root and
+ * its square. Pair sums are compensated (Neumaier) and the square combined in long double, so
+ * each square is within a few eps of its exact value for the rounded pair terms (measured:
+ * 1e-12 relative or better against long-double sums at 4 to 1,024 points, e2e_analysis). */
 typedef struct aa_discrepancy {
     double l2_star, l2_star_sq;         /* L2-star */
     double centered, centered_sq;       /* CD */

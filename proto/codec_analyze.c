@@ -1,0 +1,207 @@
+/* POST /v1/analyze: decoding the request and encoding the figures (codec_analyze.h). */
+#include "codec_analyze.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "codec.h"
+
+static const char *const metric_names[] = {"discrepancy", "star_discrepancy", "spacing", "spectrum",
+                                           "pcf"};
+#define METRIC_COUNT (sizeof metric_names / sizeof metric_names[0])
+
+static int decode_metrics(const json_t *j, unsigned *out, aa_error *err)
+{
+    if (!j) {
+        *out = PROTO_ANALYZE_ALL;
+        return AA_OK;
+    }
+    if (!json_is_array(j) || !json_array_size(j))
+        return aa_error_set(err, AA_EINVAL, "metrics", "must be a non-empty array of names");
+    *out = 0;
+    size_t i;
+    json_t *v;
+    json_array_foreach(j, i, v)
+    {
+        const char *name = json_string_value(v);
+        size_t m = 0;
+        while (name && m < METRIC_COUNT && strcmp(name, metric_names[m]))
+            m++;
+        if (!name || m == METRIC_COUNT) {
+            char field[32];
+            snprintf(field, sizeof field, "metrics[%zu]", i);
+            return aa_error_set(err, AA_EINVAL, field,
+                                "must be discrepancy, star_discrepancy, spacing, spectrum or pcf");
+        }
+        *out |= 1u << m;
+    }
+    return AA_OK;
+}
+
+/* A number in (lo, hi] (or [lo, hi] when lo_closed) from an optional key. */
+static int decode_real(const json_t *obj, const char *key, const char *field, double lo, double hi,
+                       double *out, aa_error *err)
+{
+    json_t *v = json_object_get(obj, key);
+    if (!v)
+        return AA_OK;
+    double x = json_number_value(v);
+    if (!json_is_number(v) || !(x > lo && x <= hi))
+        return aa_error_set(err, AA_EINVAL, field, "must be a number in (%g, %g]", lo, hi);
+    *out = x;
+    return AA_OK;
+}
+
+static int decode_int(const json_t *obj, const char *key, const char *field, long lo, long hi,
+                      long *out, aa_error *err)
+{
+    json_t *v = json_object_get(obj, key);
+    if (!v)
+        return AA_OK;
+    if (!json_is_integer(v) || json_integer_value(v) < lo || json_integer_value(v) > hi)
+        return aa_error_set(err, AA_EINVAL, field, "must be an integer from %ld to %ld", lo, hi);
+    *out = (long)json_integer_value(v);
+    return AA_OK;
+}
+
+int proto_decode_analyze_request(const json_t *body, proto_analyze_request *out, aa_error *err)
+{
+    memset(out, 0, sizeof *out);
+    static const char *const keys[] = {"pattern", "metrics", "spectrum", "pcf", NULL};
+    static const char *const spectrum_keys[] = {"radius", NULL};
+    static const char *const pcf_keys[] = {"bins", "r_max", "sigma", NULL};
+    int rc = proto_check_keys(body, keys, err, "");
+    json_t *sj = json_object_get(body, "spectrum"), *pj = json_object_get(body, "pcf");
+    if (!rc && sj && !json_is_object(sj))
+        rc = aa_error_set(err, AA_EINVAL, "spectrum", "must be an object");
+    if (!rc && pj && !json_is_object(pj))
+        rc = aa_error_set(err, AA_EINVAL, "pcf", "must be an object");
+    if (!rc && sj)
+        rc = proto_check_keys(sj, spectrum_keys, err, "spectrum");
+    if (!rc && pj)
+        rc = proto_check_keys(pj, pcf_keys, err, "pcf");
+    if (!rc)
+        rc = decode_metrics(json_object_get(body, "metrics"), &out->metrics, err);
+    long radius = 32, bins = 64;
+    if (!rc && sj)
+        rc = decode_int(sj, "radius", "spectrum.radius", 1, PROTO_ANALYZE_MAX_RADIUS, &radius, err);
+    if (!rc && pj)
+        rc = decode_int(pj, "bins", "pcf.bins", 1, PROTO_ANALYZE_MAX_BINS, &bins, err);
+    if (!rc && pj)
+        rc = decode_real(pj, "r_max", "pcf.r_max", 0, 0.5, &out->r_max, err);
+    if (!rc && pj)
+        rc = decode_real(pj, "sigma", "pcf.sigma", 0, 0.5, &out->sigma, err);
+    out->radius = (int)radius;
+    out->bins = (size_t)bins;
+    json_t *pat = json_object_get(body, "pattern");
+    if (!rc && !pat)
+        rc = aa_error_set(err, AA_EINVAL, "pattern", "pattern is required");
+    aa_filter filter; /* the default: a "points" pattern takes its weights from it */
+    if (!rc)
+        rc = proto_decode_filter(NULL, &filter, "filter", err);
+    if (!rc)
+        rc = proto_decode_pattern_filtered(pat, 0, &filter, &out->pattern, "pattern", err);
+    if (rc)
+        proto_analyze_request_free(out);
+    return rc;
+}
+
+void proto_analyze_request_free(proto_analyze_request *r)
+{
+    aa_pattern_free(&r->pattern);
+}
+
+void proto_analysis_free(proto_analysis *a)
+{
+    aa_spectrum_free(&a->spectrum);
+    free(a->pcf);
+    a->pcf = NULL;
+}
+
+/* JSON has no NaN or infinity: null. */
+static json_t *real_or_null(double x)
+{
+    return isfinite(x) ? json_real(x) : json_null();
+}
+
+static json_t *real_array(const double *v, size_t n)
+{
+    json_t *a = json_array();
+    for (size_t i = 0; a && i < n; i++)
+        if (json_array_append_new(a, real_or_null(v[i]))) {
+            json_decref(a);
+            return NULL;
+        }
+    return a;
+}
+
+static json_t *encode_spectrum(const aa_spectrum *s, size_t points)
+{
+    json_t *rows = json_array();
+    for (size_t r = 0; rows && r < s->side; r++)
+        if (json_array_append_new(rows, real_array(s->power + r * s->side, s->side))) {
+            json_decref(rows);
+            rows = NULL;
+        }
+    json_t *counts = json_array();
+    for (int b = 0; counts && b <= s->radius; b++)
+        json_array_append_new(counts, json_integer((json_int_t)s->annulus_count[b]));
+    double unit = sqrt((double)points);
+    return json_pack(
+        "{s:I, s:o*, s:o*, s:o*, s:o*, s:o, s:o, s:o, s:o}", "radius", (json_int_t)s->radius,
+        "power", rows, "radial", real_array(s->radial, (size_t)s->radius + 1), "anisotropy_db",
+        real_array(s->anisotropy_db, (size_t)s->radius + 1), "annulus_count", counts,
+        "effective_nyquist", real_or_null(s->effective_nyquist), "effective_nyquist_normalized",
+        real_or_null(s->effective_nyquist / unit), "oscillation", real_or_null(s->oscillation),
+        "frequency_unit", json_real(unit));
+}
+
+json_t *proto_encode_analysis(const proto_analyze_request *r, const proto_analysis *a)
+{
+    json_t *o = json_pack("{s:I, s:i, s:s}", "points", (json_int_t)a->points, "tile",
+                          r->pattern.tile, "family", r->pattern.family);
+    if (!o)
+        return NULL;
+    if (r->metrics & (PROTO_ANALYZE_DISCREPANCY | PROTO_ANALYZE_STAR)) {
+        const aa_discrepancy *d = &a->discrepancy;
+        json_t *dj = json_object();
+        if (r->metrics & PROTO_ANALYZE_DISCREPANCY) {
+            json_object_set_new(dj, "l2_star", real_or_null(d->l2_star));
+            json_object_set_new(dj, "l2_star_squared", real_or_null(d->l2_star_sq));
+            json_object_set_new(dj, "centered", real_or_null(d->centered));
+            json_object_set_new(dj, "centered_squared", real_or_null(d->centered_sq));
+            json_object_set_new(dj, "wrap_around", real_or_null(d->wrap_around));
+            json_object_set_new(dj, "wrap_around_squared", real_or_null(d->wrap_around_sq));
+            json_object_set_new(dj, "mixture", real_or_null(d->mixture));
+            json_object_set_new(dj, "mixture_squared", real_or_null(d->mixture_sq));
+        }
+        if (r->metrics & PROTO_ANALYZE_STAR)
+            json_object_set_new(dj, "star_linf", real_or_null(a->star_discrepancy));
+        json_object_set_new(o, "discrepancy", dj);
+    }
+    if (r->metrics & PROTO_ANALYZE_SPACING) {
+        const aa_spacing *s = &a->spacing;
+        json_object_set_new(
+            o, "spacing",
+            json_pack("{s:o, s:o, s:o, s:o, s:o}", "min_distance", real_or_null(s->min_distance),
+                      "mean_nn_distance", real_or_null(s->mean_nn_distance), "packing_distance",
+                      real_or_null(s->packing_distance), "min_distance_normalized",
+                      real_or_null(s->min_distance_normalized), "mean_nn_distance_normalized",
+                      real_or_null(s->mean_nn_distance_normalized)));
+    }
+    if (r->metrics & PROTO_ANALYZE_SPECTRUM)
+        json_object_set_new(o, "spectrum", encode_spectrum(&a->spectrum, a->points));
+    if (r->metrics & PROTO_ANALYZE_PCF) {
+        double *rr = malloc(r->bins * sizeof *rr);
+        for (size_t b = 0; rr && b < r->bins; b++)
+            rr[b] = ((double)b + 0.5) * a->r_max / (double)r->bins;
+        json_object_set_new(o, "pcf",
+                            json_pack("{s:f, s:f, s:o*, s:o*}", "r_max", a->r_max, "sigma",
+                                      a->sigma, "r", rr ? real_array(rr, r->bins) : NULL, "g",
+                                      real_array(a->pcf, r->bins)));
+        free(rr);
+    }
+    return o;
+}
