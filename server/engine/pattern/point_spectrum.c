@@ -4,8 +4,7 @@
  * Heck, Schlömer & Deussen, "Blue noise sampling with controlled aliasing", TOG 2013, computed
  * here from the periodogram's annuli (docs/analysis.md states how they differ from PSA's).
  * The sum over points is one pass per point over the half-plane kx >= 0 (P(-k) = P(k)), from
- * cos/sin tables of the point's two coordinates; the tables come from sin/cos of the reduced
- * argument 2 pi frac(k x), so each term is exact to a few eps. */
+ * cos/sin tables of the point's two coordinates (trig_table: each entry within 16 eps). */
 #include "point_set.h"
 
 #include <math.h>
@@ -15,13 +14,24 @@
 #define TWO_PI 6.28318530717958647692
 #define PI_D 3.14159265358979323846
 
+/* c[k] = cos(2 pi k x), s[k] = sin(2 pi k x) for k = 0..radius: exact sin/cos of the reduced
+ * argument every ANCHOR steps, the angle-addition recurrence between (its rounding grows by
+ * about 2 eps a step, so at most 2 ANCHOR eps), which saves most of the libm calls. */
+#define ANCHOR 8
+
 static void trig_table(double x, int radius, double *c, double *s)
 {
+    double t1 = x - floor(x), c1 = cos(TWO_PI * t1), s1 = sin(TWO_PI * t1);
     for (int k = 0; k <= radius; k++) {
-        double t = (double)k * x;
-        t -= floor(t);
-        c[k] = cos(TWO_PI * t);
-        s[k] = sin(TWO_PI * t);
+        if (k % ANCHOR == 0) {
+            double t = (double)k * x;
+            t -= floor(t);
+            c[k] = cos(TWO_PI * t);
+            s[k] = sin(TWO_PI * t);
+        } else {
+            c[k] = c[k - 1] * c1 - s[k - 1] * s1;
+            s[k] = s[k - 1] * c1 + c[k - 1] * s1;
+        }
     }
 }
 
@@ -36,26 +46,29 @@ void aa_spectrum_free(aa_spectrum *s)
     memset(s, 0, sizeof *s);
 }
 
-/* The half-plane sums: re/im[(kx) * side + (ky + R)] for kx = 0..R. */
+/* The half-plane sums: re/im[(kx) * side + (ky + R)] for kx = 0..R. Per point, the y table is
+ * laid out over ky = -R..R (cos even, sin odd), so each kx row is one contiguous loop that the
+ * compiler vectorises. */
 static void half_plane_sums(const aa_point *pts, size_t n, int R, double *re, double *im,
                             double *cx, double *sx, double *cy, double *sy)
 {
     size_t side = (size_t)(2 * R + 1);
+    double *cyf = cy + R, *syf = sy + R; /* [-R, R] */
     for (size_t j = 0; j < n; j++) {
         trig_table(pts[j].x, R, cx, sx);
-        trig_table(pts[j].y, R, cy, sy);
-        /* e^{-i(a+b)} = (ca cb - sa sb) - i (sa cb + ca sb); for -ky: sb -> -sb. */
+        trig_table(pts[j].y, R, cyf, syf);
+        for (int k = 1; k <= R; k++) {
+            cyf[-k] = cyf[k];
+            syf[-k] = -syf[k];
+        }
+        /* e^{-i(a+b)} = (ca cb - sa sb) - i (sa cb + ca sb) */
         for (int kx = 0; kx <= R; kx++) {
             double ca = cx[kx], sa = sx[kx];
-            double *restrict r = re + (size_t)kx * side + (size_t)R;
-            double *restrict m = im + (size_t)kx * side + (size_t)R;
-            for (int ky = 0; ky <= R; ky++) {
-                r[ky] += ca * cy[ky] - sa * sy[ky];
-                m[ky] -= sa * cy[ky] + ca * sy[ky];
-            }
-            for (int ky = 1; ky <= R; ky++) {
-                r[-ky] += ca * cy[ky] + sa * sy[ky];
-                m[-ky] -= sa * cy[ky] - ca * sy[ky];
+            double *restrict r = re + (size_t)kx * side, *restrict m = im + (size_t)kx * side;
+            const double *restrict c = cy, *restrict s = sy;
+            for (size_t i = 0; i < side; i++) {
+                r[i] += ca * c[i] - sa * s[i];
+                m[i] -= sa * c[i] + ca * s[i];
             }
         }
     }
@@ -135,7 +148,7 @@ int aa_point_set_spectrum(const aa_point *pts, size_t n, int radius, aa_spectrum
     int R = radius;
     size_t side = (size_t)(2 * R + 1), half = (size_t)(R + 1) * side;
     double *re = calloc(half, sizeof *re), *im = calloc(half, sizeof *im);
-    double *tab = malloc(4 * (size_t)(R + 1) * sizeof *tab);
+    double *tab = malloc((2 * (size_t)(R + 1) + 2 * side) * sizeof *tab);
     out->radius = R;
     out->side = side;
     out->power = malloc(side * side * sizeof *out->power);
@@ -151,7 +164,7 @@ int aa_point_set_spectrum(const aa_point *pts, size_t n, int radius, aa_spectrum
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
     size_t r1 = (size_t)R + 1;
-    half_plane_sums(pts, n, R, re, im, tab, tab + r1, tab + 2 * r1, tab + 3 * r1);
+    half_plane_sums(pts, n, R, re, im, tab, tab + r1, tab + 2 * r1, tab + 2 * r1 + side);
     double inv_n = 1.0 / (double)n;
     for (int kx = 0; kx <= R; kx++) {
         for (int ky = -R; ky <= R; ky++) {
