@@ -53,7 +53,10 @@ typedef enum opt_id {
     OPT_WEIGHTS,
     OPT_ANGLE,
     OPT_BLEND,
-    OPT_MODEL
+    OPT_MODEL,
+    OPT_METRICS,
+    OPT_RADIUS,
+    OPT_PCF_BINS
 } opt_id;
 
 typedef struct opt_spec {
@@ -68,10 +71,11 @@ typedef struct opt_spec {
 #define TABLE_COMMANDS                                                                             \
     (BIT(CMD_EVAL) | BIT(CMD_PRESETS) | BIT(CMD_JOBS) | BIT(CMD_JOB) | BIT(CMD_WAIT) |             \
      BIT(CMD_HEALTH) | BIT(CMD_FILTERS) | BIT(CMD_ACUITY) | BIT(CMD_ENUMERATE) | BIT(CMD_TOKEN) |  \
-     BIT(CMD_PREDICT))
+     BIT(CMD_PREDICT) | BIT(CMD_ANALYZE))
 
 /* The commands that take a pattern argument, which may be a point-set file. */
-#define PATTERN_COMMANDS (BIT(CMD_EVAL) | BIT(CMD_OPTIMIZE) | BIT(CMD_RENDER) | BIT(CMD_CONVERT))
+#define PATTERN_COMMANDS                                                                           \
+    (BIT(CMD_EVAL) | BIT(CMD_OPTIMIZE) | BIT(CMD_RENDER) | BIT(CMD_CONVERT) | BIT(CMD_ANALYZE))
 
 static const opt_spec OPTIONS[] = {
     {"socket", 's', true, ALL_COMMANDS, OPT_SOCKET},
@@ -114,6 +118,9 @@ static const opt_spec OPTIONS[] = {
     {"kernel", 0, true, PATTERN_COMMANDS, OPT_KERNEL},
     {"weights", 0, true, PATTERN_COMMANDS, OPT_WEIGHTS},
     {"label", 0, true, BIT(CMD_TOKEN), OPT_LABEL},
+    {"metrics", 0, true, BIT(CMD_ANALYZE), OPT_METRICS},
+    {"radius", 0, true, BIT(CMD_ANALYZE), OPT_RADIUS},
+    {"pcf-bins", 0, true, BIT(CMD_ANALYZE), OPT_PCF_BINS},
 };
 
 static const struct {
@@ -126,7 +133,7 @@ static const struct {
     {"render", CMD_RENDER},   {"export", CMD_EXPORT},     {"health", CMD_HEALTH},
     {"filters", CMD_FILTERS}, {"acuity", CMD_ACUITY},     {"enumerate", CMD_ENUMERATE},
     {"token", CMD_TOKEN},     {"wait", CMD_WAIT},         {"convert", CMD_CONVERT},
-    {"predict", CMD_PREDICT},
+    {"predict", CMD_PREDICT}, {"analyze", CMD_ANALYZE},
 };
 
 const char *cli_command_name(cli_command c)
@@ -345,6 +352,17 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
             return fail(err, cap, "--angle wants degrees, got '%s'", v);
         a->has_angle = true;
         break;
+    case OPT_METRICS:
+        a->metrics = v;
+        break;
+    case OPT_RADIUS:
+        if (parse_long(v, 1, 128, &a->radius))
+            return fail(err, cap, "--radius wants an integer from 1 to 128, got '%s'", v);
+        break;
+    case OPT_PCF_BINS:
+        if (parse_long(v, 1, 1024, &a->pcf_bins))
+            return fail(err, cap, "--pcf-bins wants an integer from 1 to 1024, got '%s'", v);
+        break;
     case OPT_MODEL:
         if (!one_of(v, MODELS))
             return fail(err, cap, "--model wants edge, reference-profile or exact, got '%s'", v);
@@ -437,6 +455,7 @@ static int check_command(cli_args *a, char *err, size_t cap)
     case CMD_NONE:
         return fail(err, cap, "no command given (try 'aalab help')");
     case CMD_EVAL:
+    case CMD_ANALYZE:
     case CMD_CONVERT:
     case CMD_SUBMIT:
     case CMD_JOB:
@@ -445,12 +464,13 @@ static int check_command(cli_args *a, char *err, size_t cap)
     case CMD_EXPORT:
         if (!a->target)
             return fail(err, cap, "'%s' needs %s", name,
-                        a->command == CMD_EVAL || a->command == CMD_CONVERT
+                        a->command == CMD_EVAL || a->command == CMD_CONVERT ||
+                                a->command == CMD_ANALYZE
                             ? "a preset NAME, a pattern FILE.json or a point-set file"
                         : a->command == CMD_SUBMIT ? "a job spec FILE.json (or - for stdin)"
                                                    : "a job ID");
         if (a->command != CMD_EVAL && a->command != CMD_CONVERT && a->command != CMD_SUBMIT &&
-            !job_id_valid(a->target))
+            a->command != CMD_ANALYZE && !job_id_valid(a->target))
             return fail(err, cap, "'%s' wants a job ID (letters, digits, '-', '_'), got '%s'", name,
                         a->target);
         break;
@@ -492,10 +512,11 @@ static int check_command(cli_args *a, char *err, size_t cap)
     }
     if (a->csv && a->json)
         return fail(err, cap, "give --csv or --json, not both");
-    bool takes_argument =
-        a->command == CMD_EVAL || a->command == CMD_CONVERT || a->command == CMD_SUBMIT ||
-        a->command == CMD_JOB || a->command == CMD_WAIT || a->command == CMD_CANCEL ||
-        a->command == CMD_EXPORT || a->command == CMD_PRESETS || a->command == CMD_TOKEN;
+    bool takes_argument = a->command == CMD_EVAL || a->command == CMD_CONVERT ||
+                          a->command == CMD_SUBMIT || a->command == CMD_JOB ||
+                          a->command == CMD_WAIT || a->command == CMD_CANCEL ||
+                          a->command == CMD_EXPORT || a->command == CMD_PRESETS ||
+                          a->command == CMD_TOKEN || a->command == CMD_ANALYZE;
     if (a->target && !takes_argument)
         return fail(err, cap, "'%s' takes no argument, got '%s'", name, a->target);
     return 0;

@@ -26,7 +26,8 @@ typedef enum cli_command {
     CMD_TOKEN,
     CMD_WAIT,
     CMD_CONVERT,
-    CMD_PREDICT
+    CMD_PREDICT,
+    CMD_ANALYZE
 } cli_command;
 
 typedef struct cli_args {
@@ -91,6 +92,9 @@ typedef struct cli_args {
     int tile;                  /* --tile T, 0: not given */
     int kernel;                /* --kernel K, 0: not given */
     const char *weights;       /* file | filter | equal; NULL: not given */
+    /* analyze: --metrics (comma-separated names), --radius, --pcf-bins */
+    const char *metrics;
+    long radius, pcf_bins; /* 0: not given (the daemon's default) */
 } cli_args;
 
 /* Returns 0, or -1 with a one-line reason in err (exit code 1 then). argv[0] is the program. */

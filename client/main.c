@@ -31,6 +31,8 @@ static command_fn command_for(cli_command c)
         return cmd_render;
     case CMD_PREDICT:
         return cmd_predict;
+    case CMD_ANALYZE:
+        return cmd_analyze;
     case CMD_EXPORT:
         return cmd_export;
     case CMD_HEALTH:

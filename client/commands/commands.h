@@ -20,6 +20,7 @@ int cmd_job(cli_session *s);
 int cmd_cancel(cli_session *s);
 int cmd_render(cli_session *s);
 int cmd_predict(cli_session *s);
+int cmd_analyze(cli_session *s);
 int cmd_export(cli_session *s);
 int cmd_health(cli_session *s);
 int cmd_filters(cli_session *s);
@@ -36,6 +37,11 @@ int optimize_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 int render_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 /* predict: --pattern A,B,... as "patterns", the scene by name (an object with --angle). */
 int predict_request(const cli_args *a, json_t **req, char *err, size_t errcap);
+/* analyze: the pattern as eval takes it, --metrics a,b as "metrics", --radius, --pcf-bins. */
+int analyze_request(const cli_args *a, json_t **req, char *err, size_t errcap);
+/* The figures as "key  value" lines, then the radial spectrum; with csv, the radial spectrum
+ * (annulus,frequencies,power,anisotropy_db) as CSV. */
+void analyze_print(FILE *out, const json_t *resp, bool csv);
 /* submit: the spec file (or stdin) as it is, checked to be an object with a kind. */
 int submit_request(const cli_args *a, json_t **req, char *err, size_t errcap);
 /* --filter NAME[:B=..,C=..] | JSON; --acuity NAME | FILE.json | JSON. */

@@ -19,6 +19,7 @@ static const char OVERVIEW[] =
     "  cancel ID             ask a queued or running job to stop (owner or root)\n"
     "  render ...            render a test tile to a PNG\n"
     "  predict ...           predicted RMSE of patterns on a scene, without rendering\n"
+    "  analyze NAME|FILE     discrepancies, spacing and spectrum of a pattern's tile\n"
     "  export ID             the best pattern of a job (json, utk, xyw, csv, points-json,\n"
     "                        vulkan, d3d12)\n"
     "  convert PATTERN       a preset, pattern or point-set file in another format\n"
@@ -63,6 +64,16 @@ static const struct {
              "POINTS is a point-set file ('aalab help convert'); --weights filter weighs its\n"
              "samples by --filter.\n"},
     {"presets", "usage: aalab presets [NAME]\n"},
+    {"analyze", "usage: aalab analyze NAME|FILE.json|POINTS [--metrics LIST] [--radius R]\n"
+                "                     [--pcf-bins N] [--points-format F] [--tile T] [--csv]\n"
+                "Point-set analysis of the pattern's tile on the unit torus (docs/analysis.md):\n"
+                "the L2 discrepancies CD, WD, MD, L2-star (root, square in brackets), the exact\n"
+                "Linf star discrepancy, spacing against PSA's packing distance, the spectrum's\n"
+                "effective Nyquist frequency and oscillation, then the radial spectrum.\n"
+                "--metrics picks from discrepancy,star_discrepancy,spacing,spectrum,pcf;\n"
+                "--radius: the periodogram's largest frequency (1..128, default 32);\n"
+                "--csv: the radial spectrum as CSV; --json: the daemon's whole answer (with the\n"
+                "2-D periodogram and the pair correlation function).\n"},
     {"optimize", "usage: aalab optimize --family 'P(4,1+,2)' | --pattern NAME|FILE.json|POINTS\n"
                  "                      [--seeds N] [--max-seconds S] [--max-iterations N]\n"
                  "                      [--rng-seed K] [--mode weights|positions|both]\n"

@@ -384,6 +384,14 @@ elif [ $rc -eq 3 ] && grep -q not_implemented "$tmp/err" && ! expected optimize;
 else bad "enumerate: exit $rc: $(cat "$tmp/err")"; fi
 expect 2 "enumerate an impossible cost is a 4xx" -- A enumerate --family 'P(4,1+,n)' --cost 0.1
 
+expect 0 "analyze a preset's tile" -- A analyze flipquad --radius 8
+has "CD" "analyze prints the centred discrepancy"
+has "of d_hex" "analyze prints the spacing against the packing distance"
+has "annulus  frequencies" "analyze prints the radial spectrum"
+expect 0 "analyze a job's pattern, spacing only" -- A analyze "job:$id" --metrics spacing
+has "min distance" "analyze --metrics spacing prints the spacing"
+expect 2 "analyze an unknown metric is a 4xx" -- A analyze flipquad --metrics spacing,fft
+
 if jq -e '.render == true' <<<"$health" >/dev/null; then
   expect 0 "render -o tile.png" -- A render --pattern quincunx --scene siemens-star --size 64x64 -o "$tmp/tile.png"
   [ "$(head -c 8 "$tmp/tile.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] &&

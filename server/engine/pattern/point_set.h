@@ -60,13 +60,13 @@ int aa_point_set_spacing(const aa_point *pts, size_t n, aa_spacing *out, aa_erro
  * torus with |kx|, |ky| <= radius (1..256), row-major from (-radius, -radius); P(0) = n. Its
  * radial average over annuli of width 1 centred on |k| = 0, 1, ..., radius, and its anisotropy
  * 10 log10(variance / mean^2) per annulus (PSA; NaN for an annulus of fewer than 2 frequencies
- * or of zero mean). effective_nyquist: the largest radius below which the mean power over the
- * disc stays under 0.1 (after PSA's EffectiveNyquist); oscillation: PSA's oscillation figure
- * 10 sqrt(mean of (P - 1)^2 over the ring from where the radial power first reaches 0.98 of its
- * running maximum out to 10 sqrt(n)/2 beyond it or the radius). Both also divided by sqrt(n),
- * PSA's frequency unit. P(k) is computed from cos/sin tables per point, each entry within
- * 16 eps (exact values every 8 frequencies, the angle-addition recurrence between): absolute
- * error about 32 n eps. */
+ * or of zero mean, i.e. below 64 n eps, the periodogram's rounding). effective_nyquist: the largest
+ * radius below which the mean power over the disc stays under 0.1 (after PSA's EffectiveNyquist);
+ * oscillation: PSA's oscillation figure 10 sqrt(mean of (P - 1)^2 over the ring from where the
+ * radial power first reaches 0.98 of its running maximum out to 10 sqrt(n)/2 beyond it or the
+ * radius). Both also divided by sqrt(n), PSA's frequency unit. P(k) is computed from cos/sin tables
+ * per point, each entry within 16 eps (exact values every 8 frequencies, the angle-addition
+ * recurrence between): absolute error about 32 n eps. */
 typedef struct aa_spectrum {
     int radius;
     size_t side;           /* 2 radius + 1 */

@@ -8,6 +8,7 @@
 #include "point_set.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -99,9 +100,12 @@ static void radial_figures(aa_spectrum *s, size_t n)
         double c = (double)s->annulus_count[b], mean = sum[b] / c;
         s->radial[b] = mean;
         double var = c > 1 ? (sumsq[b] - c * mean * mean) / (c - 1) : NAN;
-        s->anisotropy_db[b] = c > 1 && mean > 0 && var > 0 ? 10 * log10(var / (mean * mean))
-                              : c > 1 && mean > 0          ? -INFINITY
-                                                           : NAN;
+        /* Below the periodogram's rounding (about 32 n eps) the power is zero and its
+         * variance is noise: no anisotropy. */
+        bool zero = mean <= 64 * (double)n * 0x1.0p-52;
+        s->anisotropy_db[b] = c > 1 && !zero && var > 0 ? 10 * log10(var / (mean * mean))
+                              : c > 1 && !zero          ? -INFINITY
+                                                        : NAN;
     }
     /* Effective Nyquist: the mean power over the disc 0 < |k| <= b stays below 0.1. */
     double disc = 0, count = 0;
