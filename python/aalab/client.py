@@ -9,7 +9,7 @@ from . import schemas as _schemas
 from .errors import AalabError
 from .job import Job
 from .patterns import as_pattern
-from .results import Enumeration, Evaluation, Render, decode_png
+from .results import Analysis, Enumeration, Evaluation, Render, decode_png
 from .transport import Transport, path_with_query, quote_segment
 
 JOB_STATES = ("queued", "running", "done", "failed", "cancelled", "interrupted")
@@ -164,6 +164,37 @@ class Client:
             body["detail"] = True
         return Evaluation.from_answer(self._call("POST", "/v1/evaluate", body,
                                                  schema="evaluate_response.json"))
+
+    def analyze(self, pattern: Any, metrics: Optional[Iterable[str]] = None,
+                radius: Optional[int] = None, pcf_bins: Optional[int] = None,
+                pcf_r_max: Optional[float] = None, pcf_sigma: Optional[float] = None
+                ) -> Analysis:
+        """Point-set analysis of a pattern's tile on the unit torus (``POST /v1/analyze``,
+        docs/analysis.md): discrepancies (CD, WD, MD, L2-star as roots with their squares,
+        the exact L∞ star discrepancy), spacing against PSA's packing distance, the
+        periodogram with its radial average, anisotropy, effective Nyquist frequency and
+        oscillation, and the pair correlation function.
+
+        Args:
+            pattern: any pattern argument, as for :meth:`evaluate` (a point set of n >= 2).
+            metrics: a subset of ``discrepancy``, ``star_discrepancy``, ``spacing``,
+                ``spectrum``, ``pcf``; default all.
+            radius: the periodogram's largest integer frequency (1..128, default 32).
+            pcf_bins, pcf_r_max, pcf_sigma: the pair correlation's bins (default 64), largest
+                distance (default 4 packing distances, at most 0.5) and kernel width (default
+                the packing distance / 8).
+        """
+        body: Dict[str, Any] = {"pattern": as_pattern(pattern)}
+        if metrics is not None:
+            body["metrics"] = list(metrics)
+        if radius is not None:
+            body["spectrum"] = {"radius": int(radius)}
+        pcf = {k: v for k, v in (("bins", pcf_bins), ("r_max", pcf_r_max),
+                                  ("sigma", pcf_sigma)) if v is not None}
+        if pcf:
+            body["pcf"] = pcf
+        return Analysis.from_answer(self._call("POST", "/v1/analyze", body,
+                                               schema="analyze_response.json"))
 
     def enumerate_family(self, family: str, cost: Optional[float] = None) -> Enumeration:
         """Placement configurations of the mirrored family P(4,1+,n) at cost n samples per

@@ -22,7 +22,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .job import Job
-from .results import DIFFERENCE_FULL_SCALE, Evaluation, Render, Trace
+from .results import DIFFERENCE_FULL_SCALE, Analysis, Evaluation, Render, Trace
 
 # The dashboard's palette, dashes and markers (web/js/svg.js).
 COLOURS = ["#1f5fbf", "#c2410c", "#15803d", "#7e22ce", "#a16207", "#be123c", "#0f766e", "#4b5563"]
@@ -365,3 +365,69 @@ def tiles(render: Render, title: Optional[str] = None, figsize: Size = (10.5, 3.
 
 
 __all__ = ["polar", "pattern", "trace", "e2_vs_spp", "tiles", "spp_of_family"]
+
+
+def spectrum(analysis: Analysis, ax: Any = None, title: Optional[str] = None,
+             figsize: Size = (10.0, 4.2), dpi: float = 100) -> Figure:
+    """The periodogram of a point set (``Client.analyze``; docs/analysis.md): the 2-D P(k) as
+    an image (log scale, DC removed) beside the radially averaged power with its anisotropy in
+    dB. Frequencies are integers of the unit torus; the radial axis also marks sqrt(n)/2, where
+    a well-spread set's power rises. With ``ax`` only the radial plot is drawn into it."""
+    if analysis.power is None or analysis.radial is None:
+        raise ValueError("the analysis has no spectrum: analyze(..., metrics=[..., 'spectrum'])")
+    power = np.array(analysis.power, dtype=float)
+    radius = (power.shape[0] - 1) // 2
+    radial = np.asarray(analysis.radial, dtype=float)
+    k = np.arange(len(radial))
+    if ax is None:
+        fig = Figure(figsize=figsize, dpi=dpi, layout="constrained")
+        img_ax, rad_ax = fig.subplots(1, 2, width_ratios=[1, 1.4])
+        shown = power.copy()
+        shown[radius, radius] = np.nan  # P(0) = n would swamp the scale
+        im = img_ax.imshow(np.log10(np.maximum(shown, 1e-3)), origin="lower", cmap="magma",
+                           extent=(-radius - 0.5, radius + 0.5, -radius - 0.5, radius + 0.5))
+        img_ax.set_xlabel("kx")
+        img_ax.set_ylabel("ky")
+        img_ax.set_title("log10 P(k)")
+        fig.colorbar(im, ax=img_ax, shrink=0.8)
+    else:
+        fig, rad_ax = ax.figure, ax
+    rad_ax.plot(k[1:], radial[1:], color=COLOURS[0], linewidth=1.5, label="radial power")
+    rad_ax.axhline(1.0, color="0.6", linewidth=0.8)
+    rad_ax.axvline(math.sqrt(analysis.points) / 2, color="0.6", linestyle=":", linewidth=0.8)
+    rad_ax.set_xlabel("|k| (integer frequencies of the torus)")
+    rad_ax.set_ylabel("mean P(k) over the annulus (linear)")
+    rad_ax.set_xlim(0, len(radial) - 1)
+    rad_ax.set_ylim(0, None)
+    if analysis.anisotropy_db is not None:
+        ani = rad_ax.twinx()
+        ani.plot(k, np.asarray(analysis.anisotropy_db, dtype=float), color=COLOURS[1],
+                 linestyle=DASHES[1], linewidth=1.0, label="anisotropy")
+        ani.set_ylabel("anisotropy (dB)")
+    nu = analysis.effective_nyquist
+    rad_ax.set_title(title if title is not None else "%s, %d points%s" % (
+        analysis.family, analysis.points,
+        "" if nu is None or math.isnan(nu) else ", effective Nyquist %g" % nu))
+    return fig
+
+
+def pcf(analysis: Analysis, ax: Any = None, title: Optional[str] = None,
+        figsize: Size = (6.0, 4.0), dpi: float = 100) -> Figure:
+    """The pair correlation function g(r) of a point set (``Client.analyze``), r in units of
+    PSA's packing distance (1: the spacing of the densest packing) when the analysis has the
+    spacing, else of the unit torus; g = 1 is a Poisson set."""
+    if analysis.pcf is None:
+        raise ValueError("the analysis has no pair correlation: analyze(..., metrics=[..., 'pcf'])")
+    fig, ax = _figure(ax, figsize, dpi)
+    r = np.asarray(analysis.pcf_r, dtype=float)
+    unit = (analysis.spacing or {}).get("packing_distance")
+    ax.plot(r / unit if unit else r, np.asarray(analysis.pcf, dtype=float), color=COLOURS[0],
+            linewidth=1.5)
+    ax.axhline(1.0, color="0.6", linewidth=0.8)
+    ax.set_xlabel("r / packing distance" if unit else "r (unit torus)")
+    ax.set_ylabel("g(r) (linear)")
+    ax.set_xlim(0, None)
+    ax.set_ylim(0, None)
+    ax.set_title(title if title is not None else "pair correlation, %s, %d points" % (
+        analysis.family, analysis.points))
+    return fig

@@ -212,3 +212,59 @@ class Enumeration:
 
 
 Image = Union[bytes, Any]
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """Point-set figures of a pattern's tile on the unit torus (``POST /v1/analyze``;
+    docs/analysis.md). Only the asked metrics are set, the rest are None.
+
+    Attributes:
+        points, tile, family: the point set's size, the tile T it was scaled by, P(s,r,n).
+        discrepancy: dict of the roots (``centered``, ``wrap_around``, ``mixture``,
+            ``l2_star``), their squares (``*_squared``; scipy returns the squares of CD, WD
+            and MD) and ``star_linf``, the exact L∞ star discrepancy.
+        spacing: dict of ``min_distance``, ``mean_nn_distance``, ``packing_distance`` and the
+            two divided by it (``*_normalized``).
+        power: the periodogram P(k), rows ky = -radius..radius, columns kx likewise.
+        radial, anisotropy_db, annulus_count: per annulus |k| ~ 0..radius.
+        effective_nyquist, oscillation: PSA's figures (null where undefined: NaN here).
+        pcf_r, pcf: the pair correlation function at its bin centres.
+        raw: the answer as sent.
+    """
+
+    points: int
+    tile: int
+    family: str
+    discrepancy: Optional[Dict[str, Any]]
+    spacing: Optional[Dict[str, Any]]
+    radius: Optional[int]
+    power: Any
+    radial: Any
+    anisotropy_db: Any
+    annulus_count: Any
+    effective_nyquist: Optional[float]
+    oscillation: Optional[float]
+    pcf_r: Any
+    pcf: Any
+    raw: Dict[str, Any] = field(repr=False)
+
+    @classmethod
+    def from_answer(cls, d: Dict[str, Any]) -> "Analysis":
+        s = d.get("spectrum") or {}
+        p = d.get("pcf") or {}
+        nan = float("nan")
+        return cls(points=d["points"], tile=d["tile"], family=d["family"],
+                   discrepancy=d.get("discrepancy"), spacing=d.get("spacing"),
+                   radius=s.get("radius"),
+                   power=array(s["power"]) if "power" in s else None,
+                   radial=array(s["radial"]) if "radial" in s else None,
+                   anisotropy_db=array(s["anisotropy_db"]) if "anisotropy_db" in s else None,
+                   annulus_count=array(s["annulus_count"], int) if "annulus_count" in s else None,
+                   effective_nyquist=(nan if s.get("effective_nyquist") is None
+                                      else s["effective_nyquist"]) if s else None,
+                   oscillation=(nan if s.get("oscillation") is None else s["oscillation"])
+                   if s else None,
+                   pcf_r=array(p["r"]) if "r" in p else None,
+                   pcf=array(p["g"]) if "g" in p else None,
+                   raw=d)

@@ -346,3 +346,24 @@ print("ok")
                          text=True, timeout=60)
     assert out.returncode == 0 and out.stdout.strip() == "ok", out.stdout + out.stderr
     assert out.stderr == ""  # no progress bar without tqdm
+
+
+def test_analyze(client):
+    a = client.analyze("flipquad", radius=8)
+    assert isinstance(a, aalab.Analysis)
+    assert (a.points, a.tile, a.family) == (8, 2, "P(4,1+,2)")
+    d = a.discrepancy
+    for key in ("centered", "wrap_around", "mixture", "l2_star"):
+        assert d[key] ** 2 == pytest.approx(d[key + "_squared"], rel=1e-14)
+    assert 0 < d["star_linf"] < 1
+    assert a.power.shape == (17, 17) and a.radial.shape == (9,)
+    assert a.radial[0] == pytest.approx(8)
+    np.testing.assert_allclose(a.power, a.power[::-1, ::-1], rtol=1e-12, atol=1e-12)  # P(-k)
+    assert a.spacing["min_distance_normalized"] == pytest.approx(
+        a.spacing["min_distance"] / a.spacing["packing_distance"], rel=1e-14)
+    assert a.pcf.shape == a.pcf_r.shape == (64,)
+    only = client.analyze("rgss", metrics=["spacing"])
+    assert only.discrepancy is None and only.power is None and only.spacing is not None
+    with pytest.raises(aalab.AalabError) as e:
+        client.analyze("rgss", radius=0)
+    assert e.value.field == "spectrum.radius"

@@ -103,3 +103,11 @@ def test_tiles(c, tmp_path, no_global_state):
     check_png(fig, tmp_path / "tiles.png", (10.5, 3.9))
     with pytest.raises(ValueError):
         plot.tiles(c.render("rgss", size=16, reference=16, decode=False))
+
+
+def test_spectrum_and_pcf(c, tmp_path, no_global_state):
+    a = c.analyze("hasselgren-a", radius=16)
+    check_png(plot.spectrum(a), tmp_path / "spectrum.png", (10.0, 4.2))
+    check_png(plot.pcf(a), tmp_path / "pcf.png", (6.0, 4.0))
+    with pytest.raises(ValueError):
+        plot.pcf(c.analyze("rgss", metrics=["spacing"]))
