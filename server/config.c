@@ -70,6 +70,7 @@ void config_defaults(aalab_config *cfg)
     cfg->user_renders = 1;
     cfg->user_connections = 32;
     cfg->token_connections = 32;
+    cfg->user_tokens = 32;
     cfg->user_store_bytes = 256u << 20;
     cfg->keep_days = 90.0;
     cfg->max_spec_bytes = 2u << 20;
@@ -138,6 +139,7 @@ void config_usage(FILE *out)
             "  --user-renders N     running renders per user, 429 beyond (default 1)\n"
             "  --user-connections N open connections per peer uid on each listener (default 32)\n"
             "  --token-connections N open connections per bearer token on TCP (default 32)\n"
+            "  --user-tokens N      live bearer tokens per user, 403 beyond (default 32)\n"
             "  --user-store-bytes B stored job data per user (default 268435456)\n"
             "  --keep-days D        finished, unpinned jobs are deleted after D days (default 90)\n"
             "  --max-spec-bytes B   largest job spec, 413 beyond (default 2097152)\n"
@@ -244,6 +246,7 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
                                             "--user-renders",
                                             "--user-connections",
                                             "--token-connections",
+                                            "--user-tokens",
                                             "--user-store-bytes",
                                             "--keep-days",
                                             "--max-spec-bytes",
@@ -324,6 +327,8 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
             cfg->user_connections = (int)n;
         else if (!strcmp(a, "--token-connections") && !(bad = parse_long(v, 1, 100000, &n)))
             cfg->token_connections = (int)n;
+        else if (!strcmp(a, "--user-tokens") && !(bad = parse_long(v, 1, 100000, &n)))
+            cfg->user_tokens = (int)n;
         else if (!strcmp(a, "--user-store-bytes") && !(bad = parse_long(v, 4096, 1L << 50, &n)))
             cfg->user_store_bytes = (size_t)n;
         else if (!strcmp(a, "--keep-days"))

@@ -27,11 +27,11 @@
 
 /* The group of the Unix socket's file (ours, or the first activated one with a path): who may
  * connect, so whose tokens count. -1 if not found. */
-static int socket_file_gid(int activated, const char *own_path, gid_t *gid)
+static int socket_file_stat(int activated, const char *own_path, struct stat *out)
 {
     struct stat st;
     if (activated <= 0)
-        return stat(own_path, &st) == 0 && S_ISSOCK(st.st_mode) ? (*gid = st.st_gid, 0) : -1;
+        return stat(own_path, &st) == 0 && S_ISSOCK(st.st_mode) ? (*out = st, 0) : -1;
     for (int i = 0; i < activated; i++) {
         struct sockaddr_un un;
         socklen_t len = sizeof un;
@@ -39,7 +39,7 @@ static int socket_file_gid(int activated, const char *own_path, gid_t *gid)
         if (getsockname(SD_LISTEN_FDS_START + i, (struct sockaddr *)&un, &len) == 0 &&
             un.sun_family == AF_UNIX && un.sun_path[0] && stat(un.sun_path, &st) == 0 &&
             S_ISSOCK(st.st_mode)) {
-            *gid = st.st_gid;
+            *out = st;
             return 0;
         }
     }
@@ -147,10 +147,13 @@ int main(int argc, char **argv)
         return 1;
     }
 
-    /* A token counts only while its owner may still connect to the socket. */
-    gid_t socket_gid;
-    if (socket_file_gid(activated, cfg.socket_path, &socket_gid) == 0 &&
-        api_context_tie_tokens_to_group(ctx, socket_gid)) {
+    /* A token counts only while its owner may still connect to the socket, and so does a
+     * connection already open on the socket (api_context_socket_peer_ok). */
+    struct stat socket_st;
+    bool socket_known = socket_file_stat(activated, cfg.socket_path, &socket_st) == 0;
+    if (socket_known)
+        api_context_tie_socket_access(ctx, socket_st.st_uid, socket_st.st_mode);
+    if (socket_known && api_context_tie_tokens_to_group(ctx, socket_st.st_gid)) {
         fprintf(stderr, "aalabd: out of memory\n");
         api_context_destroy(ctx);
         if (unix_fd >= 0) {

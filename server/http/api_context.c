@@ -27,10 +27,13 @@ struct api_context {
     eval_cache *cache;
     struct tile_store *tiles;
     token_store *tokens;
-    group_membership *group; /* NULL: tokens are not tied to a group */
-    char *kinds_body;        /* GET /v1/kinds, encoded once: the schemas are embedded */
-    double started;          /* aa_monotonic_seconds */
-    int lock_fd;             /* flock on <state-dir>/lock: one daemon per state directory */
+    group_membership *group;  /* NULL: tokens are not tied to a group */
+    bool socket_access_known; /* the socket file's owner and mode below were read at start */
+    uid_t socket_owner;
+    mode_t socket_mode;
+    char *kinds_body; /* GET /v1/kinds, encoded once: the schemas are embedded */
+    double started;   /* aa_monotonic_seconds */
+    int lock_fd;      /* flock on <state-dir>/lock: one daemon per state directory */
 };
 
 /* mkdir -p with mode for the last component. */
@@ -179,6 +182,21 @@ int api_context_tie_tokens_to_group(api_context *ctx, gid_t gid)
 bool api_context_token_owner_ok(api_context *ctx, long long uid)
 {
     return !ctx->group || group_membership_check(ctx->group, uid);
+}
+
+void api_context_tie_socket_access(api_context *ctx, uid_t owner, mode_t mode)
+{
+    ctx->socket_owner = owner;
+    ctx->socket_mode = mode;
+    ctx->socket_access_known = true;
+}
+
+bool api_context_socket_peer_ok(api_context *ctx, long long uid)
+{
+    if (!ctx->socket_access_known || !ctx->group || (ctx->socket_mode & S_IWOTH))
+        return true;
+    return uid == 0 || uid == (long long)ctx->socket_owner ||
+           group_membership_check(ctx->group, uid);
 }
 
 double api_context_uptime(const api_context *ctx)

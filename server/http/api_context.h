@@ -36,6 +36,12 @@ struct token_store *api_context_tokens(api_context *ctx);
  * root always). Call before the listeners start. AA_ENOMEM. */
 int api_context_tie_tokens_to_group(api_context *ctx, gid_t gid);
 bool api_context_token_owner_ok(api_context *ctx, long long uid);
+/* The Unix socket file's owner and mode at start (after api_context_tie_tokens_to_group with its
+ * group): from then on a socket peer is served only while it could still connect, i.e. it is
+ * root, the owner, a member of the group (cached GROUP_MEMBERSHIP_TTL seconds) or the mode
+ * lets others write. A user removed from the group loses an open keep-alive connection too. */
+void api_context_tie_socket_access(api_context *ctx, uid_t owner, mode_t mode);
+bool api_context_socket_peer_ok(api_context *ctx, long long uid);
 double api_context_uptime(const api_context *ctx);
 
 /* Replaces every pattern reference {"job": ID} under the keys "pattern" and the elements of

@@ -142,14 +142,14 @@ bool conn_admission_accepted_at(conn_admission *ca, int fd, double *when)
     return s != NULL;
 }
 
-bool conn_admission_token(conn_admission *ca, int fd, const char *authorization)
+bool conn_admission_token(conn_admission *ca, int fd, long long token_id)
 {
-    if (!authorization)
+    if (token_id <= 0)
         return true;
     bool ok = true;
     pthread_mutex_lock(&ca->lock);
     if (fd >= 0 && (size_t)fd < ca->cap && ca->by_fd[fd].used && !ca->by_fd[fd].token_counted) {
-        uint64_t key = key_counts_hash(authorization);
+        uint64_t key = (uint64_t)token_id;
         ok = key_counts_acquire(ca->tokens, key, ca->token_limit);
         if (ok) {
             ca->by_fd[fd].token_counted = true;

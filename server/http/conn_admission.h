@@ -37,9 +37,11 @@ conn_admit_result conn_admission_admit(conn_admission *ca, int fd, const struct 
 bool conn_admission_peer(conn_admission *ca, int fd, conn_peer *peer);
 /* When fd was admitted (CLOCK_MONOTONIC seconds); false if fd is not registered. */
 bool conn_admission_accepted_at(conn_admission *ca, int fd, double *when);
-/* Counts fd against the token in authorization, once per connection (later calls and a NULL
- * header are free). False when that token already has --token-connections open. */
-bool conn_admission_token(conn_admission *ca, int fd, const char *authorization);
+/* Counts fd against a validated token id, once per connection (later calls and an id <= 0, no
+ * valid token, are free: such requests are refused 401 by the router). False when that token
+ * already has --token-connections open. Counting the id, not the header's text, is what makes
+ * the limit hold for "aalab_01_..." and "aalab_1_..." alike (only canonical ids validate). */
+bool conn_admission_token(conn_admission *ca, int fd, long long token_id);
 /* Gives back what fd holds and forgets it (no-op if not registered). */
 void conn_admission_release(conn_admission *ca, int fd);
 int conn_admission_open(conn_admission *ca);

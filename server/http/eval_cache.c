@@ -3,6 +3,7 @@
 
 #include <pthread.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -197,6 +198,20 @@ void eval_cache_put(eval_cache *c, const char *key, size_t key_len, const char *
     c->count++;
     c->bytes += key_len + val_len;
     pthread_mutex_unlock(&c->lock);
+}
+
+char *eval_cache_user_key(long long uid, const char *body, size_t len, size_t *key_len)
+{
+    char head[32];
+    int h = snprintf(head, sizeof head, "uid %lld\n", uid);
+    char *k = malloc((size_t)h + len + 1);
+    if (!k)
+        return NULL;
+    memcpy(k, head, (size_t)h);
+    if (len)
+        memcpy(k + h, body, len);
+    *key_len = (size_t)h + len;
+    return k;
 }
 
 void eval_cache_stats_get(eval_cache *c, eval_cache_stats *out)

@@ -75,7 +75,7 @@ static int check_work(const aa_pattern *p, double work, size_t angle_count, aa_e
 typedef struct evaluate_call {
     api_deferred deferred;
     eval_cache *cache;
-    const char *key; /* the request body, the cache key: alive until the answer is sent */
+    char *key; /* the cache key (eval_cache_user_key), owned */
     size_t key_len;
     bool cacheable, detail;
     json_t *body;
@@ -92,6 +92,7 @@ static void evaluate_call_free(api_deferred *d)
     evaluate_call *c = (evaluate_call *)d;
     aa_pattern_free(&c->pattern);
     free(c->angles);
+    free(c->key);
     json_decref(c->body);
     free(c);
 }
@@ -123,7 +124,7 @@ static void evaluate_call_run(api_deferred *d, api_response *resp)
         if (o)
             json_object_set_new(o, "acuity", proto_encode_acuity_ref(&c->acuity));
         api_reply_json(resp, 200, o);
-        if (resp->status == 200 && c->cacheable)
+        if (resp->status == 200 && c->cacheable && c->key)
             eval_cache_put(c->cache, c->key, c->key_len, resp->body, resp->body_len);
     }
     if (have_ev)
@@ -132,14 +133,18 @@ static void evaluate_call_run(api_deferred *d, api_response *resp)
 
 /* Parses and decodes: 0 with *out set, or an error already answered in resp (or needs_pool
  * without a deferred call: a job reference on an HTTP thread). */
-static int evaluate_decode(api_context *ctx, const api_request *req, api_response *resp,
-                           evaluate_call **out)
+static int evaluate_decode(api_context *ctx, const api_request *req, api_response *resp, char *key,
+                           size_t key_len, evaluate_call **out)
 {
+    /* key is ours from here: freed on every early return, else owned by the call. */
     json_t *body = api_parse_body(req, resp);
-    if (!body)
+    if (!body) {
+        free(key);
         return -1;
+    }
     if (api_reject_unknown(body, evaluate_keys, "", resp)) {
         json_decref(body);
+        free(key);
         return -1;
     }
     json_t *pj = json_object_get(body, "pattern");
@@ -149,18 +154,20 @@ static int evaluate_decode(api_context *ctx, const api_request *req, api_respons
     if (has_ref && req->inline_work_limit) {
         resp->needs_pool = true;
         json_decref(body);
+        free(key);
         return -1;
     }
     evaluate_call *c = calloc(1, sizeof *c);
     if (!c) {
+        free(key);
         json_decref(body);
         api_reply_wire(resp, WIRE_INTERNAL, "", "out of memory");
         return -1;
     }
     *c = (evaluate_call){.deferred = {.run = evaluate_call_run, .free = evaluate_call_free},
                          .cache = api_context_eval_cache(ctx),
-                         .key = req->body,
-                         .key_len = req->body_len,
+                         .key = key,
+                         .key_len = key_len,
                          .cacheable = !has_ref,
                          .body = body};
     aa_error err = {0};
@@ -204,13 +211,15 @@ static int evaluate_decode(api_context *ctx, const api_request *req, api_respons
 void handle_evaluate(api_context *ctx, const api_request *req, api_response *resp)
 {
     char *hit;
-    size_t hit_len;
-    if (eval_cache_get(api_context_eval_cache(ctx), req->body, req->body_len, &hit, &hit_len)) {
+    size_t hit_len, key_len = 0;
+    char *key = eval_cache_user_key(req->caller.uid, req->body, req->body_len, &key_len);
+    if (key && eval_cache_get(api_context_eval_cache(ctx), key, key_len, &hit, &hit_len)) {
+        free(key);
         api_reply_owned(resp, 200, hit, hit_len);
         return;
     }
     evaluate_call *c;
-    if (evaluate_decode(ctx, req, resp, &c))
+    if (evaluate_decode(ctx, req, resp, key, key_len, &c))
         return;
     aa_error err = {0};
     double work = evaluate_work(&c->pattern, &c->acuity, c->angle_count);

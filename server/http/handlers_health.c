@@ -10,7 +10,11 @@
 void handle_health(api_context *ctx, const api_request *req, api_response *resp)
 {
     job_manager_stats st;
-    job_manager_stats_get(api_context_jobs(ctx), &st);
+    /* Only what the caller may see is counted (root on the socket sees every job). */
+    long long viewer = req->caller.admin      ? JOB_VIEWER_ALL
+                       : req->caller.uid >= 0 ? req->caller.uid
+                                              : -2;
+    job_manager_stats_get(api_context_jobs(ctx), viewer, &st);
     json_t *by_state = json_object();
     for (int i = 0; i < JOB_STATE_COUNT; i++)
         json_object_set_new(by_state, job_state_name((job_state)i), json_integer(st.by_state[i]));

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "handlers.h"
+#include "token_store.h"
 #include "job_access.h"
 #include "job_manager.h"
 
@@ -240,6 +241,10 @@ void handle_usage(api_context *ctx, const api_request *req, api_response *resp)
         json_pack("{s:o,s:I,s:I,s:I,s:f}", "uid", uid >= 0 ? json_integer(uid) : json_null(),
                   "store_bytes", (json_int_t)u.bytes, "store_limit", (json_int_t)u.limit, "jobs",
                   (json_int_t)u.jobs, "keep_days", api_context_config(ctx)->keep_days);
+    /* Tokens count in the caller's quota: held against --user-tokens. */
+    json_object_set_new(
+        o, "tokens", json_integer(uid >= 0 ? token_store_count(api_context_tokens(ctx), uid) : 0));
+    json_object_set_new(o, "tokens_limit", json_integer(api_context_config(ctx)->user_tokens));
     if (req->caller.admin)
         json_object_set_new(o, "users", job_store_usage_all(st));
     api_reply_json(resp, 200, o);

@@ -38,8 +38,13 @@ void handle_tokens_post(api_context *ctx, const api_request *req, api_response *
     json_t *out = NULL;
     aa_error err = {0};
     int rc = token_store_issue(api_context_tokens(ctx), req->caller.uid,
-                               lj ? json_string_value(lj) : NULL, &out, &err);
+                               lj ? json_string_value(lj) : NULL,
+                               api_context_config(ctx)->user_tokens, &out, &err);
     json_decref(body);
+    if (rc == TOKEN_EQUOTA) {
+        api_reply_wire(resp, WIRE_QUOTA_EXCEEDED, "", "%s", err.message);
+        return;
+    }
     if (rc) {
         api_reply_wire(resp, WIRE_STORE_UNAVAILABLE, "", "%s", err.message);
         return;

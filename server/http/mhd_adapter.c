@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -23,6 +24,7 @@
 #include "eval_cache.h"
 #include "http_refusal.h"
 #include "request_deadline.h"
+#include "token_store.h"
 
 /* Each listener: an accept thread of our own (accept_loop) that admits a connection
  * (conn_admission: loopback peer on TCP, peer uid, per-uid and total counts) before handing it
@@ -318,13 +320,15 @@ static bool try_inline(http_listener *l, struct MHD_Connection *conn, request_st
 {
     if (!l->inline_work || req->body_len > INLINE_MAX_BODY || strcmp(req->path, "/v1/evaluate"))
         return false;
-    if (!compute_pool_acquire_share(l->pool, COMPUTE_EVALUATE, user))
-        return false; /* the pool's admission answers 429 */
+    /* Without room in the share only what costs no work is answered here: a cached answer
+     * (outside the share, as before) or a bad request; the rest meets the pool's 429. */
+    bool shared = compute_pool_acquire_share(l->pool, COMPUTE_EVALUATE, user);
     api_request small = *req;
-    small.inline_work_limit = l->inline_work;
+    small.inline_work_limit = shared ? l->inline_work : 1;
     api_response resp;
     api_handle(l->ctx, &small, &resp);
-    compute_pool_release_share(l->pool, COMPUTE_EVALUATE, user);
+    if (shared)
+        compute_pool_release_share(l->pool, COMPUTE_EVALUATE, user);
     if (resp.needs_pool) {
         st->deferred = resp.deferred;
         resp.deferred = NULL;
@@ -335,7 +339,8 @@ static bool try_inline(http_listener *l, struct MHD_Connection *conn, request_st
     return true;
 }
 
-/* Evaluate (not cached, not small: try_inline) and render go to the compute pool: the
+/* Evaluate (not cached, not small: try_inline, which also answers cache hits, keyed per user)
+ * and render go to the compute pool: the
  * connection is suspended until the pool has the answer. True if the request was taken
  * (suspended, answered inline or answered 429/503); *ret is then what to return. */
 static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_state *st,
@@ -343,10 +348,6 @@ static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_s
 {
     api_request_class cls = api_classify(req->method, req->path);
     if (!l->pool || cls == API_CLASS_OTHER)
-        return false;
-    /* A cached evaluate costs a hash and a copy: answered here, outside the user's share. */
-    if (cls == API_CLASS_EVALUATE &&
-        eval_cache_contains(api_context_eval_cache(l->ctx), req->body, req->body_len))
         return false;
     compute_kind kind = cls == API_CLASS_RENDER ? COMPUTE_RENDER : COMPUTE_EVALUATE;
     bool known = l->is_unix ? req->peer_known : req->tcp_peer_known;
@@ -402,7 +403,13 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
                 MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
             const char *auth =
                 MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_AUTHORIZATION);
-            if (ci && !conn_admission_token(l->adm, ci->connect_fd, auth)) {
+            /* Counted by the token's validated id (a SHA-256 and a lookup, once per
+             * connection); an invalid token is not counted and the router answers 401. */
+            long long token_uid, token_id = -1;
+            if (auth && !strncasecmp(auth, "Bearer ", 7) &&
+                token_store_check(api_context_tokens(l->ctx), auth + 7, &token_uid, &token_id))
+                token_id = -1;
+            if (ci && !conn_admission_token(l->adm, ci->connect_fd, token_id)) {
                 api_response r = {0};
                 api_reply_wire(&r, WIRE_TOO_MANY_REQUESTS, "",
                                "this token already has %d open connections "

@@ -177,6 +177,14 @@ void api_handle(api_context *ctx, const api_request *in, api_response *resp)
             return;
         }
     }
+    /* The socket follows the group too: a peer removed from the socket's group (or whose
+     * account is gone) loses a keep-alive connection it opened before (cached 2 s). */
+    if (!in->via_tcp && in->peer_known && !api_context_socket_peer_ok(ctx, in->peer_uid)) {
+        api_reply_wire(resp, WIRE_FORBIDDEN, "",
+                       "uid %lld may no longer connect to this socket (not in its group)",
+                       (long long)in->peer_uid);
+        return;
+    }
     if (!resolve_caller(ctx, in, &caller_req.caller) && !is_static_request(in, path)) {
         api_reply_wire(resp, WIRE_UNAUTHORIZED, "",
                        "this request needs 'Authorization: Bearer <token>' with a valid token of "

@@ -143,8 +143,8 @@ static json_t *row_json(sqlite3_stmt *q)
                      (json_int_t)sqlite3_column_int64(q, 3));
 }
 
-int token_store_issue(token_store *ts, long long uid, const char *label, json_t **out,
-                      aa_error *err)
+int token_store_issue(token_store *ts, long long uid, const char *label, int max_per_user,
+                      json_t **out, aa_error *err)
 {
     unsigned char raw[SECRET_BYTES], hash[HASH_BYTES];
     char secret[2 * SECRET_BYTES + 1];
@@ -157,6 +157,16 @@ int token_store_issue(token_store *ts, long long uid, const char *label, json_t 
     long long created = (long long)time(NULL), id = 0;
     int rc = TOKEN_ESTORE;
     pthread_mutex_lock(&ts->lock);
+    int held = 0;
+    for (size_t i = 0; i < ts->n_live; i++)
+        held += ts->live[i].uid == uid;
+    if (held >= max_per_user) {
+        pthread_mutex_unlock(&ts->lock);
+        return aa_error_set(err, TOKEN_EQUOTA, "",
+                            "you already hold %d tokens (--user-tokens); revoke one first "
+                            "(aalab token list, aalab token revoke ID)",
+                            held);
+    }
     sqlite3_stmt *q;
     if (sqlite3_prepare_v2(ts->db, "INSERT INTO tokens(uid, label, created, hash) VALUES(?,?,?,?)",
                            -1, &q, NULL) == SQLITE_OK) {
@@ -193,13 +203,16 @@ int token_store_issue(token_store *ts, long long uid, const char *label, json_t 
     return *out ? AA_OK : aa_error_set(err, AA_ENOMEM, "", "out of memory");
 }
 
-/* "aalab_<id>_<64 lowercase hex>" -> id and the secret's offset; -1 if malformed. */
+/* "aalab_<id>_<64 lowercase hex>" -> id and the secret's offset; -1 if malformed or the id is
+ * not canonical (a leading zero). */
 static long long parse_token(const char *token, const char **secret)
 {
     size_t plen = strlen(PREFIX);
     if (!token || strncmp(token, PREFIX, plen))
         return -1;
     const char *p = token + plen;
+    if (*p == '0') /* canonical ids only: "aalab_01_..." is not token 1 */
+        return -1;
     long long id = 0;
     int digits = 0;
     for (; *p >= '0' && *p <= '9' && digits < 18; p++, digits++)
@@ -235,6 +248,16 @@ int token_store_check(token_store *ts, const char *token, long long *uid, long l
     }
     pthread_mutex_unlock(&ts->lock);
     return rc;
+}
+
+int token_store_count(token_store *ts, long long uid)
+{
+    int held = 0;
+    pthread_mutex_lock(&ts->lock);
+    for (size_t i = 0; i < ts->n_live; i++)
+        held += ts->live[i].uid == uid;
+    pthread_mutex_unlock(&ts->lock);
+    return held;
 }
 
 json_t *token_store_list(token_store *ts, long long uid)

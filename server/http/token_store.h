@@ -13,7 +13,7 @@
 #include "aa_core.h"
 
 #define TOKEN_LABEL_MAX 100
-enum { TOKEN_ENOENT = -2001, TOKEN_EFORBIDDEN = -2002, TOKEN_ESTORE = -2003 };
+enum { TOKEN_ENOENT = -2001, TOKEN_EFORBIDDEN = -2002, TOKEN_ESTORE = -2003, TOKEN_EQUOTA = -2004 };
 
 typedef struct token_store token_store;
 
@@ -22,9 +22,13 @@ token_store *token_store_open(const char *state_dir, aa_error *err);
 void token_store_close(token_store *ts);
 
 /* A new token for uid; *out = {"id","token","uid","label","created"} (the only place the
- * secret appears). label may be NULL. TOKEN_ESTORE, AA_ENOMEM. */
-int token_store_issue(token_store *ts, long long uid, const char *label, json_t **out,
-                      aa_error *err);
+ * secret appears). label may be NULL. TOKEN_EQUOTA when uid already holds max_per_user live
+ * tokens (counted under the same lock as the insert, so parallel issues cannot pass it),
+ * TOKEN_ESTORE, AA_ENOMEM. */
+int token_store_issue(token_store *ts, long long uid, const char *label, int max_per_user,
+                      json_t **out, aa_error *err);
+/* Live tokens of uid. */
+int token_store_count(token_store *ts, long long uid);
 /* The uid and id of a presented token; TOKEN_ENOENT if malformed, unknown or revoked. */
 int token_store_check(token_store *ts, const char *token, long long *uid, long long *id);
 /* {"id","uid","label","created"} of uid's tokens (uid < 0: all), oldest first, no secrets. */

@@ -60,8 +60,12 @@ struct job_manager {
     fs_job *snapshot; /* fair-share scratch, guarded by lock */
     size_t snapshot_cap;
     pthread_mutex_t counts_lock;
-    long long counts[JOB_STATE_COUNT]; /* jobs by state, cached for COUNTS_MAX_AGE */
-    double counts_at;
+    /* Jobs by state as a few recent viewers see them, each cached for COUNTS_MAX_AGE. */
+    struct {
+        long long viewer;
+        double at;
+        long long counts[JOB_STATE_COUNT];
+    } counts[8];
     bool stopping;
     cluster_probe *probe; /* whether Slurm answers (health, submit) */
     int slurm_jobs;       /* Slurm jobs with a thread */
@@ -660,7 +664,8 @@ job_manager *job_manager_create(const char *state_dir, const job_manager_config 
         jm->cfg.workers = 1;
     pthread_mutex_init(&jm->lock, NULL);
     pthread_mutex_init(&jm->counts_lock, NULL);
-    jm->counts_at = -1e300;
+    for (size_t i = 0; i < sizeof jm->counts / sizeof jm->counts[0]; i++)
+        jm->counts[i].at = -1e300;
     pthread_cond_init(&jm->idle, NULL);
     jm->store = job_store_open(state_dir, err);
     if (!jm->store) {
@@ -1014,24 +1019,38 @@ json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why
     return out;
 }
 
-void job_manager_stats_get(job_manager *jm, job_manager_stats *out)
+void job_manager_stats_get(job_manager *jm, long long viewer, job_manager_stats *out)
 {
     memset(out, 0, sizeof *out);
-    /* Counting by state scans the table: refresh at most every COUNTS_MAX_AGE seconds so
-     * health probes stay cheap with a long job history. */
+    /* Counting by state scans the table: refresh at most every COUNTS_MAX_AGE seconds per
+     * viewer so health probes stay cheap with a long job history. */
     double now = jm_now();
+    size_t n = sizeof jm->counts / sizeof jm->counts[0], slot = n, oldest = 0;
     pthread_mutex_lock(&jm->counts_lock);
-    if (now - jm->counts_at > COUNTS_MAX_AGE || now < jm->counts_at) {
-        job_store_counts(jm->store, jm->counts);
-        jm->counts_at = now;
+    for (size_t i = 0; i < n; i++) {
+        if (jm->counts[i].viewer == viewer && jm->counts[i].at > -1e299)
+            slot = i;
+        if (jm->counts[i].at < jm->counts[oldest].at)
+            oldest = i;
     }
-    memcpy(out->by_state, jm->counts, sizeof out->by_state);
+    if (slot == n) {
+        slot = oldest;
+        jm->counts[slot].viewer = viewer;
+        jm->counts[slot].at = -1e300;
+    }
+    if (now - jm->counts[slot].at > COUNTS_MAX_AGE || now < jm->counts[slot].at) {
+        job_store_counts_visible(jm->store, viewer, jm->counts[slot].counts);
+        jm->counts[slot].at = now;
+    }
+    memcpy(out->by_state, jm->counts[slot].counts, sizeof out->by_state);
     pthread_mutex_unlock(&jm->counts_lock);
     pthread_mutex_lock(&jm->lock);
     out->workers = jm->cfg.workers;
     out->busy = jm->busy;
-    out->queued = (int)jm->q_len;
-    out->running = jm->running;
+    /* Queue and running counts as the viewer sees them: another user's private job is not
+     * there for them (issue 35, point 9). */
+    out->queued = viewer == JOB_VIEWER_ALL ? (int)jm->q_len : (int)out->by_state[JOB_QUEUED];
+    out->running = viewer == JOB_VIEWER_ALL ? jm->running : (int)out->by_state[JOB_RUNNING];
     for (job *j = jm->active; j; j = j->next)
         out->paused += j->paused;
     out->queue_size = jm->cfg.queue_size;

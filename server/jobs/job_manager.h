@@ -117,7 +117,9 @@ typedef struct job_manager_stats {
     int queue_size;
     long long by_state[JOB_STATE_COUNT];
 } job_manager_stats;
-void job_manager_stats_get(job_manager *jm, job_manager_stats *out);
+/* by_state, queued and running count only the jobs viewer may see (job_store_filter.viewer:
+ * JOB_VIEWER_ALL for root on the socket); workers, busy and paused are the shared machine's. */
+void job_manager_stats_get(job_manager *jm, long long viewer, job_manager_stats *out);
 /* Whether Slurm is configured and answering (the probe's last answer; never blocks). */
 void job_manager_slurm_status(job_manager *jm, cluster_status *out);
 job_store *job_manager_store(job_manager *jm);

@@ -106,6 +106,9 @@ typedef struct job_store_filter {
 json_t *job_store_list(job_store *st, const job_store_filter *f);
 /* Jobs by state counts into counts[JOB_STATE_COUNT]. */
 int job_store_counts(job_store *st, long long counts[JOB_STATE_COUNT]);
+/* The same over the jobs viewer may see (job_store_filter.viewer: JOB_VIEWER_ALL, a uid, or
+ * another negative value for team jobs only). */
+int job_store_counts_visible(job_store *st, long long viewer, long long counts[JOB_STATE_COUNT]);
 
 typedef struct job_store_usage {
     long long bytes; /* stored bytes plus the reserve of unfinished jobs */
@@ -124,8 +127,8 @@ typedef void (*job_store_visit_fn)(void *user, long long id, const char *kind, j
 int job_store_unfinished(job_store *st, job_store_visit_fn fn, void *user);
 
 /* The Slurm executor state of a job (cluster column, JSON; job_manager.c and cluster_driver.h):
- * set replaces it (NULL or JSON null clears it; AA_OK, JOB_STORE_ENOENT); get returns a new reference or NULL (a local job,
- * or no such job). */
+ * set replaces it (NULL or JSON null clears it; AA_OK, JOB_STORE_ENOENT); get returns a new
+ * reference or NULL (a local job, or no such job). */
 int job_store_set_cluster(job_store *st, long long id, const json_t *cluster);
 json_t *job_store_get_cluster(job_store *st, long long id);
 

@@ -187,6 +187,29 @@ int job_store_counts(job_store *st, long long counts[JOB_STATE_COUNT])
     return rc;
 }
 
+int job_store_counts_visible(job_store *st, long long viewer, long long counts[JOB_STATE_COUNT])
+{
+    if (viewer == JOB_VIEWER_ALL)
+        return job_store_counts(st, counts);
+    memset(counts, 0, sizeof(long long) * JOB_STATE_COUNT);
+    job_store_reader *r = job_store_reader_acquire(st);
+    sqlite3_stmt *q;
+    int rc = AA_EINVAL;
+    if (sqlite3_prepare_v2(r->db,
+                           "SELECT state, count(*) FROM jobs WHERE visibility <> 'private' OR "
+                           "owner_uid = ?1 GROUP BY state",
+                           -1, &q, NULL) == SQLITE_OK) {
+        sqlite3_bind_int64(q, 1, viewer);
+        while (sqlite3_step(q) == SQLITE_ROW)
+            counts[job_state_from_name((const char *)sqlite3_column_text(q, 0))] +=
+                sqlite3_column_int64(q, 1);
+        sqlite3_finalize(q);
+        rc = AA_OK;
+    }
+    job_store_reader_release(r);
+    return rc;
+}
+
 int job_store_usage_of(job_store *st, long long owner, job_store_usage *out)
 {
     *out = (job_store_usage){.limit = st->user_quota};

@@ -94,7 +94,7 @@ const char *fuzz_context_token(api_context *ctx)
     if (issued_for != ctx) {
         json_t *out = NULL;
         token[0] = 0;
-        if (token_store_issue(api_context_tokens(ctx), 1000, "fuzz", &out, NULL) == AA_OK)
+        if (token_store_issue(api_context_tokens(ctx), 1000, "fuzz", 32, &out, NULL) == AA_OK)
             snprintf(token, sizeof token, "%s", json_string_value(json_object_get(out, "token")));
         json_decref(out);
         issued_for = ctx;

@@ -32,7 +32,7 @@ static int teardown(void **state)
 static char *issue(token_store *ts, long long uid, long long *id)
 {
     json_t *out = NULL;
-    assert_int_equal(token_store_issue(ts, uid, "lab", &out, NULL), AA_OK);
+    assert_int_equal(token_store_issue(ts, uid, "lab", 100, &out, NULL), AA_OK);
     assert_int_equal(json_integer_value(json_object_get(out, "uid")), uid);
     *id = json_integer_value(json_object_get(out, "id"));
     char *t = strdup(json_string_value(json_object_get(out, "token")));
@@ -74,6 +74,15 @@ static void test_issue_check_revoke(void **state)
     assert_int_equal(token_store_check(ts, forged, &uid, &id), TOKEN_ENOENT);
     snprintf(forged, sizeof forged, "aalab_%lld_%s", b_id, strrchr(a, '_') + 1);
     assert_int_equal(token_store_check(ts, forged, &uid, &id), TOKEN_ENOENT); /* a's secret */
+    /* The real token with its id zero-padded: not canonical, refused (issue 35, point 6). */
+    const char *a_secret = strrchr(a, '_') + 1;
+    for (int zeros = 1; zeros <= 3; zeros++) {
+        snprintf(forged, sizeof forged, "aalab_%0*lld_%s",
+                 (int)(zeros + snprintf(NULL, 0, "%lld", a_id)), a_id, a_secret);
+        assert_int_equal(token_store_check(ts, forged, &uid, &id), TOKEN_ENOENT);
+    }
+    snprintf(forged, sizeof forged, "aalab_%lld_%s", a_id, a_secret);
+    assert_int_equal(token_store_check(ts, forged, &uid, &id), AA_OK);
     const char *bad[] = {
         "",
         "aalab_",
@@ -120,10 +129,39 @@ static void test_issue_check_revoke(void **state)
     free(c);
 }
 
+/* --user-tokens: a uid holds at most that many live tokens; a revocation frees a place; other
+ * uids are not affected (issue 35, point 7). */
+static void test_per_user_cap(void **state)
+{
+    (void)state;
+    token_store *ts = token_store_open(dir, NULL);
+    assert_non_null(ts);
+    json_t *out = NULL;
+    aa_error err = {0};
+    long long first = -1;
+    for (int i = 0; i < 3; i++) {
+        assert_int_equal(token_store_issue(ts, 1000, NULL, 3, &out, &err), AA_OK);
+        if (i == 0)
+            first = json_integer_value(json_object_get(out, "id"));
+        json_decref(out);
+    }
+    assert_int_equal(token_store_count(ts, 1000), 3);
+    assert_int_equal(token_store_issue(ts, 1000, NULL, 3, &out, &err), TOKEN_EQUOTA);
+    assert_non_null(strstr(err.message, "--user-tokens"));
+    assert_int_equal(token_store_issue(ts, 1001, NULL, 3, &out, &err), AA_OK); /* another uid */
+    json_decref(out);
+    assert_int_equal(token_store_revoke(ts, first, 1000, false), AA_OK);
+    assert_int_equal(token_store_issue(ts, 1000, NULL, 3, &out, &err), AA_OK);
+    json_decref(out);
+    assert_int_equal(token_store_count(ts, 1000), 3);
+    token_store_close(ts);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_issue_check_revoke, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_per_user_cap, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

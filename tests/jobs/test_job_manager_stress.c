@@ -80,7 +80,7 @@ static void *client_main(void *arg)
             assert_non_null(l);
             json_decref(l);
             job_manager_stats s;
-            job_manager_stats_get(c->jm, &s);
+            job_manager_stats_get(c->jm, JOB_VIEWER_ALL, &s);
             assert_true(s.busy >= 0 && s.busy <= s.workers);
         }
     }
@@ -131,7 +131,7 @@ static void test_concurrent_submit_cancel_get(void **state)
     }
     assert_true(total > 0);
     job_manager_stats s;
-    job_manager_stats_get(jm, &s);
+    job_manager_stats_get(jm, JOB_VIEWER_ALL, &s);
     assert_int_equal(s.queued, 0);
     assert_int_equal(s.running, 0);
     job_manager_destroy(jm);
