@@ -3,6 +3,7 @@
 
 #include <arpa/inet.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <grp.h>
 #include <netinet/in.h>
 #include <stdarg.h>
@@ -135,10 +136,22 @@ int http_unix_socket_open(const char *path, const char *group, char *msg, size_t
         close(fd);
         return -1;
     }
-    chmod(path, 0660);
+    /* Born 0660 (the umask above). The group is set through an O_PATH descriptor of the
+     * socket file, checked to be a socket of ours: a name swapped for a symlink or another
+     * file meanwhile is never followed or changed. */
     if (group && *group) {
         struct group *g = getgrnam(group);
-        if (!g || chown(path, (uid_t)-1, g->gr_gid)) {
+        int pfd = g ? open(path, O_PATH | O_NOFOLLOW | O_CLOEXEC) : -1;
+        struct stat sst;
+        if (pfd >= 0 && (fstat(pfd, &sst) || !S_ISSOCK(sst.st_mode) || sst.st_uid != geteuid())) {
+            close(pfd);
+            pfd = -1;
+            errno = EPERM;
+        }
+        int crc = pfd >= 0 ? fchownat(pfd, "", (uid_t)-1, g->gr_gid, AT_EMPTY_PATH) : -1;
+        if (pfd >= 0)
+            close(pfd);
+        if (!g || crc) {
             snprintf(msg, cap, "cannot give %s to group %s: %s", path, group,
                      g ? strerror(errno) : "no such group");
             close(fd);
