@@ -36,6 +36,9 @@ typedef enum job_state {
 #define JOB_STORE_EQUOTA (-2001)  /* the owner's stored bytes would exceed the quota */
 #define JOB_STORE_ENOENT (-2002)  /* no such job */
 #define JOB_STORE_EACTIVE (-2003) /* the job is queued or running */
+/* The database cannot be written now (disk full, I/O error, locked): worth a retry, and an
+ * HTTP 503, never a 404. Any write below may return it. */
+#define JOB_STORE_EUNAVAILABLE (-2004)
 
 /* Bytes reserved at insert for what a job will store besides its spec: about twice the spec
  * (best and result usually carry the spec's pattern) plus this much for trace and result. */
@@ -124,8 +127,8 @@ typedef void (*job_store_visit_fn)(void *user, long long id, const char *kind, j
 int job_store_unfinished(job_store *st, job_store_visit_fn fn, void *user);
 
 /* The Slurm executor state of a job (cluster column, JSON; job_manager.c and cluster_driver.h):
- * set replaces it (NULL or JSON null clears it; AA_OK, JOB_STORE_ENOENT); get returns a new reference or NULL (a local job,
- * or no such job). */
+ * set replaces it (NULL or JSON null clears it; AA_OK, JOB_STORE_ENOENT); get returns a new
+ * reference or NULL (a local job, or no such job). */
 int job_store_set_cluster(job_store *st, long long id, const json_t *cluster);
 json_t *job_store_get_cluster(job_store *st, long long id);
 
