@@ -1166,7 +1166,7 @@ int job_manager_purge(job_manager *jm, long long id, long long caller)
     job *j = active_find(jm, id);
     long long owner = -1;
     job_state state = JOB_DONE;
-    bool found = j != NULL, unstored = j && (j->unstored || j->cancelling);
+    bool found = j != NULL, unstored = j && j->unstored;
     if (j) {
         owner = j->owner;
         state = j->state;
