@@ -21,6 +21,7 @@
 #include "config.h"
 #include "fallback_dir.h"
 #include "mhd_adapter.h"
+#include "owned_path.h"
 #include "peer_identity.h"
 
 #define MAX_LISTENERS 8
@@ -103,6 +104,21 @@ int main(int argc, char **argv)
     int unix_fd = -1;
     if ((activated <= 0 && fallback_dir_check(cfg.socket_path, msg, sizeof msg)) ||
         fallback_dir_check(cfg.state_dir, msg, sizeof msg)) {
+        fprintf(stderr, "aalabd: %s\n", msg);
+        return 1;
+    }
+    /* Another user who can write the state or socket directory could plant jobs.db, tokens.db
+     * or a symlink for the socket: such directories are refused, not trusted. */
+    char socket_dir[sizeof cfg.socket_path];
+    snprintf(socket_dir, sizeof socket_dir, "%s", cfg.socket_path);
+    char *slash = strrchr(socket_dir, '/');
+    if (slash)
+        *(slash == socket_dir ? slash + 1 : slash) = 0;
+    else
+        snprintf(socket_dir, sizeof socket_dir, ".");
+    if ((activated <= 0 &&
+         owned_dir_prepare(socket_dir, 0755, "socket directory", msg, sizeof msg)) ||
+        owned_dir_prepare(cfg.state_dir, 0700, "state directory", msg, sizeof msg)) {
         fprintf(stderr, "aalabd: %s\n", msg);
         return 1;
     }

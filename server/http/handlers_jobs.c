@@ -31,6 +31,16 @@ static int caller_owns(api_context *ctx, const api_request *req, api_response *r
     return owns;
 }
 
+/* 503 for a change the job store cannot take now (disk full, I/O error): never a 404, which
+ * would say the job is gone. */
+static void reply_store_unwritable(api_response *resp, long long id)
+{
+    api_reply_wire(resp, WIRE_STORE_UNAVAILABLE, "",
+                   "the job store cannot be written now (disk full or I/O error); job %lld is "
+                   "unchanged: try again later",
+                   id);
+}
+
 void handle_jobs_post(api_context *ctx, const api_request *req, api_response *resp)
 {
     /* Refused before parsing: a big spec costs its parse and, stored, its bytes. */
@@ -145,6 +155,9 @@ static void handle_job_purge(api_context *ctx, const api_request *req, api_respo
     case JM_EFORBIDDEN:
         api_reply_wire(resp, WIRE_FORBIDDEN, "", "only the job's owner or root may purge it");
         break;
+    case JM_ESTORE:
+        reply_store_unwritable(resp, id);
+        break;
     default:
         api_reply_wire(resp, WIRE_CONFLICT, "",
                        "job %lld is running: cancel it (DELETE without purge) and purge it "
@@ -171,12 +184,16 @@ void handle_job_patch(api_context *ctx, const api_request *req, api_response *re
     if (!body)
         return;
     static const char *const allowed[] = {"pinned", NULL};
+    int rc;
     json_t *pinned = json_object_get(body, "pinned");
     if (!api_reject_unknown(body, allowed, "", resp)) {
         if (!json_is_boolean(pinned)) {
             api_reply_wire(resp, WIRE_INVALID_FIELD, "pinned", "pinned must be true or false");
-        } else if (job_store_set_pinned(st, id, json_is_true(pinned)) != AA_OK) {
-            api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id);
+        } else if ((rc = job_store_set_pinned(st, id, json_is_true(pinned))) != AA_OK) {
+            if (rc == JOB_STORE_ENOENT)
+                api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id);
+            else
+                reply_store_unwritable(resp, id);
         } else {
             json_t *changed = job_manager_get(api_context_jobs(ctx), id);
             if (changed)
@@ -219,6 +236,9 @@ void handle_job_delete(api_context *ctx, const api_request *req, api_response *r
         break;
     case JM_EFORBIDDEN:
         api_reply_wire(resp, WIRE_FORBIDDEN, "", "only the job's owner or root may cancel it");
+        break;
+    case JM_ESTORE:
+        reply_store_unwritable(resp, id);
         break;
     default:
         api_reply_wire(resp, WIRE_CONFLICT, "", "job %lld has already finished", id);

@@ -3,6 +3,7 @@
 
 #include <arpa/inet.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <grp.h>
 #include <netinet/in.h>
 #include <stdarg.h>
@@ -139,17 +140,37 @@ int http_unix_socket_open(const char *path, const char *group, char *msg, size_t
         close(fd);
         return -1;
     }
-    chmod(path, 0660);
+    /* Mode and group are set through an O_PATH descriptor of the socket file, checked to be
+     * a socket of ours: a name swapped for a symlink or another file meanwhile is never
+     * followed or changed. The mode again, since a default ACL on the directory overrides the
+     * umask; /proc/self/fd is how an O_PATH descriptor is chmod'ed. */
+    int pfd = open(path, O_PATH | O_NOFOLLOW | O_CLOEXEC);
+    struct stat sst;
+    if (pfd >= 0 && (fstat(pfd, &sst) || !S_ISSOCK(sst.st_mode) || sst.st_uid != geteuid())) {
+        close(pfd);
+        pfd = -1;
+    }
+    if (pfd < 0) {
+        snprintf(msg, cap, "%s changed under us after bind (not our socket any more)", path);
+        close(fd);
+        return -1;
+    }
+    char fd_path[40];
+    snprintf(fd_path, sizeof fd_path, "/proc/self/fd/%d", pfd);
+    chmod(fd_path, 0660);
     if (group && *group) {
         struct group *g = getgrnam(group);
-        if (!g || chown(path, (uid_t)-1, g->gr_gid)) {
+        int crc = g ? fchownat(pfd, "", (uid_t)-1, g->gr_gid, AT_EMPTY_PATH) : -1;
+        if (!g || crc) {
             snprintf(msg, cap, "cannot give %s to group %s: %s", path, group,
                      g ? strerror(errno) : "no such group");
+            close(pfd);
             close(fd);
             unlink(path);
             return -1;
         }
     }
+    close(pfd);
     if (listen(fd, 128)) {
         snprintf(msg, cap, "listen %s: %s", path, strerror(errno));
         close(fd);

@@ -17,6 +17,8 @@
 #include <openssl/evp.h>
 #include <sqlite3.h>
 
+#include "owned_path.h"
+
 #define SECRET_BYTES 32
 #define HASH_BYTES 32
 #define PREFIX "aalab_"
@@ -84,13 +86,20 @@ token_store *token_store_open(const char *state_dir, aa_error *err)
         aa_error_set(err, AA_EINVAL, "state_dir", "state directory path too long");
         return NULL;
     }
-    /* Create the file 0600 ourselves: SQLite would honour the umask. */
-    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
-    if (fd < 0) {
-        aa_error_set(err, AA_EINVAL, "state_dir", "cannot open %s: %s", path, strerror(errno));
+    /* Create the file 0600 ourselves (SQLite would honour the umask); an existing one must be
+     * ours, not a planted file or link (owned_path.h). */
+    char msg[600];
+    mode_t old_mode;
+    int fd = owned_file_open(path, &old_mode, msg, sizeof msg);
+    if (fd < 0 || owned_db_companions_check(path, msg, sizeof msg)) {
+        if (fd >= 0)
+            close(fd);
+        aa_error_set(err, AA_EINVAL, "state_dir", "%s", msg);
         return NULL;
     }
     close(fd);
+    if (old_mode)
+        fprintf(stderr, "aalabd: %s had mode %04o; set to 0600\n", path, (unsigned)old_mode);
     token_store *ts = calloc(1, sizeof *ts);
     if (!ts) {
         aa_error_set(err, AA_ENOMEM, "", "out of memory");
@@ -103,8 +112,9 @@ token_store *token_store_open(const char *state_dir, aa_error *err)
         token_store_close(ts);
         return NULL;
     }
-    if (sqlite3_open_v2(path, &ts->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_FULLMUTEX, NULL) !=
-            SQLITE_OK ||
+    if (sqlite3_open_v2(path, &ts->db,
+                        SQLITE_OPEN_READWRITE | SQLITE_OPEN_FULLMUTEX | SQLITE_OPEN_NOFOLLOW,
+                        NULL) != SQLITE_OK ||
         sqlite3_busy_timeout(ts->db, 5000) != SQLITE_OK ||
         sqlite3_exec(ts->db,
                      "PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL;"

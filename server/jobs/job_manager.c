@@ -1,6 +1,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "job_manager.h"
 
+#include <errno.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -19,6 +20,12 @@
 #define COUNTS_MAX_AGE 0.25    /* seconds */
 #define JOB_MAX_CRASHES 3      /* abnormal daemon exits while running one job before giving up */
 #define YIELD_CHECK_EVERY 0.25 /* seconds between fair-share checks once a slice is over */
+/* A job's final write is retried with doubling pauses from FINAL_RETRY_FIRST for about
+ * FINAL_RETRY_SECONDS; then its outcome is dropped and a small failed (unavailable) record is
+ * retried every FINAL_RETRY_SLOW seconds until the store takes it. */
+#define FINAL_RETRY_FIRST 0.05
+#define FINAL_RETRY_SECONDS 6.0
+#define FINAL_RETRY_SLOW 1.0
 
 typedef struct job {
     struct job_manager *jm;
@@ -34,6 +41,10 @@ typedef struct job {
     bool cancel_requested;
     bool over_time;    /* stopped by --max-job-seconds */
     bool holds_worker; /* running on one of the workers (a paused job does not) */
+    bool unstored;     /* ended, but its end is not in the store yet (disk full): finish_job
+                        * retries; it is no longer scheduled */
+    bool cancelling;   /* a queued job being written as cancelled: not scheduled meanwhile */
+    double finished;   /* when an unstored job ended (Unix seconds) */
     bool paused;       /* gave its worker back; waits on resume */
     double slice_start, served, paused_since, next_yield_check; /* monotonic seconds */
     atomic_llong paused_ns; /* total pause so far: the job's clock stands still meanwhile */
@@ -165,7 +176,7 @@ static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
     /* Admitted jobs not yet in the store are not schedulable, nor are Slurm jobs (their
      * threads need no worker). */
     for (job *j = jm->active; j; j = j->next)
-        count += j->id > 0 && !j->slurm;
+        count += j->id > 0 && !j->slurm && !j->unstored && !j->cancelling;
     if (count > jm->snapshot_cap || !jm->snapshot) {
         size_t cap = count < 8 ? 16 : count * 2;
         fs_job *s = realloc(jm->snapshot, cap * (sizeof *s + sizeof(job *)));
@@ -177,7 +188,7 @@ static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
     job **jobs = (job **)(void *)(jm->snapshot + jm->snapshot_cap);
     size_t i = 0;
     for (job *j = jm->active; j; j = j->next) {
-        if (j->id <= 0 || j->slurm)
+        if (j->id <= 0 || j->slurm || j->unstored || j->cancelling)
             continue;
         jobs[i] = j;
         jm->snapshot[i] = (fs_job){.owner = j->owner,
@@ -308,6 +319,60 @@ double jm_job_clock(void *ctx_)
     return aa_monotonic_seconds() - (double)atomic_load(&j->paused_ns) * 1e-9;
 }
 
+static void sleep_seconds(double s)
+{
+    struct timespec ts = {.tv_sec = (time_t)s, .tv_nsec = (long)((s - (double)(time_t)s) * 1e9)};
+    while (nanosleep(&ts, &ts) && errno == EINTR)
+        ;
+}
+
+/* The job's final record, retried with doubling pauses for about FINAL_RETRY_SECONDS while the
+ * store cannot be written (a full disk may be freed meanwhile). AA_OK or the last error. */
+static int final_write(job_manager *jm, long long id, job_state st, double progress,
+                       const json_t *best, const json_t *trace, const json_t *result,
+                       const json_t *error, const char *reason, double now)
+{
+    double pause = FINAL_RETRY_FIRST, waited = 0;
+    for (;;) {
+        int rc =
+            job_store_finish(jm->store, id, st, progress, best, trace, result, error, reason, now);
+        if (rc == AA_OK || waited >= FINAL_RETRY_SECONDS)
+            return rc;
+        sleep_seconds(pause);
+        waited += pause;
+        pause *= 2;
+    }
+}
+
+/* A job whose end could not be stored (j->unstored): a small failed record with error code
+ * "unavailable" (its best so far stays as last stored) is retried every FINAL_RETRY_SLOW
+ * seconds until the store takes it or the daemon stops (then the row is still "running" and the
+ * next start runs the job again). Lock held; released while writing. */
+static void store_unavailable_end_locked(job_manager *jm, job *j)
+{
+    char msg[sizeof j->reason];
+    snprintf(msg, sizeof msg, "%s", j->reason);
+    json_t *error =
+        json_pack("{s:s,s:s,s:s}", "code", proto_wire_row_of(WIRE_STORE_UNAVAILABLE)->code,
+                  "message", msg, "field", "");
+    double progress = j->live.progress;
+    while (!jm->stopping) {
+        pthread_mutex_unlock(&jm->lock);
+        int rc = job_store_finish(jm->store, j->id, JOB_FAILED, progress, NULL, NULL, NULL, error,
+                                  msg, j->finished);
+        pthread_mutex_lock(&jm->lock);
+        if (rc == AA_OK) {
+            fprintf(stderr, "aalabd: job %lld stored as failed (unavailable)\n", j->id);
+            break;
+        }
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_sec += (time_t)FINAL_RETRY_SLOW;
+        pthread_cond_timedwait(&j->resume, &jm->lock, &until);
+    }
+    json_decref(error);
+}
+
 /* failure: a message longer than err's (a Slurm shard's log tail), or NULL/"". */
 static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa_error *err,
                        const char *failure)
@@ -376,7 +441,7 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
     }
     json_decref(final_pattern);
     double now = jm_now();
-    job_store_finish(jm->store, j->id, st, progress, best, trace, result, error, reason, now);
+    int wrc = final_write(jm, j->id, st, progress, best, trace, result, error, reason, now);
     /* One line per finished run for the journal. */
     fprintf(stderr, "aalabd: job %lld (%s, uid %lld) %s after %.2f s%s%s\n", j->id, j->kind->name,
             j->owner, shutdown_stop ? "checkpointed as queued" : job_state_name(st),
@@ -388,11 +453,34 @@ static void finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa
     json_decref(result);
 
     pthread_mutex_lock(&jm->lock);
-    active_remove(jm, j);
     jm->running--;
     if (j->holds_worker)
         jm->busy--;
     j->holds_worker = false;
+    if (wrc && st != JOB_QUEUED) {
+        /* Still "running" in the store: without this, it would stay so until a restart ran it
+         * again, and could be neither cancelled nor purged. */
+        fprintf(stderr,
+                "aalabd: job %lld: the job store cannot be written (%s); its outcome (%s) is "
+                "dropped and it ends failed (unavailable) once the store can be written\n",
+                j->id, wrc == JOB_STORE_EUNAVAILABLE ? "disk full or I/O error" : "write error",
+                job_state_name(st));
+        j->unstored = true;
+        j->state = JOB_FAILED;
+        j->finished = now;
+        snprintf(j->reason, sizeof j->reason,
+                 "the job ended (%s) but the job store could not be written (disk full?); its "
+                 "outcome was dropped",
+                 job_state_name(st));
+        schedule_locked(jm);
+        store_unavailable_end_locked(jm, j);
+    } else if (wrc) {
+        fprintf(stderr,
+                "aalabd: job %lld: its checkpoint could not be written; the next start "
+                "runs it again\n",
+                j->id);
+    }
+    active_remove(jm, j);
     schedule_locked(jm);
     pthread_mutex_unlock(&jm->lock);
     job_free(j);
@@ -700,7 +788,7 @@ void job_manager_shutdown(job_manager *jm)
     pthread_mutex_lock(&jm->lock);
     jm->stopping = true;
     for (job *j = jm->active; j; j = j->next)
-        if (j->paused)
+        if (j->paused || j->unstored)
             pthread_cond_signal(&j->resume);
     while (jm->threads > 0)
         pthread_cond_wait(&jm->idle, &jm->lock);
@@ -921,6 +1009,14 @@ static void overlay_live(json_t *o, const job *j)
         json_object_set_new(o, "trace", json_deep_copy(j->live.trace));
     if (j->cancel_requested)
         json_object_set_new(o, "cancel_requested", json_true());
+    if (j->unstored) { /* its end as the store will have it once it can be written */
+        json_object_set_new(o, "finished", json_real(j->finished));
+        json_object_set_new(o, "reason", json_string(j->reason));
+        json_object_set_new(o, "error",
+                            json_pack("{s:s,s:s,s:s}", "code",
+                                      proto_wire_row_of(WIRE_STORE_UNAVAILABLE)->code, "message",
+                                      j->reason, "field", ""));
+    }
     if (j->paused) /* gave its worker to another user's job; resumes where it stopped */
         json_object_set_new(o, "paused", json_true());
     if (j->state == JOB_RUNNING) {
@@ -979,12 +1075,33 @@ int job_manager_cancel(job_manager *jm, long long id, long long caller, const ch
         pthread_mutex_unlock(&jm->lock);
         return JM_EFORBIDDEN;
     }
+    if (j->unstored || j->cancelling) {
+        pthread_mutex_unlock(&jm->lock);
+        return JM_EFINISHED;
+    }
     if (j->state == JOB_QUEUED) {
+        /* Out of the queue while the store is written outside the lock; back in it if the
+         * store cannot be written (503), so it is never lost from both. */
         queue_remove(jm, j);
+        j->cancelling = true;
+        pthread_mutex_unlock(&jm->lock);
+        int rc = job_store_finish(jm->store, id, JOB_CANCELLED, 0, NULL, NULL, NULL, NULL,
+                                  "cancelled by request before it ran", jm_now());
+        pthread_mutex_lock(&jm->lock);
+        j->cancelling = false;
+        if (rc != AA_OK) {
+            rc = queue_push(jm, j);
+            if (rc == AA_OK)
+                schedule_locked(jm);
+            else
+                active_remove(jm, j); /* out of memory: the next start runs it */
+            pthread_mutex_unlock(&jm->lock);
+            if (rc != AA_OK)
+                job_free(j);
+            return JM_ESTORE;
+        }
         active_remove(jm, j);
         pthread_mutex_unlock(&jm->lock);
-        job_store_finish(jm->store, id, JOB_CANCELLED, 0, NULL, NULL, NULL, NULL,
-                         "cancelled by request before it ran", jm_now());
         job_free(j);
         *state_out = "cancelled";
         return JM_OK;
@@ -1068,7 +1185,7 @@ int job_manager_purge(job_manager *jm, long long id, long long caller)
     job *j = active_find(jm, id);
     long long owner = -1;
     job_state state = JOB_DONE;
-    bool found = j != NULL;
+    bool found = j != NULL, unstored = j && j->unstored;
     if (j) {
         owner = j->owner;
         state = j->state;
@@ -1078,11 +1195,13 @@ int job_manager_purge(job_manager *jm, long long id, long long caller)
         return JM_ENOENT;
     if (caller != 0 && !(owner < 0 || (caller >= 0 && caller == owner)))
         return JM_EFORBIDDEN;
+    if (unstored) /* its end is not in the store yet: the store cannot be written */
+        return JM_ESTORE;
     if (found) {
         const char *ignored;
         int rc = state == JOB_QUEUED ? job_manager_cancel(jm, id, caller, &ignored) : JM_EACTIVE;
         if (rc != JM_OK && rc != JM_EFINISHED)
-            return rc == JM_ENOENT ? JM_ENOENT : JM_EACTIVE;
+            return rc == JM_ENOENT || rc == JM_ESTORE ? rc : JM_EACTIVE;
     }
     /* A queued job that started meanwhile is still "running" in the store: refused. */
     int rc = job_store_delete(jm->store, id);
@@ -1090,7 +1209,10 @@ int job_manager_purge(job_manager *jm, long long id, long long caller)
      * not in this HTTP handler. */
     if (rc == AA_OK)
         cluster_probe_housekeep_soon(jm->probe);
-    return rc == AA_OK ? JM_OK : rc == JOB_STORE_ENOENT ? JM_ENOENT : JM_EACTIVE;
+    return rc == AA_OK               ? JM_OK
+           : rc == JOB_STORE_ENOENT  ? JM_ENOENT
+           : rc == JOB_STORE_EACTIVE ? JM_EACTIVE
+                                     : JM_ESTORE;
 }
 
 void job_manager_slurm_status(job_manager *jm, cluster_status *out)

@@ -95,7 +95,8 @@ json_t *job_manager_get(job_manager *jm, long long id);
  * (it just started) shows its live state. */
 json_t *job_manager_list(job_manager *jm, const job_store_filter *filter);
 /* caller < 0 = unknown (refused unless the job has no owner). JM_ENOENT, JM_EFORBIDDEN,
- * JM_EFINISHED. On success *state_out names the state after the call ("cancelled" for a queued
+ * JM_EFINISHED, JM_ESTORE (a queued job that the store cannot record as cancelled now stays
+ * queued). On success *state_out names the state after the call ("cancelled" for a queued
  * job, "running" with cancel requested for a running one). */
 int job_manager_cancel(job_manager *jm, long long id, long long caller, const char **state_out);
 /* The best pattern JSON of a job (new reference), or NULL (*why: "no such job" /
@@ -108,7 +109,12 @@ const job_kind *job_manager_kind(const job_manager *jm, const char *name);
 void job_manager_kind_names(const job_manager *jm, char *buf, size_t cap);
 
 /* Deletes a job's record (DELETE /v1/jobs/{id}?purge=1): owner or root, as for cancel. A
- * queued job is cancelled and deleted; a running one is JM_EACTIVE (cancel it first). */
+ * queued job is cancelled and deleted; a running one is JM_EACTIVE (cancel it first); JM_ESTORE
+ * when the store cannot be written (disk full), also for a job whose end is not stored yet.
+ *
+ * A job's end is written with retries; if the store still cannot take it after about 6 s, the
+ * outcome is dropped and the job ends failed with error code "unavailable" as soon as the store
+ * can be written (GET shows it so meanwhile), so it never stays "running" in the store. */
 int job_manager_purge(job_manager *jm, long long id, long long caller);
 
 typedef struct job_manager_stats {

@@ -7,6 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include "owned_path.h"
 
 static const char *const state_names[JOB_STATE_COUNT] = {"queued", "running",   "done",
                                                          "failed", "cancelled", "interrupted"};
@@ -78,7 +81,7 @@ bool job_store_integrity_ok(job_store *st)
 static int open_connection(const char *path, sqlite3 **db, aa_error *err)
 {
     int rc = sqlite3_open_v2(
-        path, db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, NULL);
+        path, db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_FULLMUTEX | SQLITE_OPEN_NOFOLLOW, NULL);
     if (rc != SQLITE_OK)
         return aa_error_set(err, AA_EINVAL, "state_dir", "cannot open %s: %s", path,
                             *db ? sqlite3_errmsg(*db) : sqlite3_errstr(rc));
@@ -98,9 +101,22 @@ job_store *job_store_open(const char *dir, aa_error *err)
     pthread_mutex_init(&st->lock, NULL);
     for (int i = 0; i < JOB_STORE_READERS; i++)
         pthread_mutex_init(&st->readers[i].lock, NULL);
+    /* Created 0600 here, never followed through a symlink, and an existing file must be ours
+     * (owned_path.h): SQLite alone would honour the umask and follow a planted link. */
+    char why[600];
+    mode_t old_mode;
+    int fd = owned_file_open(path, &old_mode, why, sizeof why);
+    if (fd < 0 || owned_db_companions_check(path, why, sizeof why)) {
+        if (fd >= 0)
+            close(fd);
+        aa_error_set(err, AA_EINVAL, "state_dir", "%s", why);
+        goto fail;
+    }
+    close(fd);
+    if (old_mode)
+        fprintf(stderr, "aalabd: %s had mode %04o; set to 0600\n", path, (unsigned)old_mode);
     if (open_connection(path, &st->db, err))
         goto fail;
-    chmod(path, 0600);
     char *msg = NULL;
     /* A new database gives freed pages back to the file system (job_store_write.c trim);
      * this must come before anything is written and is a no-op on an existing database. */

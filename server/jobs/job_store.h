@@ -36,6 +36,9 @@ typedef enum job_state {
 #define JOB_STORE_EQUOTA (-2001)  /* the owner's stored bytes would exceed the quota */
 #define JOB_STORE_ENOENT (-2002)  /* no such job */
 #define JOB_STORE_EACTIVE (-2003) /* the job is queued or running */
+/* The database cannot be written now (disk full, I/O error, locked): worth a retry, and an
+ * HTTP 503, never a 404. Any write below may return it. */
+#define JOB_STORE_EUNAVAILABLE (-2004)
 
 /* Bytes reserved at insert for what a job will store besides its spec: about twice the spec
  * (best and result usually carry the spec's pattern) plus this much for trace and result. */

@@ -45,11 +45,29 @@ static void bind_text_or_null(sqlite3_stmt *q, int i, const char *s)
         sqlite3_bind_null(q, i);
 }
 
+/* A failed write: JOB_STORE_EUNAVAILABLE when the database could not be written now (disk
+ * full, I/O, locked), which passes, else AA_EINVAL. */
+static int write_error(int rc)
+{
+    switch (rc & 0xff) {
+    case SQLITE_FULL:
+    case SQLITE_IOERR:
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED:
+    case SQLITE_READONLY:
+    case SQLITE_CANTOPEN:
+    case SQLITE_NOMEM:
+        return JOB_STORE_EUNAVAILABLE;
+    default:
+        return AA_EINVAL;
+    }
+}
+
 static int step_done(sqlite3_stmt *q)
 {
     int rc = sqlite3_step(q);
     sqlite3_finalize(q);
-    return rc == SQLITE_DONE ? AA_OK : AA_EINVAL;
+    return rc == SQLITE_DONE ? AA_OK : write_error(rc);
 }
 
 /* Gives free pages back to the file system once more than 1 MiB is free, so jobs.db follows

@@ -4,6 +4,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -104,6 +105,20 @@ static void entry_free(tile_entry *e)
     free(e);
 }
 
+/* A new file 0600 whatever the umask, never through a symlink: a private tile must not be
+ * readable by the daemon's group (under systemd the team's group, UMask=0027). */
+static FILE *create_private(const char *path, const char *fmode)
+{
+    unlink(path); /* a temporary left by a crash */
+    int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0)
+        return NULL;
+    FILE *f = fchmod(fd, 0600) == 0 ? fdopen(fd, fmode) : NULL;
+    if (!f)
+        close(fd);
+    return f;
+}
+
 /* {id}.readers: the private readers, one uid per line, replaced atomically; absent = team. */
 static void write_readers(const tile_store *ts, const tile_entry *e)
 {
@@ -114,7 +129,7 @@ static void write_readers(const tile_store *ts, const tile_entry *e)
         return;
     }
     snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "w");
+    FILE *f = create_private(tmp, "w");
     if (!f)
         return;
     bool ok = true;
@@ -233,8 +248,10 @@ static void index_disk(tile_store *ts)
         char path[4200];
         struct stat st;
         file_path(ts, f.id, path, sizeof path);
-        if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+        if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode))
             continue;
+        if ((st.st_mode & 07777) != 0600) /* written by an older daemon under its umask */
+            chmod(path, 0600);
         f.len = (size_t)st.st_size;
         f.mtime = (double)st.st_mtim.tv_sec + st.st_mtim.tv_nsec * 1e-9;
         if (n == cap) {
@@ -293,12 +310,23 @@ tile_store *tile_store_create(const char *state_dir, size_t max_bytes, aa_error 
             return NULL;
         }
         snprintf(ts->dir, n, "%s/tiles", state_dir);
-        if (mkdir(ts->dir, 0750) != 0 && errno != EEXIST) {
-            aa_error_set(err, AA_EINVAL, "state_dir", "cannot create %s: %s", ts->dir,
-                         strerror(errno));
+        /* 0700: tiles are served through the API only, which knows who may read a private
+         * one; an existing directory of an older daemon (0750) is narrowed. */
+        int dfd = -1;
+        struct stat st;
+        bool ok = (mkdir(ts->dir, 0700) == 0 || errno == EEXIST) &&
+                  (dfd = open(ts->dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC)) >= 0 &&
+                  fstat(dfd, &st) == 0;
+        bool theirs = ok && st.st_uid != geteuid();
+        if (!ok || theirs || ((st.st_mode & 07777) != 0700 && fchmod(dfd, 0700) != 0)) {
+            aa_error_set(err, AA_EINVAL, "state_dir", "%s: %s", ts->dir,
+                         theirs ? "not owned by the daemon's user; remove it" : strerror(errno));
+            if (dfd >= 0)
+                close(dfd);
             tile_store_destroy(ts);
             return NULL;
         }
+        close(dfd);
         index_disk(ts);
     }
     return ts;
@@ -324,7 +352,7 @@ static void write_file(const tile_store *ts, const char *id, const void *data, s
     char path[4200], tmp[4300];
     file_path(ts, id, path, sizeof path);
     snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "wb");
+    FILE *f = create_private(tmp, "wb");
     if (!f)
         return;
     bool ok = fwrite(data, 1, len, f) == len;
