@@ -71,6 +71,8 @@ void config_defaults(aalab_config *cfg)
     cfg->user_connections = 32;
     cfg->token_connections = 32;
     cfg->user_tokens = 32;
+    cfg->user_body_bytes = 32u << 20;
+    cfg->answer_timeout = 60;
     cfg->user_store_bytes = 256u << 20;
     cfg->keep_days = 90.0;
     cfg->max_spec_bytes = 2u << 20;
@@ -140,6 +142,10 @@ void config_usage(FILE *out)
             "  --user-connections N open connections per peer uid on each listener (default 32)\n"
             "  --token-connections N open connections per bearer token on TCP (default 32)\n"
             "  --user-tokens N      live bearer tokens per user, 403 beyond (default 32)\n"
+            "  --user-body-bytes B  request bodies one user may have in flight, 429 beyond\n"
+            "                       (default 33554432)\n"
+            "  --answer-timeout S   an answer not read to its end within S seconds is cut off\n"
+            "                       (default 60)\n"
             "  --user-store-bytes B stored job data per user (default 268435456)\n"
             "  --keep-days D        finished, unpinned jobs are deleted after D days (default 90)\n"
             "  --max-spec-bytes B   largest job spec, 413 beyond (default 2097152)\n"
@@ -247,6 +253,8 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
                                             "--user-connections",
                                             "--token-connections",
                                             "--user-tokens",
+                                            "--user-body-bytes",
+                                            "--answer-timeout",
                                             "--user-store-bytes",
                                             "--keep-days",
                                             "--max-spec-bytes",
@@ -329,6 +337,10 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
             cfg->token_connections = (int)n;
         else if (!strcmp(a, "--user-tokens") && !(bad = parse_long(v, 1, 100000, &n)))
             cfg->user_tokens = (int)n;
+        else if (!strcmp(a, "--user-body-bytes") && !(bad = parse_long(v, 4096, 1L << 40, &n)))
+            cfg->user_body_bytes = (size_t)n;
+        else if (!strcmp(a, "--answer-timeout") && !(bad = parse_long(v, 1, 86400, &n)))
+            cfg->answer_timeout = (int)n;
         else if (!strcmp(a, "--user-store-bytes") && !(bad = parse_long(v, 4096, 1L << 50, &n)))
             cfg->user_store_bytes = (size_t)n;
         else if (!strcmp(a, "--keep-days"))

@@ -43,6 +43,8 @@ typedef struct aalab_config {
     int user_connections;    /* open connections per peer uid, each listener */
     int token_connections;   /* open connections per bearer token on TCP */
     int user_tokens;         /* live bearer tokens per user (403 beyond) */
+    size_t user_body_bytes;  /* request bodies one user may have in flight (429 beyond) */
+    int answer_timeout;      /* seconds to deliver one answer, however slowly read */
     size_t user_store_bytes; /* stored job bytes per user */
     double keep_days;        /* finished, unpinned jobs older than this are deleted */
     size_t max_spec_bytes;   /* a job spec above this is refused with 413 */

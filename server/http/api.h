@@ -79,6 +79,12 @@ typedef enum {
 } api_request_class;
 api_request_class api_classify(const char *method, const char *path);
 
+/* The body a route may have: --max-body (max_body) for the routes that take patterns, job
+ * specs or scenes, API_SMALL_BODY for the rest (tokens, PATCH of a job, enumerate, and routes
+ * without a body). The HTTP layer answers 413 beyond it before buffering more. */
+#define API_SMALL_BODY 4096
+size_t api_body_limit(const char *method, const char *path, size_t max_body);
+
 void api_handle(api_context *ctx, const api_request *req, api_response *resp);
 void api_response_free(api_response *resp);
 

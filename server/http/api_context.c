@@ -1,5 +1,6 @@
 #define _GNU_SOURCE
 #include "api_context.h"
+#include "body_budget.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -25,6 +26,7 @@ struct api_context {
     job_manager *jobs;
     job_retention *retention;
     eval_cache *cache;
+    body_budget *bodies; /* request bodies in flight per user (--user-body-bytes) */
     struct tile_store *tiles;
     token_store *tokens;
     group_membership *group;  /* NULL: tokens are not tied to a group */
@@ -90,6 +92,11 @@ api_context *api_context_create(const aalab_config *cfg, aa_error *err)
     if (!ctx->tokens)
         goto fail;
     ctx->cache = eval_cache_create(cfg->eval_cache);
+    ctx->bodies = body_budget_create(cfg->user_body_bytes);
+    if (!ctx->bodies) {
+        aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        goto fail;
+    }
     ctx->tiles = tile_store_create(cfg->state_dir, cfg->tile_bytes, err);
     if (!ctx->tiles)
         goto fail;
@@ -134,6 +141,7 @@ void api_context_destroy(api_context *ctx)
     job_manager_destroy(ctx->jobs);
     tile_store_destroy(ctx->tiles);
     eval_cache_destroy(ctx->cache);
+    body_budget_destroy(ctx->bodies);
     token_store_close(ctx->tokens);
     group_membership_destroy(ctx->group);
     free(ctx->kinds_body);
@@ -165,6 +173,11 @@ struct job_manager *api_context_jobs(api_context *ctx)
 struct eval_cache *api_context_eval_cache(api_context *ctx)
 {
     return ctx->cache;
+}
+
+struct body_budget *api_context_body_budget(api_context *ctx)
+{
+    return ctx->bodies;
 }
 
 struct token_store *api_context_tokens(api_context *ctx)

@@ -31,6 +31,7 @@ const char *api_context_kinds_body(const api_context *ctx);
 struct tile_store *api_context_tiles(api_context *ctx);
 struct job_manager *api_context_jobs(api_context *ctx);
 struct eval_cache *api_context_eval_cache(api_context *ctx);
+struct body_budget *api_context_body_budget(api_context *ctx);
 struct token_store *api_context_tokens(api_context *ctx);
 /* From now on a token is accepted only while its owner is in group gid (the socket's group;
  * root always). Call before the listeners start. AA_ENOMEM. */

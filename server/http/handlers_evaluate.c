@@ -208,6 +208,29 @@ static int evaluate_decode(api_context *ctx, const api_request *req, api_respons
     return 0;
 }
 
+/* The detail is one row per kernel and angle, about 110 bytes of JSON each: bounded so that
+ * one request cannot build a 100 MB answer (256 kernels x 4,096 angles did). */
+#define EVALUATE_MAX_DETAIL_ROWS 65536
+
+static int check_detail(const aa_pattern *p, const aa_acuity *a, size_t angle_count, bool detail,
+                        aa_error *err)
+{
+    if (!detail)
+        return AA_OK;
+    size_t angles = angle_count;
+    if (!angles) {
+        static _Thread_local double buf[AA_MAX_ANGLES];
+        angles = aa_acuity_default_angles(a, buf, AA_MAX_ANGLES);
+    }
+    double rows = (double)p->kernel_count * (double)angles;
+    if (rows <= EVALUATE_MAX_DETAIL_ROWS)
+        return AA_OK;
+    return aa_error_set(err, AA_ERANGE, "detail",
+                        "detail of %zu kernels x %zu angles is %.0f rows, more than the %d an "
+                        "answer carries; ask for fewer angles, or leave detail off",
+                        p->kernel_count, angles, rows, EVALUATE_MAX_DETAIL_ROWS);
+}
+
 void handle_evaluate(api_context *ctx, const api_request *req, api_response *resp)
 {
     char *hit;
@@ -223,7 +246,8 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
         return;
     aa_error err = {0};
     double work = evaluate_work(&c->pattern, &c->acuity, c->angle_count);
-    if (check_work(&c->pattern, work, c->angle_count, &err)) {
+    if (check_work(&c->pattern, work, c->angle_count, &err) ||
+        check_detail(&c->pattern, &c->acuity, c->angle_count, c->detail, &err)) {
         api_reply_aa_error(resp, &err);
         evaluate_call_free(&c->deferred);
         return;

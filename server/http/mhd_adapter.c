@@ -21,6 +21,7 @@
 
 #include "accept_loop.h"
 #include "api_context.h"
+#include "body_budget.h"
 #include "conn_admission.h"
 #include "eval_cache.h"
 #include "http_refusal.h"
@@ -56,7 +57,10 @@ struct http_listener {
 typedef struct request_state {
     char *body;
     size_t len, cap;
-    bool too_large;
+    size_t limit;   /* this endpoint's body limit (api_body_limit) */
+    size_t counted; /* bytes held in the user's --user-body-bytes budget */
+    uint64_t user;  /* the budget's key: the peer uid */
+    bool too_large, over_budget;
     /* A request run on the compute pool: req/resp are handed over through the pool's queue
      * and back through done (release/acquire), since libmicrohttpd's resume is not a
      * synchronisation the race detector can see. */
@@ -293,15 +297,38 @@ static enum MHD_Result send_response(struct MHD_Connection *conn, api_response *
         MHD_add_response_header(resp, MHD_HTTP_HEADER_CONNECTION, "close");
     enum MHD_Result ret = MHD_queue_response(conn, (unsigned)r->status, resp);
     MHD_destroy_response(resp);
+    request_deadline_sending(conn);
     return ret;
 }
 
-static enum MHD_Result reply_simple_error(struct MHD_Connection *conn, proto_wire_error e,
-                                          const char *message)
+/* Counts more of a request's body in its user's budget (rounded up to 64 KiB for chunked
+ * uploads, so a trickle does not take the lock per byte). */
+static bool count_body(http_listener *l, request_state *st, size_t more)
+{
+    size_t step = st->counted ? ((more + 65535) & ~(size_t)65535) : more;
+    if (!body_budget_acquire(api_context_body_budget(l->ctx), st->user, step))
+        return false;
+    st->counted += step;
+    return true;
+}
+
+static enum MHD_Result reply_body_limit(struct MHD_Connection *conn, size_t limit, size_t max_body)
 {
     api_response r = {0};
-    api_reply_wire(&r, e, "", "%s", message);
-    return send_response(conn, &r, false);
+    api_reply_wire(&r, WIRE_PAYLOAD_TOO_LARGE, "",
+                   "the body exceeds %zu bytes, this endpoint's limit%s", limit,
+                   limit == max_body ? " (--max-body)" : "");
+    return send_response(conn, &r, true);
+}
+
+static enum MHD_Result reply_over_budget(http_listener *l, struct MHD_Connection *conn)
+{
+    api_response r = {0};
+    api_reply_wire(&r, WIRE_TOO_MANY_REQUESTS, "",
+                   "your request bodies in flight would exceed %zu bytes (--user-body-bytes); "
+                   "retry when one has been answered",
+                   body_budget_limit(api_context_body_budget(l->ctx)));
+    return send_response(conn, &r, true);
 }
 
 static void pool_run(void *arg)
@@ -331,6 +358,9 @@ static void pool_done(void *arg)
  * such bodies decoded here made the first user's p50 2.2 ms instead of 0.5 ms (bench_http_pool,
  * with a 16 KiB limit). */
 #define INLINE_MAX_BODY (2u << 10)
+/* Job specs above this go to the compute pool (parsed there): 64 KiB parse in well under a
+ * millisecond. */
+#define JOB_SPEC_INLINE_BYTES (64u << 10)
 
 /* An uncached evaluate small enough to cost less than the hand-off to the compute pool runs
  * here, in the user's evaluate share (docs/http.md: the threshold and its measurement). True if
@@ -368,6 +398,11 @@ static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_s
                         const api_request *req, enum MHD_Result *ret)
 {
     api_request_class cls = api_classify(req->method, req->path);
+    /* A large job spec (up to --max-spec-bytes) is parsed and stored on the pool too, in the
+     * user's evaluate share: parsing 2 MiB of JSON would hold an HTTP thread for milliseconds. */
+    if (cls == API_CLASS_OTHER && req->body_len > JOB_SPEC_INLINE_BYTES &&
+        !strcmp(req->method, "POST") && !strcmp(req->path, "/v1/jobs"))
+        cls = API_CLASS_PREDICT; /* the evaluate share, never the evaluate cache */
     if (!l->pool || cls == API_CLASS_OTHER)
         return false;
     compute_kind kind = cls == API_CLASS_RENDER ? COMPUTE_RENDER : COMPUTE_EVALUATE;
@@ -439,18 +474,32 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
                 return send_response(conn, &r, true);
             }
         }
+        /* Bounds before the body is read: this endpoint's limit (413), then the user's bodies in
+         * flight (429): a flood of 8 MiB bodies to a small endpoint costs nothing. */
         const char *cl =
             MHD_lookup_connection_value(conn, MHD_HEADER_KIND, MHD_HTTP_HEADER_CONTENT_LENGTH);
-        if (cl && strtoull(cl, NULL, 10) > l->max_body)
-            return reply_simple_error(conn, WIRE_PAYLOAD_TOO_LARGE,
-                                      "the body exceeds the daemon's --max-body");
+        unsigned long long announced = cl ? strtoull(cl, NULL, 10) : 0;
+        st->limit = api_body_limit(method, url, l->max_body);
+        if (announced > st->limit)
+            return reply_body_limit(conn, st->limit, l->max_body);
+        const union MHD_ConnectionInfo *fdi =
+            MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+        conn_peer peer;
+        st->user = fdi && conn_admission_peer(l->adm, fdi->connect_fd, &peer) && peer.uid_known
+                       ? (uint64_t)peer.uid
+                       : COMPUTE_USER_UNKNOWN;
+        if (announced && !count_body(l, st, (size_t)announced))
+            return reply_over_budget(l, conn);
         return MHD_YES;
     }
     if (*upload_data_size) {
         size_t n = *upload_data_size;
         *upload_data_size = 0;
-        if (st->too_large || st->len + n > l->max_body) {
-            st->too_large = true; /* keep reading and dropping; answer 413 at the end */
+        if (!st->too_large && !st->over_budget && st->len + n > st->counted &&
+            !count_body(l, st, st->len + n - st->counted))
+            st->over_budget = true; /* a chunked upload past the user's budget */
+        if (st->too_large || st->over_budget || st->len + n > st->limit) {
+            st->too_large = !st->over_budget; /* keep reading and dropping; answer at the end */
             free(st->body);
             st->body = NULL;
             st->len = st->cap = 0;
@@ -470,9 +519,10 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
         st->len += n;
         return MHD_YES;
     }
+    if (st->over_budget)
+        return reply_over_budget(l, conn);
     if (st->too_large)
-        return reply_simple_error(conn, WIRE_PAYLOAD_TOO_LARGE,
-                                  "the body exceeds the daemon's --max-body");
+        return reply_body_limit(conn, st->limit, l->max_body);
 
     if (st->offloaded) {
         /* Resumed: the pool has stored the answer. */
@@ -525,6 +575,9 @@ static void on_completed(void *cls, struct MHD_Connection *conn, void **con_cls,
     request_deadline_completed(conn);
     request_state *st = *con_cls;
     if (st) {
+        http_listener *l = cls;
+        if (st->counted)
+            body_budget_release(api_context_body_budget(l->ctx), st->user, st->counted);
         if (st->offloaded && atomic_load_explicit(&st->done, memory_order_acquire))
             api_response_free(&st->resp); /* not sent (the client went away) */
         free(st->body);
@@ -652,7 +705,7 @@ http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, in
     l->fd = fd;
     l->pool = pool;
     l->log = log;
-    l->deadline = request_deadline_start(cfg->request_timeout);
+    l->deadline = request_deadline_start(cfg->request_timeout, cfg->answer_timeout);
     l->adm = conn_admission_create(is_unix, cfg->connection_limit, cfg->user_connections,
                                    cfg->token_connections);
     if (!l->deadline || !l->adm) {
@@ -675,7 +728,7 @@ http_listener *http_listener_start(api_context *ctx, const aalab_config *cfg, in
             MHD_OPTION_CONNECTION_TIMEOUT, (unsigned int)cfg->connection_timeout,
             MHD_OPTION_CONNECTION_MEMORY_LIMIT, cfg->connection_memory,
             MHD_OPTION_UNESCAPE_CALLBACK, unescape_keep_nul, NULL, MHD_OPTION_NOTIFY_COMPLETED,
-            on_completed, NULL, MHD_OPTION_NOTIFY_CONNECTION, on_connection, l, MHD_OPTION_END);
+            on_completed, l, MHD_OPTION_NOTIFY_CONNECTION, on_connection, l, MHD_OPTION_END);
         if (!d) {
             snprintf(msg, cap, "libmicrohttpd could not start for fd %d", fd);
             http_listener_stop(l);

@@ -13,6 +13,7 @@ typedef struct tracked {
     request_deadline *owner;
     int fd;
     double receiving_since; /* monotonic seconds; 0 while the request is being answered */
+    double sending_since;   /* its answer was queued then; 0 while none is being sent */
     bool shut;
 } tracked;
 
@@ -21,7 +22,7 @@ struct request_deadline {
     pthread_cond_t wake;
     pthread_t thread;
     tracked head; /* sentinel of a circular list */
-    double seconds;
+    double seconds, answer_seconds;
     bool stopping;
 };
 
@@ -40,7 +41,9 @@ static void *watchdog(void *arg)
         pthread_cond_timedwait(&rd->wake, &rd->lock, &until);
         double now = aa_monotonic_seconds();
         for (tracked *t = rd->head.next; t != &rd->head; t = t->next) {
-            if (!t->shut && t->receiving_since > 0 && now - t->receiving_since > rd->seconds) {
+            bool slow_request = t->receiving_since > 0 && now - t->receiving_since > rd->seconds;
+            bool slow_reader = t->sending_since > 0 && now - t->sending_since > rd->answer_seconds;
+            if (!t->shut && (slow_request || slow_reader)) {
                 shutdown(t->fd, SHUT_RDWR);
                 t->shut = true;
             }
@@ -50,7 +53,7 @@ static void *watchdog(void *arg)
     return NULL;
 }
 
-request_deadline *request_deadline_start(double seconds)
+request_deadline *request_deadline_start(double seconds, double answer_seconds)
 {
     request_deadline *rd = calloc(1, sizeof *rd);
     if (!rd)
@@ -59,6 +62,7 @@ request_deadline *request_deadline_start(double seconds)
     pthread_cond_init(&rd->wake, NULL);
     rd->head.next = rd->head.prev = &rd->head;
     rd->seconds = seconds;
+    rd->answer_seconds = answer_seconds;
     if (pthread_create(&rd->thread, NULL, watchdog, rd)) {
         pthread_cond_destroy(&rd->wake);
         pthread_mutex_destroy(&rd->lock);
@@ -131,24 +135,33 @@ void request_deadline_backdate(void *socket_context, double since)
     pthread_mutex_unlock(&t->owner->lock);
 }
 
-static void set_clock(struct MHD_Connection *conn, bool running)
+typedef enum { PHASE_RECEIVING, PHASE_ANSWERING, PHASE_SENDING } phase;
+
+static void set_phase(struct MHD_Connection *conn, phase p)
 {
     const union MHD_ConnectionInfo *ci =
         MHD_get_connection_info(conn, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
     tracked *t = ci ? ci->socket_context : NULL;
     if (!t)
         return;
+    double now = aa_monotonic_seconds();
     pthread_mutex_lock(&t->owner->lock);
-    t->receiving_since = running ? aa_monotonic_seconds() : 0;
+    t->receiving_since = p == PHASE_RECEIVING ? now : 0;
+    t->sending_since = p == PHASE_SENDING ? now : 0;
     pthread_mutex_unlock(&t->owner->lock);
 }
 
 void request_deadline_received(struct MHD_Connection *conn)
 {
-    set_clock(conn, false);
+    set_phase(conn, PHASE_ANSWERING);
+}
+
+void request_deadline_sending(struct MHD_Connection *conn)
+{
+    set_phase(conn, PHASE_SENDING);
 }
 
 void request_deadline_completed(struct MHD_Connection *conn)
 {
-    set_clock(conn, true);
+    set_phase(conn, PHASE_RECEIVING);
 }

@@ -87,38 +87,44 @@ static bool method_is(const api_request *req, const char *m)
 
 typedef enum { ARG_NONE, ARG_TAIL, ARG_JOB_EXPORT, ARG_TILE } arg_kind;
 
+/* How much body a route reads: BODY_LARGE up to --max-body (patterns, job specs, scenes),
+ * BODY_SMALL up to API_SMALL_BODY (tokens, PATCH, enumerate, and every route that reads no
+ * body). The HTTP layer answers 413 past the limit before buffering the rest (api_body_limit). */
+typedef enum { BODY_SMALL, BODY_LARGE } body_kind;
+
 typedef struct route {
     const char *method;
     const char *path; /* exact, or a prefix ending in '/' for ARG_* routes */
     arg_kind arg;
+    body_kind body;
     void (*plain)(api_context *, const api_request *, api_response *);
     void (*with_arg)(api_context *, const api_request *, api_response *, const char *);
 } route;
 
 static const route routes[] = {
-    {"GET", "/v1/health", ARG_NONE, handle_health, NULL},
-    {"GET", "/v1/kinds", ARG_NONE, handle_kinds, NULL},
-    {"GET", "/v1/presets", ARG_NONE, handle_presets_list, NULL},
-    {"GET", "/v1/presets/", ARG_TAIL, NULL, handle_preset_get},
-    {"GET", "/v1/filters", ARG_NONE, handle_filters, NULL},
-    {"GET", "/v1/acuity", ARG_NONE, handle_acuity, NULL},
-    {"POST", "/v1/evaluate", ARG_NONE, handle_evaluate, NULL},
-    {"POST", "/v1/analyze", ARG_NONE, handle_analyze, NULL},
-    {"POST", "/v1/jobs", ARG_NONE, handle_jobs_post, NULL},
-    {"GET", "/v1/jobs", ARG_NONE, handle_jobs_list, NULL},
-    {"GET", "/v1/jobs/", ARG_TAIL, NULL, handle_job_get},
-    {"DELETE", "/v1/jobs/", ARG_TAIL, NULL, handle_job_delete},
-    {"PATCH", "/v1/jobs/", ARG_TAIL, NULL, handle_job_patch},
-    {"GET", "/v1/usage", ARG_NONE, handle_usage, NULL},
-    {"POST", "/v1/families/enumerate", ARG_NONE, handle_enumerate, NULL},
-    {"GET", "/v1/patterns/", ARG_JOB_EXPORT, NULL, handle_export},
-    {"POST", "/v1/patterns/export", ARG_NONE, handle_export_post, NULL},
-    {"POST", "/v1/render", ARG_NONE, route_render, NULL},
-    {"POST", "/v1/predict", ARG_NONE, handle_predict, NULL},
-    {"GET", "/v1/tiles/", ARG_TILE, NULL, route_tile},
-    {"POST", "/v1/tokens", ARG_NONE, handle_tokens_post, NULL},
-    {"GET", "/v1/tokens", ARG_NONE, handle_tokens_list, NULL},
-    {"DELETE", "/v1/tokens/", ARG_TAIL, NULL, handle_token_delete},
+    {"GET", "/v1/health", ARG_NONE, BODY_SMALL, handle_health, NULL},
+    {"GET", "/v1/kinds", ARG_NONE, BODY_SMALL, handle_kinds, NULL},
+    {"GET", "/v1/presets", ARG_NONE, BODY_SMALL, handle_presets_list, NULL},
+    {"GET", "/v1/presets/", ARG_TAIL, BODY_SMALL, NULL, handle_preset_get},
+    {"GET", "/v1/filters", ARG_NONE, BODY_SMALL, handle_filters, NULL},
+    {"GET", "/v1/acuity", ARG_NONE, BODY_SMALL, handle_acuity, NULL},
+    {"POST", "/v1/evaluate", ARG_NONE, BODY_LARGE, handle_evaluate, NULL},
+    {"POST", "/v1/analyze", ARG_NONE, BODY_LARGE, handle_analyze, NULL},
+    {"POST", "/v1/jobs", ARG_NONE, BODY_LARGE, handle_jobs_post, NULL},
+    {"GET", "/v1/jobs", ARG_NONE, BODY_SMALL, handle_jobs_list, NULL},
+    {"GET", "/v1/jobs/", ARG_TAIL, BODY_SMALL, NULL, handle_job_get},
+    {"DELETE", "/v1/jobs/", ARG_TAIL, BODY_SMALL, NULL, handle_job_delete},
+    {"PATCH", "/v1/jobs/", ARG_TAIL, BODY_SMALL, NULL, handle_job_patch},
+    {"GET", "/v1/usage", ARG_NONE, BODY_SMALL, handle_usage, NULL},
+    {"POST", "/v1/families/enumerate", ARG_NONE, BODY_SMALL, handle_enumerate, NULL},
+    {"GET", "/v1/patterns/", ARG_JOB_EXPORT, BODY_SMALL, NULL, handle_export},
+    {"POST", "/v1/patterns/export", ARG_NONE, BODY_LARGE, handle_export_post, NULL},
+    {"POST", "/v1/render", ARG_NONE, BODY_LARGE, route_render, NULL},
+    {"POST", "/v1/predict", ARG_NONE, BODY_LARGE, handle_predict, NULL},
+    {"GET", "/v1/tiles/", ARG_TILE, BODY_SMALL, NULL, route_tile},
+    {"POST", "/v1/tokens", ARG_NONE, BODY_SMALL, handle_tokens_post, NULL},
+    {"GET", "/v1/tokens", ARG_NONE, BODY_SMALL, handle_tokens_list, NULL},
+    {"DELETE", "/v1/tokens/", ARG_TAIL, BODY_SMALL, NULL, handle_token_delete},
 };
 
 /* Does path match the route's shape? Fills arg (a segment without '/'). */
@@ -144,6 +150,17 @@ static bool route_matches(const route *r, const char *path, char *arg, size_t ca
     memcpy(arg, rest, len);
     arg[len] = 0;
     return true;
+}
+
+size_t api_body_limit(const char *method, const char *path, size_t max_body)
+{
+    char arg[256];
+    for (size_t i = 0; method && path && i < sizeof routes / sizeof routes[0]; i++)
+        if (!strcmp(routes[i].method, method) && route_matches(&routes[i], path, arg, sizeof arg))
+            return routes[i].body == BODY_LARGE ? max_body
+                   : API_SMALL_BODY < max_body  ? API_SMALL_BODY
+                                                : max_body;
+    return API_SMALL_BODY < max_body ? API_SMALL_BODY : max_body;
 }
 
 api_request_class api_classify(const char *method, const char *path)
@@ -191,9 +208,11 @@ void api_handle(api_context *ctx, const api_request *in, api_response *resp)
                        "a socket group member (issue one on the Unix socket: aalab token)");
         return;
     }
-    if (req->body_len > cfg->max_body) {
-        api_reply_wire(resp, WIRE_PAYLOAD_TOO_LARGE, "", "the body exceeds %zu bytes",
-                       cfg->max_body);
+    size_t limit = api_body_limit(req->method, path, cfg->max_body);
+    if (req->body_len > limit) {
+        api_reply_wire(resp, WIRE_PAYLOAD_TOO_LARGE, "",
+                       "the body exceeds %zu bytes, this endpoint's limit%s", limit,
+                       limit == cfg->max_body ? " (--max-body)" : "");
         return;
     }
     bool path_known = false;

@@ -232,6 +232,7 @@ int aa_render_reference(const aa_scene *s, const aa_reference_params *rp, double
                        (size_t)(px1 - px0));
         }
     }
+    unsigned since_check = 0;
     for (int py = iy0; py < iy1; py++) {
         if (rp->progress && rp->progress(rp->user, (double)(py - iy0) / (double)ih)) {
             rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
@@ -244,6 +245,16 @@ int aa_render_reference(const aa_scene *s, const aa_reference_params *rp, double
             if (rp->skip && aa_scene_box_uniform(s, px, py, px + 1, py + 1, &v)) {
                 add_uniform_pixel(&acc, px, py, v);
                 continue;
+            }
+            /* Also every 16 supersampled pixels: a row of a wide tile at a high spp can take
+             * seconds, and a time budget checked per row overran by that much. */
+            if (rp->progress && ++since_check == 16) {
+                since_check = 0;
+                if (rp->progress(rp->user, ((double)(py - iy0) + (double)(px - ix0) / (double)iw) /
+                                               (double)ih)) {
+                    rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
+                    goto done;
+                }
             }
             add_sampled_pixel(&acc, s, &h, m, rp->seed, px, py);
             st->input_pixels++;
