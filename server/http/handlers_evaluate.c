@@ -210,7 +210,7 @@ static int evaluate_decode(api_context *ctx, const api_request *req, api_respons
 
 /* The detail is one row per kernel and angle, about 110 bytes of JSON each: bounded so that
  * one request cannot build a 100 MB answer (256 kernels x 4,096 angles did). */
-#define EVALUATE_MAX_DETAIL_ROWS 65536
+#define EVALUATE_MAX_DETAIL_ROWS 16384
 
 static int check_detail(const aa_pattern *p, const aa_acuity *a, size_t angle_count, bool detail,
                         aa_error *err)
