@@ -459,6 +459,42 @@ static void test_resolve_and_frame_pattern(void **state)
     assert_string_equal(err.field, "jitter[1]");
 }
 
+/* The optimizer: one start from Halton(2,3) x 8 at alpha 0.1 lowers E2, stays in the jitter
+ * square, and the same bound gives the same sequence bit for bit. */
+static void test_optimizer(void **state)
+{
+    (void)state;
+    aa_point start[8], a[8], b[8];
+    halton23(start, 8);
+    aa_blend blend = exponential(0.1);
+    double halton_e2;
+    aa_error err = {0};
+    assert_int_equal(aa_temporal_e2(start, 8, blend, NULL, &params, &halton_e2, &err), AA_OK);
+    aa_temporal_opt_params p = {.count = 8,
+                                .blend = blend,
+                                .range = 1,
+                                .metric = &params,
+                                .start = start,
+                                .max_starts = 1,
+                                .descent_steps = 20,
+                                .seed = 7};
+    aa_temporal_opt_result ra, rb;
+    assert_int_equal(aa_temporal_optimize(&p, a, &ra, &err), AA_OK);
+    assert_int_equal(aa_temporal_optimize(&p, b, &rb, &err), AA_OK);
+    assert_memory_equal(a, b, sizeof a);
+    assert_true(ra.e2 == rb.e2 && ra.starts == 1);
+    double check;
+    assert_int_equal(aa_temporal_e2(a, 8, blend, NULL, &params, &check, &err), AA_OK);
+    assert_true(check == ra.e2);
+    for (size_t f = 0; f < 8; f++)
+        assert_true(fabs(a[f].x) <= 0.5 && fabs(a[f].y) <= 0.5);
+    printf("optimizer, one start from Halton x8 (20 steps per level): E2 %.4f -> %.4f\n", halton_e2,
+           ra.e2);
+    assert_true(ra.e2 < halton_e2);
+    p.max_starts = 0;
+    assert_int_equal(aa_temporal_optimize(&p, a, &ra, &err), AA_EINVAL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -472,6 +508,7 @@ int main(void)
         cmocka_unit_test(test_stability),
         cmocka_unit_test(test_halton8_against_issue),
         cmocka_unit_test(test_resolve_and_frame_pattern),
+        cmocka_unit_test(test_optimizer),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -7,5 +7,6 @@
 #include "../jitter.h"
 #include "../temporal.h"
 #include "../temporal_eval.h"
+#include "../temporal_optimize.h"
 
 #endif

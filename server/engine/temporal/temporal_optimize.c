@@ -1,0 +1,332 @@
+/* A first optimizer of temporal jitter sequences (temporal_optimize.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "temporal_optimize.h"
+
+#define DEG2RAD (3.14159265358979323846 / 180.0)
+
+typedef struct opt_ctx {
+    aa_temporal t;
+    aa_point **rel; /* [group][sample]: the sample's position minus its frame's offset */
+    const aa_metric_params *mp;
+    size_t na;
+    double *angles, *weight, *dc, *ds;
+    aa_metric_workspace ws;
+    aa_sample *kernel;
+    double *gx, *gy, *e1, *factor;
+    long evaluations;
+} opt_ctx;
+
+static void ctx_free(opt_ctx *c)
+{
+    for (size_t g = 0; c->rel && g < c->t.group_count; g++)
+        free(c->rel[g]);
+    free(c->rel);
+    aa_temporal_free(&c->t);
+    free(c->angles);
+    free(c->weight);
+    free(c->dc);
+    free(c->kernel);
+    free(c->gx);
+    free(c->e1);
+    free(c->factor);
+    aa_metric_workspace_free(&c->ws);
+}
+
+static int ctx_init(opt_ctx *c, const aa_point *jitter, size_t n, aa_blend blend,
+                    const aa_pattern *frame, const aa_metric_params *mp, aa_error *err)
+{
+    memset(c, 0, sizeof *c);
+    aa_metric_workspace_init(&c->ws);
+    c->mp = mp;
+    aa_temporal_spec spec = {.count = n, .jitter = jitter, .frame = frame, .blend = blend};
+    int rc = aa_temporal_build(&c->t, &spec, err);
+    if (rc)
+        return rc;
+    if (!mp || !mp->filter || !mp->acuity)
+        return aa_error_set(err, AA_EINVAL, "", "metric parameters need a filter and an acuity");
+    c->angles = malloc(AA_MAX_ANGLES * sizeof *c->angles);
+    if (!c->angles)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    if (mp->angles_deg) {
+        if (mp->angle_count == 0 || mp->angle_count > AA_MAX_ANGLES)
+            return aa_error_set(err, AA_ERANGE, "angles", "1 to %d angles", AA_MAX_ANGLES);
+        memcpy(c->angles, mp->angles_deg, mp->angle_count * sizeof *c->angles);
+        c->na = mp->angle_count;
+    } else {
+        c->na = aa_acuity_default_angles(mp->acuity, c->angles, AA_MAX_ANGLES);
+    }
+    size_t m = 0, G = c->t.group_count;
+    for (size_t g = 0; g < G; g++)
+        m = c->t.groups[g].count > m ? c->t.groups[g].count : m;
+    c->weight = malloc(c->na * sizeof *c->weight);
+    c->dc = malloc(2 * c->na * sizeof *c->dc);
+    c->kernel = malloc(m * sizeof *c->kernel);
+    c->gx = malloc(2 * m * sizeof *c->gx);
+    c->e1 = malloc((n * G + 1) * c->na * sizeof *c->e1); /* + a scratch row */
+    c->factor = malloc(c->na * sizeof *c->factor);
+    c->rel = calloc(G, sizeof *c->rel);
+    if (!c->weight || !c->dc || !c->kernel || !c->gx || !c->e1 || !c->factor || !c->rel)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    c->ds = c->dc + c->na;
+    c->gy = c->gx + m;
+    for (size_t a = 0; a < c->na; a++) {
+        c->weight[a] = aa_acuity_weight(mp->acuity, c->angles[a]);
+        aa_metric_direction(c->angles[a] * DEG2RAD, &c->dc[a], &c->ds[a]);
+    }
+    for (size_t g = 0; g < G; g++) {
+        const aa_temporal_group *grp = &c->t.groups[g];
+        c->rel[g] = malloc(grp->count * sizeof **c->rel);
+        if (!c->rel[g])
+            return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        for (size_t s = 0; s < grp->count; s++)
+            c->rel[g][s] = (aa_point){grp->pos[s].x - jitter[grp->frame[s]].x,
+                                      grp->pos[s].y - jitter[grp->frame[s]].y};
+    }
+    return AA_OK;
+}
+
+static void set_offsets(opt_ctx *c, const aa_point *o)
+{
+    for (size_t g = 0; g < c->t.group_count; g++) {
+        aa_temporal_group *grp = &c->t.groups[g];
+        for (size_t s = 0; s < grp->count; s++)
+            grp->pos[s] = (aa_point){c->rel[g][s].x + o[grp->frame[s]].x,
+                                     c->rel[g][s].y + o[grp->frame[s]].y};
+    }
+}
+
+/* Phase p's kernel with every sample (zero weights too: the gradient maps sample s to its
+ * frame by index). */
+static size_t full_kernel(const opt_ctx *c, size_t g, size_t p)
+{
+    const aa_temporal_group *grp = &c->t.groups[g];
+    size_t N = c->t.phase_count;
+    for (size_t s = 0; s < grp->count; s++)
+        c->kernel[s] = (aa_sample){grp->pos[s].x, grp->pos[s].y,
+                                   c->t.age_weight[(p + N - grp->frame[s]) % N] * grp->in_frame[s]};
+    return grp->count;
+}
+
+/* M_q of the offsets o and, when grad is not NULL, its gradient per offset; *e2 the true
+ * maximum. q = 0: the maximum only. */
+static int objective(opt_ctx *c, const aa_point *o, double q, double *value, double *e2,
+                     aa_point *grad)
+{
+    set_offsets(c, o);
+    size_t N = c->t.phase_count, G = c->t.group_count, na = c->na;
+    double mx = 0;
+    int rc = AA_OK;
+    for (size_t p = 0; p < N && !rc; p++) {
+        for (size_t g = 0; g < G && !rc; g++) {
+            size_t n = full_kernel(c, g, p);
+            double *row = c->e1 + (p * G + g) * na;
+            rc = aa_e1_kernel_block(c->mp->filter, c->kernel, n, c->dc, c->ds, na, AA_E1_AUTO,
+                                    &c->ws, row);
+            for (size_t a = 0; a < na && !rc; a++)
+                mx = fmax(mx, c->weight[a] * row[a]);
+        }
+    }
+    c->evaluations++;
+    if (rc)
+        return rc;
+    *e2 = mx;
+    if (q == 0 || !(mx > 0)) {
+        *value = mx;
+        return AA_OK;
+    }
+    double K = (double)(N * G * na), sum = 0;
+    for (size_t i = 0; i < N * G * na; i++)
+        sum += pow(c->weight[i % na] * c->e1[i] / mx, q);
+    double M = mx * pow(sum / K, 1 / q);
+    *value = M;
+    if (!grad)
+        return AA_OK;
+    for (size_t f = 0; f < N; f++)
+        grad[f] = (aa_point){0, 0};
+    for (size_t p = 0; p < N && !rc; p++) {
+        for (size_t g = 0; g < G && !rc; g++) {
+            const double *row = c->e1 + (p * G + g) * na;
+            for (size_t a = 0; a < na; a++)
+                c->factor[a] = c->weight[a] * pow(c->weight[a] * row[a] / M, q - 1) / K;
+            size_t n = full_kernel(c, g, p);
+            memset(c->gx, 0, n * sizeof *c->gx);
+            memset(c->gy, 0, n * sizeof *c->gy);
+            rc = aa_e1_gradient_kernel_block(c->mp->filter, c->kernel, n, c->dc, c->ds, na,
+                                             c->factor, AA_E1_AUTO, &c->ws, c->e1 + N * G * na,
+                                             c->gx, c->gy, NULL);
+            const aa_temporal_group *grp = &c->t.groups[g];
+            for (size_t s = 0; s < n; s++) {
+                grad[grp->frame[s]].x += c->gx[s];
+                grad[grp->frame[s]].y += c->gy[s];
+            }
+        }
+    }
+    return rc;
+}
+
+static double clamp(double v, double h)
+{
+    return v < -h ? -h : v > h ? h : v;
+}
+
+/* Descent on M_q for q = 8 .. 128; o is updated in place. */
+static int descend(opt_ctx *c, aa_point *o, double half, int steps, aa_point *trial, aa_point *grad)
+{
+    size_t N = c->t.phase_count;
+    for (double q = 8; q <= 128; q *= 2) {
+        double F, e2;
+        int rc = objective(c, o, q, &F, &e2, grad);
+        double step = 0.05 * half * 2;
+        for (int it = 0; it < steps && !rc && step > 1e-7; it++) {
+            double gmax = 0;
+            for (size_t f = 0; f < N; f++)
+                gmax = fmax(gmax, fmax(fabs(grad[f].x), fabs(grad[f].y)));
+            if (!(gmax > 0))
+                break;
+            for (size_t f = 0; f < N; f++)
+                trial[f] = (aa_point){clamp(o[f].x - step * grad[f].x / gmax, half),
+                                      clamp(o[f].y - step * grad[f].y / gmax, half)};
+            double Ft, e2t;
+            rc = objective(c, trial, q, &Ft, &e2t, NULL);
+            if (!rc && Ft < F) {
+                memcpy(o, trial, N * sizeof *o);
+                rc = objective(c, o, q, &F, &e2, grad);
+                step *= 1.5;
+            } else {
+                step *= 0.5;
+            }
+        }
+        if (rc)
+            return rc;
+    }
+    return AA_OK;
+}
+
+/* Next permutation of a[0..n-1] in lexicographic order; false after the last. */
+static bool next_permutation(size_t *a, size_t n)
+{
+    if (n < 2)
+        return false;
+    size_t i = n - 1;
+    while (i > 0 && a[i - 1] >= a[i])
+        i--;
+    if (i == 0)
+        return false;
+    size_t j = n - 1;
+    while (a[j] <= a[i - 1])
+        j--;
+    size_t t = a[i - 1];
+    a[i - 1] = a[j];
+    a[j] = t;
+    for (size_t l = i, r = n - 1; l < r; l++, r--) {
+        t = a[l];
+        a[l] = a[r];
+        a[r] = t;
+    }
+    return true;
+}
+
+/* The best cyclic order of o (offset 0 first), by true E2; o is reordered in place. */
+static int best_order(opt_ctx *c, aa_point *o, aa_point *trial, double *best_e2)
+{
+    size_t N = c->t.phase_count;
+    size_t perm[8], best[8];
+    for (size_t i = 0; i < N; i++)
+        perm[i] = best[i] = i;
+    double F, e2;
+    int rc = objective(c, o, 0, &F, best_e2, NULL);
+    while (!rc && next_permutation(perm + 1, N - 1)) {
+        for (size_t i = 0; i < N; i++)
+            trial[i] = o[perm[i]];
+        rc = objective(c, trial, 0, &F, &e2, NULL);
+        if (!rc && e2 < *best_e2) {
+            *best_e2 = e2;
+            memcpy(best, perm, N * sizeof *best);
+        }
+    }
+    for (size_t i = 0; i < N; i++)
+        trial[i] = o[best[i]];
+    memcpy(o, trial, N * sizeof *o);
+    return rc;
+}
+
+int aa_temporal_e2(const aa_point *jitter, size_t n, aa_blend blend, const aa_pattern *frame,
+                   const aa_metric_params *metric, double *e2, aa_error *err)
+{
+    opt_ctx c;
+    int rc = ctx_init(&c, jitter, n, blend, frame, metric, err);
+    double F;
+    if (!rc)
+        rc = objective(&c, jitter, 0, &F, e2, NULL);
+    ctx_free(&c);
+    return rc;
+}
+
+int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
+                         aa_temporal_opt_result *result, aa_error *err)
+{
+    memset(result, 0, sizeof *result);
+    if (!(isfinite(p->range) && p->range > 0 && p->range <= 16))
+        return aa_error_set(err, AA_EINVAL, "jitter_range", "range must be in (0, 16]");
+    if (p->max_starts <= 0 && !(p->max_seconds > 0))
+        return aa_error_set(err, AA_EINVAL, "max_iterations", "give max_starts or max_seconds");
+    size_t N = p->count;
+    if (N == 0 || N > AA_TEMPORAL_MAX_PHASES)
+        return aa_error_set(err, AA_ERANGE, "jitter", "1 to %d offsets", AA_TEMPORAL_MAX_PHASES);
+    double half = p->range / 2;
+    aa_point *o = malloc(3 * N * sizeof *o), *trial = o ? o + N : NULL,
+             *grad = o ? o + 2 * N : NULL;
+    if (!o)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    aa_rng rng;
+    aa_rng_seed(&rng, p->seed, 30);
+    for (size_t f = 0; f < N; f++)
+        o[f] = p->start ? p->start[f]
+                        : (aa_point){(aa_rng_uniform(&rng) - 0.5) * p->range,
+                                     (aa_rng_uniform(&rng) - 0.5) * p->range};
+    opt_ctx c;
+    int rc = ctx_init(&c, o, N, p->blend, p->frame, p->metric, err);
+    double t0 = aa_monotonic_seconds();
+    result->e2 = INFINITY;
+    int steps = p->descent_steps > 0 ? p->descent_steps : 60;
+    bool reorder = N <= 8 && N > 2 && p->blend.kind == AA_BLEND_EXPONENTIAL;
+    for (long s = 0; !rc; s++) {
+        if (p->max_starts > 0 && s >= p->max_starts)
+            break;
+        if (p->max_seconds > 0 && s > 0 && aa_monotonic_seconds() - t0 >= p->max_seconds)
+            break;
+        for (size_t f = 0; f < N && s > 0; f++)
+            o[f] = (aa_point){(aa_rng_uniform(&rng) - 0.5) * p->range,
+                              (aa_rng_uniform(&rng) - 0.5) * p->range};
+        for (size_t f = 0; f < N; f++)
+            o[f] = (aa_point){clamp(o[f].x, half), clamp(o[f].y, half)};
+        rc = descend(&c, o, half, steps, trial, grad);
+        double e2, F;
+        if (!rc && reorder) {
+            rc = best_order(&c, o, trial, &e2);
+            if (!rc)
+                rc = descend(&c, o, half, steps, trial, grad);
+        }
+        if (!rc)
+            rc = objective(&c, o, 0, &F, &e2, NULL);
+        if (rc)
+            break;
+        if (s == 0)
+            result->first_e2 = e2;
+        if (e2 < result->e2) {
+            result->e2 = e2;
+            memcpy(best, o, N * sizeof *best);
+        }
+        result->starts = s + 1;
+    }
+    if (rc)
+        aa_error_set(err, rc, "", "the objective cannot be evaluated");
+    result->evaluations = c.evaluations;
+    result->seconds = aa_monotonic_seconds() - t0;
+    ctx_free(&c);
+    free(o);
+    return rc;
+}

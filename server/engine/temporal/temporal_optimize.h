@@ -1,0 +1,52 @@
+/* A first optimizer of temporal jitter sequences (docs/temporal.md section 8): moves the N
+ * offsets with the frame weights fixed by the blend, toward the smallest worst-phase E2.
+ *
+ * Each start descends a smooth stand-in for the maximum, the power mean
+ *   M_q = ( mean over phases, groups, angles of (W E1)^q )^(1/q),
+ * q raised from 8 to 64, by gradient steps with backtracking (the metric's exact E1 gradient,
+ * aa_e1_gradient_kernel_block, summed over the samples each offset moves) and the offsets
+ * clamped to the jitter square; then, for N <= 8 under an exponential blend, every cyclic order
+ * of the offsets (offset 0 kept first: (N-1)! orders) is evaluated and the best kept, and the
+ * descent runs again. The true E2 decides which start wins. Starts are random (uniform in the
+ * square) except the first, which is the given sequence when there is one. Without a resolve
+ * only (a resolve's weights move with the offsets). Reproducible when bounded by max_starts and
+ * max_seconds is 0. */
+#ifndef AA_TEMPORAL_OPTIMIZE_H
+#define AA_TEMPORAL_OPTIMIZE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "aa_metric.h"
+#include "temporal.h"
+
+typedef struct aa_temporal_opt_params {
+    size_t count; /* N */
+    aa_blend blend;
+    double range;            /* offsets in [-range/2, range/2]^2 */
+    const aa_pattern *frame; /* NULL: one sample at the pixel centre */
+    const aa_metric_params *metric;
+    const aa_point *start; /* [N] or NULL */
+    long max_starts;       /* 0: unbounded (then max_seconds must be > 0) */
+    double max_seconds;    /* 0: unbounded */
+    int descent_steps;     /* per q level; 0: 60 */
+    uint64_t seed;
+} aa_temporal_opt_params;
+
+typedef struct aa_temporal_opt_result {
+    double e2;        /* of best */
+    long starts;      /* run */
+    long evaluations; /* objective and gradient evaluations */
+    double seconds;
+    double first_e2; /* the first start's result */
+} aa_temporal_opt_result;
+
+/* best: [N]. Errors as aa_temporal_build, and AA_EINVAL for a bad range or no bound. */
+int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
+                         aa_temporal_opt_result *result, aa_error *err);
+
+/* Worst-phase E2 of a sequence under the blend (no after-cut curve, no flicker). */
+int aa_temporal_e2(const aa_point *jitter, size_t n, aa_blend blend, const aa_pattern *frame,
+                   const aa_metric_params *metric, double *e2, aa_error *err);
+
+#endif
