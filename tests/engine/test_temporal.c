@@ -459,6 +459,40 @@ static void test_resolve_and_frame_pattern(void **state)
     assert_string_equal(err.field, "jitter[1]");
 }
 
+/* dF1/dp against central differences of F1 in the offsets (h = 1e-6), Halton x8 at alpha 0.1. */
+static void test_flicker_gradient(void **state)
+{
+    (void)state;
+    aa_point jitter[8];
+    halton23(jitter, 8);
+    aa_temporal t;
+    build(&t, jitter, 8, exponential(0.1));
+    double worst = 0;
+    for (double deg = 2.5; deg < 180; deg += 17) {
+        double ct = cos(deg * REF_PI / 180), st = sin(deg * REF_PI / 180), f1, dp[8];
+        assert_int_equal(aa_temporal_flicker_at_direction(&t, 0, ct, st, &f1, dp), AA_OK);
+        for (size_t s = 0; s < 8; s++) {
+            const double h = 1e-6;
+            aa_point keep = t.groups[0].pos[s];
+            double fp, fm;
+            t.groups[0].pos[s].x = keep.x + h * ct;
+            t.groups[0].pos[s].y = keep.y + h * st;
+            assert_int_equal(aa_temporal_flicker_at_direction(&t, 0, ct, st, &fp, NULL), AA_OK);
+            t.groups[0].pos[s].x = keep.x - h * ct;
+            t.groups[0].pos[s].y = keep.y - h * st;
+            assert_int_equal(aa_temporal_flicker_at_direction(&t, 0, ct, st, &fm, NULL), AA_OK);
+            t.groups[0].pos[s] = keep;
+            double fd = (fp - fm) / (2 * h);
+            double rel = fabs(fd - dp[s]) / fmax(fabs(fd), 1e-3);
+            if (rel > worst)
+                worst = rel;
+        }
+    }
+    printf("flicker gradient against central differences: worst %.3g\n", worst);
+    assert_true(worst <= 1e-6);
+    aa_temporal_free(&t);
+}
+
 /* The optimizer: one start from Halton(2,3) x 8 at alpha 0.1 lowers E2, stays in the jitter
  * square, and the same bound gives the same sequence bit for bit. */
 static void test_optimizer(void **state)
@@ -508,6 +542,7 @@ int main(void)
         cmocka_unit_test(test_stability),
         cmocka_unit_test(test_halton8_against_issue),
         cmocka_unit_test(test_resolve_and_frame_pattern),
+        cmocka_unit_test(test_flicker_gradient),
         cmocka_unit_test(test_optimizer),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

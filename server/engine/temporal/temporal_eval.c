@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "temporal_eval.h"
+#include "temporal_flicker.h"
 
 #define DEG2RAD (3.14159265358979323846 / 180.0)
 
@@ -17,91 +18,6 @@ void aa_temporal_evaluation_free(aa_temporal_evaluation *e)
     free(e->f1);
     free(e->after_cut);
     memset(e, 0, sizeof *e);
-}
-
-typedef struct flicker_scratch {
-    double *p;
-    size_t *order;
-    double *dev; /* age weight minus the mean, per age */
-} flicker_scratch;
-
-/* Insertion sort by (key, index), ties in input order as in the metric: the order carries over
- * from the previous angle, so it is nearly sorted already (qsort has no context argument). */
-static void sort_order(const double *key, size_t *order, size_t n)
-{
-    for (size_t i = 1; i < n; i++) {
-        size_t v = order[i];
-        size_t j = i;
-        while (j > 0 &&
-               (key[order[j - 1]] > key[v] || (key[order[j - 1]] == key[v] && order[j - 1] > v))) {
-            order[j] = order[j - 1];
-            j--;
-        }
-        order[j] = v;
-    }
-}
-
-/* F1^2 = (1/N) sum_p sum_k len_k D_{p,k}^2, D_{p,k} the prefix sum over the sorted samples of
- * phase p's weight minus the mean weight: every term >= 0. The order array must hold a
- * permutation of the group's samples (any: it is re-sorted). */
-static double flicker_sorted(const aa_temporal *t, size_t g, double ct, double st,
-                             flicker_scratch *sc)
-{
-    const aa_temporal_group *grp = &t->groups[g];
-    size_t m = grp->count, N = t->phase_count;
-    for (size_t i = 0; i < m; i++)
-        sc->p[i] = grp->pos[i].x * ct + grp->pos[i].y * st;
-    sort_order(sc->p, sc->order, m);
-    double total = 0;
-    for (size_t ph = 0; ph < N; ph++) {
-        double D = 0, sum = 0;
-        for (size_t k = 0; k + 1 < m; k++) {
-            size_t s = sc->order[k];
-            D += grp->in_frame[s] * sc->dev[(ph + N - grp->frame[s]) % N];
-            double len = sc->p[sc->order[k + 1]] - sc->p[s];
-            sum += len * D * D;
-        }
-        total += sum;
-    }
-    return sqrt(total / (double)N);
-}
-
-static int flicker_scratch_init(flicker_scratch *sc, const aa_temporal *t, size_t m)
-{
-    sc->p = malloc((m ? m : 1) * sizeof *sc->p);
-    sc->order = malloc((m ? m : 1) * sizeof *sc->order);
-    sc->dev = malloc(t->phase_count * sizeof *sc->dev);
-    if (!sc->p || !sc->order || !sc->dev)
-        return AA_ENOMEM;
-    double mean = 0;
-    for (size_t j = 0; j < t->phase_count; j++)
-        mean += t->age_weight[j];
-    mean /= (double)t->phase_count;
-    for (size_t j = 0; j < t->phase_count; j++)
-        sc->dev[j] = t->age_weight[j] - mean;
-    return AA_OK;
-}
-
-static void flicker_scratch_free(flicker_scratch *sc)
-{
-    free(sc->p);
-    free(sc->order);
-    free(sc->dev);
-}
-
-int aa_temporal_flicker_at_direction(const aa_temporal *t, size_t g, double ct, double st,
-                                     double *f1)
-{
-    flicker_scratch sc;
-    size_t m = t->groups[g].count;
-    int rc = flicker_scratch_init(&sc, t, m);
-    if (!rc) {
-        for (size_t i = 0; i < m; i++)
-            sc.order[i] = i;
-        *f1 = flicker_sorted(t, g, ct, st, &sc);
-    }
-    flicker_scratch_free(&sc);
-    return rc;
 }
 
 static int resolve_angles(const aa_metric_params *params, aa_temporal_evaluation *out,
@@ -183,11 +99,11 @@ int aa_temporal_evaluate(const aa_temporal *t, const aa_metric_params *params, s
     aa_sample *kernel = malloc((m ? m : 1) * sizeof *kernel);
     double *row = malloc(na * sizeof *row);
     double *cut_w = malloc(K * sizeof *cut_w), *frame_sum = malloc(N * sizeof *frame_sum);
-    flicker_scratch sc = {0};
+    aa_flicker_scratch sc = {0};
     aa_metric_workspace ws;
     aa_metric_workspace_init(&ws);
     if (!out->phase_e2 || !out->weight || !out->e1 || !out->f1 || !out->after_cut || !dc ||
-        !kernel || !row || !cut_w || !frame_sum || flicker_scratch_init(&sc, t, m))
+        !kernel || !row || !cut_w || !frame_sum || aa_flicker_scratch_init(&sc, t, m))
         rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     for (size_t a = 0; a < na && !rc; a++) {
         out->weight[a] = aa_acuity_weight(params->acuity, out->angles_deg[a]);
@@ -226,10 +142,9 @@ int aa_temporal_evaluate(const aa_temporal *t, const aa_metric_params *params, s
     /* Flicker: the angles in order, so each sort starts from the previous angle's order. */
     out->f2 = -1;
     for (size_t g = 0; g < G && !rc; g++) {
-        for (size_t i = 0; i < t->groups[g].count; i++)
-            sc.order[i] = i;
+        aa_flicker_scratch_reset(&sc, t->groups[g].count);
         for (size_t a = 0; a < na; a++) {
-            double f1 = flicker_sorted(t, g, dc[a], ds[a], &sc);
+            double f1 = aa_flicker_sorted(t, g, dc[a], ds[a], &sc, NULL);
             out->f1[g * na + a] = f1;
             if (out->weight[a] * f1 > out->f2) {
                 out->f2 = out->weight[a] * f1;
@@ -263,7 +178,7 @@ int aa_temporal_evaluate(const aa_temporal *t, const aa_metric_params *params, s
         }
     }
     aa_metric_workspace_free(&ws);
-    flicker_scratch_free(&sc);
+    aa_flicker_scratch_free(&sc);
     free(dc);
     free(kernel);
     free(row);

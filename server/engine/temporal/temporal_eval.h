@@ -46,8 +46,9 @@ int aa_temporal_evaluate(const aa_temporal *t, const aa_metric_params *params, s
                          aa_temporal_evaluation *out, aa_error *err);
 void aa_temporal_evaluation_free(aa_temporal_evaluation *e);
 
-/* F1 of one group at one direction (cos, sin); scratch: the workspace's arrays are not used. */
+/* F1 of one group at one direction (cos, sin), and its derivative in each sample's projection
+ * (dp: the group's count, or NULL). Errors: AA_ENOMEM. */
 int aa_temporal_flicker_at_direction(const aa_temporal *t, size_t g, double ct, double st,
-                                     double *f1);
+                                     double *f1, double *dp);
 
 #endif
