@@ -2,7 +2,8 @@
  * mean over phases, F2 and frames to 5 % after a cut, side by side; then the first optimizer of
  * the offsets (temporal_optimize.h) for N = 8, alpha = 0.1, no resolve, within a time budget
  * (argv[1] seconds, default 60; one thread), against Halton(2,3) x 8 from index 1 in the same
- * run. `bench_temporal grid S` also runs N = 4, 8, 16 at alpha 0.05, 0.1, 0.2 for S seconds each.
+ * run, and with argv[2] = lambda > 0 again with the objective E2 + lambda F2.
+ * `bench_temporal grid S` also runs N = 4, 8, 16 at alpha 0.05, 0.1, 0.2 for S seconds each.
  * The sequences are generated as the presets of proto/temporal_presets.c state them. */
 #include <math.h>
 #include <stdio.h>
@@ -92,7 +93,7 @@ static void presets(void)
     }
 }
 
-static void optimize(size_t n, double alpha, double seconds, uint64_t seed)
+static void optimize(size_t n, double alpha, double seconds, double lambda, uint64_t seed)
 {
     aa_point start[16], best[16];
     halton(start, n, 1);
@@ -107,6 +108,7 @@ static void optimize(size_t n, double alpha, double seconds, uint64_t seed)
                                 .metric = &mp,
                                 .start = start,
                                 .max_seconds = seconds,
+                                .flicker_weight = lambda,
                                 .seed = seed};
     aa_temporal_opt_result r;
     if (aa_temporal_optimize(&p, best, &r, &err))
@@ -115,11 +117,11 @@ static void optimize(size_t n, double alpha, double seconds, uint64_t seed)
     char name[48];
     snprintf(name, sizeof name, "Halton N%zu a%g", n, alpha);
     report(name, start, n, blend, NULL, &ev_h);
-    snprintf(name, sizeof name, "optimized N%zu a%g", n, alpha);
+    snprintf(name, sizeof name, "optimized N%zu a%g l%g", n, alpha, lambda);
     report(name, best, n, blend, NULL, &ev_o);
     printf("  -> E2 ratio to Halton %.3f, F2 ratio %.3f; %ld starts, %ld evaluations, %.1f s "
            "(first start, from Halton: %.4f)\n",
-           ev_o.e2 / ev_h.e2, ev_o.f2 / ev_h.f2, r.starts, r.evaluations, r.seconds, r.first_e2);
+           ev_o.e2 / ev_h.e2, ev_o.f2 / ev_h.f2, r.starts, r.evaluations, r.seconds, r.first_score);
     printf("  offsets:");
     for (size_t f = 0; f < n; f++)
         printf(" (%.4f, %.4f)", best[f].x, best[f].y);
@@ -141,10 +143,13 @@ int main(int argc, char **argv)
         const double as[] = {0.05, 0.1, 0.2};
         for (size_t i = 0; i < 3; i++)
             for (size_t k = 0; k < 3; k++)
-                optimize(ns[i], as[k], s, 1);
+                optimize(ns[i], as[k], s, 0, 1);
         return 0;
     }
     double seconds = argc > 1 ? atof(argv[1]) : 60;
-    optimize(8, 0.1, seconds, 1);
+    double lambda = argc > 2 ? atof(argv[2]) : 0;
+    optimize(8, 0.1, seconds, 0, 1);
+    if (lambda > 0)
+        optimize(8, 0.1, seconds, lambda, 1);
     return 0;
 }

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "temporal_flicker.h"
 #include "temporal_optimize.h"
 
 #define DEG2RAD (3.14159265358979323846 / 180.0)
@@ -16,6 +17,9 @@ typedef struct opt_ctx {
     aa_metric_workspace ws;
     aa_sample *kernel;
     double *gx, *gy, *e1, *factor;
+    double flicker_weight; /* lambda */
+    aa_flicker_scratch fs;
+    double *f1, *dp; /* [group][angle], [sample] */
     long evaluations;
 } opt_ctx;
 
@@ -32,6 +36,9 @@ static void ctx_free(opt_ctx *c)
     free(c->gx);
     free(c->e1);
     free(c->factor);
+    free(c->f1);
+    free(c->dp);
+    aa_flicker_scratch_free(&c->fs);
     aa_metric_workspace_free(&c->ws);
 }
 
@@ -68,7 +75,10 @@ static int ctx_init(opt_ctx *c, const aa_point *jitter, size_t n, aa_blend blend
     c->e1 = malloc((n * G + 1) * c->na * sizeof *c->e1); /* + a scratch row */
     c->factor = malloc(c->na * sizeof *c->factor);
     c->rel = calloc(G, sizeof *c->rel);
-    if (!c->weight || !c->dc || !c->kernel || !c->gx || !c->e1 || !c->factor || !c->rel)
+    c->f1 = malloc(G * c->na * sizeof *c->f1);
+    c->dp = malloc(m * sizeof *c->dp);
+    if (!c->weight || !c->dc || !c->kernel || !c->gx || !c->e1 || !c->factor || !c->rel || !c->f1 ||
+        !c->dp || aa_flicker_scratch_init(&c->fs, &c->t, m))
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     c->ds = c->dc + c->na;
     c->gy = c->gx + m;
@@ -110,10 +120,70 @@ static size_t full_kernel(const opt_ctx *c, size_t g, size_t p)
     return grp->count;
 }
 
-/* M_q of the offsets o and, when grad is not NULL, its gradient per offset; *e2 the true
- * maximum. q = 0: the maximum only. */
-static int objective(opt_ctx *c, const aa_point *o, double q, double *value, double *e2,
+/* lambda times the power mean of W F1 over groups and angles (its maximum, F2, when q = 0),
+ * added to *value, and its gradient added to grad (when not NULL); *f2 the true F2. */
+static void flicker_term(opt_ctx *c, double q, double *value, double *f2, aa_point *grad)
+{
+    size_t G = c->t.group_count, na = c->na;
+    double mx = 0;
+    for (size_t g = 0; g < G; g++) {
+        aa_flicker_scratch_reset(&c->fs, c->t.groups[g].count);
+        for (size_t a = 0; a < na; a++) {
+            c->f1[g * na + a] = aa_flicker_sorted(&c->t, g, c->dc[a], c->ds[a], &c->fs, NULL);
+            mx = fmax(mx, c->weight[a] * c->f1[g * na + a]);
+        }
+    }
+    *f2 = mx;
+    if (q == 0 || !(mx > 0)) {
+        *value += c->flicker_weight * mx;
+        return;
+    }
+    double K = (double)(G * na), sum = 0;
+    for (size_t i = 0; i < G * na; i++)
+        sum += pow(c->weight[i % na] * c->f1[i] / mx, q);
+    double M = mx * pow(sum / K, 1 / q);
+    *value += c->flicker_weight * M;
+    if (!grad)
+        return;
+    for (size_t g = 0; g < G; g++) {
+        const aa_temporal_group *grp = &c->t.groups[g];
+        aa_flicker_scratch_reset(&c->fs, grp->count);
+        for (size_t a = 0; a < na; a++) {
+            double v = c->weight[a] * c->f1[g * na + a];
+            if (!(v > 0))
+                continue;
+            double factor = c->flicker_weight * c->weight[a] * pow(v / M, q - 1) / K;
+            aa_flicker_sorted(&c->t, g, c->dc[a], c->ds[a], &c->fs, c->dp);
+            for (size_t s = 0; s < grp->count; s++) {
+                grad[grp->frame[s]].x += factor * c->dp[s] * c->dc[a];
+                grad[grp->frame[s]].y += factor * c->dp[s] * c->ds[a];
+            }
+        }
+    }
+}
+
+/* M_q of the offsets o (plus lambda times the flicker's) and, when grad is not NULL, its
+ * gradient per offset; *e2 the true maximum and, with lambda > 0, *score = E2 + lambda F2.
+ * q = 0: the maxima only. */
+static int objective_e2(opt_ctx *c, const aa_point *o, double q, double *value, double *e2,
+                        aa_point *grad);
+
+static int objective(opt_ctx *c, const aa_point *o, double q, double *value, double *score,
                      aa_point *grad)
+{
+    double e2 = 0;
+    int rc = objective_e2(c, o, q, value, &e2, grad);
+    *score = e2;
+    if (!rc && c->flicker_weight > 0) {
+        double f2;
+        flicker_term(c, q, value, &f2, grad);
+        *score = e2 + c->flicker_weight * f2;
+    }
+    return rc;
+}
+
+static int objective_e2(opt_ctx *c, const aa_point *o, double q, double *value, double *e2,
+                        aa_point *grad)
 {
     set_offsets(c, o);
     size_t N = c->t.phase_count, G = c->t.group_count, na = c->na;
@@ -289,8 +359,11 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
                                      (aa_rng_uniform(&rng) - 0.5) * p->range};
     opt_ctx c;
     int rc = ctx_init(&c, o, N, p->blend, p->frame, p->metric, err);
+    if (!rc && !(isfinite(p->flicker_weight) && p->flicker_weight >= 0 && p->flicker_weight <= 1e3))
+        rc = aa_error_set(err, AA_EINVAL, "flicker_weight", "lambda must be in [0, 1000]");
+    c.flicker_weight = rc ? 0 : p->flicker_weight;
     double t0 = aa_monotonic_seconds();
-    result->e2 = INFINITY;
+    result->score = INFINITY;
     int steps = p->descent_steps > 0 ? p->descent_steps : 60;
     bool reorder = N <= 8 && N > 2 && p->blend.kind == AA_BLEND_EXPONENTIAL;
     for (long s = 0; !rc; s++) {
@@ -315,14 +388,21 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
         if (rc)
             break;
         if (s == 0)
-            result->first_e2 = e2;
-        if (e2 < result->e2) {
-            result->e2 = e2;
+            result->first_score = e2;
+        if (e2 < result->score) {
+            result->score = e2;
             memcpy(best, o, N * sizeof *best);
         }
         result->starts = s + 1;
     }
-    if (rc)
+    if (!rc && result->starts > 0) {
+        /* The winner's E2 and F2 apart. */
+        double F;
+        rc = objective_e2(&c, best, 0, &F, &result->e2, NULL);
+        if (!rc)
+            flicker_term(&c, 0, &F, &result->f2, NULL);
+    }
+    if (rc && (!err || !err->code))
         aa_error_set(err, rc, "", "the objective cannot be evaluated");
     result->evaluations = c.evaluations;
     result->seconds = aa_monotonic_seconds() - t0;

@@ -30,15 +30,17 @@ typedef struct aa_temporal_opt_params {
     long max_starts;       /* 0: unbounded (then max_seconds must be > 0) */
     double max_seconds;    /* 0: unbounded */
     int descent_steps;     /* per q level; 0: 60 */
+    double flicker_weight; /* lambda: the objective is E2 + lambda F2 (power means in descent) */
     uint64_t seed;
 } aa_temporal_opt_params;
 
 typedef struct aa_temporal_opt_result {
-    double e2;        /* of best */
+    double score;     /* of best: E2 + lambda F2 */
+    double e2, f2;    /* of best */
     long starts;      /* run */
     long evaluations; /* objective and gradient evaluations */
     double seconds;
-    double first_e2; /* the first start's result */
+    double first_score; /* the first start's result */
 } aa_temporal_opt_result;
 
 /* best: [N]. Errors as aa_temporal_build, and AA_EINVAL for a bad range or no bound. */
