@@ -18,6 +18,7 @@ typedef struct opt_ctx {
     aa_sample *kernel;
     double *gx, *gy, *e1, *factor;
     double flicker_weight; /* lambda */
+    double flicker_cap;    /* > 0: penalise F2 above it only */
     aa_flicker_scratch fs;
     double *f1, *dp; /* [group][angle], [sample] */
     long evaluations;
@@ -134,16 +135,17 @@ static void flicker_term(opt_ctx *c, double q, double *value, double *f2, aa_poi
         }
     }
     *f2 = mx;
+    double cap = c->flicker_cap;
     if (q == 0 || !(mx > 0)) {
-        *value += c->flicker_weight * mx;
+        *value += c->flicker_weight * (cap > 0 ? fmax(0, mx - cap) : mx);
         return;
     }
     double K = (double)(G * na), sum = 0;
     for (size_t i = 0; i < G * na; i++)
         sum += pow(c->weight[i % na] * c->f1[i] / mx, q);
     double M = mx * pow(sum / K, 1 / q);
-    *value += c->flicker_weight * M;
-    if (!grad)
+    *value += c->flicker_weight * (cap > 0 ? fmax(0, M - cap) : M);
+    if (!grad || (cap > 0 && M <= cap))
         return;
     for (size_t g = 0; g < G; g++) {
         const aa_temporal_group *grp = &c->t.groups[g];
@@ -177,7 +179,7 @@ static int objective(opt_ctx *c, const aa_point *o, double q, double *value, dou
     if (!rc && c->flicker_weight > 0) {
         double f2;
         flicker_term(c, q, value, &f2, grad);
-        *score = e2 + c->flicker_weight * f2;
+        *score = e2 + c->flicker_weight * (c->flicker_cap > 0 ? fmax(0, f2 - c->flicker_cap) : f2);
     }
     return rc;
 }
@@ -362,6 +364,7 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
     if (!rc && !(isfinite(p->flicker_weight) && p->flicker_weight >= 0 && p->flicker_weight <= 1e3))
         rc = aa_error_set(err, AA_EINVAL, "flicker_weight", "lambda must be in [0, 1000]");
     c.flicker_weight = rc ? 0 : p->flicker_weight;
+    c.flicker_cap = isfinite(p->flicker_cap) && p->flicker_cap > 0 ? p->flicker_cap : 0;
     double t0 = aa_monotonic_seconds();
     result->score = INFINITY;
     int steps = p->descent_steps > 0 ? p->descent_steps : 60;

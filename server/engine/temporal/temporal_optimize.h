@@ -31,6 +31,7 @@ typedef struct aa_temporal_opt_params {
     double max_seconds;    /* 0: unbounded */
     int descent_steps;     /* per q level; 0: 60 */
     double flicker_weight; /* lambda: the objective is E2 + lambda F2 (power means in descent) */
+    double flicker_cap;    /* > 0: E2 + lambda max(0, F2 - cap) instead (a penalty above a cap) */
     uint64_t seed;
 } aa_temporal_opt_params;
 
