@@ -4,7 +4,9 @@
  * (argv[1] seconds, default 60; one thread), against Halton(2,3) x 8 from index 1 in the same
  * run, and with argv[2] = lambda > 0 again with the objective E2 + lambda F2 and with
  * E2 + lambda max(0, F2 - Halton's F2).
- * `bench_temporal grid S` also runs N = 4, 8, 16 at alpha 0.05, 0.1, 0.2 for S seconds each.
+ * `bench_temporal S L gaussian` also optimizes under the urp-like Gaussian resolve;
+ * `bench_temporal grid S` also runs N = 4, 8, 16 at alpha 0.05, 0.1, 0.2 for S seconds
+ * each, without and with that resolve.
  * The sequences are generated as the presets of proto/temporal_presets.c state them. */
 #include <math.h>
 #include <stdbool.h>
@@ -19,6 +21,7 @@
 static aa_filter filter;
 static aa_acuity acuity;
 static aa_metric_params mp;
+static aa_temporal_resolve gaussian = {.radius = 1}; /* the urp-like resolve: sigma 0.5, 3 x 3 */
 
 static void die(const char *what, const aa_error *err)
 {
@@ -95,20 +98,21 @@ static void presets(void)
     }
 }
 
-static void optimize(size_t n, double alpha, double seconds, double lambda, bool cap, uint64_t seed)
+static void optimize(size_t n, double alpha, double seconds, double lambda, bool cap,
+                     const aa_temporal_resolve *rs, uint64_t seed)
 {
     aa_point start[16], best[16];
     halton(start, n, 1);
     aa_blend blend = {AA_BLEND_EXPONENTIAL, alpha};
     aa_error err = {0};
     double halton_e2;
-    if (aa_temporal_e2(start, n, blend, NULL, &mp, &halton_e2, &err))
+    if (aa_temporal_e2(start, n, blend, NULL, rs, &mp, &halton_e2, &err))
         die("halton e2", &err);
     double halton_f2 = 0;
     if (cap) {
         aa_temporal t;
         aa_temporal_evaluation ev;
-        aa_temporal_spec spec = {.count = n, .jitter = start, .blend = blend};
+        aa_temporal_spec spec = {.count = n, .jitter = start, .resolve = rs, .blend = blend};
         if (aa_temporal_build(&t, &spec, &err) || aa_temporal_evaluate(&t, &mp, 1, &ev, &err))
             die("halton f2", &err);
         halton_f2 = ev.f2;
@@ -123,16 +127,18 @@ static void optimize(size_t n, double alpha, double seconds, double lambda, bool
                                 .max_seconds = seconds,
                                 .flicker_weight = lambda,
                                 .flicker_cap = halton_f2,
+                                .resolve = rs,
                                 .seed = seed};
     aa_temporal_opt_result r;
     if (aa_temporal_optimize(&p, best, &r, &err))
         die("optimize", &err);
     aa_temporal_evaluation ev_h, ev_o;
     char name[48];
-    snprintf(name, sizeof name, "Halton N%zu a%g", n, alpha);
-    report(name, start, n, blend, NULL, &ev_h);
-    snprintf(name, sizeof name, "optimized N%zu a%g l%g%s", n, alpha, lambda, cap ? " cap" : "");
-    report(name, best, n, blend, NULL, &ev_o);
+    snprintf(name, sizeof name, "Halton N%zu a%g%s", n, alpha, rs ? " G" : "");
+    report(name, start, n, blend, rs, &ev_h);
+    snprintf(name, sizeof name, "optimized N%zu a%g l%g%s%s", n, alpha, lambda, cap ? " cap" : "",
+             rs ? " G" : "");
+    report(name, best, n, blend, rs, &ev_o);
     printf("  -> E2 ratio to Halton %.3f, F2 ratio %.3f; %ld starts, %ld evaluations, %.1f s "
            "(first start, from Halton: %.4f)\n",
            ev_o.e2 / ev_h.e2, ev_o.f2 / ev_h.f2, r.starts, r.evaluations, r.seconds, r.first_score);
@@ -149,23 +155,29 @@ int main(int argc, char **argv)
     aa_filter_default(&filter);
     aa_acuity_naiman(&acuity);
     mp = (aa_metric_params){.filter = &filter, .acuity = &acuity};
+    aa_error err = {0};
+    if (aa_filter_gaussian(&gaussian.filter, 0.5, 2, &err))
+        die("gaussian", &err);
     presets();
     printf("\n");
     if (argc > 1 && !strcmp(argv[1], "grid")) {
         double s = argc > 2 ? atof(argv[2]) : 10;
         const size_t ns[] = {4, 8, 16};
         const double as[] = {0.05, 0.1, 0.2};
-        for (size_t i = 0; i < 3; i++)
-            for (size_t k = 0; k < 3; k++)
-                optimize(ns[i], as[k], s, 0, false, 1);
+        for (int r = 0; r < 2; r++)
+            for (size_t i = 0; i < 3; i++)
+                for (size_t k = 0; k < 3; k++)
+                    optimize(ns[i], as[k], s, 0, false, r ? &gaussian : NULL, 1);
         return 0;
     }
     double seconds = argc > 1 ? atof(argv[1]) : 60;
     double lambda = argc > 2 ? atof(argv[2]) : 0;
-    optimize(8, 0.1, seconds, 0, false, 1);
+    optimize(8, 0.1, seconds, 0, false, NULL, 1);
     if (lambda > 0) {
-        optimize(8, 0.1, seconds, lambda, false, 1);
-        optimize(8, 0.1, seconds, lambda, true, 1);
+        optimize(8, 0.1, seconds, lambda, false, NULL, 1);
+        optimize(8, 0.1, seconds, lambda, true, NULL, 1);
     }
+    if (argc > 3 && !strcmp(argv[3], "gaussian"))
+        optimize(8, 0.1, seconds, 0, false, &gaussian, 1);
     return 0;
 }

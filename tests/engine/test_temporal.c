@@ -493,6 +493,55 @@ static void test_flicker_gradient(void **state)
     aa_temporal_free(&t);
 }
 
+/* The optimizer's objective gradient against central differences (h = 1e-6) of the objective:
+ * E2's power mean, q = 16, without a resolve, with E2 + F2, and under a Gaussian resolve (whose
+ * weights move with the offsets). */
+static void test_objective_gradient(void **state)
+{
+    (void)state;
+    aa_point jitter[6], grad[6];
+    halton23(jitter, 6);
+    jitter[2].x += 0.01; /* off the Halton lattice: no ties in projections */
+    aa_temporal_resolve rs = {.radius = 1};
+    aa_error err = {0};
+    assert_int_equal(aa_filter_gaussian(&rs.filter, 0.5, 2, &err), AA_OK);
+    const struct {
+        const aa_temporal_resolve *rs;
+        double lambda;
+    } cases[] = {{NULL, 0}, {NULL, 1}, {&rs, 0}};
+    aa_blend blend = exponential(0.2);
+    for (size_t c = 0; c < 3; c++) {
+        double v, worst = 0;
+        assert_int_equal(aa_temporal_power_mean(jitter, 6, blend, NULL, cases[c].rs, &params, 16,
+                                                cases[c].lambda, &v, grad, &err),
+                         AA_OK);
+        for (size_t f = 0; f < 6; f++) {
+            for (int axis = 0; axis < 2; axis++) {
+                const double h = 1e-6;
+                double *coord = axis ? &jitter[f].y : &jitter[f].x, keep = *coord, vp, vm;
+                *coord = keep + h;
+                assert_int_equal(aa_temporal_power_mean(jitter, 6, blend, NULL, cases[c].rs,
+                                                        &params, 16, cases[c].lambda, &vp, NULL,
+                                                        &err),
+                                 AA_OK);
+                *coord = keep - h;
+                assert_int_equal(aa_temporal_power_mean(jitter, 6, blend, NULL, cases[c].rs,
+                                                        &params, 16, cases[c].lambda, &vm, NULL,
+                                                        &err),
+                                 AA_OK);
+                *coord = keep;
+                double fd = (vp - vm) / (2 * h), got = axis ? grad[f].y : grad[f].x;
+                double rel = fabs(fd - got) / fmax(fabs(fd), 1e-2);
+                if (rel > worst)
+                    worst = rel;
+            }
+        }
+        printf("objective gradient (%s, lambda %g): worst against central differences %.3g\n",
+               cases[c].rs ? "Gaussian resolve" : "no resolve", cases[c].lambda, worst);
+        assert_true(worst <= 1e-5);
+    }
+}
+
 /* The optimizer: one start from Halton(2,3) x 8 at alpha 0.1 lowers E2, stays in the jitter
  * square, and the same bound gives the same sequence bit for bit. */
 static void test_optimizer(void **state)
@@ -503,7 +552,7 @@ static void test_optimizer(void **state)
     aa_blend blend = exponential(0.1);
     double halton_e2;
     aa_error err = {0};
-    assert_int_equal(aa_temporal_e2(start, 8, blend, NULL, &params, &halton_e2, &err), AA_OK);
+    assert_int_equal(aa_temporal_e2(start, 8, blend, NULL, NULL, &params, &halton_e2, &err), AA_OK);
     aa_temporal_opt_params p = {.count = 8,
                                 .blend = blend,
                                 .range = 1,
@@ -518,7 +567,7 @@ static void test_optimizer(void **state)
     assert_memory_equal(a, b, sizeof a);
     assert_true(ra.e2 == rb.e2 && ra.starts == 1);
     double check;
-    assert_int_equal(aa_temporal_e2(a, 8, blend, NULL, &params, &check, &err), AA_OK);
+    assert_int_equal(aa_temporal_e2(a, 8, blend, NULL, NULL, &params, &check, &err), AA_OK);
     assert_true(check == ra.e2);
     for (size_t f = 0; f < 8; f++)
         assert_true(fabs(a[f].x) <= 0.5 && fabs(a[f].y) <= 0.5);
@@ -527,6 +576,36 @@ static void test_optimizer(void **state)
     assert_true(ra.e2 < halton_e2);
     p.max_starts = 0;
     assert_int_equal(aa_temporal_optimize(&p, a, &ra, &err), AA_EINVAL);
+
+    /* Under a Gaussian resolve the frame weights move with the offsets: one start lowers E2,
+     * and the optimizer's E2 is the evaluation's. */
+    aa_temporal_resolve rs = {.radius = 1};
+    assert_int_equal(aa_filter_gaussian(&rs.filter, 0.5, 2, &err), AA_OK);
+    double halton_g;
+    assert_int_equal(aa_temporal_e2(start, 8, blend, NULL, &rs, &params, &halton_g, &err), AA_OK);
+    aa_temporal_spec spec = {.count = 8, .jitter = start, .resolve = &rs, .blend = blend};
+    aa_temporal t;
+    aa_temporal_evaluation ev;
+    assert_int_equal(aa_temporal_build(&t, &spec, &err), AA_OK);
+    evaluate(&t, 1, &ev);
+    assert_true(fabs(ev.e2 - halton_g) <= 1e-15 * halton_g);
+    aa_temporal_evaluation_free(&ev);
+    aa_temporal_free(&t);
+    p.max_starts = 1;
+    p.resolve = &rs;
+    assert_int_equal(aa_temporal_optimize(&p, a, &ra, &err), AA_OK);
+    spec.jitter = a;
+    assert_int_equal(aa_temporal_build(&t, &spec, &err), AA_OK);
+    evaluate(&t, 1, &ev);
+    printf("optimizer under a Gaussian resolve, one start: E2 %.4f -> %.4f (evaluated %.4f)\n",
+           halton_g, ra.e2, ev.e2);
+    assert_true(fabs(ev.e2 - ra.e2) <= 1e-14 * ra.e2);
+    assert_true(ra.e2 < halton_g);
+    aa_temporal_evaluation_free(&ev);
+    aa_temporal_free(&t);
+    p.flicker_weight = 1;
+    assert_int_equal(aa_temporal_optimize(&p, a, &ra, &err), AA_EINVAL);
+    assert_string_equal(err.field, "flicker_weight");
 }
 
 int main(void)
@@ -543,6 +622,7 @@ int main(void)
         cmocka_unit_test(test_halton8_against_issue),
         cmocka_unit_test(test_resolve_and_frame_pattern),
         cmocka_unit_test(test_flicker_gradient),
+        cmocka_unit_test(test_objective_gradient),
         cmocka_unit_test(test_optimizer),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

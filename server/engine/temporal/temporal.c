@@ -135,7 +135,9 @@ static int build_from_kernels(aa_temporal *t, const aa_temporal_spec *spec, cons
 
 /* With a resolve: every shifted tile sample of the pixels within radius of output pixel
  * (i, j), weighed h(dx) h(dy) about the pixel's centre and normalised per frame. A sample
- * belongs to the pixel it was taken for (its position before the shift). */
+ * belongs to the pixel it was taken for (its position before the shift). Samples outside the
+ * filter's support are kept with weight 0 (phase kernels leave them out), so that the group's
+ * samples do not depend on the offsets (the optimizer moves them). */
 static int build_resolved(aa_temporal *t, const aa_temporal_spec *spec, const aa_pattern *fp,
                           aa_error *err)
 {
@@ -162,8 +164,6 @@ static int build_resolved(aa_temporal *t, const aa_temporal_spec *spec, const aa
                             double dy = fp->tile_samples[s].y + b * T + spec->jitter[f].y - cy;
                             double w =
                                 aa_filter_eval(&rs->filter, dx) * aa_filter_eval(&rs->filter, dy);
-                            if (w == 0)
-                                continue;
                             size_t n = grp->count++;
                             grp->pos[n] = (aa_point){dx, dy};
                             grp->frame[n] = f;

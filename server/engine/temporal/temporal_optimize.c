@@ -17,8 +17,13 @@ typedef struct opt_ctx {
     aa_metric_workspace ws;
     aa_sample *kernel;
     double *gx, *gy, *e1, *factor;
-    double flicker_weight; /* lambda */
-    double flicker_cap;    /* > 0: penalise F2 above it only */
+    double flicker_weight;              /* lambda */
+    double flicker_cap;                 /* > 0: penalise F2 above it only */
+    const aa_temporal_resolve *resolve; /* NULL: frame weights fixed */
+    double **ux, **uy;   /* [group][sample]: d(h(dx) h(dy))/d(offset x, y) (resolve) */
+    double **norm;       /* [group][frame]: sum of h(dx) h(dy) (resolve) */
+    double **sux, **suy; /* [group][frame]: sums of ux, uy (resolve) */
+    double *gw;
     aa_flicker_scratch fs;
     double *f1, *dp; /* [group][angle], [sample] */
     long evaluations;
@@ -26,9 +31,21 @@ typedef struct opt_ctx {
 
 static void ctx_free(opt_ctx *c)
 {
-    for (size_t g = 0; c->rel && g < c->t.group_count; g++)
-        free(c->rel[g]);
+    for (size_t g = 0; g < c->t.group_count; g++) {
+        if (c->rel)
+            free(c->rel[g]);
+        if (c->ux) {
+            free(c->ux[g]);
+            free(c->norm[g]);
+        }
+    }
     free(c->rel);
+    free(c->ux);
+    free(c->uy);
+    free(c->norm);
+    free(c->sux);
+    free(c->suy);
+    free(c->gw);
     aa_temporal_free(&c->t);
     free(c->angles);
     free(c->weight);
@@ -44,12 +61,15 @@ static void ctx_free(opt_ctx *c)
 }
 
 static int ctx_init(opt_ctx *c, const aa_point *jitter, size_t n, aa_blend blend,
-                    const aa_pattern *frame, const aa_metric_params *mp, aa_error *err)
+                    const aa_pattern *frame, const aa_temporal_resolve *resolve,
+                    const aa_metric_params *mp, aa_error *err)
 {
     memset(c, 0, sizeof *c);
     aa_metric_workspace_init(&c->ws);
     c->mp = mp;
-    aa_temporal_spec spec = {.count = n, .jitter = jitter, .frame = frame, .blend = blend};
+    c->resolve = resolve;
+    aa_temporal_spec spec = {
+        .count = n, .jitter = jitter, .frame = frame, .resolve = resolve, .blend = blend};
     int rc = aa_temporal_build(&c->t, &spec, err);
     if (rc)
         return rc;
@@ -78,6 +98,26 @@ static int ctx_init(opt_ctx *c, const aa_point *jitter, size_t n, aa_blend blend
     c->rel = calloc(G, sizeof *c->rel);
     c->f1 = malloc(G * c->na * sizeof *c->f1);
     c->dp = malloc(m * sizeof *c->dp);
+    c->gw = malloc(m * sizeof *c->gw);
+    if (resolve) {
+        c->ux = calloc(G, sizeof *c->ux);
+        c->uy = calloc(G, sizeof *c->uy);
+        c->norm = calloc(G, sizeof *c->norm);
+        c->sux = calloc(G, sizeof *c->sux);
+        c->suy = calloc(G, sizeof *c->suy);
+        if (!c->ux || !c->uy || !c->norm || !c->sux || !c->suy)
+            return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        for (size_t g = 0; g < G; g++) {
+            /* One block per group: ux, uy [count] each; norm, sux, suy [n] each. */
+            c->ux[g] = malloc(2 * c->t.groups[g].count * sizeof **c->ux);
+            c->norm[g] = malloc(3 * n * sizeof **c->norm);
+            if (!c->ux[g] || !c->norm[g])
+                return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+            c->uy[g] = c->ux[g] + c->t.groups[g].count;
+            c->sux[g] = c->norm[g] + n;
+            c->suy[g] = c->norm[g] + 2 * n;
+        }
+    }
     if (!c->weight || !c->dc || !c->kernel || !c->gx || !c->e1 || !c->factor || !c->rel || !c->f1 ||
         !c->dp || aa_flicker_scratch_init(&c->fs, &c->t, m))
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
@@ -99,13 +139,40 @@ static int ctx_init(opt_ctx *c, const aa_point *jitter, size_t n, aa_blend blend
     return AA_OK;
 }
 
+/* h'(x) by central differences (the resolve filters are smooth inside their support). */
+static double filter_slope(const aa_filter *f, double x)
+{
+    const double e = 1e-6;
+    return (aa_filter_eval(f, x + e) - aa_filter_eval(f, x - e)) / (2 * e);
+}
+
 static void set_offsets(opt_ctx *c, const aa_point *o)
 {
+    size_t N = c->t.phase_count;
     for (size_t g = 0; g < c->t.group_count; g++) {
         aa_temporal_group *grp = &c->t.groups[g];
         for (size_t s = 0; s < grp->count; s++)
             grp->pos[s] = (aa_point){c->rel[g][s].x + o[grp->frame[s]].x,
                                      c->rel[g][s].y + o[grp->frame[s]].y};
+        if (!c->resolve)
+            continue;
+        /* The frame weights h(dx) h(dy) / sum about the output pixel's centre (the group's
+         * positions are relative to it), and their derivatives in the frame's offset. */
+        const aa_filter *h = &c->resolve->filter;
+        for (size_t f = 0; f < N; f++)
+            c->norm[g][f] = c->sux[g][f] = c->suy[g][f] = 0;
+        for (size_t s = 0; s < grp->count; s++) {
+            double hx = aa_filter_eval(h, grp->pos[s].x), hy = aa_filter_eval(h, grp->pos[s].y);
+            size_t f = grp->frame[s];
+            grp->in_frame[s] = hx * hy;
+            c->ux[g][s] = filter_slope(h, grp->pos[s].x) * hy;
+            c->uy[g][s] = hx * filter_slope(h, grp->pos[s].y);
+            c->norm[g][f] += hx * hy;
+            c->sux[g][f] += c->ux[g][s];
+            c->suy[g][f] += c->uy[g][s];
+        }
+        for (size_t s = 0; s < grp->count; s++)
+            grp->in_frame[s] /= c->norm[g][grp->frame[s]];
     }
 }
 
@@ -226,13 +293,23 @@ static int objective_e2(opt_ctx *c, const aa_point *o, double q, double *value, 
             size_t n = full_kernel(c, g, p);
             memset(c->gx, 0, n * sizeof *c->gx);
             memset(c->gy, 0, n * sizeof *c->gy);
+            memset(c->gw, 0, n * sizeof *c->gw);
             rc = aa_e1_gradient_kernel_block(c->mp->filter, c->kernel, n, c->dc, c->ds, na,
                                              c->factor, AA_E1_AUTO, &c->ws, c->e1 + N * G * na,
-                                             c->gx, c->gy, NULL);
+                                             c->gx, c->gy, c->resolve ? c->gw : NULL);
             const aa_temporal_group *grp = &c->t.groups[g];
             for (size_t s = 0; s < n; s++) {
-                grad[grp->frame[s]].x += c->gx[s];
-                grad[grp->frame[s]].y += c->gy[s];
+                size_t f = grp->frame[s];
+                grad[f].x += c->gx[s];
+                grad[f].y += c->gy[s];
+                if (!c->resolve)
+                    continue;
+                /* Kernel weight a_f u_s / S_f: its derivative in the offset is
+                 * a_f (u'_s - w_s S'_f) / S_f with w_s = u_s / S_f; these moves keep sum w = 1,
+                 * along which the metric's projected weight gradient is exact. */
+                double af = c->t.age_weight[(p + N - f) % N] / c->norm[g][f];
+                grad[f].x += c->gw[s] * af * (c->ux[g][s] - grp->in_frame[s] * c->sux[g][f]);
+                grad[f].y += c->gw[s] * af * (c->uy[g][s] - grp->in_frame[s] * c->suy[g][f]);
             }
         }
     }
@@ -326,13 +403,31 @@ static int best_order(opt_ctx *c, aa_point *o, aa_point *trial, double *best_e2)
 }
 
 int aa_temporal_e2(const aa_point *jitter, size_t n, aa_blend blend, const aa_pattern *frame,
-                   const aa_metric_params *metric, double *e2, aa_error *err)
+                   const aa_temporal_resolve *resolve, const aa_metric_params *metric, double *e2,
+                   aa_error *err)
 {
     opt_ctx c;
-    int rc = ctx_init(&c, jitter, n, blend, frame, metric, err);
+    int rc = ctx_init(&c, jitter, n, blend, frame, resolve, metric, err);
     double F;
     if (!rc)
         rc = objective(&c, jitter, 0, &F, e2, NULL);
+    ctx_free(&c);
+    return rc;
+}
+
+int aa_temporal_power_mean(const aa_point *jitter, size_t n, aa_blend blend,
+                           const aa_pattern *frame, const aa_temporal_resolve *resolve,
+                           const aa_metric_params *metric, double q, double flicker_weight,
+                           double *value, aa_point *grad, aa_error *err)
+{
+    opt_ctx c;
+    int rc = ctx_init(&c, jitter, n, blend, frame, resolve, metric, err);
+    c.flicker_weight = flicker_weight;
+    double score;
+    if (!rc && !(q >= 1 && q <= 1024))
+        rc = aa_error_set(err, AA_EINVAL, "q", "q must be in [1, 1024]");
+    if (!rc)
+        rc = objective(&c, jitter, q, value, &score, grad);
     ctx_free(&c);
     return rc;
 }
@@ -360,9 +455,12 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
                         : (aa_point){(aa_rng_uniform(&rng) - 0.5) * p->range,
                                      (aa_rng_uniform(&rng) - 0.5) * p->range};
     opt_ctx c;
-    int rc = ctx_init(&c, o, N, p->blend, p->frame, p->metric, err);
+    int rc = ctx_init(&c, o, N, p->blend, p->frame, p->resolve, p->metric, err);
     if (!rc && !(isfinite(p->flicker_weight) && p->flicker_weight >= 0 && p->flicker_weight <= 1e3))
         rc = aa_error_set(err, AA_EINVAL, "flicker_weight", "lambda must be in [0, 1000]");
+    if (!rc && p->resolve && p->flicker_weight > 0)
+        rc = aa_error_set(err, AA_EINVAL, "flicker_weight",
+                          "a flicker weight with a resolve is not supported yet");
     c.flicker_weight = rc ? 0 : p->flicker_weight;
     c.flicker_cap = isfinite(p->flicker_cap) && p->flicker_cap > 0 ? p->flicker_cap : 0;
     double t0 = aa_monotonic_seconds();

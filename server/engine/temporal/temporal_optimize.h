@@ -1,16 +1,20 @@
-/* A first optimizer of temporal jitter sequences (docs/temporal.md section 8): moves the N
+/* A first optimizer of temporal jitter sequences (docs/temporal.md section 7): moves the N
  * offsets with the frame weights fixed by the blend, toward the smallest worst-phase E2.
  *
  * Each start descends a smooth stand-in for the maximum, the power mean
  *   M_q = ( mean over phases, groups, angles of (W E1)^q )^(1/q),
- * q raised from 8 to 64, by gradient steps with backtracking (the metric's exact E1 gradient,
+ * q raised from 8 to 128, by gradient steps with backtracking (the metric's exact E1 gradient,
  * aa_e1_gradient_kernel_block, summed over the samples each offset moves) and the offsets
  * clamped to the jitter square; then, for N <= 8 under an exponential blend, every cyclic order
  * of the offsets (offset 0 kept first: (N-1)! orders) is evaluated and the best kept, and the
- * descent runs again. The true E2 decides which start wins. Starts are random (uniform in the
- * square) except the first, which is the given sequence when there is one. Without a resolve
- * only (a resolve's weights move with the offsets). Reproducible when bounded by max_starts and
- * max_seconds is 0. */
+ * descent runs again. The true objective decides which start wins. Starts are random (uniform
+ * in the square) except the first, which is the given sequence when there is one.
+ *  - With a resolve the frame weights h(dx) h(dy) / sum move with the offsets too: their
+ *    derivative (h' by central differences, step 1e-6) enters through the metric's weight
+ *    gradient.
+ *  - With a flicker weight lambda the objective is E2 + lambda F2, or E2 + lambda max(0, F2 -
+ *    cap) with a cap (F1's gradient: temporal_flicker.h; without a resolve only).
+ * Reproducible when bounded by max_starts and max_seconds is 0. */
 #ifndef AA_TEMPORAL_OPTIMIZE_H
 #define AA_TEMPORAL_OPTIMIZE_H
 
@@ -23,8 +27,9 @@
 typedef struct aa_temporal_opt_params {
     size_t count; /* N */
     aa_blend blend;
-    double range;            /* offsets in [-range/2, range/2]^2 */
-    const aa_pattern *frame; /* NULL: one sample at the pixel centre */
+    double range;                       /* offsets in [-range/2, range/2]^2 */
+    const aa_pattern *frame;            /* NULL: one sample at the pixel centre */
+    const aa_temporal_resolve *resolve; /* NULL: none (with one, flicker_weight must be 0) */
     const aa_metric_params *metric;
     const aa_point *start; /* [N] or NULL */
     long max_starts;       /* 0: unbounded (then max_seconds must be > 0) */
@@ -50,6 +55,15 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
 
 /* Worst-phase E2 of a sequence under the blend (no after-cut curve, no flicker). */
 int aa_temporal_e2(const aa_point *jitter, size_t n, aa_blend blend, const aa_pattern *frame,
-                   const aa_metric_params *metric, double *e2, aa_error *err);
+                   const aa_temporal_resolve *resolve, const aa_metric_params *metric, double *e2,
+                   aa_error *err);
+
+/* The descent's objective M_q (plus lambda times the flicker's, as the optimizer forms it) of a
+ * sequence and its gradient per offset (grad: [n], or NULL): what the tests check against
+ * central differences. */
+int aa_temporal_power_mean(const aa_point *jitter, size_t n, aa_blend blend,
+                           const aa_pattern *frame, const aa_temporal_resolve *resolve,
+                           const aa_metric_params *metric, double q, double flicker_weight,
+                           double *value, aa_point *grad, aa_error *err);
 
 #endif
