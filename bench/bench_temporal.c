@@ -21,6 +21,7 @@
 static aa_filter filter;
 static aa_acuity acuity;
 static aa_metric_params mp;
+static double hop; /* AALAB_TEMPORAL_HOP: the optimizer's hop (0: uniform starts only) */
 static aa_temporal_resolve gaussian = {.radius = 1}; /* the urp-like resolve: sigma 0.5, 3 x 3 */
 
 static void die(const char *what, const aa_error *err)
@@ -128,6 +129,7 @@ static void optimize(size_t n, double alpha, double seconds, double lambda, bool
                                 .flicker_weight = lambda,
                                 .flicker_cap = halton_f2,
                                 .resolve = rs,
+                                .hop = hop,
                                 .seed = seed};
     aa_temporal_opt_result r;
     if (aa_temporal_optimize(&p, best, &r, &err))
@@ -155,6 +157,8 @@ int main(int argc, char **argv)
     aa_filter_default(&filter);
     aa_acuity_naiman(&acuity);
     mp = (aa_metric_params){.filter = &filter, .acuity = &acuity};
+    const char *hop_env = getenv("AALAB_TEMPORAL_HOP");
+    hop = hop_env ? atof(hop_env) : 0;
     aa_error err = {0};
     if (aa_filter_gaussian(&gaussian.filter, 0.5, 2, &err))
         die("gaussian", &err);

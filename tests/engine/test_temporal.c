@@ -574,6 +574,17 @@ static void test_optimizer(void **state)
     printf("optimizer, one start from Halton x8 (20 steps per level): E2 %.4f -> %.4f\n", halton_e2,
            ra.e2);
     assert_true(ra.e2 < halton_e2);
+    /* Three starts, the second hopping from the best: reproducible, never worse than one. */
+    p.max_starts = 3;
+    p.hop = 0.1;
+    assert_int_equal(aa_temporal_optimize(&p, b, &rb, &err), AA_OK);
+    assert_int_equal(rb.starts, 3);
+    assert_true(rb.e2 <= ra.e2);
+    aa_temporal_opt_result rc3;
+    aa_point c3[8];
+    assert_int_equal(aa_temporal_optimize(&p, c3, &rc3, &err), AA_OK);
+    assert_memory_equal(b, c3, sizeof b);
+    p.hop = 0;
     p.max_starts = 0;
     assert_int_equal(aa_temporal_optimize(&p, a, &ra, &err), AA_EINVAL);
 

@@ -321,11 +321,12 @@ static double clamp(double v, double h)
     return v < -h ? -h : v > h ? h : v;
 }
 
-/* Descent on M_q for q = 8 .. 128; o is updated in place. */
+/* Descent on M_q for q = 8 .. 2048 (the last levels sharpen the maximum: 15 s runs at N = 8
+ * gave 0.2906 / 0.2900 / 0.2898 stopping at 128 / 512 / 2048); o is updated in place. */
 static int descend(opt_ctx *c, aa_point *o, double half, int steps, aa_point *trial, aa_point *grad)
 {
     size_t N = c->t.phase_count;
-    for (double q = 8; q <= 128; q *= 2) {
+    for (double q = 8; q <= 2048; q *= 2) {
         double F, e2;
         int rc = objective(c, o, q, &F, &e2, grad);
         double step = 0.05 * half * 2;
@@ -472,9 +473,14 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
             break;
         if (p->max_seconds > 0 && s > 0 && aa_monotonic_seconds() - t0 >= p->max_seconds)
             break;
+        /* Odd starts (with hop > 0) hop from the best so far: each offset moved by up to
+         * hop * range; even starts are uniform. */
+        bool hop = p->hop > 0 && s % 2 == 1 && isfinite(result->score);
         for (size_t f = 0; f < N && s > 0; f++)
-            o[f] = (aa_point){(aa_rng_uniform(&rng) - 0.5) * p->range,
-                              (aa_rng_uniform(&rng) - 0.5) * p->range};
+            o[f] = hop ? (aa_point){best[f].x + (2 * aa_rng_uniform(&rng) - 1) * p->hop * p->range,
+                                    best[f].y + (2 * aa_rng_uniform(&rng) - 1) * p->hop * p->range}
+                       : (aa_point){(aa_rng_uniform(&rng) - 0.5) * p->range,
+                                    (aa_rng_uniform(&rng) - 0.5) * p->range};
         for (size_t f = 0; f < N; f++)
             o[f] = (aa_point){clamp(o[f].x, half), clamp(o[f].y, half)};
         rc = descend(&c, o, half, steps, trial, grad);

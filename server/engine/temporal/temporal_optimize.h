@@ -3,12 +3,13 @@
  *
  * Each start descends a smooth stand-in for the maximum, the power mean
  *   M_q = ( mean over phases, groups, angles of (W E1)^q )^(1/q),
- * q raised from 8 to 128, by gradient steps with backtracking (the metric's exact E1 gradient,
+ * q raised from 8 to 2048, by gradient steps with backtracking (the metric's exact E1 gradient,
  * aa_e1_gradient_kernel_block, summed over the samples each offset moves) and the offsets
  * clamped to the jitter square; then, for N <= 8 under an exponential blend, every cyclic order
  * of the offsets (offset 0 kept first: (N-1)! orders) is evaluated and the best kept, and the
  * descent runs again. The true objective decides which start wins. Starts are random (uniform
- * in the square) except the first, which is the given sequence when there is one.
+ * in the square) except the first, which is the given sequence when there is one, and, with
+ * hop > 0, every other start, which moves each offset of the best so far by up to hop * range.
  *  - With a resolve the frame weights h(dx) h(dy) / sum move with the offsets too: their
  *    derivative (h' by central differences, step 1e-6) enters through the metric's weight
  *    gradient.
@@ -35,6 +36,7 @@ typedef struct aa_temporal_opt_params {
     long max_starts;       /* 0: unbounded (then max_seconds must be > 0) */
     double max_seconds;    /* 0: unbounded */
     int descent_steps;     /* per q level; 0: 60 */
+    double hop;            /* > 0: every other start perturbs the best by up to hop * range */
     double flicker_weight; /* lambda: the objective is E2 + lambda F2 (power means in descent) */
     double flicker_cap;    /* > 0: E2 + lambda max(0, F2 - cap) instead (a penalty above a cap) */
     uint64_t seed;
