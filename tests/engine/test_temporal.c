@@ -452,6 +452,41 @@ static void test_resolve_and_frame_pattern(void **state)
     assert_true(fabsl(sum - 1) <= 1e-15);
     aa_temporal_free(&t);
     aa_pattern_free(&frame);
+    /* A resolve over a 2 x 2 tile with one sample at every pixel centre is the default frame
+     * pattern repeated: each of the 4 output pixels gives the default's E2 and F2. */
+    aa_point centres[4] = {{0.5, 0.5}, {1.5, 0.5}, {0.5, 1.5}, {1.5, 1.5}};
+    aa_tile_spec ts = {
+        .tile = 2, .kernel_size = 1, .count = 4, .samples = centres, .weight_filter = &filter};
+    aa_pattern tile;
+    assert_int_equal(aa_pattern_from_tile(&tile, &ts, 0, &err), AA_OK);
+    aa_point j8[8];
+    halton23(j8, 8);
+    aa_temporal t1, t4;
+    aa_temporal_evaluation e1, e4;
+    spec = (aa_temporal_spec){.count = 8, .jitter = j8, .resolve = &rs, .blend = exponential(0.1)};
+    assert_int_equal(aa_temporal_build(&t1, &spec, &err), AA_OK);
+    spec.frame = &tile;
+    assert_int_equal(aa_temporal_build(&t4, &spec, &err), AA_OK);
+    assert_int_equal(t4.group_count, 4);
+    evaluate(&t1, 1, &e1);
+    evaluate(&t4, 1, &e4);
+    double worst = 0;
+    for (size_t p = 0; p < 8; p++)
+        for (size_t g = 0; g < 4; g++)
+            for (size_t a = 0; a < e1.angle_count; a++) {
+                double x = e4.e1[(p * 4 + g) * e4.angle_count + a],
+                       y = e1.e1[p * e1.angle_count + a];
+                worst = fmax(worst, fabs(x - y) / y);
+            }
+    printf("resolve over a 2 x 2 tile of centres against one centre: worst %.3g (E2 %.6f)\n", worst,
+           e1.e2);
+    assert_true(worst <= 1e-12);
+    assert_true(fabs(e4.f2 - e1.f2) <= 1e-12 * e1.f2);
+    aa_temporal_evaluation_free(&e1);
+    aa_temporal_evaluation_free(&e4);
+    aa_temporal_free(&t1);
+    aa_temporal_free(&t4);
+    aa_pattern_free(&tile);
     /* Bad input names the field. */
     aa_point bad[2] = {{0, 0}, {NAN, 0}};
     spec = (aa_temporal_spec){.count = 2, .jitter = bad, .blend = exponential(0.1)};
