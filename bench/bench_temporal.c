@@ -4,7 +4,8 @@
  * (argv[1] seconds, default 60; one thread), against Halton(2,3) x 8 from index 1 in the same
  * run, and with argv[2] = lambda > 0 again with the objective E2 + lambda F2 and with
  * E2 + lambda max(0, F2 - Halton's F2).
- * `bench_temporal S L gaussian` also optimizes under the urp-like Gaussian resolve;
+ * `bench_temporal S L gaussian` also optimizes under the urp-like Gaussian resolve, and
+ * `bench_temporal S L gaussian 16` also on a grid of 1/16 pixel;
  * `bench_temporal grid S` also runs N = 4, 8, 16 at alpha 0.05, 0.1, 0.2 for S seconds
  * each, without and with that resolve.
  * The sequences are generated as the presets of proto/temporal_presets.c state them. */
@@ -21,7 +22,8 @@
 static aa_filter filter;
 static aa_acuity acuity;
 static aa_metric_params mp;
-static double hop; /* AALAB_TEMPORAL_HOP: the optimizer's hop (0: uniform starts only) */
+static double hop;       /* AALAB_TEMPORAL_HOP: the optimizer's hop (0: uniform starts only) */
+static double grid_step; /* the grid of the next optimize() (0: none) */
 static aa_temporal_resolve gaussian = {.radius = 1}; /* the urp-like resolve: sigma 0.5, 3 x 3 */
 
 static void die(const char *what, const aa_error *err)
@@ -130,6 +132,7 @@ static void optimize(size_t n, double alpha, double seconds, double lambda, bool
                                 .flicker_cap = halton_f2,
                                 .resolve = rs,
                                 .hop = hop,
+                                .grid_step = grid_step,
                                 .seed = seed};
     aa_temporal_opt_result r;
     if (aa_temporal_optimize(&p, best, &r, &err))
@@ -138,8 +141,8 @@ static void optimize(size_t n, double alpha, double seconds, double lambda, bool
     char name[48];
     snprintf(name, sizeof name, "Halton N%zu a%g%s", n, alpha, rs ? " G" : "");
     report(name, start, n, blend, rs, &ev_h);
-    snprintf(name, sizeof name, "optimized N%zu a%g l%g%s%s", n, alpha, lambda, cap ? " cap" : "",
-             rs ? " G" : "");
+    snprintf(name, sizeof name, "optimized N%zu a%g l%g%s%s%s", n, alpha, lambda, cap ? " cap" : "",
+             rs ? " G" : "", grid_step > 0 ? " grid" : "");
     report(name, best, n, blend, rs, &ev_o);
     printf("  -> E2 ratio to Halton %.3f, F2 ratio %.3f; %ld starts, %ld evaluations, %.1f s "
            "(first start, from Halton: %.4f)\n",
@@ -183,5 +186,9 @@ int main(int argc, char **argv)
     }
     if (argc > 3 && !strcmp(argv[3], "gaussian"))
         optimize(8, 0.1, seconds, 0, false, &gaussian, 1);
+    if (argc > 4) { /* a grid of 1/argv[4] pixels */
+        grid_step = 1.0 / atof(argv[4]);
+        optimize(8, 0.1, seconds, 0, false, NULL, 1);
+    }
     return 0;
 }

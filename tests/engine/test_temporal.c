@@ -619,7 +619,19 @@ static void test_optimizer(void **state)
     aa_point c3[8];
     assert_int_equal(aa_temporal_optimize(&p, c3, &rc3, &err), AA_OK);
     assert_memory_equal(b, c3, sizeof b);
+    /* On a 1/16 grid: every offset a multiple of 1/16 inside the square, E2 the evaluation's. */
     p.hop = 0;
+    p.max_starts = 1;
+    p.grid_step = 1.0 / 16;
+    assert_int_equal(aa_temporal_optimize(&p, c3, &rc3, &err), AA_OK);
+    for (size_t f = 0; f < 8; f++) {
+        assert_true(c3[f].x * 16 == rint(c3[f].x * 16) && fabs(c3[f].x) <= 0.5);
+        assert_true(c3[f].y * 16 == rint(c3[f].y * 16) && fabs(c3[f].y) <= 0.5);
+    }
+    assert_int_equal(aa_temporal_e2(c3, 8, blend, NULL, NULL, &params, &check, &err), AA_OK);
+    assert_true(check == rc3.e2 && rc3.e2 < halton_e2);
+    printf("optimizer on a 1/16 grid, one start: E2 %.4f\n", rc3.e2);
+    p.grid_step = 0;
     p.max_starts = 0;
     assert_int_equal(aa_temporal_optimize(&p, a, &ra, &err), AA_EINVAL);
 

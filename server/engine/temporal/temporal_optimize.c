@@ -355,6 +355,52 @@ static int descend(opt_ctx *c, aa_point *o, double half, int steps, aa_point *tr
     return AA_OK;
 }
 
+/* The grid multiple nearest v that lies in [-half, half]. */
+static double snap(double v, double step, double half)
+{
+    double k = nearbyint(v / step);
+    if (k * step > half)
+        k = floor(half / step);
+    if (k * step < -half)
+        k = ceil(-half / step);
+    return k * step;
+}
+
+/* Snaps o to the grid, then moves single coordinates by one grid step while the true objective
+ * drops (at most 64 sweeps over the 2N coordinates). */
+static int snap_and_polish(opt_ctx *c, aa_point *o, double half, double step, aa_point *trial)
+{
+    size_t N = c->t.phase_count;
+    for (size_t f = 0; f < N; f++)
+        o[f] = (aa_point){snap(o[f].x, step, half), snap(o[f].y, step, half)};
+    double F, best;
+    int rc = objective(c, o, 0, &F, &best, NULL);
+    bool moved = true;
+    for (int sweep = 0; sweep < 64 && moved && !rc; sweep++) {
+        moved = false;
+        for (size_t f = 0; f < N && !rc; f++) {
+            for (int axis = 0; axis < 2 && !rc; axis++) {
+                for (int dir = -1; dir <= 1 && !rc; dir += 2) {
+                    memcpy(trial, o, N * sizeof *o);
+                    double *v = axis ? &trial[f].y : &trial[f].x;
+                    double nv = *v + dir * step;
+                    if (fabs(nv) > half + 1e-12)
+                        continue;
+                    *v = nv;
+                    double score;
+                    rc = objective(c, trial, 0, &F, &score, NULL);
+                    if (!rc && score < best) {
+                        best = score;
+                        memcpy(o, trial, N * sizeof *o);
+                        moved = true;
+                    }
+                }
+            }
+        }
+    }
+    return rc;
+}
+
 /* Next permutation of a[0..n-1] in lexicographic order; false after the last. */
 static bool next_permutation(size_t *a, size_t n)
 {
@@ -459,6 +505,8 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
     int rc = ctx_init(&c, o, N, p->blend, p->frame, p->resolve, p->metric, err);
     if (!rc && !(isfinite(p->flicker_weight) && p->flicker_weight >= 0 && p->flicker_weight <= 1e3))
         rc = aa_error_set(err, AA_EINVAL, "flicker_weight", "lambda must be in [0, 1000]");
+    if (!rc && !(p->grid_step >= 0 && p->grid_step <= p->range / 2))
+        rc = aa_error_set(err, AA_EINVAL, "grid", "the grid step must be in [0, range / 2]");
     if (!rc && p->resolve && p->flicker_weight > 0)
         rc = aa_error_set(err, AA_EINVAL, "flicker_weight",
                           "a flicker weight with a resolve is not supported yet");
@@ -490,6 +538,8 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
             if (!rc)
                 rc = descend(&c, o, half, steps, trial, grad);
         }
+        if (!rc && p->grid_step > 0)
+            rc = snap_and_polish(&c, o, half, p->grid_step, trial);
         if (!rc)
             rc = objective(&c, o, 0, &F, &e2, NULL);
         if (rc)

@@ -15,6 +15,9 @@
  *    gradient.
  *  - With a flicker weight lambda the objective is E2 + lambda F2, or E2 + lambda max(0, F2 -
  *    cap) with a cap (F1's gradient: temporal_flicker.h; without a resolve only).
+ *  - With a grid step (hardware and engines store offsets at finite precision) each start ends
+ *    by snapping the offsets to the nearest multiples inside the square and moving single
+ *    coordinates by one step while the true objective drops.
  * Reproducible when bounded by max_starts and max_seconds is 0. */
 #ifndef AA_TEMPORAL_OPTIMIZE_H
 #define AA_TEMPORAL_OPTIMIZE_H
@@ -37,6 +40,7 @@ typedef struct aa_temporal_opt_params {
     double max_seconds;    /* 0: unbounded */
     int descent_steps;     /* per q level; 0: 60 */
     double hop;            /* > 0: every other start perturbs the best by up to hop * range */
+    double grid_step;      /* > 0: offsets on multiples of it (e.g. 1/16 px), see above */
     double flicker_weight; /* lambda: the objective is E2 + lambda F2 (power means in descent) */
     double flicker_cap;    /* > 0: E2 + lambda max(0, F2 - cap) instead (a penalty above a cap) */
     uint64_t seed;
