@@ -138,7 +138,7 @@ static void optimize(size_t n, double alpha, double seconds, double lambda, bool
     if (aa_temporal_optimize(&p, best, &r, &err))
         die("optimize", &err);
     aa_temporal_evaluation ev_h, ev_o;
-    char name[48];
+    char name[96];
     snprintf(name, sizeof name, "Halton N%zu a%g%s", n, alpha, rs ? " G" : "");
     report(name, start, n, blend, rs, &ev_h);
     snprintf(name, sizeof name, "optimized N%zu a%g l%g%s%s%s", n, alpha, lambda, cap ? " cap" : "",
