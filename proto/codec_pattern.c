@@ -261,12 +261,17 @@ int proto_decode_pattern_filtered(const json_t *j, unsigned flags, const aa_filt
         return proto_fail(err, AA_EINVAL, prefix, "",
                           "a pattern is an object with one of preset, kernels, mirrored, tile, "
                           "points");
-    static const char *const keys[] = {"preset", "kernels",          "mirrored", "tile",
-                                       "points", "normalize",        "family",   "cost_spp",
-                                       "form",   "kernels_expanded", "name",     NULL};
+    static const char *const keys[] = {
+        "preset",   "kernels", "mirrored",         "tile", "points",   "normalize", "family",
+        "cost_spp", "form",    "kernels_expanded", "name", "temporal", NULL};
     int rc = proto_check_keys(j, keys, err, prefix);
     if (rc)
         return rc;
+    /* A temporal pattern is a set of phase kernels, not one pattern: POST /v1/evaluate decodes
+     * it itself (codec_temporal.h); elsewhere it is not accepted yet. */
+    if (json_object_get(j, "temporal"))
+        return proto_fail(err, AA_EINVAL, prefix, "temporal",
+                          "a temporal pattern is accepted by POST /v1/evaluate only");
     const json_t *norm = json_object_get(j, "normalize");
     if (norm) {
         if (!json_is_boolean(norm))

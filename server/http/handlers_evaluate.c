@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "codec.h"
+#include "codec_temporal.h"
 #include "eval_cache.h"
 #include "handlers.h"
 
@@ -68,6 +69,84 @@ static int check_work(const aa_pattern *p, double work, size_t angle_count, aa_e
                         "does (%ld); use fewer angles or samples",
                         aa_pattern_total_kernel_samples(p),
                         work / (double)aa_pattern_total_kernel_samples(p), EVALUATE_MAX_WORK);
+}
+
+/* A temporal pattern's work: its phase kernels and after-cut kernels, each at every angle, and
+ * the flicker (N phases over the group's samples per angle). Bounded like a pattern's, with room
+ * for the cut curve (N = 256 one-sample frames, K = 1024, 36 angles: 1.2e7). */
+#define EVALUATE_MAX_TEMPORAL_WORK (1L << 25)
+
+static int evaluate_temporal(const json_t *body, const json_t *pj, json_t **answer, aa_error *err)
+{
+    aa_filter filter;
+    aa_acuity acuity;
+    double *angles = NULL;
+    size_t angle_count = 0;
+    proto_temporal spec;
+    aa_temporal t = {0};
+    aa_temporal_evaluation ev = {0};
+    bool have_ev = false;
+    int rc = AA_OK;
+    if (json_object_get(body, "lp"))
+        rc = aa_error_set(err, AA_EINVAL, "lp", "lp is not computed for temporal patterns");
+    if (!rc)
+        rc = proto_decode_filter(json_object_get(body, "filter"), &filter, "filter", err);
+    if (!rc)
+        rc = proto_decode_acuity(json_object_get(body, "acuity"), &acuity, "acuity", err);
+    if (!rc)
+        rc = proto_decode_angles(json_object_get(body, "angles"), &angles, &angle_count, "angles",
+                                 err);
+    memset(&spec, 0, sizeof spec);
+    if (!rc)
+        rc = proto_decode_temporal(pj, &spec, "pattern", err);
+    if (!rc) {
+        aa_temporal_spec ts = proto_temporal_spec(&spec);
+        rc = aa_temporal_build(&t, &ts, err);
+        if (rc) {
+            char f[sizeof err->field];
+            proto_join_field(f, sizeof f, "pattern.temporal", err->field);
+            memcpy(err->field, f, sizeof f);
+        }
+    }
+    if (!rc) {
+        size_t na = angle_count;
+        if (!na) {
+            static _Thread_local double buf[AA_MAX_ANGLES];
+            na = aa_acuity_default_angles(&acuity, buf, AA_MAX_ANGLES);
+        }
+        size_t K = spec.cut_frames ? spec.cut_frames : 4 * t.phase_count;
+        double samples = 0;
+        for (size_t g = 0; g < t.group_count; g++)
+            samples += (double)t.groups[g].count;
+        double work = samples * (double)(2 * t.phase_count + K) * (double)na;
+        if (work > (double)EVALUATE_MAX_TEMPORAL_WORK)
+            rc = aa_error_set(err, AA_ERANGE, angle_count ? "angles" : "pattern.temporal",
+                              "%.3g sample-angle evaluations is more than a synchronous evaluate "
+                              "does (%ld); use fewer phases, frame samples, cut frames or angles",
+                              work, EVALUATE_MAX_TEMPORAL_WORK);
+    }
+    if (!rc) {
+        aa_metric_params mp = {
+            .filter = &filter, .acuity = &acuity, .angles_deg = angles, .angle_count = angle_count};
+        rc = aa_temporal_evaluate(&t, &mp, spec.cut_frames, &ev, err);
+        have_ev = rc == AA_OK;
+        if (rc && strncmp(err->field, "angles", 6)) {
+            char f[sizeof err->field];
+            proto_join_field(f, sizeof f, "pattern", err->field);
+            memcpy(err->field, f, sizeof f);
+        }
+    }
+    if (!rc) {
+        *answer = proto_encode_temporal_evaluation(&ev, &t, &spec);
+        if (*answer)
+            json_object_set_new(*answer, "acuity", proto_encode_acuity_ref(&acuity));
+    }
+    if (have_ev)
+        aa_temporal_evaluation_free(&ev);
+    aa_temporal_free(&t);
+    proto_temporal_free(&spec);
+    free(angles);
+    return rc;
 }
 
 /* A decoded evaluate: what handle_evaluate runs at once, or hands over (api_deferred) when it
@@ -188,6 +267,26 @@ static int evaluate_decode(api_context *ctx, const api_request *req, api_respons
             rc = aa_error_set(&err, AA_EINVAL, "lp", "must be a number >= 1");
         else
             c->lp = json_number_value(lj);
+    }
+    /* A temporal pattern (docs/temporal.md) is evaluated whole here: never on an HTTP thread
+     * (its work, up to EVALUATE_MAX_TEMPORAL_WORK, is far above --inline-work), so there the
+     * request goes to the pool undecoded. */
+    if (!rc && json_is_object(pj) && json_object_get(pj, "temporal")) {
+        if (req->inline_work_limit) {
+            resp->needs_pool = true;
+        } else {
+            json_t *answer = NULL;
+            rc = evaluate_temporal(body, pj, &answer, &err);
+            if (rc) {
+                api_reply_aa_error(resp, &err);
+            } else {
+                api_reply_json(resp, 200, answer);
+                if (resp->status == 200 && c->cacheable && c->key)
+                    eval_cache_put(c->cache, c->key, c->key_len, resp->body, resp->body_len);
+            }
+        }
+        evaluate_call_free(&c->deferred);
+        return -1;
     }
     /* The filter first: a "points" pattern may take its weights from it. */
     if (!rc)
