@@ -50,6 +50,21 @@ def run_json(proc, timeout=180):
     return json.loads(out.strip().splitlines()[-1])
 
 
+def sanitized(binary):
+    """True if aalabd was built with ASan or TSan: their shadow memory and quarantine make the
+    RSS bound meaningless (the figure is still printed; LeakSanitizer checks leaks at exit)."""
+    out = subprocess.run(["ldd", binary], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+    if b"libasan" in out.stdout or b"libtsan" in out.stdout:
+        return True
+    with open(binary, "rb") as f:
+        data = f.read()
+    return b"AddressSanitizer" in data or b"ThreadSanitizer" in data
+
+
+def rss_ok(d, kb):
+    return kb < RSS_LIMIT_KB or sanitized(d.binary)
+
+
 def bob_during(users, d, seed):
     """Bob's 200 evaluates while a flood runs, measured again (up to 3 times in all) while the p99
     is over the limit: on the 2-core CI machine other tests' processes can stall a run, as in
@@ -257,7 +272,7 @@ def big_bodies(users, d):
           "(1) every 8 MiB body to a small endpoint is 413 (%s)" % counts)
     check(bob_run["statuses"] == {"200": 200}, "(1) bob's evaluates all 200")
     check(p99 < P99_LIMIT_MS, "(1) bob's p99 %.2f ms < %.0f ms" % (p99, P99_LIMIT_MS))
-    check(rss < RSS_LIMIT_KB, "(1) daemon RSS %d KB < 512 MB" % rss)
+    check(rss_ok(d, rss), "(1) daemon RSS %d KB < 512 MB" % rss)
     r = alice.request(d, "POST", "/v1/tokens", raw_body=b"[" + b"0," * 4000 + b"0]")
     err = r.json().get("error", {})
     check(r.status == 413 and "4096" in err.get("message", ""),
@@ -300,7 +315,7 @@ def big_answers(users, d):
     check(counts.get("200", 0) > 0, "(2) alice's largest answers are served (%s)" % counts)
     check(bob_run["statuses"] == {"200": 200}, "(2) bob's evaluates all 200")
     check(p99 < P99_LIMIT_MS, "(2) bob's p99 %.2f ms < %.0f ms" % (p99, P99_LIMIT_MS))
-    check(rss < RSS_LIMIT_KB, "(2) daemon RSS %d KB < 512 MB" % rss)
+    check(rss_ok(d, rss), "(2) daemon RSS %d KB < 512 MB" % rss)
 
     def fds():
         return len(os.listdir("/proc/%d/fd" % d.proc.pid))
@@ -321,7 +336,7 @@ def big_answers(users, d):
           "(2) none of 8 slow readers got its whole answer (cut off at --answer-timeout)")
     check(fd_after <= fd0, "(2) the daemon closed their connections (%d fds, %d before)"
           % (fd_after, fd0))
-    check(rss_during < RSS_LIMIT_KB and rss_after < RSS_LIMIT_KB,
+    check(rss_ok(d, rss_during) and rss_ok(d, rss_after),
           "(2) daemon RSS under 512 MB (%d KB during, %d after)" % (rss_during, rss_after))
 
 

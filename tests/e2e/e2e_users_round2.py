@@ -154,6 +154,21 @@ print(json.dumps({"lat": lat, "statuses": statuses}))
 """
 
 
+def sanitized(binary):
+    """True if aalabd was built with ASan or TSan: their shadow memory and quarantine make the
+    RSS bound meaningless (the figure is still printed; LeakSanitizer checks leaks at exit)."""
+    out = subprocess.run(["ldd", binary], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+    if b"libasan" in out.stdout or b"libtsan" in out.stdout:
+        return True
+    with open(binary, "rb") as f:
+        data = f.read()
+    return b"AddressSanitizer" in data or b"ThreadSanitizer" in data
+
+
+def rss_ok(d, kb):
+    return kb < RSS_LIMIT_KB or sanitized(d.binary)
+
+
 def bob_during(users, d, seed):
     """Bob's 200 evaluates while a flood runs, measured again (up to 3 times in all) while the p99
     is over the limit: on the 2-core CI machine other tests' processes can stall a run, as in
@@ -248,7 +263,7 @@ def token_cap(users, binary):
           "(7) the flood mints nothing past the cap (%s)" % counts)
     check(bob_run["statuses"] == {"200": 200}, "(7) bob's evaluates all 200")
     check(p99 < P99_LIMIT_MS, "(7) bob's p99 %.2f ms < %.0f ms under the flood" % (p99, P99_LIMIT_MS))
-    check(rss < RSS_LIMIT_KB, "(7) daemon RSS %d KB < 512 MB" % rss)
+    check(rss_ok(d, rss), "(7) daemon RSS %d KB < 512 MB" % rss)
     check(d.stop() == 0, "the token-cap daemon stops cleanly")
 
 
