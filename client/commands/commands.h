@@ -73,6 +73,10 @@ void jobs_print(FILE *out, const json_t *resp, bool csv);
 /* One job: its state, its kind's view of the result (views/job_views.h), its best pattern
  * and a trace summary; with csv only the kind's main table. */
 void job_print(FILE *out, const json_t *job, bool csv);
+/* The same with every sample of the best pattern (aalab job ID --pattern); job_print gives a
+ * one-line summary of it. */
+void job_print_full(FILE *out, const json_t *job, bool csv);
+void job_print_with(FILE *out, const json_t *job, bool csv, bool full_pattern);
 /* The query of GET /v1/jobs for --state, --kind and --limit ("" when none; values escaped). */
 int jobs_query(const cli_args *a, char *buf, size_t cap);
 /* The line for DELETE /v1/jobs/ID's answer. */

@@ -270,7 +270,11 @@ qid=$out
 expect 0 "wait ID re-attaches to the job" -- A wait "$qid" --poll 0.05
 has "done" "wait shows the job done"
 has "best pattern  P(1,1,4)" "wait shows the best pattern"
-has "kernel  sample" "the best pattern per kernel"
+has "samples ('aalab job ID --pattern' lists them)" "wait summarises the best pattern"
+expect 0 "job ID --pattern lists the samples" -- A job "$qid" --pattern
+has "kernel  sample" "job --pattern: the best pattern per kernel"
+expect 0 "wait ID --pattern lists the samples" -- A wait "$qid" --pattern
+has "kernel  sample" "wait --pattern: the best pattern per kernel"
 expect 0 "wait ID --json on a finished job" -- A --json wait "$qid"
 jq -e '.state == "done"' <<<"$out" >/dev/null && ok "wait --json: the job" || bad "wait --json: ${out:0:300}"
 expect 5 "wait on a failing job exits 5" -- A wait "$(A submit -q - <<<'{"kind":"sleep","seconds":0.1,"fail":true}')" --poll 0.05
@@ -341,7 +345,9 @@ if has_kind optimize; then
   expect 0 "job ID of an optimize job" -- A job "$oid"
   has "per seed" "optimize view: the per-seed table"
   has "best pattern  P(4,1+,2)" "optimize view: the best pattern"
-  has "     3       3  " "optimize view: kernels 0..3, samples 0..3"
+  has "4 kernels" "optimize view: the best pattern's kernel count"
+  expect 0 "job ID --pattern of an optimize job" -- A job "$oid" --pattern
+  has "     3       3  " "optimize --pattern: kernels 0..3, samples 0..3"
   expect 0 "job ID --trace" -- A job "$oid" --trace
   has "seconds  iterations  evaluations   best_e2" "trace table header"
   A job "$oid" --trace --csv >"$tmp/trace.csv" && csv_ok "$tmp/trace.csv" "job ID --trace --csv" "seconds,iterations,evaluations,best_e2"

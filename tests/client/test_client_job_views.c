@@ -174,7 +174,7 @@ static void optimize_view(void **state)
     const json_t *r = result_of(job);
     char want[128], n[64];
     capture c;
-    job_print(capture_begin(&c), job, false);
+    job_print_full(capture_begin(&c), job, false);
     const char *text = capture_end(&c);
     contains(text, "label       flipquad family, 4 seeds\n");
     snprintf(want, sizeof want, "E2                %s\n",
@@ -222,6 +222,57 @@ static void sweep_label(char *buf, size_t cap, const json_t *config)
              (long long)json_integer_value(json_array_get(es, 2)),
              (long long)json_integer_value(json_array_get(es, 3)),
              (long long)json_integer_value(json_object_get(config, "interior")));
+}
+
+/* Issue 34, defect 4: a P(16,16,4) job (16 kernels of 64 samples) prints at most 60 lines, the
+ * best pattern as one summary line; a failed job's error is the first line; --pattern (the
+ * _full variant) lists all 1,024 samples. */
+static size_t count_lines(const char *text)
+{
+    size_t n = 0;
+    for (const char *p = text; *p; p++)
+        n += *p == '\n';
+    return n;
+}
+
+static void large_pattern_summary(void **state)
+{
+    (void)state;
+    json_t *job = fixture("job_optimize.json");
+    json_t *pattern = json_object_get(json_object_get(job, "best"), "pattern");
+    json_t *kernels = json_array();
+    for (int k = 0; k < 16; k++) {
+        json_t *kernel = json_array();
+        for (int i = 0; i < 64; i++)
+            json_array_append_new(
+                kernel, json_pack("[f, f, f]", (i % 8) / 8.0 - 0.5, (i / 8) / 8.0 - 0.5, 1.0 / 64));
+        json_array_append_new(kernels, kernel);
+    }
+    json_object_set_new(pattern, "kernels_expanded", kernels);
+    json_object_set_new(pattern, "family", json_string("P(16,16,4)"));
+    json_object_set_new(pattern, "cost_spp", json_real(4.0));
+    json_object_set_new(pattern, "form", json_string("kernels"));
+    json_object_set_new(job, "state", json_string("failed"));
+    json_object_set_new(job, "error", json_string("worker ran out of memory"));
+    capture c;
+    job_print(capture_begin(&c), job, false);
+    const char *text = capture_end(&c);
+    size_t lines = count_lines(text);
+    if (lines > 60)
+        fail_msg("aalab job printed %zu lines for a P(16,16,4) job:\n%s", lines, text);
+    assert_true(strncmp(text, "error       worker ran out of memory\n", 37) == 0);
+    contains(text, "best pattern  P(16,16,4), 4.00 spp, kernels form, 16 kernels\n");
+    contains(text, "1024 samples ('aalab job ID --pattern' lists them)\n");
+    contains(text, "              E2 ");
+    assert_null(strstr(text, "kernel  sample"));
+    capture_free(&c);
+    job_print_full(capture_begin(&c), job, false);
+    text = capture_end(&c);
+    contains(text, "kernel  sample          x          y    weight\n");
+    contains(text, "    15      63  ");
+    assert_true(count_lines(text) > 1024);
+    capture_free(&c);
+    json_decref(job);
 }
 
 static void family_sweep_view(void **state)
@@ -546,17 +597,12 @@ static void cancel_line(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(optimize_view),
-        cmocka_unit_test(family_sweep_view),
-        cmocka_unit_test(random_stats_view),
-        cmocka_unit_test(table3_view),
-        cmocka_unit_test(compare_view),
-        cmocka_unit_test(animation_view),
-        cmocka_unit_test(reference_convergence_view),
-        cmocka_unit_test(every_kind_has_a_view),
-        cmocka_unit_test(trace_points),
-        cmocka_unit_test(pattern_csv),
-        cmocka_unit_test(job_list),
+        cmocka_unit_test(optimize_view),         cmocka_unit_test(large_pattern_summary),
+        cmocka_unit_test(family_sweep_view),     cmocka_unit_test(random_stats_view),
+        cmocka_unit_test(table3_view),           cmocka_unit_test(compare_view),
+        cmocka_unit_test(animation_view),        cmocka_unit_test(reference_convergence_view),
+        cmocka_unit_test(every_kind_has_a_view), cmocka_unit_test(trace_points),
+        cmocka_unit_test(pattern_csv),           cmocka_unit_test(job_list),
         cmocka_unit_test(cancel_line),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
