@@ -250,7 +250,8 @@ expect 2 "cancelling a finished job is a 4xx" -- A cancel "$id"
 
 # --- -q, wait, --csv, jobs filters ------------------------------------------------------------------
 # csv_ok FILE DESCRIPTION [HEADER]: RFC 4180 as Python's csv module (what pandas follows) reads it:
-# CRLF records, all as wide as the header, the header as given.
+# CRLF records, all as wide as the header, the header as given; header names unique, non-empty
+# ASCII (issue 34: table3 repeated "±", which pandas renames "±.1", ...).
 csv_ok() {
   if python3 - "$1" "${3:-}" <<'PY'
 import csv, io, sys
@@ -259,6 +260,8 @@ assert raw.endswith("\r\n"), "records end in CRLF"
 rows = list(csv.reader(io.StringIO(raw, newline="")))
 assert rows, "no header"
 assert all(len(r) == len(rows[0]) for r in rows), "ragged rows"
+assert all(h and h.isascii() and h.isprintable() for h in rows[0]), "non-ASCII or empty header %r" % rows[0]
+assert len(set(rows[0])) == len(rows[0]), "repeated header %r" % rows[0]
 if sys.argv[2]:
     assert ",".join(rows[0]) == sys.argv[2], "header %r" % rows[0]
 PY
@@ -375,6 +378,11 @@ if jq -e '.kinds | length > 0' <<<"$kinds" >/dev/null 2>&1; then
     has "${view_header[$k]}" "$k view: its table"
     A job "$kid" --csv >"$tmp/kind.csv" && csv_ok "$tmp/kind.csv" "$k view --csv"
   done
+  # table3, small: its CSV names the sd columns min_sd ... opt_wp_sd (issue 34: not five "±").
+  t3=$(A submit -q - <<<'{"kind":"table3","family":"P(4,4,2)","seeds":2,"count":4,"distributions":["jittered"],"max_iterations":20}')
+  expect 0 "table3: wait" -- A wait "$t3" --poll 0.1
+  A job "$t3" --csv >"$tmp/t3.csv" &&
+    csv_ok "$tmp/t3.csv" "table3 view --csv" "distribution,min,min_sd,avg,avg_sd,max,max_sd,opt_w,opt_w_sd,opt_wp,opt_wp_sd"
 else echo "skip kind views: the daemon has no GET /v1/kinds"; fi
 
 A --json enumerate --family 'P(4,1+,n)' --cost 1.25 >"$tmp/out" 2>"$tmp/err"
@@ -402,6 +410,8 @@ if jq -e '.render == true' <<<"$health" >/dev/null; then
   has "predicted RMSE" "predict prints the predicted RMSE"
   has "edge length" "predict prints the scene's edge length"
   has "model edge," "predict prints the model (edge by default)"
+  A predict --pattern "rgss,quincunx" --scene half-plane --angle 27 --size 64x64 --csv >"$tmp/predict.csv" &&
+    csv_ok "$tmp/predict.csv" "predict --csv"
   expect 0 "predict with the exact model" -- A predict --pattern rgss --scene half-plane --angle 27 --size 64x64 --model exact
   has "model exact," "predict --model exact prints the model"
   expect 2 "predict an unknown preset" -- A predict --pattern rgss,no-such-preset

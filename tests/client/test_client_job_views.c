@@ -486,11 +486,14 @@ static void table3_view(void **state)
         const json_t *row = json_array_get(rows, i);
         assert_string_equal(csv_get(&d, i + 1, "distribution"),
                             json_string_value(json_object_get(row, "distribution")));
-        for (int k = 0; k < 5; k++)
-            assert_same_number(
-                csv_get(&d, i + 1, columns[k]),
-                json_object_get(json_object_get(json_object_get(row, "columns"), columns[k]),
-                                "mean"));
+        for (int k = 0; k < 5; k++) {
+            char sd[32];
+            snprintf(sd, sizeof sd, "%s_sd", columns[k]);
+            const json_t *col = json_object_get(json_object_get(row, "columns"), columns[k]);
+            assert_same_number(csv_get(&d, i + 1, columns[k]), json_object_get(col, "mean"));
+            /* issue 34: unique ASCII headers, min_sd ... opt_wp_sd, not five "±" */
+            assert_same_number(csv_get(&d, i + 1, sd), json_object_get(col, "sd"));
+        }
     }
     csv_free(&d);
     json_decref(job);
