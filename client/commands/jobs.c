@@ -189,10 +189,17 @@ void cancel_print(FILE *out, const char *id, const json_t *resp)
         fprintf(out, "job %s: %s\n", id, state ? state : "-");
 }
 
-/* aalab job ID --trace: the job's trace alone. */
-static void job_trace_print(FILE *out, const json_t *job, bool csv)
+/* aalab job ID --trace: the job's trace alone; for people, a sentence where a kind keeps none
+ * (compare, animation, ... measure no best E2 against time) rather than a bare header. */
+void job_trace_print(FILE *out, const json_t *job, bool csv)
 {
-    view_trace(out, json_object_get(job, "trace"), csv);
+    const json_t *trace = json_object_get(job, "trace");
+    if (!csv && json_array_size(trace) == 0) {
+        fprintf(out, "no trace: this %s job recorded no best E2 against run time\n",
+                view_str(json_object_get(job, "kind")));
+        return;
+    }
+    view_trace(out, trace, csv);
 }
 
 int cmd_job(cli_session *s)

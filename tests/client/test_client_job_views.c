@@ -528,6 +528,14 @@ static void trace_points(void **state)
     for (size_t i = 0; i < 4; i++)
         csv_numbers_are(&d, columns[i], trace, columns[i]);
     csv_free(&d);
+    /* issue 34: a compare job has no trace; --trace says so instead of printing a bare header */
+    json_t *cmp = fixture("job_compare.json");
+    json_object_set_new(cmp, "trace", json_array());
+    job_trace_print(capture_begin(&c), cmp, false);
+    text = capture_end(&c);
+    contains(text, "no trace: this compare job recorded no best E2 against run time\n");
+    capture_free(&c);
+    json_decref(cmp);
     json_decref(job);
 }
 
