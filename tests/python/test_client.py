@@ -346,3 +346,9 @@ print("ok")
                          text=True, timeout=60)
     assert out.returncode == 0 and out.stdout.strip() == "ok", out.stdout + out.stderr
     assert out.stderr == ""  # no progress bar without tqdm
+
+
+def test_job_repr_says_kind_and_state_before_any_attribute(client, opt_job):
+    """Issue 34: client.job(ID) printed "<aalab.Job N ? ?>" until an attribute was read."""
+    fresh = client.job(opt_job.id)
+    assert repr(fresh) == "<aalab.Job %d optimize done>" % opt_job.id
