@@ -365,7 +365,7 @@ if jq -e '.kinds | length > 0' <<<"$kinds" >/dev/null 2>&1; then
   declare -A view_header=(
     [optimize]="seed  distribution  initial_e2"
     [family-sweep]="rank  configuration"
-    [random-stats]="family    distribution  count    min    avg    max  opt_w  opt_wp"
+    [random-stats]="family    distribution  count     min     avg     max   opt_w  opt_wp"
     [compare]="name      family"
     [animation]="frame    rmse  max_dev"
     [reference-convergence]="spp    rmse  max_dev  seconds"

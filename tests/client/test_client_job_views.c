@@ -320,11 +320,12 @@ static void random_stats_view(void **state)
     capture c;
     job_print(capture_begin(&c), job, false);
     const char *text = capture_end(&c);
-    contains(text, "family    distribution  count    min    avg    max  opt_w  opt_wp\n");
+    /* 4 decimals, as table3 and the dashboard show them (issue 34: it was 3 here) */
+    contains(text, "family    distribution  count     min     avg     max   opt_w  opt_wp\n");
     char want[256], v[5][32];
     for (int i = 0; i < 5; i++)
-        fixed(v[i], sizeof v[i], values[i], 3);
-    snprintf(want, sizeof want, "P(1,4,2)  poisson          50  %s  %s  %s  %s   %s\n", v[0], v[1],
+        fixed(v[i], sizeof v[i], values[i], 4);
+    snprintf(want, sizeof want, "P(1,4,2)  poisson          50  %s  %s  %s  %s  %s\n", v[0], v[1],
              v[2], v[3], v[4]);
     contains(text, want);
     contains(text, "Opt W method    ");
