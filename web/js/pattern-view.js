@@ -2,7 +2,7 @@
 // Fig. 3); negative weights hollow, dashed and labelled with a minus sign, so they read without
 // colour. Samples of the centre pixel can be dragged with the mouse or moved with arrow keys.
 
-import { el, text, clear } from './svg.js';
+import { el, text, clear, screenScale } from './svg.js';
 import { layoutDots, moveSample, editableSamples, kernelsOf } from './pattern-geometry.js';
 
 const SIZE = 420;
@@ -81,6 +81,7 @@ export class PatternView {
     // samples in the pixel and its labels would overprint. Each weight stays in the sample's
     // accessible name and tooltip. Boxes in viewBox units (12 px labels, digits ~0.6 em wide).
     const placed = [];
+    const fontPx = Math.max(12, 11 / screenScale(svg)); // at least 11 px on screen
     const fits = (bx) => !placed.some((p) => bx.x0 < p.x1 && p.x0 < bx.x1 && bx.y0 < p.y1 && p.y0 < bx.y1);
     for (const d of dots) {
       const [x, y] = this.toScreen(d.x, d.y);
@@ -91,10 +92,10 @@ export class PatternView {
       if (neg) text(g, x, y + 4, '−', { class: 'dot-sign', 'text-anchor': 'middle' });
       if (d.primary) {
         const label = formatWeight(d.w);
-        const box = { x0: x + r + 2, x1: x + r + 4 + 0.62 * 12 * label.length, y0: y - r - 11, y1: y - r + 2 };
+        const box = { x0: x + r + 2, x1: x + r + 4 + 0.62 * fontPx * label.length, y0: y - r - 1 - fontPx, y1: y - r + 2 };
         if (fits(box)) {
           placed.push(box);
-          text(g, x + r + 3, y - r - 1, label, { class: 'dot-label' });
+          text(g, x + r + 3, y - r - 1, label, { class: 'dot-label' }).style.fontSize = `${fontPx.toFixed(2)}px`;
         } else el('title', {}, g).textContent = `weight ${label}`;
         g.dataset.index = d.index;
         const [sx, sy] = samples[d.index];

@@ -1,7 +1,7 @@
 // Scatter/line plot in SVG with linear or log axes whose points are links (keyboard focusable,
 // with a title), one marker shape per series so series read without colour.
 
-import { el, text, clear, marker, MARKERS, COLOURS, DASHES, niceTicks, logTicks } from './svg.js';
+import { el, text, clear, marker, MARKERS, COLOURS, DASHES, niceTicks, logTicks, enlargeSmallText } from './svg.js';
 
 export function drawScatter(container, { series, xLabel, yLabel, xLog = false, yLog = false, width = 640, height = 360, lines = false, title = '', labels = false }) {
   clear(container);
@@ -96,6 +96,7 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
       if (labels) placeLabel(X(p.x), Y(p.y), s.label);
     }
   });
+  enlargeSmallText(svg);
   return svg;
 }
 

@@ -106,3 +106,22 @@ export function logTicks(lo, hi) {
 export function clear(node) {
   while (node.firstChild) node.removeChild(node.firstChild);
 }
+
+/* How many screen pixels one viewBox unit of svg takes (1 while it is not laid out). */
+export function screenScale(svg) {
+  const vb = svg.viewBox && svg.viewBox.baseVal;
+  const r = svg.getBoundingClientRect();
+  if (!vb || !vb.width || !r.width) return 1;
+  return Math.min(r.width / vb.width, r.height / vb.height);
+}
+
+/* A plot drawn smaller than its viewBox shrinks its text with it: text that would be under
+ * minPx on screen is set larger, so labels stay readable (issue 34: 7 px labels). */
+export function enlargeSmallText(svg, minPx = 11) {
+  const scale = screenScale(svg);
+  if (scale >= 1) return;
+  for (const t of svg.querySelectorAll('text')) {
+    const size = parseFloat(getComputedStyle(t).fontSize);
+    if (size * scale < minPx) t.style.fontSize = `${(minPx / scale).toFixed(2)}px`;
+  }
+}

@@ -43,6 +43,25 @@ function overlappingLabels(page) {
   });
 }
 
+/* Plot text drawn smaller than 11 px on screen (font size times the SVG's scale). */
+function smallText(page) {
+  return page.evaluate(() => {
+    const out = [];
+    for (const svg of document.querySelectorAll('main svg')) {
+      const vb = svg.viewBox && svg.viewBox.baseVal;
+      const r = svg.getBoundingClientRect();
+      if (!r.width) continue;
+      const scale = vb && vb.width ? Math.min(r.width / vb.width, r.height / vb.height) : 1;
+      for (const t of svg.querySelectorAll('text')) {
+        if (!t.textContent.trim() || !t.getClientRects().length) continue;
+        const px = parseFloat(getComputedStyle(t).fontSize) * scale;
+        if (px < 10.5) out.push(`${svg.id || svg.parentElement.id}: "${t.textContent.trim()}" ${px.toFixed(1)} px`);
+      }
+    }
+    return out;
+  });
+}
+
 async function checkWidth(page, what) {
   const w = await page.evaluate(() => ({ scroll: document.documentElement.scrollWidth, inner: window.innerWidth }));
   assert(w.scroll <= w.inner, `${what}: page ${w.scroll} px wide in a ${w.inner} px window`);
@@ -79,6 +98,8 @@ export default async function layoutSuite({ page, base, api, step, artifacts }) 
         const w = await page.evaluate(() => ({ scroll: document.documentElement.scrollWidth, inner: window.innerWidth }));
         if (w.scroll > w.inner) problems.push(`${route}: page ${w.scroll} px wide in a ${w.inner} px window`);
         const overlaps = await overlappingLabels(page);
+        const small = await smallText(page);
+        if (small.length) problems.push(`${route}: ${small.length} plot labels under 11 px, e.g. ${small.slice(0, 4).join('; ')}`);
         if (overlaps.length) problems.push(`${route}: ${overlaps.length} overlapping plot labels, e.g. ${overlaps.slice(0, 4).join('; ')}`);
       }
       assert(!problems.length, problems.join('\n'));
