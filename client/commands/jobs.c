@@ -55,8 +55,16 @@ static void job_head(FILE *out, const json_t *job)
         json_object_del(copy, SHOWN_ELSEWHERE[i]);
     const json_t *progress = json_object_get(job, "progress");
     if (json_is_number(progress)) { /* a fraction on the wire, a percentage for people */
-        char pct[32];
+        char pct[96];
         snprintf(pct, sizeof pct, "%.0f%%", 100.0 * json_number_value(progress));
+        /* A job that ended early: how long it ran says more than its 0 % (issue 34). */
+        const char *state = json_string_value(json_object_get(job, "state"));
+        const json_t *started = json_object_get(job, "started");
+        const json_t *finished = json_object_get(job, "finished");
+        if (state && strcmp(state, "done") != 0 && json_is_number(started) &&
+            json_is_number(finished))
+            snprintf(pct + strlen(pct), sizeof pct - strlen(pct), " (%s after %.1f s)", state,
+                     json_number_value(finished) - json_number_value(started));
         json_object_set_new(copy, "progress", json_string(pct));
     }
     print_flat(out, copy);

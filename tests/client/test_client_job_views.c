@@ -265,6 +265,12 @@ static void large_pattern_summary(void **state)
     contains(text, "1024 samples ('aalab job ID --pattern' lists them)\n");
     contains(text, "              E2 ");
     assert_null(strstr(text, "kernel  sample"));
+    /* a job that ended early says how long it ran beside its progress */
+    char ran[96];
+    snprintf(ran, sizeof ran, "(failed after %.1f s)\n",
+             json_number_value(json_object_get(job, "finished")) -
+                 json_number_value(json_object_get(job, "started")));
+    contains(text, ran);
     capture_free(&c);
     job_print_full(capture_begin(&c), job, false);
     text = capture_end(&c);
