@@ -85,6 +85,7 @@ export default async function layoutSuite({ page, base, api, step, artifacts }) 
       await page.setViewportSize(size);
       const views = [
         ['evaluate?preset=quincunx', () => page.waitForFunction(() => document.getElementById('ev-e2').dataset.e2)],
+        [`evaluate?job=${id}`, () => page.waitForFunction(() => document.getElementById('ev-preset').value === '__custom')],
         ['families', () => page.waitForFunction(() => /\d+ points/.test(document.getElementById('fam-status').textContent), null, { timeout: 30000 })],
         [`jobs?job=${id}`, () => page.waitForSelector('#jd-pattern g.dot-primary')],
         ['tiles', () => page.waitForTimeout(500)],
@@ -98,6 +99,18 @@ export default async function layoutSuite({ page, base, api, step, artifacts }) 
         const w = await page.evaluate(() => ({ scroll: document.documentElement.scrollWidth, inner: window.innerWidth }));
         if (w.scroll > w.inner) problems.push(`${route}: page ${w.scroll} px wide in a ${w.inner} px window`);
         const overlaps = await overlappingLabels(page);
+        // A menu whose chosen entry is wider than the menu shows it cut off.
+        const cut = await page.evaluate(() => {
+          const ctx = document.createElement('canvas').getContext('2d');
+          return [...document.querySelectorAll('main select')]
+            .filter((s) => s.getClientRects().length && s.selectedIndex >= 0)
+            .filter((s) => {
+              ctx.font = getComputedStyle(s).font;
+              return ctx.measureText(s.options[s.selectedIndex].text).width > s.clientWidth - 24;
+            })
+            .map((s) => `${s.id}: "${s.options[s.selectedIndex].text}"`);
+        });
+        if (cut.length) problems.push(`${route}: menus cut off: ${cut.join('; ')}`);
         const small = await smallText(page);
         if (small.length) problems.push(`${route}: ${small.length} plot labels under 11 px, e.g. ${small.slice(0, 4).join('; ')}`);
         if (overlaps.length) problems.push(`${route}: ${overlaps.length} overlapping plot labels, e.g. ${overlaps.slice(0, 4).join('; ')}`);

@@ -116,7 +116,7 @@ function fillPresets(presets) {
     for (const p of list) g.appendChild(new Option(`${p.name}${p.cost_spp != null ? ` (${p.cost_spp} spp)` : ''}`, p.name));
     nodes.push(g);
   }
-  sel.replaceChildren(...nodes, new Option('custom (edited or pasted)', '__custom'));
+  sel.replaceChildren(...nodes, new Option('custom', '__custom'));
 }
 
 function fillFilterParams() {
