@@ -47,6 +47,7 @@ typedef enum opt_id {
     OPT_KIND,
     OPT_LIMIT,
     OPT_TRACE,
+    OPT_FULL_PATTERN,
     OPT_POINTS_FORMAT,
     OPT_TILE,
     OPT_KERNEL,
@@ -105,6 +106,7 @@ static const opt_spec OPTIONS[] = {
     {"kind", 0, true, BIT(CMD_JOBS), OPT_KIND},
     {"limit", 0, true, BIT(CMD_JOBS), OPT_LIMIT},
     {"trace", 0, false, BIT(CMD_JOB) | BIT(CMD_WAIT), OPT_TRACE},
+    {"pattern", 0, false, BIT(CMD_JOB) | BIT(CMD_WAIT), OPT_FULL_PATTERN},
     {"scene", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_SCENE},
     {"size", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_SIZE},
     {"angle", 0, true, BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_ANGLE},
@@ -210,12 +212,19 @@ int parse_size(const char *s, int *w, int *h)
     return 0;
 }
 
-static const opt_spec *find_long(const char *name, size_t len)
+/* The option of that name; where two share a name (--pattern NAME for optimize, the flag
+ * --pattern for job), the one of the command already named. */
+static const opt_spec *find_long(const char *name, size_t len, cli_command cmd)
 {
+    const opt_spec *first = NULL;
     for (size_t i = 0; i < sizeof OPTIONS / sizeof OPTIONS[0]; i++)
-        if (strlen(OPTIONS[i].long_name) == len && strncmp(OPTIONS[i].long_name, name, len) == 0)
-            return &OPTIONS[i];
-    return NULL;
+        if (strlen(OPTIONS[i].long_name) == len && strncmp(OPTIONS[i].long_name, name, len) == 0) {
+            if (cmd != CMD_NONE && (OPTIONS[i].commands & BIT(cmd)))
+                return &OPTIONS[i];
+            if (!first)
+                first = &OPTIONS[i];
+        }
+    return first;
 }
 
 static const opt_spec *find_short(char c)
@@ -382,6 +391,9 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
     case OPT_TRACE:
         a->trace = true;
         break;
+    case OPT_FULL_PATTERN:
+        a->full_pattern = true;
+        break;
     case OPT_STATE:
         if (!one_of(v, STATES))
             return fail(err, cap,
@@ -544,7 +556,7 @@ int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errc
             const char *name = arg + 2;
             const char *eq = strchr(name, '=');
             size_t len = eq ? (size_t)(eq - name) : strlen(name);
-            o = find_long(name, len);
+            o = find_long(name, len, out->command);
             if (!o)
                 return fail(err, errcap, "unknown option '--%.*s'", (int)len, name);
             if (eq) {
@@ -601,7 +613,7 @@ int cli_parse(int argc, char *const *argv, cli_args *out, char *err, size_t errc
         const opt_spec *o = NULL;
         if (arg[0] == '-' && arg[1] == '-') {
             const char *eq = strchr(arg + 2, '=');
-            o = find_long(arg + 2, eq ? (size_t)(eq - arg - 2) : strlen(arg + 2));
+            o = find_long(arg + 2, eq ? (size_t)(eq - arg - 2) : strlen(arg + 2), out->command);
         } else if (arg[0] == '-' && arg[1] != '\0') {
             o = find_short(arg[1]);
         }

@@ -69,6 +69,8 @@ typedef struct cli_args {
     bool has_limit;
     /* job/wait --trace: the error-against-time points instead of the view */
     bool trace;
+    /* job/wait --pattern: every sample of the best pattern, not only its summary */
+    bool full_pattern;
     /* enumerate */
     double cost;
     bool has_cost;

@@ -79,6 +79,12 @@ void jobs_print(FILE *out, const json_t *resp, bool csv);
 /* One job: its state, its kind's view of the result (views/job_views.h), its best pattern
  * and a trace summary; with csv only the kind's main table. */
 void job_print(FILE *out, const json_t *job, bool csv);
+/* The same with every sample of the best pattern (aalab job ID --pattern); job_print gives a
+ * one-line summary of it. */
+void job_print_full(FILE *out, const json_t *job, bool csv);
+/* aalab job ID --trace: the trace table, or a sentence saying the job has none. */
+void job_trace_print(FILE *out, const json_t *job, bool csv);
+void job_print_with(FILE *out, const json_t *job, bool csv, bool full_pattern);
 /* The query of GET /v1/jobs for --state, --kind and --limit ("" when none; values escaped). */
 int jobs_query(const cli_args *a, char *buf, size_t cap);
 /* The line for DELETE /v1/jobs/ID's answer. */
@@ -86,6 +92,9 @@ void cancel_print(FILE *out, const char *id, const json_t *resp);
 void render_print(FILE *out, const json_t *resp);
 /* One row per pattern (predicted RMSE, locked share, costliest angle), then the scene's edges. */
 void predict_print(FILE *out, const json_t *resp, bool csv);
+/* Rows whose pattern the daemon names not (a job's, a file's) take the argument as typed,
+ * "job:8", instead of a row number. */
+void predict_name_rows(json_t *resp, const char *pattern_list);
 void health_print(FILE *out, const json_t *resp, bool csv);
 void filters_print(FILE *out, const json_t *resp, bool csv);
 void acuity_print(FILE *out, const json_t *resp, bool csv);

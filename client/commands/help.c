@@ -103,16 +103,18 @@ static const struct {
     {"jobs", "usage: aalab jobs [--state queued|running|done|failed|cancelled|interrupted]\n"
              "                  [--kind KIND] [--limit N] [--csv]\n"
              "Newest first: id, kind, state, progress, family, label, best E2, owner, created.\n"},
-    {"job", "usage: aalab job ID [--trace] [--csv]\n"
+    {"job", "usage: aalab job ID [--trace] [--pattern] [--csv]\n"
             "The job's state, its kind's result (optimize: E2 and a row per seed;\n"
             "family-sweep: the configurations ranked by E2; random-stats: min, avg, max,\n"
             "Opt W, Opt W+P as in Laine & Aila's Table 3; table3: that table over\n"
             "seeds, mean with a ± column (sd) beside the paper's row; compare, animation,\n"
-            "reference-convergence: their tables), the best pattern (x, y and weight of\n"
-            "each sample, kernels numbered from 0) and a summary of the trace.\n"
+            "reference-convergence: their tables), a line on the best pattern (family,\n"
+            "cost, E2, kernels) and a summary of the trace; a failed job's error first.\n"
+            "--pattern: the best pattern in full (x, y and weight of each sample, kernels\n"
+            "numbered from 0).\n"
             "--trace: the best E2 against run time (seconds, iterations, evaluations).\n"
             "--csv: the kind's main table (or the trace) as CSV.\n"},
-    {"wait", "usage: aalab wait ID [--poll S] [--trace] [--csv]\n"
+    {"wait", "usage: aalab wait ID [--poll S] [--trace] [--pattern] [--csv]\n"
              "Follows a queued or running job (a progress bar on stderr when it is a\n"
              "terminal), then prints it as 'aalab job' does. Exit 0 if it ended done,\n"
              "5 if it failed, was cancelled or interrupted; Ctrl-C stops waiting, not the job.\n"},

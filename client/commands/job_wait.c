@@ -56,9 +56,9 @@ static void print_finished(cli_session *s, const json_t *job)
     if (s->args->json)
         cli_print_json(s->out, job);
     else if (s->args->trace)
-        view_trace(s->out, json_object_get(job, "trace"), s->args->csv);
+        job_trace_print(s->out, job, s->args->csv);
     else
-        job_print(s->out, job, s->args->csv);
+        job_print_with(s->out, job, s->args->csv, s->args->full_pattern);
 }
 
 /* Polls GET /v1/jobs/ID until the job ends; a bar on stderr when stderr is a terminal. */

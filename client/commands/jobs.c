@@ -8,6 +8,7 @@
 #include "../exit_codes.h"
 #include "../table.h"
 #include "../views/job_views.h"
+#include "../views/view_kv.h"
 #include "view_util.h"
 
 void jobs_print(FILE *out, const json_t *resp, bool csv)
@@ -48,21 +49,54 @@ void jobs_print(FILE *out, const json_t *resp, bool csv)
 /* The job's own members (job.json) as "key  value" lines: what the views below do not show. */
 static void job_head(FILE *out, const json_t *job)
 {
-    static const char *const SHOWN_ELSEWHERE[] = {"result", "spec", "trace", "best"};
+    static const char *const SHOWN_ELSEWHERE[] = {"result", "spec", "trace", "best", "error"};
     json_t *copy = json_deep_copy(job);
     for (size_t i = 0; i < sizeof SHOWN_ELSEWHERE / sizeof SHOWN_ELSEWHERE[0]; i++)
         json_object_del(copy, SHOWN_ELSEWHERE[i]);
     const json_t *progress = json_object_get(job, "progress");
     if (json_is_number(progress)) { /* a fraction on the wire, a percentage for people */
-        char pct[32];
+        char pct[96];
         snprintf(pct, sizeof pct, "%.0f%%", 100.0 * json_number_value(progress));
+        /* A job that ended early: how long it ran says more than its 0 % (issue 34). */
+        const char *state = json_string_value(json_object_get(job, "state"));
+        const json_t *started = json_object_get(job, "started");
+        const json_t *finished = json_object_get(job, "finished");
+        if (state && strcmp(state, "done") != 0 && json_is_number(started) &&
+            json_is_number(finished))
+            snprintf(pct + strlen(pct), sizeof pct - strlen(pct), " (%s after %.1f s)", state,
+                     json_number_value(finished) - json_number_value(started));
         json_object_set_new(copy, "progress", json_string(pct));
     }
     print_flat(out, copy);
     json_decref(copy);
 }
 
-void job_print(FILE *out, const json_t *job, bool csv)
+/* One line on the best pattern: family, cost, E2, kernel and sample counts. Its samples (1,024
+ * rows for a P(16,16,4) pattern) only with --pattern. */
+static void best_summary(FILE *out, const json_t *best)
+{
+    const json_t *pattern = json_object_get(best, "pattern");
+    const json_t *kernels = json_object_get(pattern, "kernels_expanded");
+    size_t samples = 0, k;
+    json_t *kernel;
+    json_array_foreach(kernels, k, kernel) samples += json_array_size(kernel);
+    const json_t *cost = json_object_get(pattern, "cost_spp");
+    if (!cost)
+        cost = json_object_get(pattern, "samples_per_pixel");
+    const char *form = json_string_value(json_object_get(pattern, "form"));
+    char spp[32], e2[32];
+    fprintf(out, "best pattern  %s, %s spp", view_str(json_object_get(pattern, "family")),
+            fmt_number(spp, sizeof spp, cost, 2));
+    if (form)
+        fprintf(out, ", %s form, %zu kernels", form, json_array_size(kernels));
+    fputc('\n', out);
+    fputs("              ", out);
+    if (json_is_number(json_object_get(best, "e2")))
+        fprintf(out, "E2 %s, ", fmt_number(e2, sizeof e2, json_object_get(best, "e2"), 6));
+    fprintf(out, "%zu samples ('aalab job ID --pattern' lists them)\n", samples);
+}
+
+void job_print_with(FILE *out, const json_t *job, bool csv, bool full_pattern)
 {
     const json_t *result = json_object_get(job, "result");
     const job_view *view = job_view_find(json_string_value(json_object_get(job, "kind")));
@@ -71,15 +105,27 @@ void job_print(FILE *out, const json_t *job, bool csv)
             view->print(out, result, true);
         return;
     }
+    /* A failed job's reason first, where it cannot scroll away. */
+    const json_t *error = json_object_get(job, "error");
+    if (error && !json_is_null(error)) {
+        const char *msg = json_string_value(error);
+        if (!msg && json_is_object(error))
+            msg = json_string_value(json_object_get(error, "message"));
+        fprintf(out, "error       %s\n", msg ? msg : "(see --json)");
+    }
     job_head(out, job);
     if (json_is_object(result)) {
         fputc('\n', out);
         view->print(out, result, false);
     }
-    const json_t *pattern = json_object_get(json_object_get(job, "best"), "pattern");
+    const json_t *best = json_object_get(job, "best");
+    const json_t *pattern = json_object_get(best, "pattern");
     if (json_is_object(pattern)) {
         fputc('\n', out);
-        view_pattern(out, pattern, false);
+        if (full_pattern)
+            view_pattern(out, pattern, false);
+        else
+            best_summary(out, best);
     }
     const json_t *trace = json_object_get(job, "trace");
     if (json_array_size(trace) > 0) {
@@ -90,6 +136,16 @@ void job_print(FILE *out, const json_t *job, bool csv)
                 fmt_number(sec, sizeof sec, json_object_get(last, "seconds"), fmt_decimals(csv, 2)),
                 fmt_number(e2, sizeof e2, json_object_get(last, "best_e2"), fmt_decimals(csv, 6)));
     }
+}
+
+void job_print(FILE *out, const json_t *job, bool csv)
+{
+    job_print_with(out, job, csv, false);
+}
+
+void job_print_full(FILE *out, const json_t *job, bool csv)
+{
+    job_print_with(out, job, csv, true);
 }
 
 int jobs_query(const cli_args *a, char *buf, size_t cap)
@@ -141,17 +197,27 @@ void cancel_print(FILE *out, const char *id, const json_t *resp)
         fprintf(out, "job %s: %s\n", id, state ? state : "-");
 }
 
-/* aalab job ID --trace: the job's trace alone. */
-static void job_trace_print(FILE *out, const json_t *job, bool csv)
+/* aalab job ID --trace: the job's trace alone; for people, a sentence where a kind keeps none
+ * (compare, animation, ... measure no best E2 against time) rather than a bare header. */
+void job_trace_print(FILE *out, const json_t *job, bool csv)
 {
-    view_trace(out, json_object_get(job, "trace"), csv);
+    const json_t *trace = json_object_get(job, "trace");
+    if (!csv && json_array_size(trace) == 0) {
+        fprintf(out, "no trace: this %s job recorded no best E2 against run time\n",
+                view_str(json_object_get(job, "kind")));
+        return;
+    }
+    view_trace(out, trace, csv);
 }
 
 int cmd_job(cli_session *s)
 {
     char path[128];
     snprintf(path, sizeof path, "/v1/jobs/%s", s->args->target); /* [A-Za-z0-9_-] (args.c) */
-    return cli_show(s, "GET", path, NULL, s->args->trace ? job_trace_print : job_print);
+    return cli_show(s, "GET", path, NULL,
+                    s->args->trace          ? job_trace_print
+                    : s->args->full_pattern ? job_print_full
+                                            : job_print);
 }
 
 int cmd_cancel(cli_session *s)

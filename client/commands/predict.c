@@ -113,6 +113,23 @@ void predict_print(FILE *out, const json_t *resp, bool csv)
                 fmt_string(json_object_get(json_object_get(resp, "reference"), "filter")));
 }
 
+void predict_name_rows(json_t *resp, const char *pattern_list)
+{
+    char *list = strdup(pattern_list ? pattern_list : "");
+    if (!list)
+        return;
+    const json_t *predictions = json_object_get(resp, "predictions");
+    char *save = NULL;
+    size_t i = 0;
+    for (char *item = strtok_r(list, ",", &save); item; item = strtok_r(NULL, ",", &save), i++) {
+        json_t *pat = json_object_get(json_array_get(predictions, i), "pattern");
+        const char *name = json_string_value(json_object_get(pat, "name"));
+        if (json_is_object(pat) && (!name || !*name))
+            json_object_set_new(pat, "name", json_string(item));
+    }
+    free(list);
+}
+
 int cmd_predict(cli_session *s)
 {
     json_t *req;
@@ -121,7 +138,17 @@ int cmd_predict(cli_session *s)
         fprintf(s->err, "aalab predict: %s\n", err);
         return EXIT_USAGE;
     }
-    int code = cli_show(s, "POST", "/v1/predict", req, predict_print);
+    json_t *resp;
+    int code = cli_call(s, "POST", "/v1/predict", req, &resp);
     json_decref(req);
-    return code;
+    if (code != EXIT_OK)
+        return code;
+    if (s->args->json) {
+        cli_print_json(s->out, resp);
+    } else {
+        predict_name_rows(resp, s->args->pattern);
+        predict_print(s->out, resp, s->args->csv);
+    }
+    json_decref(resp);
+    return EXIT_OK;
 }

@@ -22,11 +22,11 @@ void view_random_stats(FILE *out, const json_t *result, bool csv)
         fmt_string(json_object_get(result, "family")),
         fmt_string(json_object_get(result, "distribution")),
         fmt_number(count, sizeof count, json_object_get(result, "count"), 0),
-        fmt_number(mn, sizeof mn, json_object_get(random, "min"), fmt_decimals(csv, 3)),
-        fmt_number(avg, sizeof avg, json_object_get(random, "avg"), fmt_decimals(csv, 3)),
-        fmt_number(mx, sizeof mx, json_object_get(random, "max"), fmt_decimals(csv, 3)),
-        fmt_number(w, sizeof w, json_object_get(opt_w, "e2"), fmt_decimals(csv, 3)),
-        fmt_number(wp, sizeof wp, json_object_get(opt_wp, "e2"), fmt_decimals(csv, 3))};
+        fmt_number(mn, sizeof mn, json_object_get(random, "min"), fmt_decimals(csv, 4)),
+        fmt_number(avg, sizeof avg, json_object_get(random, "avg"), fmt_decimals(csv, 4)),
+        fmt_number(mx, sizeof mx, json_object_get(random, "max"), fmt_decimals(csv, 4)),
+        fmt_number(w, sizeof w, json_object_get(opt_w, "e2"), fmt_decimals(csv, 4)),
+        fmt_number(wp, sizeof wp, json_object_get(opt_wp, "e2"), fmt_decimals(csv, 4))};
     table_add_row(t, cells);
     table_write(t, out, csv);
     table_free(t);

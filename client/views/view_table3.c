@@ -1,7 +1,7 @@
 /* table3: Laine & Aila's Table 3 over K seeds, as the paper prints it: a row per distribution
  * with Min, Avg, Max, Opt W and Opt W+P, each followed by a ± column (the sd over the seeds),
  * and under it the paper's row where the paper has one. CSV: the same table, the paper's rows
- * named "<distribution> (paper)" with empty ± cells. */
+ * named "<distribution> (paper)" with empty sd cells, the sd columns named min_sd ... opt_wp_sd. */
 #include "job_views.h"
 
 #include <stdio.h>
@@ -12,6 +12,8 @@
 #include "view_kv.h"
 
 static const char *const columns[] = {"min", "avg", "max", "opt_w", "opt_wp"};
+/* CSV headers are unique ASCII names (pandas renames repeated ones to "±.1", ...). */
+static const char *const sd_columns[] = {"min_sd", "avg_sd", "max_sd", "opt_w_sd", "opt_wp_sd"};
 enum { COLS = 5 };
 
 void view_table3(FILE *out, const json_t *result, bool csv)
@@ -19,7 +21,7 @@ void view_table3(FILE *out, const json_t *result, bool csv)
     const char *headers[1 + 2 * COLS] = {"distribution"};
     for (int c = 0; c < COLS; c++) {
         headers[1 + 2 * c] = columns[c];
-        headers[2 + 2 * c] = "±";
+        headers[2 + 2 * c] = csv ? sd_columns[c] : "±";
     }
     table *t = table_new(1 + 2 * COLS, headers);
     if (!t)

@@ -39,9 +39,16 @@ class Job:
         return self.job_id
 
     def __repr__(self) -> str:
-        s = (self._info or self.summary or {}).get("state", "?")
-        kind = (self._info or self.summary or {}).get("kind", "?")
-        return "<aalab.Job %d %s %s>" % (self.job_id, kind, s)
+        known = self._info or self.summary or {}
+        if "kind" not in known or "state" not in known:
+            # client.job(ID) knows only the id: ask once, so the repr says what the job is
+            # even before an attribute was read (a daemon that cannot answer leaves "?").
+            try:
+                known = self.refresh()
+            except Exception:  # noqa: BLE001 - a repr must not raise
+                pass
+        return "<aalab.Job %d %s %s>" % (self.job_id, known.get("kind", "?"),
+                                         known.get("state", "?"))
 
     def refresh(self) -> Dict[str, Any]:
         """Fetches the job (``GET /v1/jobs/{id}``, job.json) and returns it."""

@@ -250,7 +250,8 @@ expect 2 "cancelling a finished job is a 4xx" -- A cancel "$id"
 
 # --- -q, wait, --csv, jobs filters ------------------------------------------------------------------
 # csv_ok FILE DESCRIPTION [HEADER]: RFC 4180 as Python's csv module (what pandas follows) reads it:
-# CRLF records, all as wide as the header, the header as given.
+# CRLF records, all as wide as the header, the header as given; header names unique, non-empty
+# ASCII (issue 34: table3 repeated "±", which pandas renames "±.1", ...).
 csv_ok() {
   if python3 - "$1" "${3:-}" <<'PY'
 import csv, io, sys
@@ -259,6 +260,8 @@ assert raw.endswith("\r\n"), "records end in CRLF"
 rows = list(csv.reader(io.StringIO(raw, newline="")))
 assert rows, "no header"
 assert all(len(r) == len(rows[0]) for r in rows), "ragged rows"
+assert all(h and h.isascii() and h.isprintable() for h in rows[0]), "non-ASCII or empty header %r" % rows[0]
+assert len(set(rows[0])) == len(rows[0]), "repeated header %r" % rows[0]
 if sys.argv[2]:
     assert ",".join(rows[0]) == sys.argv[2], "header %r" % rows[0]
 PY
@@ -270,7 +273,11 @@ qid=$out
 expect 0 "wait ID re-attaches to the job" -- A wait "$qid" --poll 0.05
 has "done" "wait shows the job done"
 has "best pattern  P(1,1,4)" "wait shows the best pattern"
-has "kernel  sample" "the best pattern per kernel"
+has "samples ('aalab job ID --pattern' lists them)" "wait summarises the best pattern"
+expect 0 "job ID --pattern lists the samples" -- A job "$qid" --pattern
+has "kernel  sample" "job --pattern: the best pattern per kernel"
+expect 0 "wait ID --pattern lists the samples" -- A wait "$qid" --pattern
+has "kernel  sample" "wait --pattern: the best pattern per kernel"
 expect 0 "wait ID --json on a finished job" -- A --json wait "$qid"
 jq -e '.state == "done"' <<<"$out" >/dev/null && ok "wait --json: the job" || bad "wait --json: ${out:0:300}"
 expect 5 "wait on a failing job exits 5" -- A wait "$(A submit -q - <<<'{"kind":"sleep","seconds":0.1,"fail":true}')" --poll 0.05
@@ -341,7 +348,9 @@ if has_kind optimize; then
   expect 0 "job ID of an optimize job" -- A job "$oid"
   has "per seed" "optimize view: the per-seed table"
   has "best pattern  P(4,1+,2)" "optimize view: the best pattern"
-  has "     3       3  " "optimize view: kernels 0..3, samples 0..3"
+  has "4 kernels" "optimize view: the best pattern's kernel count"
+  expect 0 "job ID --pattern of an optimize job" -- A job "$oid" --pattern
+  has "     3       3  " "optimize --pattern: kernels 0..3, samples 0..3"
   expect 0 "job ID --trace" -- A job "$oid" --trace
   has "seconds  iterations  evaluations   best_e2" "trace table header"
   A job "$oid" --trace --csv >"$tmp/trace.csv" && csv_ok "$tmp/trace.csv" "job ID --trace --csv" "seconds,iterations,evaluations,best_e2"
@@ -356,7 +365,7 @@ if jq -e '.kinds | length > 0' <<<"$kinds" >/dev/null 2>&1; then
   declare -A view_header=(
     [optimize]="seed  distribution  initial_e2"
     [family-sweep]="rank  configuration"
-    [random-stats]="family    distribution  count    min    avg    max  opt_w  opt_wp"
+    [random-stats]="family    distribution  count     min     avg     max   opt_w  opt_wp"
     [compare]="name      family"
     [animation]="frame    rmse  max_dev"
     [reference-convergence]="spp    rmse  max_dev  seconds"
@@ -369,6 +378,11 @@ if jq -e '.kinds | length > 0' <<<"$kinds" >/dev/null 2>&1; then
     has "${view_header[$k]}" "$k view: its table"
     A job "$kid" --csv >"$tmp/kind.csv" && csv_ok "$tmp/kind.csv" "$k view --csv"
   done
+  # table3, small: its CSV names the sd columns min_sd ... opt_wp_sd (issue 34: not five "±").
+  t3=$(A submit -q - <<<'{"kind":"table3","family":"P(4,4,2)","seeds":2,"count":4,"distributions":["jittered"],"max_iterations":20}')
+  expect 0 "table3: wait" -- A wait "$t3" --poll 0.1
+  A job "$t3" --csv >"$tmp/t3.csv" &&
+    csv_ok "$tmp/t3.csv" "table3 view --csv" "distribution,min,min_sd,avg,avg_sd,max,max_sd,opt_w,opt_w_sd,opt_wp,opt_wp_sd"
 else echo "skip kind views: the daemon has no GET /v1/kinds"; fi
 
 A --json enumerate --family 'P(4,1+,n)' --cost 1.25 >"$tmp/out" 2>"$tmp/err"
@@ -404,6 +418,8 @@ if jq -e '.render == true' <<<"$health" >/dev/null; then
   has "predicted RMSE" "predict prints the predicted RMSE"
   has "edge length" "predict prints the scene's edge length"
   has "model edge," "predict prints the model (edge by default)"
+  A predict --pattern "rgss,quincunx" --scene half-plane --angle 27 --size 64x64 --csv >"$tmp/predict.csv" &&
+    csv_ok "$tmp/predict.csv" "predict --csv"
   expect 0 "predict with the exact model" -- A predict --pattern rgss --scene half-plane --angle 27 --size 64x64 --model exact
   has "model exact," "predict --model exact prints the model"
   expect 2 "predict an unknown preset" -- A predict --pattern rgss,no-such-preset

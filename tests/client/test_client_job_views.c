@@ -174,7 +174,7 @@ static void optimize_view(void **state)
     const json_t *r = result_of(job);
     char want[128], n[64];
     capture c;
-    job_print(capture_begin(&c), job, false);
+    job_print_full(capture_begin(&c), job, false);
     const char *text = capture_end(&c);
     contains(text, "label       flipquad family, 4 seeds\n");
     snprintf(want, sizeof want, "E2                %s\n",
@@ -224,6 +224,63 @@ static void sweep_label(char *buf, size_t cap, const json_t *config)
              (long long)json_integer_value(json_object_get(config, "interior")));
 }
 
+/* Issue 34, defect 4: a P(16,16,4) job (16 kernels of 64 samples) prints at most 60 lines, the
+ * best pattern as one summary line; a failed job's error is the first line; --pattern (the
+ * _full variant) lists all 1,024 samples. */
+static size_t count_lines(const char *text)
+{
+    size_t n = 0;
+    for (const char *p = text; *p; p++)
+        n += *p == '\n';
+    return n;
+}
+
+static void large_pattern_summary(void **state)
+{
+    (void)state;
+    json_t *job = fixture("job_optimize.json");
+    json_t *pattern = json_object_get(json_object_get(job, "best"), "pattern");
+    json_t *kernels = json_array();
+    for (int k = 0; k < 16; k++) {
+        json_t *kernel = json_array();
+        for (int i = 0; i < 64; i++)
+            json_array_append_new(
+                kernel, json_pack("[f, f, f]", (i % 8) / 8.0 - 0.5, (i / 8) / 8.0 - 0.5, 1.0 / 64));
+        json_array_append_new(kernels, kernel);
+    }
+    json_object_set_new(pattern, "kernels_expanded", kernels);
+    json_object_set_new(pattern, "family", json_string("P(16,16,4)"));
+    json_object_set_new(pattern, "cost_spp", json_real(4.0));
+    json_object_set_new(pattern, "form", json_string("kernels"));
+    json_object_set_new(job, "state", json_string("failed"));
+    json_object_set_new(job, "error", json_string("worker ran out of memory"));
+    capture c;
+    job_print(capture_begin(&c), job, false);
+    const char *text = capture_end(&c);
+    size_t lines = count_lines(text);
+    if (lines > 60)
+        fail_msg("aalab job printed %zu lines for a P(16,16,4) job:\n%s", lines, text);
+    assert_true(strncmp(text, "error       worker ran out of memory\n", 37) == 0);
+    contains(text, "best pattern  P(16,16,4), 4.00 spp, kernels form, 16 kernels\n");
+    contains(text, "1024 samples ('aalab job ID --pattern' lists them)\n");
+    contains(text, "              E2 ");
+    assert_null(strstr(text, "kernel  sample"));
+    /* a job that ended early says how long it ran beside its progress */
+    char ran[96];
+    snprintf(ran, sizeof ran, "(failed after %.1f s)\n",
+             json_number_value(json_object_get(job, "finished")) -
+                 json_number_value(json_object_get(job, "started")));
+    contains(text, ran);
+    capture_free(&c);
+    job_print_full(capture_begin(&c), job, false);
+    text = capture_end(&c);
+    contains(text, "kernel  sample          x          y    weight\n");
+    contains(text, "    15      63  ");
+    assert_true(count_lines(text) > 1024);
+    capture_free(&c);
+    json_decref(job);
+}
+
 static void family_sweep_view(void **state)
 {
     json_t *job = fixture("job_family-sweep.json");
@@ -269,11 +326,12 @@ static void random_stats_view(void **state)
     capture c;
     job_print(capture_begin(&c), job, false);
     const char *text = capture_end(&c);
-    contains(text, "family    distribution  count    min    avg    max  opt_w  opt_wp\n");
+    /* 4 decimals, as table3 and the dashboard show them (issue 34: it was 3 here) */
+    contains(text, "family    distribution  count     min     avg     max   opt_w  opt_wp\n");
     char want[256], v[5][32];
     for (int i = 0; i < 5; i++)
-        fixed(v[i], sizeof v[i], values[i], 3);
-    snprintf(want, sizeof want, "P(1,4,2)  poisson          50  %s  %s  %s  %s   %s\n", v[0], v[1],
+        fixed(v[i], sizeof v[i], values[i], 4);
+    snprintf(want, sizeof want, "P(1,4,2)  poisson          50  %s  %s  %s  %s  %s\n", v[0], v[1],
              v[2], v[3], v[4]);
     contains(text, want);
     contains(text, "Opt W method    ");
@@ -435,11 +493,14 @@ static void table3_view(void **state)
         const json_t *row = json_array_get(rows, i);
         assert_string_equal(csv_get(&d, i + 1, "distribution"),
                             json_string_value(json_object_get(row, "distribution")));
-        for (int k = 0; k < 5; k++)
-            assert_same_number(
-                csv_get(&d, i + 1, columns[k]),
-                json_object_get(json_object_get(json_object_get(row, "columns"), columns[k]),
-                                "mean"));
+        for (int k = 0; k < 5; k++) {
+            char sd[32];
+            snprintf(sd, sizeof sd, "%s_sd", columns[k]);
+            const json_t *col = json_object_get(json_object_get(row, "columns"), columns[k]);
+            assert_same_number(csv_get(&d, i + 1, columns[k]), json_object_get(col, "mean"));
+            /* issue 34: unique ASCII headers, min_sd ... opt_wp_sd, not five "±" */
+            assert_same_number(csv_get(&d, i + 1, sd), json_object_get(col, "sd"));
+        }
     }
     csv_free(&d);
     json_decref(job);
@@ -474,6 +535,14 @@ static void trace_points(void **state)
     for (size_t i = 0; i < 4; i++)
         csv_numbers_are(&d, columns[i], trace, columns[i]);
     csv_free(&d);
+    /* issue 34: a compare job has no trace; --trace says so instead of printing a bare header */
+    json_t *cmp = fixture("job_compare.json");
+    json_object_set_new(cmp, "trace", json_array());
+    job_trace_print(capture_begin(&c), cmp, false);
+    text = capture_end(&c);
+    contains(text, "no trace: this compare job recorded no best E2 against run time\n");
+    capture_free(&c);
+    json_decref(cmp);
     json_decref(job);
 }
 
@@ -546,17 +615,12 @@ static void cancel_line(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(optimize_view),
-        cmocka_unit_test(family_sweep_view),
-        cmocka_unit_test(random_stats_view),
-        cmocka_unit_test(table3_view),
-        cmocka_unit_test(compare_view),
-        cmocka_unit_test(animation_view),
-        cmocka_unit_test(reference_convergence_view),
-        cmocka_unit_test(every_kind_has_a_view),
-        cmocka_unit_test(trace_points),
-        cmocka_unit_test(pattern_csv),
-        cmocka_unit_test(job_list),
+        cmocka_unit_test(optimize_view),         cmocka_unit_test(large_pattern_summary),
+        cmocka_unit_test(family_sweep_view),     cmocka_unit_test(random_stats_view),
+        cmocka_unit_test(table3_view),           cmocka_unit_test(compare_view),
+        cmocka_unit_test(animation_view),        cmocka_unit_test(reference_convergence_view),
+        cmocka_unit_test(every_kind_has_a_view), cmocka_unit_test(trace_points),
+        cmocka_unit_test(pattern_csv),           cmocka_unit_test(job_list),
         cmocka_unit_test(cancel_line),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

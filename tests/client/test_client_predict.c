@@ -133,6 +133,14 @@ static void view(void **state)
     assert_null(strstr(text, "edge length"));
     assert_null(strstr(text, "model exact"));
     capture_free(&c);
+    /* issue 34: the row of `--pattern rgss,job:8` reads "job:8", not "#2" */
+    predict_name_rows(r, "rgss,job:8");
+    predict_print(capture_begin(&c), r, false);
+    text = capture_end(&c);
+    assert_non_null(strstr(text, "\njob:8 "));
+    assert_null(strstr(text, "#2"));
+    assert_non_null(strstr(text, "\nrgss "));
+    capture_free(&c);
     json_decref(r);
 }
 

@@ -367,3 +367,9 @@ def test_analyze(client):
     with pytest.raises(aalab.AalabError) as e:
         client.analyze("rgss", radius=0)
     assert e.value.field == "spectrum.radius"
+
+
+def test_job_repr_says_kind_and_state_before_any_attribute(client, opt_job):
+    """Issue 34: client.job(ID) printed "<aalab.Job N ? ?>" until an attribute was read."""
+    fresh = client.job(opt_job.id)
+    assert repr(fresh) == "<aalab.Job %d optimize done>" % opt_job.id

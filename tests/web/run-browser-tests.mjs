@@ -16,7 +16,7 @@ import { Report } from './lib/check.mjs';
 import { CHROMIUM } from './lib/browser.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
-const SUITES = ['evaluate', 'families', 'jobs', 'optimize', 'tiles', 'kinds'];
+const SUITES = ['evaluate', 'families', 'jobs', 'optimize', 'tiles', 'kinds', 'recovery', 'layout'];
 
 function parseArgs(argv) {
   const o = { suites: SUITES, daemonArgs: [], widths: [1366, 1920], schemas: path.resolve(HERE, '../../proto/schemas') };
@@ -114,7 +114,7 @@ async function main() {
         }
       };
       const api = apiClient(daemon.base, daemon.token, (...a) => validator.check(...a));
-      await suite({ page, base: daemon.base, api, step, shot, daemon, consoleProblems });
+      await suite({ page, base: daemon.base, api, step, shot, daemon, consoleProblems, artifacts: opts.artifacts });
       await page.waitForTimeout(300); // let late console messages and answers arrive
       if (consoleProblems.length) report.fail(`${suiteName}: no console errors`, consoleProblems.join('\n'));
       else report.pass(`${suiteName}: no console errors`);

@@ -50,6 +50,22 @@ function needToken() {
   if (typeof window !== 'undefined') window.dispatchEvent(new CustomEvent('aalab:need-token'));
 }
 
+/* A fetch that did not reach the daemon (stopped, or the network is down) raises
+ * 'aalab:offline' so the page shows its offline banner, and an ApiError saying so instead of the
+ * browser's bare "Failed to fetch". Any answer at all raises 'aalab:online'. */
+async function reach(path, init) {
+  let resp;
+  try {
+    resp = await fetch(path, init);
+  } catch (e) {
+    if (e && e.name === 'AbortError') throw e;
+    if (typeof window !== 'undefined') window.dispatchEvent(new CustomEvent('aalab:offline'));
+    throw new ApiError(0, 'offline', 'aalabd is not answering (stopped, or the network is down)');
+  }
+  if (typeof window !== 'undefined') window.dispatchEvent(new CustomEvent('aalab:online'));
+  return resp;
+}
+
 function authHeaders() {
   const token = getToken() || memoryToken;
   return token ? { Authorization: `Bearer ${token}` } : {};
@@ -71,7 +87,7 @@ async function decode(resp) {
     const e = body && body.error ? body.error : {};
     let msg = e.message || `HTTP ${resp.status} ${resp.statusText}`;
     if (resp.status === 401) {
-      msg += ' — set your API token (button “Token” at the top right; get one with `aalab token`)';
+      msg = 'wrong or revoked token: ' + msg + ' — set your API token (button “Token” at the top right; get one with `aalab token`)';
       needToken();
     }
     if (resp.status === 429) msg += ` — server busy, retry after ${resp.headers.get('Retry-After') || '?'} s`;
@@ -81,7 +97,7 @@ async function decode(resp) {
 }
 
 export async function apiGet(path, { signal } = {}) {
-  const resp = await fetch(path, { headers: { Accept: 'application/json', ...authHeaders() }, signal });
+  const resp = await reach(path, { headers: { Accept: 'application/json', ...authHeaders() }, signal });
   return decode(resp);
 }
 
@@ -121,7 +137,7 @@ async function withSlot(path, fn) {
 
 export async function apiPost(path, body, { signal } = {}) {
   return withSlot(path, async () => {
-    const resp = await fetch(path, {
+    const resp = await reach(path, {
       method: 'POST',
       headers: { 'Content-Type': 'application/json', Accept: 'application/json', ...authHeaders() },
       body: JSON.stringify(body),
@@ -132,17 +148,17 @@ export async function apiPost(path, body, { signal } = {}) {
 }
 
 export async function apiDelete(path) {
-  const resp = await fetch(path, { method: 'DELETE', headers: { Accept: 'application/json', ...authHeaders() } });
+  const resp = await reach(path, { method: 'DELETE', headers: { Accept: 'application/json', ...authHeaders() } });
   return decode(resp);
 }
 
 /* Text download (export formats are not all JSON). */
 export async function apiGetText(path) {
-  const resp = await fetch(path, { headers: authHeaders() });
+  const resp = await reach(path, { headers: authHeaders() });
   const text = await resp.text();
   if (!resp.ok) {
     if (resp.status === 401) needToken();
-    let msg = `HTTP ${resp.status}`;
+    let msg = resp.status === 401 ? 'wrong or revoked token (HTTP 401)' : `HTTP ${resp.status}`;
     try {
       const j = JSON.parse(text);
       if (j.error) msg = j.error.message || msg;
@@ -156,7 +172,7 @@ export async function apiGetText(path) {
 
 /* Images need the token too when the tile endpoint is protected: fetch as a blob URL. */
 export async function apiImageUrl(path) {
-  const resp = await fetch(path, { headers: authHeaders() });
+  const resp = await reach(path, { headers: authHeaders() });
   if (!resp.ok) {
     if (resp.status === 401) needToken();
     throw new ApiError(resp.status, 'http_error', `image ${path}: HTTP ${resp.status}`);

@@ -47,7 +47,12 @@ async function route() {
   try {
     if (!inited.has(name)) {
       inited.add(name);
-      await view.init({ toast, navigate });
+      try {
+        await view.init({ toast, navigate });
+      } catch (e) {
+        inited.delete(name); // e.g. a 401 or a stopped daemon: init again on the next route
+        throw e;
+      }
     }
     await view.show(params);
   } catch (e) {
@@ -94,7 +99,7 @@ function setupToken() {
     setToken(input.value.trim());
     hideForm();
     btn.focus();
-    start(); // redo what failed (or waited) for want of the token
+    tokenChanged();
   });
   document.getElementById('token-clear').addEventListener('click', () => {
     setToken('');
@@ -133,9 +138,42 @@ async function pollHealth() {
     el.textContent = `aalabd ${h.version} · workers busy ${h.workers.busy}/${h.workers.count} · queue ${h.queue.length}${byState ? ' · jobs ' + byState : ''}`;
     el.classList.remove('down');
   } catch (e) {
-    el.textContent = `server unreachable: ${e.message}`;
+    // A 401 is an answer: the daemon runs and refuses the token.
+    el.textContent = e.status === 401 ? 'wrong or revoked token: set it with the Token button' : e.status === 0 ? 'server unreachable' : `server error: ${e.message}`;
     el.classList.add('down');
   }
+}
+
+/* A new token: the 401 notices go, and every view loads again with it (views whose first load
+ * failed run init again; the others reload when shown, the current one now). */
+function tokenChanged() {
+  document.getElementById('toast').hidden = true;
+  start();
+}
+
+/* Offline banner: shown when a request cannot reach the daemon, with the time of the last
+ * answer; the views' content is greyed until the daemon answers again. */
+let lastAnswer = null;
+function setupOffline() {
+  const banner = document.getElementById('offline');
+  const text = document.getElementById('offline-text');
+  window.addEventListener('aalab:offline', () => {
+    const since = lastAnswer ? ` What is shown is from ${lastAnswer.toLocaleTimeString()} and may be stale.` : '';
+    text.textContent = `aalabd is not answering (stopped, or the network is down); retrying every 5 s.${since}`;
+    banner.hidden = false;
+    document.body.classList.add('stale');
+  });
+  window.addEventListener('aalab:online', () => {
+    lastAnswer = new Date();
+    if (banner.hidden) return;
+    banner.hidden = true;
+    document.body.classList.remove('stale');
+    route(); // refresh what was stale
+  });
+  document.getElementById('offline-retry').addEventListener('click', () => {
+    text.textContent = 'retrying…';
+    pollHealth();
+  });
 }
 
 let healthTimer = null;
@@ -151,12 +189,13 @@ function start() {
 takeTokenFromFragment();
 setupTabs();
 setupToken();
+setupOffline();
 window.addEventListener('hashchange', () => {
   // A dashboard URL with #token=… pasted into an open page changes the fragment only.
   if (/(?:^#|&)token=/.test(location.hash)) {
     takeTokenFromFragment();
     window.dispatchEvent(new CustomEvent('aalab:token-given'));
-    start();
+    tokenChanged();
   } else if (getToken()) route();
 });
 start();

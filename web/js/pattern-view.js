@@ -2,7 +2,7 @@
 // Fig. 3); negative weights hollow, dashed and labelled with a minus sign, so they read without
 // colour. Samples of the centre pixel can be dragged with the mouse or moved with arrow keys.
 
-import { el, text, clear } from './svg.js';
+import { el, text, clear, screenScale } from './svg.js';
 import { layoutDots, moveSample, editableSamples, kernelsOf } from './pattern-geometry.js';
 
 const SIZE = 420;
@@ -77,6 +77,12 @@ export class PatternView {
     const samples = editableSamples(this.pattern, this.kernel);
     // Neighbours first, so centre dots sit on top.
     dots.sort((a, b) => a.primary - b.primary);
+    // Weight labels only where they do not cover one already drawn: a P(16,16,4) kernel has 64
+    // samples in the pixel and its labels would overprint. Each weight stays in the sample's
+    // accessible name and tooltip. Boxes in viewBox units (12 px labels, digits ~0.6 em wide).
+    const placed = [];
+    const fontPx = Math.max(12, 11 / screenScale(svg)); // at least 11 px on screen
+    const fits = (bx) => !placed.some((p) => bx.x0 < p.x1 && p.x0 < bx.x1 && bx.y0 < p.y1 && p.y0 < bx.y1);
     for (const d of dots) {
       const [x, y] = this.toScreen(d.x, d.y);
       const r = Math.max(2.5, rMax * Math.sqrt(Math.abs(d.w) / maxW));
@@ -85,7 +91,12 @@ export class PatternView {
       el('circle', { cx: x, cy: y, r, class: 'dot-shape' }, g);
       if (neg) text(g, x, y + 4, '−', { class: 'dot-sign', 'text-anchor': 'middle' });
       if (d.primary) {
-        text(g, x + r + 3, y - r - 1, formatWeight(d.w), { class: 'dot-label' });
+        const label = formatWeight(d.w);
+        const box = { x0: x + r + 2, x1: x + r + 4 + 0.62 * fontPx * label.length, y0: y - r - 1 - fontPx, y1: y - r + 2 };
+        if (fits(box)) {
+          placed.push(box);
+          text(g, x + r + 3, y - r - 1, label, { class: 'dot-label' }).style.fontSize = `${fontPx.toFixed(2)}px`;
+        } else el('title', {}, g).textContent = `weight ${label}`;
         g.dataset.index = d.index;
         const [sx, sy] = samples[d.index];
         g.setAttribute('aria-label', `sample ${d.index + 1}: x ${sx.toFixed(3)}, y ${sy.toFixed(3)}, weight ${formatWeight(d.w)}`);

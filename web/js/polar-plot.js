@@ -2,7 +2,7 @@
 // computed half-turn is drawn twice). Kernels differ by dash pattern as well as colour; the
 // maximum is marked with a ring and a text label; optional marks are dots at given angles.
 
-import { el, text, clear, COLOURS, DASHES, niceTicks } from './svg.js';
+import { el, text, clear, COLOURS, DASHES, niceTicks, enlargeSmallText } from './svg.js';
 
 const SIZE = 360;
 const PAD = 40;
@@ -63,6 +63,7 @@ export function drawPolar(container, { title, series, argmax, valueLabel, marks 
     text(svg, 6, SIZE + 18, label, { class: 'polar-argmax-label' });
   }
   if (valueLabel) text(svg, SIZE - 6, 16, valueLabel, { class: 'polar-tick', 'text-anchor': 'end' });
+  enlargeSmallText(svg);
   return svg;
 }
 

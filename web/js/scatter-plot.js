@@ -1,7 +1,7 @@
 // Scatter/line plot in SVG with linear or log axes whose points are links (keyboard focusable,
 // with a title), one marker shape per series so series read without colour.
 
-import { el, text, clear, marker, MARKERS, COLOURS, DASHES, niceTicks, logTicks } from './svg.js';
+import { el, text, clear, marker, MARKERS, COLOURS, DASHES, niceTicks, logTicks, enlargeSmallText } from './svg.js';
 
 export function drawScatter(container, { series, xLabel, yLabel, xLog = false, yLog = false, width = 640, height = 360, lines = false, title = '', labels = false }) {
   clear(container);
@@ -46,9 +46,31 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
     text(svg, m.l - 6, Y(t) + 4, fmtTick(t), { 'text-anchor': 'end', class: 'tick' });
   }
   el('rect', { x: m.l, y: m.t, width: width - m.l - m.r, height: height - m.t - m.b, class: 'frame' }, svg);
-  text(svg, (m.l + width - m.r) / 2, height - 8, xLabel + (xLog ? ' (log)' : ''), { 'text-anchor': 'middle', class: 'axis-label' });
-  const yl = text(svg, 14, (m.t + height - m.b) / 2, yLabel + (yLog ? ' (log)' : ''), { 'text-anchor': 'middle', class: 'axis-label' });
+  text(svg, (m.l + width - m.r) / 2, height - 8, xLabel + (xLog ? ' (log scale)' : ' (linear)'), { 'text-anchor': 'middle', class: 'axis-label' });
+  const yl = text(svg, 14, (m.t + height - m.b) / 2, yLabel + (yLog ? ' (log scale)' : ' (linear)'), { 'text-anchor': 'middle', class: 'axis-label' });
   yl.setAttribute('transform', `rotate(-90 14 ${(m.t + height - m.b) / 2})`);
+  // Point labels go right, left, above or below their point, whichever covers no label placed
+  // before; none fits: the label is left out (the point's tooltip names it). Boxes in viewBox
+  // units for 12 px text, ~0.6 em a character.
+  const placed = [];
+  const free = (b) => !placed.some((p) => b.x0 < p.x1 && p.x0 < b.x1 && b.y0 < p.y1 && p.y0 < b.y1);
+  const placeLabel = (px, py, label) => {
+    const w = 0.62 * 12 * label.length;
+    const right = px < m.l + 0.75 * (width - m.l - m.r);
+    const spots = [
+      right ? { x: px + 9, y: py + 4, anchor: 'start', x0: px + 8, x1: px + 10 + w } : { x: px - 9, y: py + 4, anchor: 'end', x0: px - 10 - w, x1: px - 8 },
+      { x: px, y: py - 10, anchor: 'middle', x0: px - w / 2 - 1, x1: px + w / 2 + 1, above: true },
+      { x: px, y: py + 20, anchor: 'middle', x0: px - w / 2 - 1, x1: px + w / 2 + 1, below: true },
+      right ? { x: px - 9, y: py + 4, anchor: 'end', x0: px - 10 - w, x1: px - 8 } : { x: px + 9, y: py + 4, anchor: 'start', x0: px + 8, x1: px + 10 + w },
+    ];
+    for (const sp of spots) {
+      const box = { x0: sp.x0, x1: sp.x1, y0: sp.y - 11, y1: sp.y + 3 };
+      if (box.x0 < 0 || box.x1 > width || box.y0 < 0 || box.y1 > height || !free(box)) continue;
+      placed.push(box);
+      text(svg, sp.x, sp.y, label, { class: 'point-label', 'text-anchor': sp.anchor });
+      return;
+    }
+  };
   series.forEach((s, k) => {
     const colour = COLOURS[k % COLOURS.length];
     const shape = MARKERS[k % MARKERS.length];
@@ -71,13 +93,10 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
       t.textContent = p.title || `${s.label}: ${p.x}, ${p.y}`;
       if (p.href) holder.setAttribute('aria-label', t.textContent);
       marker(holder, shape, X(p.x), Y(p.y), 6, { fill: p.hollow ? 'white' : colour, stroke: colour, 'stroke-width': 1.5, class: 'point-marker' });
-      if (labels) {
-        // Labels of points in the right quarter go to their left, so they stay inside the frame.
-        const left = X(p.x) > m.l + 0.75 * (width - m.l - m.r);
-        text(svg, X(p.x) + (left ? -9 : 9), Y(p.y) + 4, s.label, { class: 'point-label', 'text-anchor': left ? 'end' : 'start' });
-      }
+      if (labels) placeLabel(X(p.x), Y(p.y), s.label);
     }
   });
+  enlargeSmallText(svg);
   return svg;
 }
 

@@ -71,12 +71,33 @@ export function niceTicks(lo, hi, count = 5) {
 }
 
 export function logTicks(lo, hi) {
-  const out = [];
-  for (let e = Math.floor(Math.log10(lo)); e <= Math.ceil(Math.log10(hi)); e++)
-    for (const m of [1, 2, 5]) {
-      const v = m * 10 ** e;
-      if (v >= lo * 0.999 && v <= hi * 1.001) out.push(v);
-    }
+  const within = (mantissas) => {
+    const out = [];
+    for (let e = Math.floor(Math.log10(lo)); e <= Math.ceil(Math.log10(hi)); e++)
+      for (const m of mantissas) {
+        const v = +(m * 10 ** e).toPrecision(12);
+        if (v >= lo * 0.999 && v <= hi * 1.001) out.push(v);
+      }
+    return out;
+  };
+  let out = within([1, 2, 5]);
+  // About a decade (E2 from 0.15 to 0.9): 1-2-5 leaves two or three ticks; finer steps label it.
+  if (out.length < 4) out = within([1, 1.5, 2, 3, 4, 5, 6, 8]);
+  // Ends with no tick over more than a sixth of the axis (a converged tail at 0.159..0.2) get one
+  // at the end's value to two digits, inside the range.
+  const span = Math.log10(hi) - Math.log10(lo);
+  const twoDigits = (v, round) => {
+    const e = 10 ** (Math.floor(Math.log10(v)) - 1);
+    return +(round(v / e) * e).toPrecision(2);
+  };
+  if (out.length && Math.log10(out[0]) - Math.log10(lo) > span / 6) {
+    const v = twoDigits(lo, Math.ceil);
+    if (Math.log10(out[0]) - Math.log10(v) > span / 12) out.unshift(v);
+  }
+  if (out.length && Math.log10(hi) - Math.log10(out[out.length - 1]) > span / 6) {
+    const v = twoDigits(hi, Math.floor);
+    if (Math.log10(v) - Math.log10(out[out.length - 1]) > span / 12) out.push(v);
+  }
   // Less than a decade: 1-2-5 steps give too few ticks, use linear nice ticks inside the range.
   if (out.length < 3) return niceTicks(lo, hi, 4).filter((v) => v > 0);
   return out;
@@ -84,4 +105,23 @@ export function logTicks(lo, hi) {
 
 export function clear(node) {
   while (node.firstChild) node.removeChild(node.firstChild);
+}
+
+/* How many screen pixels one viewBox unit of svg takes (1 while it is not laid out). */
+export function screenScale(svg) {
+  const vb = svg.viewBox && svg.viewBox.baseVal;
+  const r = svg.getBoundingClientRect();
+  if (!vb || !vb.width || !r.width) return 1;
+  return Math.min(r.width / vb.width, r.height / vb.height);
+}
+
+/* A plot drawn smaller than its viewBox shrinks its text with it: text that would be under
+ * minPx on screen is set larger, so labels stay readable (issue 34: 7 px labels). */
+export function enlargeSmallText(svg, minPx = 11) {
+  const scale = screenScale(svg);
+  if (scale >= 1) return;
+  for (const t of svg.querySelectorAll('text')) {
+    const size = parseFloat(getComputedStyle(t).fontSize);
+    if (size * scale < minPx) t.style.fontSize = `${(minPx / scale).toFixed(2)}px`;
+  }
 }

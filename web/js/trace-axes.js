@@ -33,8 +33,11 @@ export function tickLabels(ticks) {
 const MAX_TICKS = 9;
 
 function ticksIn(range, log) {
-  // Inside a decade, 1-2-5 steps give one or two ticks: linear steps, as many as on a linear axis.
-  let t = log && range[1] / range[0] >= 10 ? logTicks(range[0], range[1]) : niceTicks(range[0], range[1], 6);
+  // logTicks takes finer steps inside about a decade and labels an end the steps leave bare (the
+  // converged tail of a trace, 0.159..0.2).
+  let t = log ? logTicks(range[0], range[1]) : niceTicks(range[0], range[1], 6);
+  // A range of a few per cent: linear steps, as many as on a linear axis.
+  if (log && t.filter((v) => v >= range[0] && v <= range[1]).length < 3) t = niceTicks(range[0], range[1], 6);
   t = t.filter((v) => v >= range[0] && v <= range[1]);
   if (t.length <= MAX_TICKS || !log) return t;
   // Many decades (a trace from microseconds to seconds): powers of ten only, then every k-th.

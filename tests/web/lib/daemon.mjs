@@ -92,12 +92,15 @@ export async function startDaemon({ binary, webDir, logFile, extraArgs = [] }) {
   const issued = await unixRequest(socket, 'POST', '/v1/tokens', { label: 'web tests' });
   if (issued.status !== 201) throw new Error(`POST /v1/tokens: HTTP ${issued.status} ${issued.text.slice(0, 300)}`);
   const { token } = issued.json;
+  let stopped = false;
   return {
     base,
     token,
     socket,
     stateDir,
     async stop() {
+      if (stopped) return exited; // a suite may stop its daemon before the runner does
+      stopped = true;
       watchdog.kill('SIGKILL');
       if (!exited) {
         child.kill('SIGTERM');

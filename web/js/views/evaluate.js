@@ -27,6 +27,13 @@ let ctx = null;
 
 export async function init(context) {
   ctx = context;
+  // Listeners first and once: a failed load below (a wrong token, a stopped daemon) makes main.js
+  // call init again, which then only loads the menus.
+  if (!view) setupControls();
+  await loadMenus();
+}
+
+function setupControls() {
   setEvaluatePatternGetter(() => (state.pattern ? (state.edited || !state.presetName ? clonePattern(state.pattern) : { preset: state.presetName }) : null));
   view = new PatternView($('ev-pattern'), {
     editable: true,
@@ -40,34 +47,10 @@ export async function init(context) {
       requestEvaluation();
     },
   });
-  const [presets, filters, acuity] = await Promise.all([
-    loadPresets(),
-    loadFilters().catch((e) => (ctx.toast(`filters: ${e.message}`), [])),
-    loadAcuity().catch((e) => (ctx.toast(`acuity: ${e.message}`), { names: [], default: '' })),
-  ]);
-  fillPresets(presets);
-  state.filters = filters;
-  const fsel = $('ev-filter');
-  fsel.replaceChildren(...filters.map((f) => new Option(f.name, f.name)));
-  const def = filters.find((f) => f.isDefault);
-  if (def) fsel.value = def.name;
-  state.defaultFilter = def ? def.name : '';
-  fillFilterParams();
-  const tables = acuity.tables || acuity.names.map((name) => ({ name, description: '' }));
-  $('ev-acuity').replaceChildren(...tables.map((t) => new Option(acuityLabel(t), t.name)));
-  $('ev-acuity').value = acuity.default || acuity.names[0] || '';
-  state.defaultAcuity = acuity.default;
-  // One sentence on the selected table (GET /v1/acuity's description).
-  const describeAcuity = () => {
-    const t = tables.find((x) => x.name === $('ev-acuity').value);
-    $('ev-acuity-hint').textContent = t ? t.description : '';
-  };
-  describeAcuity();
-
   $('ev-preset').addEventListener('change', () => {
     if ($('ev-preset').value !== '__custom') ctx.navigate('evaluate', { preset: $('ev-preset').value });
   });
-  fsel.addEventListener('change', () => {
+  $('ev-filter').addEventListener('change', () => {
     fillFilterParams();
     requestEvaluation();
   });
@@ -82,6 +65,30 @@ export async function init(context) {
   $('ev-keep-sites').addEventListener('change', () => (view.keepSites = $('ev-keep-sites').checked));
   $('ev-reset').addEventListener('click', () => state.presetName && usePreset(state.presetName));
   $('ev-apply').addEventListener('click', applyJson);
+  $('ev-normalize').addEventListener('click', normalizeAndEvaluate);
+}
+
+/* One sentence on the selected table (GET /v1/acuity's description). */
+function describeAcuity() {
+  const t = (state.acuityTables || []).find((x) => x.name === $('ev-acuity').value);
+  $('ev-acuity-hint').textContent = t ? t.description : '';
+}
+
+async function loadMenus() {
+  const [presets, filters, acuity] = await Promise.all([loadPresets(), loadFilters(), loadAcuity()]);
+  fillPresets(presets);
+  state.filters = filters;
+  const fsel = $('ev-filter');
+  fsel.replaceChildren(...filters.map((f) => new Option(f.name, f.name)));
+  const def = filters.find((f) => f.isDefault);
+  if (def) fsel.value = def.name;
+  state.defaultFilter = def ? def.name : '';
+  fillFilterParams();
+  state.acuityTables = acuity.tables || acuity.names.map((name) => ({ name, description: '' }));
+  $('ev-acuity').replaceChildren(...state.acuityTables.map((t) => new Option(acuityLabel(t), t.name)));
+  $('ev-acuity').value = acuity.default || acuity.names[0] || '';
+  state.defaultAcuity = acuity.default;
+  describeAcuity();
 }
 
 export async function show(params) {
@@ -109,7 +116,7 @@ function fillPresets(presets) {
     for (const p of list) g.appendChild(new Option(`${p.name}${p.cost_spp != null ? ` (${p.cost_spp} spp)` : ''}`, p.name));
     nodes.push(g);
   }
-  sel.replaceChildren(...nodes, new Option('custom (edited or pasted)', '__custom'));
+  sel.replaceChildren(...nodes, new Option('custom', '__custom'));
 }
 
 function fillFilterParams() {
@@ -193,9 +200,10 @@ function writeJson() {
   const p = state.pattern;
   if (!p) return;
   const line = (s) => `[${s.map((v) => +v.toFixed(6)).join(', ')}]`;
+  const norm = p.normalize ? ', "normalize": true' : '';
   let txt;
-  if (Array.isArray(p.mirrored)) txt = `{"mirrored": [\n  ${p.mirrored.map(line).join(',\n  ')}\n]}`;
-  else if (Array.isArray(p.kernels)) txt = `{"kernels": [\n${p.kernels.map((k) => `  [\n    ${k.map(line).join(',\n    ')}\n  ]`).join(',\n')}\n]}`;
+  if (Array.isArray(p.mirrored)) txt = `{"mirrored": [\n  ${p.mirrored.map(line).join(',\n  ')}\n]${norm}}`;
+  else if (Array.isArray(p.kernels)) txt = `{"kernels": [\n${p.kernels.map((k) => `  [\n    ${k.map(line).join(',\n    ')}\n  ]`).join(',\n')}\n]${norm}}`;
   else txt = JSON.stringify(p, null, 1);
   $('ev-json').value = txt;
 }
@@ -258,14 +266,42 @@ function requestEvaluation() {
       if (seq === state.seq) showEvaluation(normEvaluation(resp));
       setStatus('');
     })
-    .catch((e) => setStatus(e.message, true))
+    .catch((e) => {
+      if (seq === state.seq) clearEvaluation();
+      setStatus(e.message, true);
+      // The daemon's message for a weight sum off 1 names it; the pattern may then be rescaled.
+      $('ev-normalize').hidden = !/weights sum to/.test(e.message) || !state.pattern || typeof state.pattern !== 'object';
+    })
     .finally(() => {
       state.inFlight = false;
       if (state.pending) requestEvaluation();
     });
 }
 
+/* An error leaves nothing of the previous pattern's result on screen. */
+function clearEvaluation() {
+  state.lastEvaluation = null;
+  const out = $('ev-e2');
+  out.textContent = '—';
+  out.dataset.e2 = '';
+  out.title = 'no result: see the message below';
+  for (const id of ['ev-argmax', 'ev-family', 'ev-cost']) $(id).textContent = '—';
+  for (const id of ['ev-polar-weighted', 'ev-polar-e1', 'ev-polar-legend']) $(id).replaceChildren();
+}
+
+/* Asks the daemon to rescale each kernel's weights to a sum of 1 ("normalize": true). */
+function normalizeAndEvaluate() {
+  if (!state.pattern || typeof state.pattern !== 'object') return;
+  state.pattern = { ...state.pattern, normalize: true };
+  state.edited = true;
+  $('ev-preset').value = '__custom';
+  $('ev-preset-source').textContent = 'weights rescaled to sum 1 per kernel (normalize)';
+  writeJson();
+  requestEvaluation();
+}
+
 function setStatus(msg, error = false) {
+  if (!error) $('ev-normalize').hidden = true;
   const s = $('ev-status');
   s.textContent = msg;
   s.classList.toggle('error-text', error);
