@@ -163,6 +163,39 @@ static void test_slurm_flags(void **state)
     }
 }
 
+/* The limits of the second multi-user attack and the inline evaluate threshold (README, sharing
+ * table; docs/http.md), their defaults and their ranges. */
+static void test_limit_flags(void **state)
+{
+    (void)state;
+    aalab_config c;
+    config_defaults(&c);
+    char *none[] = {"aalabd"};
+    assert_int_equal(parse(&c, 1, none), 0);
+    assert_int_equal(c.inline_work, 2048);
+    assert_int_equal(c.user_tokens, 32);
+    assert_int_equal(c.user_body_bytes, 32u << 20);
+    assert_int_equal(c.answer_timeout, 60);
+    char *argv[] = {"aalabd", "--inline-work",    "0", "--user-tokens", "4", "--user-body-bytes",
+                    "65536",  "--answer-timeout", "3"};
+    config_defaults(&c);
+    assert_int_equal(parse(&c, (int)(sizeof argv / sizeof argv[0]), argv), 0);
+    assert_int_equal(c.inline_work, 0);
+    assert_int_equal(c.user_tokens, 4);
+    assert_int_equal(c.user_body_bytes, 65536);
+    assert_int_equal(c.answer_timeout, 3);
+    const char *bad[][2] = {{"--inline-work", "-1"},
+                            {"--user-tokens", "0"},
+                            {"--user-body-bytes", "10"},
+                            {"--answer-timeout", "0"},
+                            {"--answer-timeout", "x"}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char *one[] = {"aalabd", (char *)bad[i][0], (char *)bad[i][1]};
+        config_defaults(&c);
+        assert_int_not_equal(parse(&c, 3, one), 0);
+    }
+}
+
 static void test_bad_flags(void **state)
 {
     (void)state;
@@ -192,7 +225,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults),      cmocka_unit_test(test_flags),
         cmocka_unit_test(test_sharing_flags), cmocka_unit_test(test_slurm_flags),
-        cmocka_unit_test(test_bad_flags),
+        cmocka_unit_test(test_bad_flags),     cmocka_unit_test(test_limit_flags),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
