@@ -43,11 +43,16 @@ def check(cond, what):
 
 
 # Alice's big-body flood: `conns` threads, each looping for `seconds` over the three small
-# endpoints with an 8 MiB JSON array body (one connection per request); counts statuses.
+# endpoints with an 8 MiB JSON array body (one connection per request); counts statuses. The
+# body is 8,388,579 bytes, just under the default --max-body (8,388,608) as in the attack: one
+# byte over it (2 x 4M + 1) was refused by --max-body before this issue's bounds too, so the
+# flood could not fail on the code it guards against (there: 400/404 after an HTTP thread had
+# parsed it, RSS 383 MB at 8 connections).
 BIG_BODY_FLOOD = r"""
 import json, socket, sys, threading, time
 path, conns, seconds = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
-body = b"[" + b"0," * (4 * 1024 * 1024 - 1) + b"0]"
+body = b"[" + b"0," * (4 * 1024 * 1024 - 16) + b"0]"
+assert len(body) < 8 * 1024 * 1024
 targets = [("POST", "/v1/tokens"), ("PATCH", "/v1/jobs/1"), ("POST", "/v1/families/enumerate")]
 counts, lock = {}, threading.Lock()
 def loop(k):
