@@ -49,14 +49,18 @@ static int check_finite(const aa_pattern *p, const aa_evaluation *ev, aa_error *
  * here) so that no request holds a compute thread for long. Larger studies belong in jobs. */
 #define EVALUATE_MAX_WORK (1L << 23)
 
-/* The work of an evaluate: kernel samples x angles (the default angles when none are given). */
-static double evaluate_work(const aa_pattern *p, const aa_acuity *a, size_t angle_count)
+/* The angles an evaluate measures: those given, else the acuity table's default set. */
+static size_t evaluate_angle_count(const aa_acuity *a, size_t angle_count)
 {
-    size_t angles = angle_count;
-    if (!angles) {
-        static _Thread_local double buf[AA_MAX_ANGLES];
-        angles = aa_acuity_default_angles(a, buf, AA_MAX_ANGLES);
-    }
+    if (angle_count)
+        return angle_count;
+    static _Thread_local double buf[AA_MAX_ANGLES];
+    return aa_acuity_default_angles(a, buf, AA_MAX_ANGLES);
+}
+
+/* The work of an evaluate: kernel samples x angles. */
+static double evaluate_work(const aa_pattern *p, size_t angles)
+{
     return (double)aa_pattern_total_kernel_samples(p) * (double)angles;
 }
 
@@ -311,16 +315,10 @@ static int evaluate_decode(api_context *ctx, const api_request *req, api_respons
  * one request cannot build a 100 MB answer (256 kernels x 4,096 angles did). */
 #define EVALUATE_MAX_DETAIL_ROWS 16384
 
-static int check_detail(const aa_pattern *p, const aa_acuity *a, size_t angle_count, bool detail,
-                        aa_error *err)
+static int check_detail(const aa_pattern *p, size_t angles, bool detail, aa_error *err)
 {
     if (!detail)
         return AA_OK;
-    size_t angles = angle_count;
-    if (!angles) {
-        static _Thread_local double buf[AA_MAX_ANGLES];
-        angles = aa_acuity_default_angles(a, buf, AA_MAX_ANGLES);
-    }
     double rows = (double)p->kernel_count * (double)angles;
     if (rows <= EVALUATE_MAX_DETAIL_ROWS)
         return AA_OK;
@@ -344,9 +342,10 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
     if (evaluate_decode(ctx, req, resp, key, key_len, &c))
         return;
     aa_error err = {0};
-    double work = evaluate_work(&c->pattern, &c->acuity, c->angle_count);
+    size_t angles = evaluate_angle_count(&c->acuity, c->angle_count);
+    double work = evaluate_work(&c->pattern, angles);
     if (check_work(&c->pattern, work, c->angle_count, &err) ||
-        check_detail(&c->pattern, &c->acuity, c->angle_count, c->detail, &err)) {
+        check_detail(&c->pattern, angles, c->detail, &err)) {
         api_reply_aa_error(resp, &err);
         evaluate_call_free(&c->deferred);
         return;
