@@ -59,7 +59,7 @@ typedef struct request_state {
     size_t len, cap;
     size_t limit;   /* this endpoint's body limit (api_body_limit) */
     size_t counted; /* bytes held in the user's --user-body-bytes budget */
-    uint64_t user;  /* the budget's key: the peer uid */
+    uint64_t user;  /* the peer uid (COMPUTE_USER_UNKNOWN): the budget's key and req's peer */
     bool too_large, over_budget;
     /* A request run on the compute pool: req/resp are handed over through the pool's queue
      * and back through done (release/acquire), since libmicrohttpd's resume is not a
@@ -548,16 +548,14 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
         .body_len = st->len,
         .via_tcp = !l->is_unix,
     };
-    const union MHD_ConnectionInfo *ci =
-        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
-    conn_peer peer;
-    if (ci && conn_admission_peer(l->adm, ci->connect_fd, &peer) && peer.uid_known) {
+    /* The peer as the request's first call found it (st->user). */
+    if (st->user != COMPUTE_USER_UNKNOWN) {
         if (l->is_unix) {
             req.peer_known = true;
-            req.peer_uid = peer.uid;
+            req.peer_uid = (uid_t)st->user;
         } else {
             req.tcp_peer_known = true;
-            req.tcp_peer_uid = peer.uid;
+            req.tcp_peer_uid = (uid_t)st->user;
         }
     }
     request_deadline_received(conn);
