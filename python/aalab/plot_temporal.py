@@ -120,7 +120,7 @@ def _after_cut(ax: Any, r: TemporalEvaluation) -> None:
     ax.set_xlim(0.5, len(curve) + 0.5)
     ax.set_ylim(0, None)
     ax.set_title("after a cut%s" % ("" if r.frames_to_5pct is not None else
-                                    ": not within 5 % by k = %d" % len(curve)),
+                                    ": not within 5 %% by k = %d" % len(curve)),
                  fontsize="medium")
     ax.legend(loc="upper right", fontsize="small", frameon=False)
 

@@ -98,5 +98,11 @@ def test_plot_temporal(client, tmp_path):
     big = plot.temporal(client.evaluate_temporal("fsr2-3x"), figsize=(8, 6), dpi=80)
     big.savefig(tmp_path / "fsr2.png")
     assert big._suptitle.get_text().startswith("fsr2-3x, exponential α 0.1")
+    # a curve that does not settle within K: said in the title
+    short = client.evaluate_temporal("halton23-8", cut_frames=8)
+    assert short.frames_to_5pct is None
+    fig = plot.temporal(short)
+    fig.savefig(tmp_path / "short.png")
+    assert fig.axes[2].get_title() == "after a cut: not within 5 % by k = 8"
     with pytest.raises(ValueError):
         plot.temporal(client.evaluate("rgss"))
