@@ -212,7 +212,13 @@ export default async function temporalSuite({ page, base, api, step, shot, conso
     const unexpected = provoked.filter((m) => !(/\b400\b/.test(m) && /\/v1\/evaluate/.test(m)));
     consoleProblems.push(...unexpected);
     assert(provoked.length > unexpected.length, 'the bad offset should have been refused with 400');
-    // And a good preset afterwards shows a result again.
+    // The preset the URL still names, chosen again, evaluates (no hashchange happens then).
+    await page.selectOption('#tp-preset', 'halton23-16');
+    await page.waitForFunction(() => document.getElementById('tp-e2').dataset.e2);
+    await waitIdle(page);
+    const again = await api('POST', '/v1/evaluate', { pattern: { temporal: { preset: 'halton23-16' } } });
+    sameAsApi(await shown(page), again, 'halton23-16 chosen again');
+    // And another preset.
     await page.selectOption('#tp-preset', 'fsr2-2x');
     await page.waitForFunction(() => document.getElementById('tp-e2').dataset.e2);
     await waitIdle(page);

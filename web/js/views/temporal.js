@@ -37,6 +37,7 @@ export async function show(params) {
   const wanted = params.preset && TEMPORAL_PRESETS.includes(params.preset) ? params.preset : null;
   if (params.preset && !wanted) ctx.toast(`no temporal preset named ${params.preset}`);
   if (wanted && (wanted !== state.preset || state.custom)) selectPreset(wanted);
+  else if (state.controller) return; // an answer is on its way
   else if (!state.result) evaluateNow(); // first visit, or retry after an error
   else draw(state.result); // sizes may have changed while hidden: labels are sized to the screen
 }
@@ -101,7 +102,11 @@ function build() {
     if (v === '__custom') {
       $('tp-paste').open = true;
       $('tp-json').focus();
-    } else ctx.navigate('temporal', { preset: v });
+    } else {
+      // The URL may already name it (after pasted JSON): no hashchange then, so select it here.
+      if (v !== state.preset || state.custom) selectPreset(v);
+      ctx.navigate('temporal', { preset: v });
+    }
   });
   $('tp-alpha').addEventListener('input', () => {
     state.blendTouched = true;
