@@ -106,3 +106,29 @@ def test_plot_temporal(client, tmp_path):
     assert fig.axes[2].get_title() == "after a cut: not within 5 % by k = 8"
     with pytest.raises(ValueError):
         plot.temporal(client.evaluate("rgss"))
+
+
+def test_temporal_example(daemon, tmp_path):
+    """docs/examples/temporal.py: every preset, the alpha sweep, its figures."""
+    import csv
+    import os
+    import subprocess
+    import sys
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "docs",
+                          "examples", "temporal.py")
+    out = subprocess.run([sys.executable, script, "--socket", daemon.socket_path, "--out",
+                          str(tmp_path)], capture_output=True, text=True, timeout=240)
+    assert out.returncode == 0, out.stdout + out.stderr
+    with open(tmp_path / "temporal_presets.csv") as f:
+        rows = {r["preset"]: r for r in csv.DictReader(f)}
+    assert set(rows) == set(t.PRESETS)
+    assert rows["fsr2-3x"]["phases"] == "72" and rows["halton23-8"]["frames_to_5pct"] == "26"
+    with open(tmp_path / "temporal_alpha.csv") as f:
+        sweep = list(csv.DictReader(f))
+    assert [float(s["alpha"]) for s in sweep] == [0.02, 0.05, 0.1, 0.2, 0.3, 0.5, 0.75, 1.0]
+    # alpha 1: the newest frame alone, one effective sample
+    assert float(sweep[-1]["effective_samples"]) == 1
+    with Image.open(tmp_path / "temporal_alpha.png") as im:
+        assert im.size == (960, 600)
+    with Image.open(tmp_path / "temporal_halton23-8.png") as im:
+        assert im.size == (1300, 800)
