@@ -57,7 +57,12 @@ typedef enum opt_id {
     OPT_MODEL,
     OPT_METRICS,
     OPT_RADIUS,
-    OPT_PCF_BINS
+    OPT_PCF_BINS,
+    OPT_TEMPORAL,
+    OPT_ALPHA,
+    OPT_CUT_FRAMES,
+    OPT_RESOLVE,
+    OPT_FRAME_PATTERN
 } opt_id;
 
 typedef struct opt_spec {
@@ -110,7 +115,13 @@ static const opt_spec OPTIONS[] = {
     {"scene", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_SCENE},
     {"size", 0, true, BIT(CMD_RENDER) | BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_SIZE},
     {"angle", 0, true, BIT(CMD_PREDICT) | BIT(CMD_OPTIMIZE), OPT_ANGLE},
-    {"blend", 0, true, BIT(CMD_OPTIMIZE), OPT_BLEND},
+    /* optimize: a number (the scene blend); eval: the temporal blend (checked in check_command) */
+    {"blend", 0, true, BIT(CMD_OPTIMIZE) | BIT(CMD_EVAL), OPT_BLEND},
+    {"temporal", 0, true, BIT(CMD_EVAL), OPT_TEMPORAL},
+    {"alpha", 0, true, BIT(CMD_EVAL), OPT_ALPHA},
+    {"cut-frames", 0, true, BIT(CMD_EVAL), OPT_CUT_FRAMES},
+    {"resolve", 0, true, BIT(CMD_EVAL), OPT_RESOLVE},
+    {"frame-pattern", 0, true, BIT(CMD_EVAL), OPT_FRAME_PATTERN},
     {"model", 0, true, BIT(CMD_PREDICT), OPT_MODEL},
     {"output", 'o', true, BIT(CMD_RENDER) | BIT(CMD_EXPORT) | BIT(CMD_CONVERT), OPT_OUTPUT},
     {"image", 0, true, BIT(CMD_RENDER), OPT_IMAGE},
@@ -377,10 +388,27 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
             return fail(err, cap, "--model wants edge, reference-profile or exact, got '%s'", v);
         a->model = v;
         break;
-    case OPT_BLEND:
-        if (parse_double(v, 0, 1, &a->blend))
-            return fail(err, cap, "--blend wants a number in [0, 1], got '%s'", v);
-        a->has_blend = true;
+    case OPT_BLEND: /* the command may come later: judged in check_command */
+        a->blend_text = v;
+        a->has_blend = parse_double(v, 0, 1, &a->blend) == 0;
+        break;
+    case OPT_TEMPORAL:
+        a->temporal = v;
+        break;
+    case OPT_ALPHA:
+        if (parse_double(v, 1e-6, 1, &a->alpha))
+            return fail(err, cap, "--alpha wants a number in [1e-6, 1], got '%s'", v);
+        a->has_alpha = true;
+        break;
+    case OPT_CUT_FRAMES:
+        if (parse_long(v, 1, 4096, &a->cut_frames))
+            return fail(err, cap, "--cut-frames wants an integer in 1..4096, got '%s'", v);
+        break;
+    case OPT_RESOLVE:
+        a->resolve = v;
+        break;
+    case OPT_FRAME_PATTERN:
+        a->frame_pattern = v;
         break;
     case OPT_CSV:
         a->csv = true;
@@ -467,6 +495,16 @@ static int check_command(cli_args *a, char *err, size_t cap)
     case CMD_NONE:
         return fail(err, cap, "no command given (try 'aalab help')");
     case CMD_EVAL:
+        if (a->blend_text && strcmp(a->blend_text, "box") && strcmp(a->blend_text, "exponential") &&
+            !(a->has_blend && a->blend >= 1e-6))
+            return fail(err, cap,
+                        "--blend wants box, exponential or an alpha in [1e-6, 1], got '%s'",
+                        a->blend_text);
+        if (a->temporal && a->target)
+            return fail(err, cap, "give a pattern or --temporal, not both");
+        if (a->temporal)
+            break;
+        /* fall through */
     case CMD_ANALYZE:
     case CMD_CONVERT:
     case CMD_SUBMIT:
@@ -487,6 +525,8 @@ static int check_command(cli_args *a, char *err, size_t cap)
                         a->target);
         break;
     case CMD_OPTIMIZE:
+        if (a->blend_text && !a->has_blend)
+            return fail(err, cap, "--blend wants a number in [0, 1], got '%s'", a->blend_text);
         if (!a->family == !a->pattern)
             return fail(err, cap, "'optimize' needs exactly one of --family or --pattern");
         if (a->family && (a->points_format || a->tile || a->kernel || a->weights))

@@ -48,6 +48,16 @@ typedef struct cli_args {
     const char *acuity; /* NAME, FILE.json or a JSON object */
     const char *angles; /* comma-separated degrees */
     bool detail;
+    /* eval, a temporal pattern (docs/temporal.md): --temporal PRESET|FILE.json|JSON|GENERATOR,
+     * --alpha A, --blend box|exponential|A (blend_text), --cut-frames K, --resolve FILTER,
+     * --frame-pattern NAME|FILE */
+    const char *temporal;
+    double alpha;
+    bool has_alpha;
+    const char *blend_text; /* the --blend argument as given (eval's is a blend kind) */
+    long cut_frames;        /* 0: not given */
+    const char *resolve;
+    const char *frame_pattern;
     /* optimize */
     const char *family;
     const char *pattern; /* optimize: FILE or preset NAME; render: NAME or FILE */

@@ -1,4 +1,5 @@
-/* aalab eval NAME|FILE.json [--filter ...] [--acuity ...] [--angles ...] [--detail] */
+/* aalab eval NAME|FILE.json [--filter ...] [--acuity ...] [--angles ...] [--detail]; a temporal
+ * pattern (--temporal, or a file holding one) goes to eval_temporal.c */
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
@@ -10,6 +11,7 @@
 #include "../table.h"
 #include "../views/view_kv.h"
 #include "../views/view_rows.h"
+#include "eval_temporal.h"
 
 static json_t *parse_json_argument(const char *what, const char *text, char *err, size_t cap)
 {
@@ -123,6 +125,14 @@ int eval_request(const cli_args *a, json_t **req, char *err, size_t errcap)
 {
     json_t *pattern, *extras;
     *req = NULL;
+    if (eval_is_temporal(a)) /* docs/temporal.md: eval_temporal.c */
+        return eval_temporal_request(a, req, err, errcap);
+    if (a->has_alpha || a->blend_text || a->cut_frames || a->resolve || a->frame_pattern) {
+        snprintf(err, errcap,
+                 "--alpha, --blend, --cut-frames, --resolve and --frame-pattern "
+                 "apply to a temporal pattern (--temporal)");
+        return -1;
+    }
     if (pattern_argument_load(a->target, a, &pattern, &extras, err, errcap))
         return -1;
     json_t *r = extras ? extras : json_object();
@@ -210,6 +220,10 @@ static void print_detail_kernel(FILE *out, size_t index, const json_t *block)
 
 void eval_print(FILE *out, const json_t *resp, bool detail, bool csv)
 {
+    if (eval_answer_is_temporal(resp)) {
+        eval_temporal_print(out, resp, detail, csv);
+        return;
+    }
     const json_t *argmax = json_object_get(resp, "argmax");
     char e2[32], cost[32], kernel[32], angle[32], acuity[96];
     const char *keys[] = {"family",        "cost_spp",         "E2",

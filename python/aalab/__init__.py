@@ -23,6 +23,8 @@ from .formats import FormatError, PointSet
 from .job import ENDED, Job
 from .patterns import as_pattern
 from .results import Analysis, Argmax, Enumeration, Evaluation, Render, Trace
+from . import temporal  # the module: aalab.temporal.temporal(...), .halton(...)
+from .temporal import TemporalArgmax, TemporalEvaluation
 
 __version__ = "0.1.0"
 
@@ -39,4 +41,4 @@ def __getattr__(name: str):
 
 __all__ = ["Client", "Job", "AalabError", "DaemonUnreachable", "FormatError", "PointSet",
            "Evaluation", "Analysis", "Render", "Trace", "Enumeration", "Argmax", "as_pattern", "pattern",
-           "JOB_STATES", "ENDED", "__version__"]
+           "TemporalEvaluation", "TemporalArgmax", "temporal", "JOB_STATES", "ENDED", "__version__"]

@@ -10,6 +10,8 @@ from .errors import AalabError
 from .job import Job
 from .patterns import as_pattern
 from .results import Analysis, Enumeration, Evaluation, Render, decode_png
+from .temporal import TemporalEvaluation, is_temporal
+from .temporal import temporal as _temporal
 from .transport import Transport, path_with_query, quote_segment
 
 JOB_STATES = ("queued", "running", "done", "failed", "cancelled", "interrupted")
@@ -132,8 +134,12 @@ class Client:
 
     def evaluate(self, pattern: Any, filter: Any = None, acuity: Any = None,
                  angles: Optional[Iterable[float]] = None, detail: bool = False,
-                 lp: Optional[float] = None) -> Evaluation:
+                 lp: Optional[float] = None) -> Union[Evaluation, TemporalEvaluation]:
         """E2 of a pattern (``POST /v1/evaluate``).
+
+        A temporal pattern (``{"temporal": ...}``, :func:`aalab.temporal.temporal`) answers a
+        :class:`~aalab.temporal.TemporalEvaluation` (per phase E2, F2, the after-cut curve);
+        ``detail`` and ``lp`` do not apply to it.
 
         Args:
             pattern: a preset name, wire dict, Job, points or file (:mod:`aalab.patterns`);
@@ -150,7 +156,10 @@ class Client:
                 (:attr:`Evaluation.per_angle`, kernels x angles).
             lp: also compute the L_p norm of W·E1 (p >= 1).
         """
-        body: Dict[str, Any] = {"pattern": as_pattern(pattern)}
+        temporal = is_temporal(pattern)
+        if temporal and "temporal" not in pattern:
+            pattern = pattern["pattern"]
+        body: Dict[str, Any] = {"pattern": dict(pattern) if temporal else as_pattern(pattern)}
         if filter is not None:
             body["filter"] = _filter(filter)
         if acuity is not None:
@@ -162,8 +171,25 @@ class Client:
             body["lp"] = float(lp)
         if detail:
             body["detail"] = True
-        return Evaluation.from_answer(self._call("POST", "/v1/evaluate", body,
-                                                 schema="evaluate_response.json"))
+        answer = self._call("POST", "/v1/evaluate", body, schema="evaluate_response.json")
+        if "phases" in answer:
+            return TemporalEvaluation.from_answer(answer)
+        return Evaluation.from_answer(answer)
+
+    def evaluate_temporal(self, preset: Optional[str] = None, jitter: Any = None,
+                          alpha: Optional[float] = None, blend: Any = None, resolve: Any = None,
+                          frame_pattern: Any = None, jitter_range: Optional[float] = None,
+                          cut_frames: Optional[int] = None, filter: Any = None,
+                          acuity: Any = None,
+                          angles: Optional[Iterable[float]] = None) -> TemporalEvaluation:
+        """E2 of a TAA jitter sequence under a blend (docs/temporal.md): the arguments of
+        :func:`aalab.temporal.temporal`, then ``filter``, ``acuity`` and ``angles`` as for
+        :meth:`evaluate`. ``evaluate_temporal("halton23-8", alpha=0.05)``."""
+        t = _temporal(preset, jitter, alpha, blend, resolve, frame_pattern, jitter_range,
+                      cut_frames)
+        result = self.evaluate(t, filter=filter, acuity=acuity, angles=angles)
+        assert isinstance(result, TemporalEvaluation)
+        return result
 
     def analyze(self, pattern: Any, metrics: Optional[Iterable[str]] = None,
                 radius: Optional[int] = None, pcf_bins: Optional[int] = None,

@@ -364,7 +364,9 @@ def tiles(render: Render, title: Optional[str] = None, figsize: Size = (10.5, 3.
     return fig
 
 
-__all__ = ["polar", "pattern", "trace", "e2_vs_spp", "tiles", "spp_of_family"]
+from .plot_temporal import temporal  # noqa: E402  (the Temporal view's figure, issue 30)
+
+__all__ = ["polar", "pattern", "trace", "e2_vs_spp", "tiles", "spp_of_family", "temporal"]
 
 
 def spectrum(analysis: Analysis, ax: Any = None, title: Optional[str] = None,

@@ -147,6 +147,28 @@ near "$(jq -r '."e2"' <<<"$out")" 0.698 0.0015 "E2 with naiman from the command 
 # W = 1 everywhere: the grid's worst edge is axis-aligned, where Naiman's W(0) = 3.93
 near "$uniform" "$(awk 'BEGIN { print 0.698 / 3.93 }')" 0.001 "E2 with the uniform acuity of the request file"
 
+# --- eval: a temporal pattern (issue 30, docs/temporal.md) ----------------------------------------
+expect 0 "eval --temporal halton23-8 --json" -- A --json eval --temporal halton23-8
+near "$(jq -r '."e2"' <<<"$out")" 0.482 0.0005 "E2(halton23-8, worst phase)"
+near "$(jq -r '.mean_phase_e2' <<<"$out")" 0.459 0.0005 "mean over phases(halton23-8)"
+worst=$(jq -r '."e2"' <<<"$out") settle=$(jq -r '.frames_to_5pct' <<<"$out")
+expect 0 "eval --temporal table" -- A eval --temporal halton23-8
+has "E2 (worst phase)   $(printf '%.6f' "$worst")" "temporal table: the worst phase's E2"
+has "frames to 5 %      $settle" "temporal table: frames to 5 %"
+has "phase      newest_x  newest_y  age_weight        e2  argmax_angle_deg" "per-phase table"
+has "  k 25-32  " "after-cut curve, 4 N = 32 frames"
+expect 0 "eval --temporal with --blend box over d3d-4x positions" -- A --json eval --temporal positions:d3d-4x --blend box
+near "$(jq -r '."e2"' <<<"$out")" "$(A --json eval d3d-4x | jq -r '."e2"')" 0 "box blend of the D3D 4x positions = spatial D3D 4x"
+expect 0 "eval --temporal --alpha reaches the daemon" -- A --json eval --temporal halton:8 --alpha 0.2
+jq -e '.blend.alpha == 0.2 and .phase_count == 8' <<<"$out" >/dev/null && ok "--alpha 0.2 in the answer" || bad "alpha: ${out:0:300}"
+jq '{pattern: {temporal: {preset: "halton23-8"}}, angles: [0, 45, 90]}' -n >"$tmp/temporal.json"
+expect 0 "eval a temporal request file" -- A --json eval "$tmp/temporal.json" --cut-frames 8
+jq -e '.angle_count == 3 and (.after_cut | length) == 8' <<<"$out" >/dev/null && ok "request file's angles and --cut-frames" || bad "temporal file: ${out:0:300}"
+expect 1 "a bad temporal offset is a local error" -- A eval --temporal '{"jitter":[[0,0],[0.7,0]]}'
+out=$err; has "pattern.temporal.jitter[1]" "local temporal error names the field"
+expect 1 "an unknown temporal preset is a local error" -- A eval --temporal no-such-sequence
+out=$err; has "pattern.temporal.preset" "local error names the preset field"
+
 # local validation: nothing sent, exit 1, the field path named
 echo '{"kernels":[[[0,0,0.5],[0.25,0.25,"x"]]]}' >"$tmp/bad.json"
 expect 1 "invalid pattern file is rejected locally" -- A eval "$tmp/bad.json"
@@ -293,6 +315,7 @@ for c in presets filters acuity health "token list"; do
   A $c --csv >"$tmp/c.csv" && csv_ok "$tmp/c.csv" "$c --csv"
 done
 A eval rgss --detail --angles 0,45 --csv >"$tmp/eval.csv" && csv_ok "$tmp/eval.csv" "eval --detail --csv" "kernel,angle_deg,weight,e1,weighted"
+A eval --temporal halton23-8 --csv >"$tmp/temporal.csv" && csv_ok "$tmp/temporal.csv" "eval --temporal --csv" "phase,newest_x,newest_y,age_weight,e2,argmax_angle_deg"
 A enumerate --family 'P(4,1+,n)' --cost 1.25 --csv >"$tmp/enum.csv" && csv_ok "$tmp/enum.csv" "enumerate --csv" "index,corners,edges,interior,samples,label"
 
 expect 0 "jobs --state done --kind sleep" -- A --json jobs --state done --kind sleep

@@ -6,8 +6,9 @@ import * as evaluate from './views/evaluate.js';
 import * as families from './views/families.js';
 import * as jobs from './views/jobs.js';
 import * as tiles from './views/tiles.js';
+import * as temporal from './views/temporal.js';
 
-const views = { evaluate, families, jobs, tiles };
+const views = { evaluate, families, jobs, tiles, temporal };
 const inited = new Set();
 let current = null;
 
