@@ -112,6 +112,111 @@ static void random_kernel(aa_sample *s, size_t n)
         s[i].w /= sum;
 }
 
+/* The plain closed form, written for this benchmark as a reader of docs/metric.md 2b would:
+ * cos/sin of theta, the projections on the stack, an insertion sort, then one uncompensated
+ * pass of E1^2 = V + sum (c - 1/2)^2 len + 2 sum w Gamma(p) inside (-r, r), c^2 len left of it
+ * and (c - 1)^2 len right of it, Gamma by Horner from the filter's tables. No workspace, no
+ * error estimate, no fallback: the floor a single-angle call of the library is compared with
+ * (issue 33, point 7). n <= 64. */
+static double gamma_plain(const aa_filter *f, double p)
+{
+    int j = (int)((p + f->radius) * f->closed_inv_width);
+    j = j < 0 ? 0 : (j >= f->closed_pieces ? f->closed_pieces - 1 : j);
+    double x = p - f->closed_mid[j], v = 0;
+    for (int k = AA_FILTER_CLOSED_DEGREE; k >= 0; k--)
+        v = v * x + f->closed_gamma[j][k];
+    return v;
+}
+
+static double e1_plain(const aa_filter *f, const aa_sample *s, size_t n, double theta)
+{
+    double p[64], w[64], ct = cos(theta), st = sin(theta);
+    for (size_t i = 0; i < n; i++) {
+        double q = s[i].x * ct + s[i].y * st, qw = s[i].w;
+        size_t k = i;
+        for (; k > 0 && p[k - 1] > q; k--) {
+            p[k] = p[k - 1];
+            w[k] = w[k - 1];
+        }
+        p[k] = q;
+        w[k] = qw;
+    }
+    double r = f->radius, e = f->closed_var, c = 0, a = -r;
+    size_t k = 0;
+    if (n > 0 && p[0] <= -r) {
+        a = p[0];
+        for (; k < n && p[k] <= -r; k++) {
+            e += c * c * (p[k] - a);
+            c += w[k];
+            a = p[k];
+        }
+        e += c * c * (-r - a);
+        a = -r;
+    }
+    for (; k < n && p[k] < r; k++) {
+        double u = c - 0.5;
+        e += u * u * (p[k] - a) + 2 * w[k] * gamma_plain(f, p[k]);
+        c += w[k];
+        a = p[k];
+    }
+    e += (c - 0.5) * (c - 0.5) * (r - a);
+    a = r;
+    for (; k < n; k++) {
+        e += (c - 1) * (c - 1) * (p[k] - a);
+        c += w[k];
+        a = p[k];
+    }
+    return sqrt(e > 0 ? e : 0);
+}
+
+/* ns per call of aa_e1_at_angle (the public single-angle entry: each call a new angle, as a
+ * caller evaluating one kernel-angle at a time makes it) beside e1_plain on the same calls, and
+ * the largest relative difference between the two. */
+static void bench_single_calls(const aa_filter *f, size_t n)
+{
+    enum { CALL_KERNELS = 256 };
+    uint64_t saved_state = rng_state; /* the later sections draw the same patterns as before */
+    aa_sample *ks = malloc(CALL_KERNELS * n * sizeof *ks);
+    double theta[CALL_KERNELS];
+    for (size_t k = 0; k < CALL_KERNELS; k++) {
+        random_kernel(ks + k * n, n);
+        theta[k] = rng_uniform(0.0, PI_D);
+    }
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    volatile double sink = 0.0;
+    double ns[2], diff = 0.0;
+    for (int variant = 0; variant < 2; variant++) {
+        long calls = 0;
+        double t0 = now_s(), t1;
+        do {
+            for (size_t k = 0; k < CALL_KERNELS; k++) {
+                double e = 0.0;
+                if (variant == 0)
+                    aa_e1_at_angle(f, ks + k * n, n, theta[k], &ws, &e);
+                else
+                    e = e1_plain(f, ks + k * n, n, theta[k]);
+                sink += e;
+                calls++;
+            }
+            t1 = now_s();
+        } while (t1 - t0 < 0.3);
+        ns[variant] = 1e9 * (t1 - t0) / (double)calls;
+    }
+    for (size_t k = 0; k < CALL_KERNELS; k++) {
+        double e = 0.0;
+        aa_e1_at_angle(f, ks + k * n, n, theta[k], &ws, &e);
+        diff = fmax(diff, fabs(e - e1_plain(f, ks + k * n, n, theta[k])) / e);
+    }
+    printf("single calls, %2zu samples: aa_e1_at_angle %6.1f ns | plain closed form %6.1f ns | "
+           "ratio %.2fx (target <= 1.2x at 4 and 8) | max rel. difference %.1e\n",
+           n, ns[0], ns[1], ns[0] / ns[1], diff);
+    aa_metric_workspace_free(&ws);
+    free(ks);
+    rng_state = saved_state;
+    (void)sink;
+}
+
 typedef struct size_result {
     size_t n;
     double exact_ns, old_ns, dense_ns;
@@ -462,6 +567,8 @@ int main(void)
     size_result r16 = bench_size(&f, 16, 1L << 21);
     size_result r64 = bench_size(&f, 64, 1L << 20);
     (void)r16;
+    for (size_t n = 4; n <= 64; n *= 2)
+        bench_single_calls(&f, n);
 
     aa_pattern q;
     aa_error err;

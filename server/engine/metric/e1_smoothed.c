@@ -75,7 +75,7 @@ int aa_e1_smoothed_at_direction(const aa_filter *f, const aa_sample *s, size_t n
 {
     if (check_width(kink_width))
         return AA_EINVAL;
-    int rc = aa_e1_at_direction(f, s, n, ct, st, AA_E1_AUTO, ws, e1);
+    int rc = aa_e1_sorted_at_direction(f, s, n, ct, st, AA_E1_AUTO, ws, e1);
     if (rc)
         return rc;
     double sq = *e1 * *e1;

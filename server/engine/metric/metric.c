@@ -403,10 +403,10 @@ static inline void piece_ends(const double *pp, size_t k, size_t end, double r, 
 
 /* want_prefix is a constant at each call site (closed_form_e1, closed_form_prefix): the E1-only
  * copy skips the prefix integrals. */
-static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metric_workspace *ws,
+static inline closed_sums closed_form_impl(const aa_filter *f, const double *pp, const double *pw,
+                                           size_t n, aa_metric_workspace *ws,
                                            const bool want_prefix)
 {
-    const double *pp = ws->p, *pw = ws->w;
     double *prefix = ws->tail, r = f->radius, c = 0, lo = 0, lin = 0;
     compensated acc = {f->closed_var, 0, f->closed_var * f->closed_var};
     compensated gam = {0, 0, 0}; /* the Gamma terms (one lane): a second dependency chain */
@@ -516,12 +516,12 @@ static inline closed_sums closed_form_impl(const aa_filter *f, size_t n, aa_metr
 
 static closed_sums closed_form_e1(const aa_filter *f, size_t n, aa_metric_workspace *ws)
 {
-    return closed_form_impl(f, n, ws, false);
+    return closed_form_impl(f, ws->p, ws->w, n, ws, false);
 }
 
 static closed_sums closed_form_prefix(const aa_filter *f, size_t n, aa_metric_workspace *ws)
 {
-    return closed_form_impl(f, n, ws, true);
+    return closed_form_impl(f, ws->p, ws->w, n, ws, true);
 }
 
 /* Whether the closed form's error estimate is within AA_E1_CLOSED_REL_ERROR (metric.h). */
@@ -556,8 +556,64 @@ static double e1_squared(const aa_filter *f, const aa_sample *s, size_t n, doubl
     return e1_squared_sorted(f, n, method, ws, want_prefix);
 }
 
+/* Kernels of at most this many samples take e1_small on single calls (issue 33, point 7). */
+#define AA_E1_SMALL_MAX 16
+
+/* E1^2 of a small kernel by the closed form (filters with tables, method not QUADRATURE), with the
+ * workspace's projection machinery (index arrays, the order kept between calls, the gathers)
+ * replaced by a stable insertion sort on the stack. Bit for bit the general path's value: the
+ * same products, the same (p, index) order (ties keep input order), the same closed_form_impl
+ * arithmetic. Only a badly conditioned closed form (rare) copies into ws for the sweep. On a
+ * single call of 4 samples that set-up was half the time (bench_metric "single calls"). */
+static int e1_small(const aa_filter *f, const aa_sample *s, size_t n, double ct, double st,
+                    aa_e1_method method, aa_metric_workspace *ws, double *e1sq)
+{
+    double p[AA_E1_SMALL_MAX], w[AA_E1_SMALL_MAX];
+    for (size_t i = 0; i < n; i++) {
+        double q = s[i].x * ct + s[i].y * st, qw = s[i].w;
+        size_t k = i;
+        for (; k > 0 && p[k - 1] > q; k--) {
+            p[k] = p[k - 1];
+            w[k] = w[k - 1];
+        }
+        p[k] = q;
+        w[k] = qw;
+    }
+    ws->order_of = NULL; /* ws's arrays no longer hold this kernel's order */
+    ws->cdf_valid = false;
+    closed_sums cs = closed_form_impl(f, p, w, n, ws, false);
+    ws->closed_condition = cs.spread / cs.e1sq;
+    if (method == AA_E1_CLOSED || closed_acceptable(&cs)) {
+        ws->closed_calls++;
+        *e1sq = cs.e1sq > 0 ? cs.e1sq : 0;
+        return AA_OK;
+    }
+    ws->fallback_calls++;
+    if (reserve(ws, n))
+        return AA_ENOMEM;
+    memcpy(ws->p, p, n * sizeof *p);
+    memcpy(ws->w, w, n * sizeof *w);
+    *e1sq = sweep(f, n, ws, false);
+    return AA_OK;
+}
+
 int aa_e1_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct, double st,
                        aa_e1_method method, aa_metric_workspace *ws, double *e1)
+{
+    if (n == 0 || !isfinite(ct) || !isfinite(st))
+        return AA_EINVAL;
+    if (n <= AA_E1_SMALL_MAX && method != AA_E1_QUADRATURE && f->closed_pieces > 0) {
+        double e1sq;
+        int rc = e1_small(f, s, n, ct, st, method, ws, &e1sq);
+        if (rc == AA_OK)
+            *e1 = sqrt(e1sq);
+        return rc;
+    }
+    return aa_e1_sorted_at_direction(f, s, n, ct, st, method, ws, e1);
+}
+
+int aa_e1_sorted_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct,
+                              double st, aa_e1_method method, aa_metric_workspace *ws, double *e1)
 {
     if (n == 0 || !isfinite(ct) || !isfinite(st))
         return AA_EINVAL;

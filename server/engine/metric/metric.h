@@ -96,6 +96,11 @@ int aa_e1_at_angle(const aa_filter *f, const aa_sample *s, size_t n, double thet
 /* The same for a direction from aa_metric_direction, with a method. */
 int aa_e1_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct, double st,
                        aa_e1_method method, aa_metric_workspace *ws, double *e1);
+/* aa_e1_at_direction that also leaves the sorted projection in ws (p, w and index, sorted by
+ * (p, index)) for a caller that reads it next (e1_smoothed.c's kink pairs). aa_e1_at_direction
+ * itself sorts kernels of up to 16 samples on the stack and leaves ws's arrays unspecified. */
+int aa_e1_sorted_at_direction(const aa_filter *f, const aa_sample *s, size_t n, double ct,
+                              double st, aa_e1_method method, aa_metric_workspace *ws, double *e1);
 /* E1 and its gradient. dx, dy, dw may each be NULL; arrays of n. */
 int aa_e1_gradient_at_angle(const aa_filter *f, const aa_sample *s, size_t n, double theta,
                             aa_metric_workspace *ws, double *e1, double *dx, double *dy,
