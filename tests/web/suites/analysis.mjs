@@ -380,43 +380,84 @@ export default async function analysisSuite({ page, base, api, step, shot, conso
     assert(JSON.stringify(sent) === JSON.stringify(['rgss', 'flipquad']), `analyses sent for ${sent}`);
   });
 
+  await step('a drag evaluates without the panel: no analysis is asked while an evaluation is in flight, one at the end', async () => {
+    await resetState(page);
+    await page.goto(`${base}/#/evaluate?preset=quincunx`);
+    await waitState(page, 'done');
+    const before = log.length;
+    const dot = page.locator('#ev-pattern g.dot-primary[aria-label*="weight 0.5"]');
+    const box = await dot.boundingBox();
+    assert(box, 'centre sample not found');
+    const x = box.x + box.width / 2;
+    const y = box.y + box.height / 2;
+    await resetState(page);
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    for (let i = 1; i <= 20; i++) {
+      await page.mouse.move(x + i * 2, y - i);
+      await page.waitForTimeout(20);
+    }
+    await page.mouse.up();
+    await waitState(page, 'done');
+    const events = log.slice(before);
+    let inFlight = 0;
+    const overlapping = [];
+    for (const e of events) {
+      if (e.what === '/v1/evaluate sent') inFlight++;
+      else if (e.what === '/v1/evaluate answered') inFlight--;
+      else if (e.what === '/v1/analyze sent' && inFlight > 0) overlapping.push(e.t);
+    }
+    const evaluations = events.filter((e) => e.what === '/v1/evaluate sent').length;
+    const analyses = events.filter((e) => e.what === '/v1/analyze sent').length;
+    assert(evaluations >= 3, `only ${evaluations} evaluations during the drag`);
+    assert(!overlapping.length, `${overlapping.length} analyses sent while an evaluation was in flight`);
+    assert(analyses >= 1 && analyses < evaluations, `${analyses} analyses for ${evaluations} evaluations`);
+    console.log(`#   drag: ${evaluations} evaluations, ${analyses} analyses asked (after the last evaluation answered)`);
+    const pattern = JSON.parse(await page.inputValue('#ev-json'));
+    const moved = await api('POST', '/v1/analyze', { pattern, ...options });
+    await checkFigures(page, moved);
+  });
+
   await step('collapsed: no analysis is asked; opening asks for the pattern evaluated meanwhile', async () => {
     await page.click('#ev-analysis > summary');
     await waitState(page, 'collapsed');
     const before = analyzeSent().length;
-    await page.goto(`${base}/#/evaluate?preset=quincunx`);
-    await page.waitForFunction(() => document.getElementById('ev-family').textContent === 'P(1,1+,2)' || document.getElementById('ev-e2').getAttribute('aria-busy') === 'false');
+    const evRef = await api('POST', '/v1/evaluate', { pattern: { preset: 'grid-2x2' } });
+    await page.goto(`${base}/#/evaluate?preset=grid-2x2`);
+    await page.waitForFunction((e2) => document.getElementById('ev-e2').dataset.e2 === String(e2), evRef.e2);
     await page.waitForTimeout(600);
     assert(analyzeSent().length === before, `${analyzeSent().length - before} analyses asked while collapsed`);
     assert((await page.evaluate(() => localStorage.getItem('aalab.analysis.open'))) === 'false', 'collapsed state not kept');
     await resetState(page);
     await page.click('#ev-analysis > summary');
     await waitState(page, 'done');
-    const q = await api('POST', '/v1/analyze', { pattern: { preset: 'quincunx' }, ...options });
+    const q = await api('POST', '/v1/analyze', { pattern: { preset: 'grid-2x2' }, ...options });
     await checkFigures(page, q);
   });
 
   for (const size of SIZES) {
     const tag = `${size.width}x${size.height}`;
     await step(`${tag}: the page fits the window, labels at least 11 px and apart, figures side by side without overlap`, async () => {
+      const problems = [];
+      const check = async (when) => {
+        const w = await page.evaluate(() => ({ scroll: document.documentElement.scrollWidth, inner: window.innerWidth }));
+        if (w.scroll > w.inner) problems.push(`${when}: page ${w.scroll} px wide in a ${w.inner} px window`);
+        const overlaps = await overlappingLabels(page);
+        if (overlaps.length) problems.push(`${when}: ${overlaps.length} overlapping labels: ${overlaps.slice(0, 5).join('; ')}`);
+        problems.push(...(await panelGeometry(page)).map((p) => `${when}: ${p}`));
+      };
+      // The window resized under a drawn panel: it redraws for the new scale.
       await page.setViewportSize({ width: size.width, height: size.height });
+      await page.waitForTimeout(500);
+      await check('resized under the last result');
       await resetState(page);
       await page.goto(`${base}/#/evaluate?preset=${size.preset}`);
       await waitState(page, 'done');
       await page.waitForTimeout(200);
-      // Drawn at this size: enlarged text follows the plots' on-screen scale.
-      await resetState(page);
-      await page.click('#an-run');
-      await waitState(page, 'done');
+      await check(size.preset);
       await page.screenshot({ path: `${artifacts}/analysis-${tag}.png`, fullPage: true });
       const panel = await page.$('#ev-analysis');
       await panel.screenshot({ path: `${artifacts}/analysis-panel-${tag}.png` });
-      const w = await page.evaluate(() => ({ scroll: document.documentElement.scrollWidth, inner: window.innerWidth }));
-      const problems = [];
-      if (w.scroll > w.inner) problems.push(`page ${w.scroll} px wide in a ${w.inner} px window`);
-      const overlaps = await overlappingLabels(page);
-      if (overlaps.length) problems.push(`${overlaps.length} overlapping labels: ${overlaps.slice(0, 5).join('; ')}`);
-      problems.push(...(await panelGeometry(page)));
       assert(!problems.length, problems.join('\n'));
     });
   }

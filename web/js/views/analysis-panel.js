@@ -58,6 +58,12 @@ export function initAnalysisPanel() {
     requestAnalysis({ force: true });
   });
   for (const f of FIELDS) $(f.input).addEventListener('change', () => requestAnalysis());
+  // Plot text is sized for the plots' scale on screen (at least 11 px): a new window size redraws.
+  let resizeTimer = null;
+  window.addEventListener('resize', () => {
+    clearTimeout(resizeTimer);
+    resizeTimer = setTimeout(() => details.open && !details.closest('[hidden]') && redraw(), 150);
+  });
 }
 
 /* A new evaluation starts: whatever the panel waits for or asks is for an old pattern. */
