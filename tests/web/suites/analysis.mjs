@@ -151,7 +151,8 @@ function panelGeometry(page) {
       for (const t of svg.querySelectorAll('text'))
         if (parseFloat(getComputedStyle(t).fontSize) * scale < 10.5) out.push(`"${t.textContent}" ${(parseFloat(getComputedStyle(t).fontSize) * scale).toFixed(1)} px`);
     }
-    const items = [...document.querySelectorAll('#ev-analysis .analysis-grid > *')].map((e) => ({ id: e.id || e.firstElementChild.id, r: e.getBoundingClientRect() }));
+    const items = [...document.querySelectorAll('#ev-analysis .analysis-grid figure, #ev-analysis .analysis-grid table')].map((e) => ({ id: e.id || e.firstElementChild.id, r: e.getBoundingClientRect() }));
+    if (items.length !== 4 || items.some((i) => !(i.r.width > 0 && i.r.height > 0))) out.push(`figures: ${JSON.stringify(items)}`);
     for (let i = 0; i < items.length; i++) {
       const a = items[i].r;
       if (a.right > window.innerWidth + 0.5) out.push(`${items[i].id} ends at ${a.right} px in a ${window.innerWidth} px window`);
