@@ -308,7 +308,11 @@ export default async function analysisSuite({ page, base, api, step, shot, conso
 
   await step('regular 8x8 grid (points form): P(k) is zero except at multiples of 8, and so is the image', async () => {
     const pattern = gridPattern(8);
+    // The new radius first, answered, so that its change event (on blur) cannot come later.
+    await resetState(page);
     await page.fill('#an-radius', '20');
+    await page.dispatchEvent('#an-radius', 'change');
+    await waitState(page, 'done');
     await resetState(page);
     await page.click('#ev-paste summary');
     await page.fill('#ev-json', JSON.stringify(pattern));
@@ -345,7 +349,10 @@ export default async function analysisSuite({ page, base, api, step, shot, conso
 
   await step('a one-sample preset (centroid): the 400 names the pattern, in place, nothing old left', async () => {
     const before = consoleProblems.length;
+    await resetState(page);
     await page.fill('#an-radius', '32');
+    await page.dispatchEvent('#an-radius', 'change');
+    await waitState(page, 'done');
     await resetState(page);
     await page.goto(`${base}/#/evaluate?preset=centroid`);
     await waitState(page, 'error');
