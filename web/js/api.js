@@ -106,6 +106,7 @@ export async function apiGet(path, { signal } = {}) {
  * the daemon's (GET /v1/health, "sharing"); its defaults until the first health answer. */
 const computeSlots = { '/v1/evaluate': { share: 2, free: 2, waiting: [] }, '/v1/render': { share: 1, free: 1, waiting: [] } };
 computeSlots['/v1/predict'] = computeSlots['/v1/evaluate']; // the daemon counts predictions as evaluates
+computeSlots['/v1/analyze'] = computeSlots['/v1/evaluate']; // and analyses (issue 31)
 
 export function setComputeShares(sharing) {
   const shares = { '/v1/evaluate': sharing && sharing.user_evaluates, '/v1/render': sharing && sharing.user_renders };

@@ -22,6 +22,7 @@ const ROUTES = [
   { method: 'POST', re: /^\/v1\/evaluate$/, schema: 'evaluate_response.json' },
   { method: 'POST', re: /^\/v1\/render$/, schema: 'render_response.json' },
   { method: 'POST', re: /^\/v1\/predict$/, schema: 'predict_response.json' },
+  { method: 'POST', re: /^\/v1\/analyze$/, schema: 'analyze_response.json' },
 ];
 
 function schemaFiles(dir) {

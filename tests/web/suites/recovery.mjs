@@ -74,7 +74,9 @@ export default async function recoverySuite({ page, base, api, step, shot, daemo
     assert(await page.evaluate(() => document.body.classList.contains('stale')), 'stale data not marked');
     const filter = await page.$eval('main', (m) => getComputedStyle(m).filter);
     assert(/grayscale/.test(filter), `main not greyed (filter ${filter})`);
-    assert(/unreachable/.test(await page.textContent('#health')), 'health line does not say unreachable');
+    // Any request may be the first to find the daemon gone (the analysis panel's, asked after the
+    // last evaluation): the health line says so at its next poll, within 5 s.
+    await eventually(async () => /unreachable/.test(await page.textContent('#health')), { timeout: 8000, message: 'the health line to say unreachable' });
     await shot('recovery-offline');
     await page.click('#offline-retry');
     await eventually(async () => /not answering/.test(await page.textContent('#offline-text')), { message: 'retry to report again' });

@@ -8,6 +8,7 @@ import { PatternView } from '../pattern-view.js';
 import { drawableOf, kernelsOf, clonePattern } from '../pattern-geometry.js';
 import { drawPolar, polarLegend } from '../polar-plot.js';
 import { setEvaluatePatternGetter } from './evaluate-bridge.js';
+import { initAnalysisPanel, cancelAnalysis, analysisAfterEvaluate, analysisEvaluateFailed } from './analysis-panel.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -66,6 +67,7 @@ function setupControls() {
   $('ev-reset').addEventListener('click', () => state.presetName && usePreset(state.presetName));
   $('ev-apply').addEventListener('click', applyJson);
   $('ev-normalize').addEventListener('click', normalizeAndEvaluate);
+  initAnalysisPanel();
 }
 
 /* One sentence on the selected table (GET /v1/acuity's description). */
@@ -261,13 +263,17 @@ function requestEvaluation() {
   state.pending = false;
   const seq = ++state.seq;
   setStatus('evaluating…');
-  apiPost('/v1/evaluate', requestBody())
+  cancelAnalysis(); // the analysis panel asks for its figures after this evaluation, not during it
+  const body = requestBody();
+  apiPost('/v1/evaluate', body)
     .then((resp) => {
       if (seq === state.seq) showEvaluation(normEvaluation(resp));
       setStatus('');
+      if (seq === state.seq && !state.pending) analysisAfterEvaluate(body.pattern);
     })
     .catch((e) => {
       if (seq === state.seq) clearEvaluation();
+      if (seq === state.seq) analysisEvaluateFailed();
       setStatus(e.message, true);
       // The daemon's message for a weight sum off 1 names it; the pattern may then be rescaled.
       $('ev-normalize').hidden = !/weights sum to/.test(e.message) || !state.pattern || typeof state.pattern !== 'object';
