@@ -46,10 +46,11 @@ struct job_ctx {
     int workers;
     int *busy;
     double started;      /* wall clock (Unix seconds) */
-    double started_mono; /* monotonic */
+    double started_mono; /* aa_monotonic_seconds (clock.h) */
 };
 
-double jm_now(void); /* Unix seconds (monotonic time: aa_monotonic_seconds, clock.h) */
+double jm_now(void); /* Unix seconds, CLOCK_REALTIME: stored timestamps; durations and budgets
+                      * use the monotonic aa_monotonic_seconds (clock.h) */
 
 /* Called by job_ctx_progress with the lock held: enforces --max-job-seconds and, when the job's
  * slice is over and another user waits with fewer workers, checkpoints the live state, gives the

@@ -1,5 +1,5 @@
-/* A job kind is what the worker pool can run: optimize, family-sweep, random-stats, animation,
- * compare, reference-convergence. Each kind validates its spec when the job is submitted (so a
+/* A job kind is what the worker pool can run; the kinds are the rows of jobs/job_kinds.c (GET
+ * /v1/kinds lists them with their schemas). Each kind validates its spec when the job is submitted (so a
  * bad spec is a 400 naming the field, never a failed job) and runs on a worker thread, where it
  * reports progress and its error-against-run-time trace through job_ctx and stops promptly when
  * job_ctx_cancelled() becomes true. Kinds live in one file each (jobs/kind_*.c) and are listed

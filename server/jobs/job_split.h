@@ -40,7 +40,7 @@ typedef struct shard_ctx {
 } shard_ctx;
 
 typedef struct job_split {
-    int stages; /* 1 (optimize, family-sweep) or 2 (random-stats) */
+    int stages; /* 1 (optimize, family-sweep, table3) or 2 (random-stats) */
     /* The shards of stage `stage` as a new JSON array of descriptors (at least one, at most
      * max_shards unless the stage has a fixed number of parts), given the previous stage's
      * merged state (NULL for stage 0). */
