@@ -82,6 +82,9 @@ int proto_pointset_count_sets(const char *text, size_t len, proto_points_format 
 int proto_pointset_parse_binary(const unsigned char *b, size_t len, proto_points_format fmt,
                                 size_t set, proto_pointset *out, size_t *set_count,
                                 const char *field, const char *set_field, aa_error *err);
+/* The sets of a bin file (UTK's m, the header checked, no point read); 1 for rps. */
+int proto_pointset_binary_set_count(const unsigned char *b, size_t len, proto_points_format fmt,
+                                    size_t *count, const char *field, aa_error *err);
 /* Base64 (RFC 4648, padding required, no line breaks) -> bytes (malloc'd, *len). NULL with
  * *bad_at the offending offset, or with *bad_at == (size_t)-1 on allocation failure. */
 unsigned char *proto_base64_decode(const char *s, size_t n, size_t *len, size_t *bad_at);

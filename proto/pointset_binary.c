@@ -96,8 +96,10 @@ static const char *dtype_name(unsigned t)
     return t < 6 ? names[t] : "unknown";
 }
 
-static int parse_utk(const unsigned char *b, size_t len, size_t set, proto_pointset *ps,
-                     size_t *set_count, const char *field, const char *set_field, aa_error *err)
+/* count_only: the header (and trailer) checked, *set_count set, no point read. */
+static int parse_utk(const unsigned char *b, size_t len, size_t set, bool count_only,
+                     proto_pointset *ps, size_t *set_count, const char *field,
+                     const char *set_field, aa_error *err)
 {
     if (len < UTK_HEADER_BYTES)
         return aa_error_set(err, AA_EINVAL, field,
@@ -147,6 +149,8 @@ static int parse_utk(const unsigned char *b, size_t len, size_t set, proto_point
     }
     if (set_count)
         *set_count = m;
+    if (count_only)
+        return AA_OK;
     if (set == PROTO_POINTS_WHOLE && m != 1)
         return aa_error_set(err, AA_EINVAL, set_field,
                             "the file holds %u sets (UTK's m); choose one with set", m);
@@ -184,10 +188,23 @@ int proto_pointset_parse_binary(const unsigned char *b, size_t len, proto_points
 {
     memset(out, 0, sizeof *out);
     int rc = fmt == PROTO_POINTS_BIN
-                 ? parse_utk(b, len, set, out, set_count, field, set_field, err)
+                 ? parse_utk(b, len, set, false, out, set_count, field, set_field, err)
                  : parse_rps(b, len, set, out, set_count, field, set_field, err);
     if (rc)
         proto_pointset_free(out);
+    return rc;
+}
+
+int proto_pointset_binary_set_count(const unsigned char *b, size_t len, proto_points_format fmt,
+                                    size_t *count, const char *field, aa_error *err)
+{
+    *count = 1;
+    if (fmt != PROTO_POINTS_BIN)
+        return AA_OK;
+    proto_pointset ps;
+    memset(&ps, 0, sizeof ps);
+    int rc = parse_utk(b, len, 0, true, &ps, count, field, field, err);
+    proto_pointset_free(&ps);
     return rc;
 }
 

@@ -445,13 +445,9 @@ static size_t split_sets(const char *text, size_t len, size_t want, text_set *fo
 int proto_pointset_count_sets(const char *text, size_t len, proto_points_format fmt, size_t *count,
                               const char *field, aa_error *err)
 {
-    if (fmt == PROTO_POINTS_BIN || fmt == PROTO_POINTS_RPS) {
-        proto_pointset ps;
-        int rc = proto_pointset_parse_binary((const unsigned char *)text, len, fmt, 0, &ps, count,
-                                             field, field, err);
-        proto_pointset_free(&ps);
-        return rc;
-    }
+    if (proto_points_format_is_binary(fmt))
+        return proto_pointset_binary_set_count((const unsigned char *)text, len, fmt, count, field,
+                                               err);
     text_set unused;
     *count = proto_points_format_has_sets(fmt) ? split_sets(text, len, 0, &unused) : 1;
     return AA_OK;
