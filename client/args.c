@@ -62,7 +62,8 @@ typedef enum opt_id {
     OPT_ALPHA,
     OPT_CUT_FRAMES,
     OPT_RESOLVE,
-    OPT_FRAME_PATTERN
+    OPT_FRAME_PATTERN,
+    OPT_SET
 } opt_id;
 
 typedef struct opt_spec {
@@ -134,6 +135,7 @@ static const opt_spec OPTIONS[] = {
     {"metrics", 0, true, BIT(CMD_ANALYZE), OPT_METRICS},
     {"radius", 0, true, BIT(CMD_ANALYZE), OPT_RADIUS},
     {"pcf-bins", 0, true, BIT(CMD_ANALYZE), OPT_PCF_BINS},
+    {"set", 0, true, PATTERN_COMMANDS, OPT_SET},
 };
 
 static const struct {
@@ -261,9 +263,9 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
     static const char *const EXECUTORS[] = {"local", "slurm", NULL};
     static const char *const IMAGES[] = {"pattern", "reference", "difference", NULL};
     static const char *const MODELS[] = {"edge", "reference-profile", "exact", NULL};
-    static const char *const FORMATS[] = {"json",        "utk",    "xyw",   "csv",
-                                          "points-json", "vulkan", "d3d12", NULL};
-    static const char *const POINTS_FORMATS[] = {"utk", "xyw", "csv", "json", NULL};
+    static const char *const FORMATS[] = {"json",        "utk",    "xyw",   "csv",   "bin", "rps",
+                                          "points-json", "vulkan", "d3d12", "metal", NULL};
+    static const char *const POINTS_FORMATS[] = {"utk", "xyw", "csv", "json", "bin", "rps", NULL};
     static const char *const WEIGHTS[] = {"file", "filter", "equal", NULL};
     static const char *const STATES[] = {"queued",    "running",     "done", "failed",
                                          "cancelled", "interrupted", NULL};
@@ -383,6 +385,12 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
         if (parse_long(v, 1, 1024, &a->pcf_bins))
             return fail(err, cap, "--pcf-bins wants an integer from 1 to 1024, got '%s'", v);
         break;
+    case OPT_SET:
+        if (strcmp(v, "all") && parse_long(v, 0, 0x7fffffff, &l))
+            return fail(err, cap, "--set wants a set number from 0 (or all for analyze), got '%s'",
+                        v);
+        a->set = v;
+        break;
     case OPT_MODEL:
         if (!one_of(v, MODELS))
             return fail(err, cap, "--model wants edge, reference-profile or exact, got '%s'", v);
@@ -443,14 +451,15 @@ static int apply_option(cli_args *a, const opt_spec *o, const char *v, char *err
     case OPT_FORMAT:
         if (!one_of(v, FORMATS))
             return fail(err, cap,
-                        "--format wants json, utk, xyw, csv, points-json, vulkan or d3d12, got "
-                        "'%s'",
+                        "--format wants json, utk, xyw, csv, bin, rps, points-json, vulkan, d3d12 "
+                        "or metal, got '%s'",
                         v);
         a->format = v;
         break;
     case OPT_POINTS_FORMAT:
         if (!one_of(v, POINTS_FORMATS))
-            return fail(err, cap, "--points-format wants utk, xyw, csv or json, got '%s'", v);
+            return fail(err, cap, "--points-format wants utk, xyw, csv, json, bin or rps, got '%s'",
+                        v);
         a->points_format = v;
         break;
     case OPT_TILE:
@@ -491,6 +500,8 @@ bool job_id_valid(const char *id)
 static int check_command(cli_args *a, char *err, size_t cap)
 {
     const char *name = cli_command_name(a->command);
+    if (a->set && !strcmp(a->set, "all") && a->command != CMD_ANALYZE)
+        return fail(err, cap, "--set all is for 'aalab analyze' (every set, averaged)");
     switch (a->command) {
     case CMD_NONE:
         return fail(err, cap, "no command given (try 'aalab help')");

@@ -97,10 +97,11 @@ typedef struct cli_args {
     /* optimize --scene: the blend with E2 of the scene objective */
     double blend;
     bool has_blend;
-    /* export, convert: json | utk | xyw | csv | points-json | vulkan | d3d12 */
+    /* export, convert: json | utk | xyw | csv | bin | rps | points-json | vulkan | d3d12 | metal */
     const char *format;
     /* point-set pattern files (eval, optimize, render, convert): how to read them */
-    const char *points_format; /* utk | xyw | csv | json; NULL: from the file's extension */
+    const char *points_format; /* utk | xyw | csv | json | bin | rps; NULL: the extension's */
+    const char *set;           /* --set N | all (analyze): one set of several; NULL: not given */
     int tile;                  /* --tile T, 0: not given */
     int kernel;                /* --kernel K, 0: not given */
     const char *weights;       /* file | filter | equal; NULL: not given */

@@ -11,7 +11,16 @@ int pattern_check(const json_t *pattern, char *err, size_t errcap)
 {
     aa_pattern p;
     aa_error e = {0};
+    /* --set all (analyze): the daemon reads every set; set 0 here stands for the file. */
+    const json_t *form = json_object_get(pattern, "points");
+    json_t *copy = NULL;
+    if (json_is_string(json_object_get(form, "set"))) {
+        copy = json_deep_copy(pattern);
+        json_object_set_new(json_object_get(copy, "points"), "set", json_integer(0));
+        pattern = copy;
+    }
     int rc = proto_decode_pattern(pattern, 0, &p, "pattern", &e);
+    json_decref(copy);
     if (rc == AA_OK) {
         aa_pattern_free(&p);
         return 0;

@@ -1,6 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "pattern_source.h"
 
+#include "pointset.h"
+
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,12 +35,16 @@ const char *pattern_points_format(const char *arg, const cli_args *opts)
         return "xyw";
     if (ends_with(arg, ".csv"))
         return "csv";
+    if (ends_with(arg, ".bin")) /* UTK's binary files */
+        return "bin";
+    if (ends_with(arg, ".rps")) /* PSA's raw float32 files */
+        return "rps";
     return NULL;
 }
 
 static bool points_options_given(const cli_args *o)
 {
-    return o && (o->points_format || o->tile || o->kernel || o->weights);
+    return o && (o->points_format || o->tile || o->kernel || o->weights || o->set);
 }
 
 /* The whole file, NUL-terminated; NULL with err. */
@@ -83,7 +89,7 @@ static char *read_file(const char *path, size_t *len, char *err, size_t errcap)
     return buf;
 }
 
-/* {"points":{"format":F, "text"|"data": ..., "tile", "kernel", "weights"}} */
+/* {"points":{"format":F, "text"|"base64"|"data": ..., "set", "tile", "kernel", "weights"}} */
 static json_t *points_pattern(const char *format, json_t *content, const cli_args *o)
 {
     json_t *pts = json_pack("{s:s}", "format", format);
@@ -91,7 +97,16 @@ static json_t *points_pattern(const char *format, json_t *content, const cli_arg
         json_decref(content);
         return NULL;
     }
-    json_object_set_new(pts, json_is_string(content) ? "text" : "data", content);
+    bool binary = !strcmp(format, "bin") || !strcmp(format, "rps");
+    json_object_set_new(pts,
+                        !json_is_string(content) ? "data"
+                        : binary                 ? "base64"
+                                                 : "text",
+                        content);
+    if (o && o->set)
+        json_object_set_new(pts, "set",
+                            strcmp(o->set, "all") ? json_integer(strtol(o->set, NULL, 10))
+                                                  : json_string("all"));
     if (o && o->tile)
         json_object_set_new(pts, "tile", json_integer(o->tile));
     if (o && o->kernel)
@@ -109,7 +124,14 @@ static int load_point_text(const char *arg, const char *format, const cli_args *
     char *text = read_file(arg, &len, err, errcap);
     if (!text)
         return -1;
-    json_t *s = json_stringn(text, len);
+    json_t *s;
+    if (!strcmp(format, "bin") || !strcmp(format, "rps")) { /* bytes: base64 on the wire */
+        char *b64 = proto_base64_encode((const unsigned char *)text, len);
+        s = b64 ? json_string(b64) : NULL;
+        free(b64);
+    } else {
+        s = json_stringn(text, len);
+    }
     free(text);
     if (!s) {
         snprintf(err, errcap, "%s: not UTF-8 text (or it holds a NUL byte)", arg);
@@ -138,7 +160,8 @@ static int check_loaded(const char *arg, json_t **pattern, json_t **extras, char
                                             {"field pattern.points.data", "point"},
                                             {"field pattern.points.weights: ", "--weights: "},
                                             {"field pattern.points.tile: ", "--tile: "},
-                                            {"field pattern.points.kernel: ", "--kernel: "}};
+                                            {"field pattern.points.kernel: ", "--kernel: "},
+                                            {"field pattern.points.set: ", "--set: "}};
     const char *rest = why, *name = "";
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
         size_t n = strlen(fields[i][0]);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "codec.h"
+#include "codec_internal.h"
 
 static const char *const metric_names[] = {"discrepancy", "star_discrepancy", "spacing", "spectrum",
                                            "pcf"};
@@ -66,6 +67,52 @@ static int decode_int(const json_t *obj, const char *key, const char *field, lon
     return AA_OK;
 }
 
+/* "set": "all": every set of the points form's file as its own pattern (set i decoded as
+ * "set": i), all of one point count so that their periodograms average. */
+static int decode_all_sets(const json_t *pat, const aa_filter *filter, proto_analyze_request *out,
+                           aa_error *err)
+{
+    size_t m = 0;
+    int rc = proto_points_form_set_count(json_object_get(pat, "points"), &m, "pattern", err);
+    if (rc)
+        return rc;
+    if (m == 0)
+        return aa_error_set(err, AA_EINVAL, "pattern.points.set",
+                            "the file holds no set of points");
+    if (m > PROTO_ANALYZE_MAX_SETS)
+        return aa_error_set(err, AA_ERANGE, "pattern.points.set",
+                            "the file holds %zu sets; \"all\" analyses at most %d", m,
+                            PROTO_ANALYZE_MAX_SETS);
+    out->more_sets = m > 1 ? calloc(m - 1, sizeof *out->more_sets) : NULL;
+    if (m > 1 && !out->more_sets)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    json_t *copy = json_deep_copy(pat);
+    if (!copy)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    size_t total = 0;
+    for (size_t i = 0; i < m && !rc; i++) {
+        json_object_set_new(json_object_get(copy, "points"), "set", json_integer((json_int_t)i));
+        aa_pattern *p = i ? &out->more_sets[i - 1] : &out->pattern;
+        rc = proto_decode_pattern_filtered(copy, 0, filter, p, "pattern", err);
+        if (rc)
+            break;
+        out->set_count = i + 1; /* decoded so far: freed on error */
+        total += p->tile_count;
+        if (p->tile_count != out->pattern.tile_count)
+            rc = aa_error_set(err, AA_EINVAL, "pattern.points.set",
+                              "set %zu has %zu points but set 0 has %zu; \"all\" averages the "
+                              "spectra of sets of one size",
+                              i, p->tile_count, out->pattern.tile_count);
+        else if (total > PROTO_ANALYZE_MAX_SET_POINTS)
+            rc = aa_error_set(err, AA_ERANGE, "pattern.points.set",
+                              "more than %d points over the sets", PROTO_ANALYZE_MAX_SET_POINTS);
+    }
+    json_decref(copy);
+    if (!out->set_count)
+        out->set_count = 1; /* set 0 failed: nothing decoded, the free loop must not run */
+    return rc;
+}
+
 int proto_decode_analyze_request(const json_t *body, proto_analyze_request *out, aa_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -101,7 +148,11 @@ int proto_decode_analyze_request(const json_t *body, proto_analyze_request *out,
     aa_filter filter; /* the default: a "points" pattern takes its weights from it */
     if (!rc)
         rc = proto_decode_filter(NULL, &filter, "filter", err);
-    if (!rc)
+    const json_t *form = json_is_object(pat) ? json_object_get(pat, "points") : NULL;
+    const json_t *set = json_is_object(form) ? json_object_get(form, "set") : NULL;
+    if (!rc && json_is_string(set) && !strcmp(json_string_value(set), "all"))
+        rc = decode_all_sets(pat, &filter, out, err);
+    else if (!rc)
         rc = proto_decode_pattern_filtered(pat, 0, &filter, &out->pattern, "pattern", err);
     if (rc)
         proto_analyze_request_free(out);
@@ -111,6 +162,11 @@ int proto_decode_analyze_request(const json_t *body, proto_analyze_request *out,
 void proto_analyze_request_free(proto_analyze_request *r)
 {
     aa_pattern_free(&r->pattern);
+    for (size_t i = 0; i + 1 < r->set_count && r->more_sets; i++)
+        aa_pattern_free(&r->more_sets[i]);
+    free(r->more_sets);
+    r->more_sets = NULL;
+    r->set_count = 0;
 }
 
 void proto_analysis_free(proto_analysis *a)
@@ -118,6 +174,10 @@ void proto_analysis_free(proto_analysis *a)
     aa_spectrum_free(&a->spectrum);
     free(a->pcf);
     a->pcf = NULL;
+    for (size_t i = 0; a->per_set && i < a->set_count; i++)
+        proto_analysis_free(&a->per_set[i]);
+    free(a->per_set);
+    a->per_set = NULL;
 }
 
 /* JSON has no NaN or infinity: null. */
@@ -137,8 +197,17 @@ static json_t *real_array(const double *v, size_t n)
     return a;
 }
 
-static json_t *encode_spectrum(const aa_spectrum *s, size_t points)
+/* arrays false: the figures alone (a set of several). */
+static json_t *encode_spectrum(const aa_spectrum *s, size_t points, bool arrays)
 {
+    double unit = sqrt((double)points);
+    json_t *o =
+        json_pack("{s:I, s:o, s:o, s:o, s:o}", "radius", (json_int_t)s->radius, "effective_nyquist",
+                  real_or_null(s->effective_nyquist), "effective_nyquist_normalized",
+                  real_or_null(s->effective_nyquist / unit), "oscillation",
+                  real_or_null(s->oscillation), "frequency_unit", json_real(unit));
+    if (!o || !arrays)
+        return o;
     json_t *rows = json_array();
     for (size_t r = 0; rows && r < s->side; r++)
         if (json_array_append_new(rows, real_array(s->power + r * s->side, s->side))) {
@@ -148,20 +217,29 @@ static json_t *encode_spectrum(const aa_spectrum *s, size_t points)
     json_t *counts = json_array();
     for (int b = 0; counts && b <= s->radius; b++)
         json_array_append_new(counts, json_integer((json_int_t)s->annulus_count[b]));
-    double unit = sqrt((double)points);
-    return json_pack(
-        "{s:I, s:o*, s:o*, s:o*, s:o*, s:o, s:o, s:o, s:o}", "radius", (json_int_t)s->radius,
-        "power", rows, "radial", real_array(s->radial, (size_t)s->radius + 1), "anisotropy_db",
-        real_array(s->anisotropy_db, (size_t)s->radius + 1), "annulus_count", counts,
-        "effective_nyquist", real_or_null(s->effective_nyquist), "effective_nyquist_normalized",
-        real_or_null(s->effective_nyquist / unit), "oscillation", real_or_null(s->oscillation),
-        "frequency_unit", json_real(unit));
+    json_t *radial = real_array(s->radial, (size_t)s->radius + 1);
+    json_t *aniso = real_array(s->anisotropy_db, (size_t)s->radius + 1);
+    if (!rows || !counts || !radial || !aniso) {
+        json_decref(rows);
+        json_decref(counts);
+        json_decref(radial);
+        json_decref(aniso);
+        json_decref(o);
+        return NULL;
+    }
+    json_object_set_new(o, "power", rows);
+    json_object_set_new(o, "radial", radial);
+    json_object_set_new(o, "anisotropy_db", aniso);
+    json_object_set_new(o, "annulus_count", counts);
+    return o;
 }
 
-json_t *proto_encode_analysis(const proto_analyze_request *r, const proto_analysis *a)
+/* arrays false: a set of several, its figures without the spectrum's arrays and the PCF. */
+static json_t *encode_figures(const proto_analyze_request *r, const aa_pattern *p,
+                              const proto_analysis *a, bool arrays)
 {
-    json_t *o = json_pack("{s:I, s:i, s:s}", "points", (json_int_t)a->points, "tile",
-                          r->pattern.tile, "family", r->pattern.family);
+    json_t *o = json_pack("{s:I, s:i, s:s}", "points", (json_int_t)a->points, "tile", p->tile,
+                          "family", p->family);
     if (!o)
         return NULL;
     if (r->metrics & (PROTO_ANALYZE_DISCREPANCY | PROTO_ANALYZE_STAR)) {
@@ -192,8 +270,8 @@ json_t *proto_encode_analysis(const proto_analyze_request *r, const proto_analys
                       real_or_null(s->mean_nn_distance_normalized)));
     }
     if (r->metrics & PROTO_ANALYZE_SPECTRUM)
-        json_object_set_new(o, "spectrum", encode_spectrum(&a->spectrum, a->points));
-    if (r->metrics & PROTO_ANALYZE_PCF) {
+        json_object_set_new(o, "spectrum", encode_spectrum(&a->spectrum, a->points, arrays));
+    if ((r->metrics & PROTO_ANALYZE_PCF) && arrays) {
         double *rr = malloc(r->bins * sizeof *rr);
         for (size_t b = 0; rr && b < r->bins; b++)
             rr[b] = ((double)b + 0.5) * a->r_max / (double)r->bins;
@@ -202,6 +280,29 @@ json_t *proto_encode_analysis(const proto_analyze_request *r, const proto_analys
                                       a->sigma, "r", rr ? real_array(rr, r->bins) : NULL, "g",
                                       real_array(a->pcf, r->bins)));
         free(rr);
+    }
+    return o;
+}
+
+json_t *proto_encode_analysis(const proto_analyze_request *r, const proto_analysis *a)
+{
+    json_t *o = encode_figures(r, &r->pattern, a, true);
+    if (!o || !a->set_count)
+        return o;
+    /* "set": "all": the figures above are the means; each set's own follow. */
+    json_t *per = json_array();
+    for (size_t i = 0; per && i < a->set_count; i++) {
+        const aa_pattern *p = i ? &r->more_sets[i - 1] : &r->pattern;
+        if (json_array_append_new(per, encode_figures(r, p, &a->per_set[i], false))) {
+            json_decref(per);
+            per = NULL;
+        }
+    }
+    if (!per || json_object_set_new(
+                    o, "sets",
+                    json_pack("{s:I, s:o}", "count", (json_int_t)a->set_count, "per_set", per))) {
+        json_decref(o);
+        return NULL;
     }
     return o;
 }

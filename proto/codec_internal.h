@@ -20,5 +20,7 @@ int proto_number(const json_t *j, double *out, aa_error *err, const char *prefix
 /* The "points" form's object (codec_points.c); weight_filter NULL = the default filter. */
 int proto_decode_points_form(const json_t *j, unsigned flags, const aa_filter *weight_filter,
                              aa_pattern *out, const char *prefix, aa_error *err);
+/* The number of sets in a "points" form's file (1 for json, csv, rps; codec_points.c). */
+int proto_points_form_set_count(const json_t *j, size_t *count, const char *prefix, aa_error *err);
 
 #endif

@@ -1,7 +1,10 @@
-/* Vulkan (VK_EXT_sample_locations) and D3D12 (SetSamplePositions) programmable sample positions
- * of a pattern, where representable: every pixel of the tile must hold the same power-of-two
- * number of samples (1..16); D3D12 also needs a 1x1 or 2x2 tile and positions on its 1/16 grid in
- * [-8, 7]. Both APIs resolve with equal weights, so kernel weights are reported, not applied. */
+/* Vulkan (VK_EXT_sample_locations), D3D12 (SetSamplePositions) and Metal (setSamplePositions)
+ * programmable sample positions of a pattern, where representable: every pixel of the tile must
+ * hold the same power-of-two number of samples (1..16); D3D12 also needs a 1x1 or 2x2 tile and
+ * positions on its 1/16 grid in [-8, 7]; Metal one pattern for every pixel (a 1x1 tile) of 1, 2,
+ * 4 or 8 samples on its 1/16 grid in [0, 15/16] (Apple's MTLRenderPassDescriptor
+ * setSamplePositions documentation). The APIs resolve with equal weights, so kernel weights are
+ * reported, not applied. */
 #include "pointset.h"
 
 #include <math.h>
@@ -105,5 +108,50 @@ json_t *proto_export_gpu(const aa_pattern *p, bool d3d12)
                         json_string("pixel-major order (rows of the tile, then samples); the "
                                     "API resolves with equal weights, kernel weights are not "
                                     "applied; y grows with the tile's y axis"));
+    return o;
+}
+
+json_t *proto_export_metal(const aa_pattern *p)
+{
+    json_t *o = json_pack("{s:s,s:s,s:o}", "api", "metal", "family", p->family, "cost_spp",
+                          proto_real(p->cost_spp));
+    size_t *order = malloc((p->tile_count ? p->tile_count : 1) * sizeof *order);
+    const char *why = NULL;
+    int per = order ? uniform_pixel_count(p, order, &why) : 0;
+    if (per && p->tile != 1) {
+        per = 0;
+        why = "Metal sample positions are one pattern for every pixel: the tile must be 1x1";
+    } else if (per == 16) {
+        per = 0;
+        why = "Metal sample counts are 1, 2, 4 or 8";
+    }
+    json_t *locs = json_array();
+    for (int k = 0; per && k < per; k++) {
+        const aa_point *s = &p->tile_samples[order[k]];
+        double fx = s->x - floor(s->x), fy = s->y - floor(s->y);
+        /* 0/16 .. 15/16 in steps of 1/16, origin at the pixel's top-left corner. */
+        long X = lround(fx * 16), Y = lround(fy * 16);
+        if (X > 15 || Y > 15 || fabs(fx * 16 - X) > 1e-9 || fabs(fy * 16 - Y) > 1e-9) {
+            per = 0;
+            why = "a position is not on Metal's 1/16 pixel grid within [0, 15/16]";
+            break;
+        }
+        json_array_append_new(locs, json_pack("{s:f,s:f}", "x", X / 16.0, "y", Y / 16.0));
+    }
+    free(order);
+    json_object_set_new(o, "representable", json_boolean(per > 0));
+    if (!per) {
+        json_decref(locs);
+        json_object_set_new(o, "reason", json_string(why ? why : "not representable"));
+        return o;
+    }
+    json_object_set_new(o, "sampleCount", json_integer(per));
+    json_object_set_new(o, "samplePositions", locs);
+    json_object_set_new(o, "note",
+                        json_string("MTLSamplePosition list for setSamplePositions(_:) with a "
+                                    "render pass sampleCount of sampleCount (check "
+                                    "supportsTextureSampleCount(_:)); origin at the pixel's "
+                                    "top-left corner, y down; the API resolves with equal "
+                                    "weights, kernel weights are not applied"));
     return o;
 }

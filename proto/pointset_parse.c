@@ -1,5 +1,6 @@
-/* Point-set text -> points (pointset.h): UTK, x y [w], CSV with a header; JSON text goes to
- * pointset_json.c. */
+/* Point-set text -> points (pointset.h): UTK, x y [w], CSV with a header, and the sets of a
+ * '#'-separated file; JSON text goes to pointset_json.c, bytes (bin, rps) to
+ * pointset_binary.c. */
 #include "pointset.h"
 
 #include <ctype.h>
@@ -13,8 +14,8 @@
 
 bool proto_points_format_parse(const char *name, proto_points_format *out)
 {
-    static const char *const names[] = {"utk", "xyw", "csv", "json"};
-    for (int i = 0; name && i < 4; i++) {
+    static const char *const names[] = {"utk", "xyw", "csv", "json", "bin", "rps"};
+    for (int i = 0; name && i < 6; i++) {
         if (!strcmp(name, names[i])) {
             *out = (proto_points_format)i;
             return true;
@@ -32,9 +33,23 @@ const char *proto_points_format_name(proto_points_format f)
         return "xyw";
     case PROTO_POINTS_CSV:
         return "csv";
+    case PROTO_POINTS_BIN:
+        return "bin";
+    case PROTO_POINTS_RPS:
+        return "rps";
     default:
         return "json";
     }
+}
+
+bool proto_points_format_is_binary(proto_points_format f)
+{
+    return f == PROTO_POINTS_BIN || f == PROTO_POINTS_RPS;
+}
+
+bool proto_points_format_has_sets(proto_points_format f)
+{
+    return f == PROTO_POINTS_UTK || f == PROTO_POINTS_XYW || f == PROTO_POINTS_BIN;
 }
 
 void proto_pointset_free(proto_pointset *ps)
@@ -139,7 +154,8 @@ static int comment_line(proto_pointset *ps, const char *s, size_t n, size_t line
         return AA_OK;
     if (ps->header)
         return aa_error_set(err, AA_EINVAL, field,
-                            "line %zu: a second aalab-pattern header (the first is on line %zu)",
+                            "line %zu: a second aalab-pattern header (the first is on line %zu; "
+                            "several sets in one file? choose one with set)",
                             line, ps->header_line);
     if (ps->count)
         return aa_error_set(err, AA_EINVAL, field,
@@ -178,10 +194,10 @@ static int next_point_line(line_reader *r, proto_pointset *ps, const char **s, s
 }
 
 /* UTK ("x y") and xyw ("x y" or "x y w", the same on every line). */
-static int parse_columns(const char *text, size_t len, bool utk, proto_pointset *ps,
+static int parse_columns(const char *text, size_t len, size_t line0, bool utk, proto_pointset *ps,
                          const char *field, aa_error *err)
 {
-    line_reader r = {text, text + len, 0};
+    line_reader r = {text, text + len, line0};
     const char *s;
     size_t n, cap = 0, arity_line = 0;
     int arity = 0;
@@ -351,8 +367,9 @@ static int parse_csv(const char *text, size_t len, proto_pointset *ps, const cha
     return AA_OK;
 }
 
-int proto_pointset_parse(const char *text, size_t len, proto_points_format fmt, proto_pointset *out,
-                         const char *field, aa_error *err)
+/* The text formats from line line0 + 1 on. */
+static int parse_text(const char *text, size_t len, size_t line0, proto_points_format fmt,
+                      proto_pointset *out, const char *field, aa_error *err)
 {
     memset(out, 0, sizeof *out);
     int rc;
@@ -371,11 +388,93 @@ int proto_pointset_parse(const char *text, size_t len, proto_points_format fmt, 
     if (fmt == PROTO_POINTS_CSV)
         rc = parse_csv(text, len, out, field, err);
     else
-        rc = parse_columns(text, len, fmt == PROTO_POINTS_UTK, out, field, err);
+        rc = parse_columns(text, len, line0, fmt == PROTO_POINTS_UTK, out, field, err);
     if (!rc && out->count == 0)
         rc = aa_error_set(err, AA_EINVAL, field, "no points (one point per line: %s)",
                           fmt == PROTO_POINTS_CSV ? "x,y after a header line" : "x y");
     if (rc)
         proto_pointset_free(out);
     return rc;
+}
+
+int proto_pointset_parse(const char *text, size_t len, proto_points_format fmt, proto_pointset *out,
+                         const char *field, aa_error *err)
+{
+    return proto_pointset_parse_set(text, len, fmt, PROTO_POINTS_WHOLE, out, NULL, field, "set",
+                                    err);
+}
+
+/* UTK's sets of a '#'-separated text: a '#' line after a point line starts the next set. Finds
+ * set `want` (its bytes and the line before its first) and counts the sets. */
+typedef struct text_set {
+    const char *start, *end;
+    size_t line0;
+} text_set;
+
+static size_t split_sets(const char *text, size_t len, size_t want, text_set *found)
+{
+    line_reader r = {text, text + len, 0};
+    const char *s, *set_start = text, *line_start = text;
+    size_t n, count = 0, set_line0 = 0;
+    bool has_points = false;
+    while (line_start = r.p, next_line(&r, &s, &n)) {
+        if (n == 0)
+            continue;
+        if (s[0] == '#') {
+            if (!has_points)
+                continue;
+            /* The set before this line is complete. */
+            if (count == want)
+                *found = (text_set){set_start, line_start, set_line0};
+            count++;
+            set_start = line_start;
+            set_line0 = r.line - 1;
+            has_points = false;
+            continue;
+        }
+        has_points = true;
+    }
+    if (has_points) {
+        if (count == want)
+            *found = (text_set){set_start, text + len, set_line0};
+        count++;
+    }
+    return count;
+}
+
+int proto_pointset_count_sets(const char *text, size_t len, proto_points_format fmt, size_t *count,
+                              const char *field, aa_error *err)
+{
+    if (proto_points_format_is_binary(fmt))
+        return proto_pointset_binary_set_count((const unsigned char *)text, len, fmt, count, field,
+                                               err);
+    text_set unused;
+    *count = proto_points_format_has_sets(fmt) ? split_sets(text, len, 0, &unused) : 1;
+    return AA_OK;
+}
+
+int proto_pointset_parse_set(const char *text, size_t len, proto_points_format fmt, size_t set,
+                             proto_pointset *out, size_t *set_count, const char *field,
+                             const char *set_field, aa_error *err)
+{
+    if (proto_points_format_is_binary(fmt))
+        return proto_pointset_parse_binary((const unsigned char *)text, len, fmt, set, out,
+                                           set_count, field, set_field, err);
+    memset(out, 0, sizeof *out);
+    if (set == PROTO_POINTS_WHOLE)
+        return parse_text(text, len, 0, fmt, out, field, err);
+    if (!proto_points_format_has_sets(fmt))
+        return aa_error_set(err, AA_EINVAL, set_field,
+                            "a %s file holds one set; set is for utk, xyw and bin files",
+                            proto_points_format_name(fmt));
+    text_set t = {NULL, NULL, 0};
+    size_t count = split_sets(text, len, set, &t);
+    if (set_count)
+        *set_count = count;
+    if (!t.start)
+        return aa_error_set(err, AA_ERANGE, set_field,
+                            "is %zu but the file holds %zu set%s ('#' lines separate them; sets "
+                            "count from 0)",
+                            set, count, count == 1 ? "" : "s");
+    return parse_text(t.start, (size_t)(t.end - t.start), t.line0, fmt, out, field, err);
 }

@@ -15,8 +15,10 @@ bool proto_export_format_parse(const char *name, proto_export_kind *kind,
         *kind = PROTO_EXPORT_PATTERN;
         return true;
     }
-    if (!strcmp(name, "vulkan") || !strcmp(name, "d3d12")) {
-        *kind = name[0] == 'v' ? PROTO_EXPORT_VULKAN : PROTO_EXPORT_D3D12;
+    if (!strcmp(name, "vulkan") || !strcmp(name, "d3d12") || !strcmp(name, "metal")) {
+        *kind = name[0] == 'v'   ? PROTO_EXPORT_VULKAN
+                : name[0] == 'd' ? PROTO_EXPORT_D3D12
+                                 : PROTO_EXPORT_METAL;
         return true;
     }
     if (!strcmp(name, "points-json")) {
@@ -97,6 +99,8 @@ char *proto_pointset_write(const proto_pointset *ps, proto_points_format fmt, si
 {
     if (fmt == PROTO_POINTS_JSON)
         return write_json(ps, len);
+    if (proto_points_format_is_binary(fmt))
+        return proto_pointset_write_binary(ps, fmt, len);
     text_buf b = {malloc(4096), 0, 4096, true};
     b.ok = b.s != NULL;
     if (ps->header) {

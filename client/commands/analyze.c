@@ -1,4 +1,5 @@
-/* aalab analyze NAME|FILE.json|POINTS [--metrics LIST] [--radius R] [--pcf-bins N] */
+/* aalab analyze NAME|FILE.json|POINTS [--metrics LIST] [--radius R] [--pcf-bins N]
+ *               [--set N|all] */
 #define _POSIX_C_SOURCE 200809L
 #include "commands.h"
 
@@ -98,6 +99,10 @@ void analyze_print(FILE *out, const json_t *resp, bool csv)
     view_kv_add(&kv, "tile", "%lld", (long long)json_integer_value(json_object_get(resp, "tile")));
     const char *family = json_string_value(json_object_get(resp, "family"));
     view_kv_add(&kv, "family", "%s", family ? family : "-");
+    const json_t *sets = json_object_get(resp, "sets");
+    if (sets) /* --set all: the figures below are the means (--json for each set's) */
+        view_kv_add(&kv, "sets", "means over %lld sets (the spectrum of the mean periodogram)",
+                    (long long)json_integer_value(json_object_get(sets, "count")));
     const json_t *d = json_object_get(resp, "discrepancy");
     add_root_square(&kv, "CD", d, "centered");
     add_root_square(&kv, "WD", d, "wrap_around");

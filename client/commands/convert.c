@@ -1,4 +1,5 @@
-/* aalab convert PATTERN [--format json|utk|xyw|csv|points-json|vulkan|d3d12] [-o FILE]
+/* aalab convert PATTERN [--format json|utk|xyw|csv|bin|rps|points-json|vulkan|d3d12|metal]
+ *               [-o FILE]
  * A preset, a pattern file or a point-set file in another format, written locally by the
  * codec the daemon uses (proto/pointset.h), so the bytes are those of POST /v1/patterns/export;
  * job:ID asks the daemon (POST /v1/patterns/export). */
@@ -31,6 +32,8 @@ int convert_text(const json_t *pattern, const char *format, char **text, size_t 
     json_t *doc = NULL;
     if (kind == PROTO_EXPORT_PATTERN)
         doc = json_pack("{s:o}", "pattern", proto_encode_pattern(&p));
+    else if (kind == PROTO_EXPORT_METAL)
+        doc = proto_export_metal(&p);
     else if (kind != PROTO_EXPORT_POINTS)
         doc = proto_export_gpu(&p, kind == PROTO_EXPORT_D3D12);
     else

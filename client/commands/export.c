@@ -1,5 +1,5 @@
-/* aalab export ID --format json|utk|xyw|csv|points-json|vulkan|d3d12 [-o FILE]: the daemon's
- * answer as it is (GET /v1/patterns/ID/export). */
+/* aalab export ID --format json|utk|xyw|csv|bin|rps|points-json|vulkan|d3d12|metal [-o FILE]:
+ * the daemon's answer as it is (GET /v1/patterns/ID/export). */
 #include "commands.h"
 
 #include <errno.h>

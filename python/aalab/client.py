@@ -193,8 +193,8 @@ class Client:
 
     def analyze(self, pattern: Any, metrics: Optional[Iterable[str]] = None,
                 radius: Optional[int] = None, pcf_bins: Optional[int] = None,
-                pcf_r_max: Optional[float] = None, pcf_sigma: Optional[float] = None
-                ) -> Analysis:
+                pcf_r_max: Optional[float] = None, pcf_sigma: Optional[float] = None,
+                set: Optional[Union[int, str]] = None) -> Analysis:
         """Point-set analysis of a pattern's tile on the unit torus (``POST /v1/analyze``,
         docs/analysis.md): discrepancies (CD, WD, MD, L2-star as roots with their squares,
         the exact L∞ star discrepancy), spacing against PSA's packing distance, the
@@ -209,8 +209,12 @@ class Client:
             pcf_bins, pcf_r_max, pcf_sigma: the pair correlation's bins (default 64), largest
                 distance (default 4 packing distances, at most 0.5) and kernel width (default
                 the packing distance / 8).
+            set: one set of a point file holding several (``#``-separated utk/xyw text, UTK
+                .bin), or ``"all"``: every set (of one size), the figures averaged as pbrt's
+                ``pspec`` does (the spectrum of the mean periodogram); each set's own figures
+                are in ``raw["sets"]["per_set"]``.
         """
-        body: Dict[str, Any] = {"pattern": as_pattern(pattern)}
+        body: Dict[str, Any] = {"pattern": as_pattern(pattern, set=set)}
         if metrics is not None:
             body["metrics"] = list(metrics)
         if radius is not None:
@@ -292,7 +296,7 @@ class Client:
 
     def export(self, source: Any, fmt: str = "json",
                path: Optional[Union[str, "os.PathLike[str]"]] = None
-               ) -> Union[Dict[str, Any], str]:
+               ) -> Union[Dict[str, Any], str, bytes]:
         """A pattern exported in ``fmt``: the best pattern of a job (a :class:`Job` or job id:
         ``GET /v1/patterns/{id}/export``) or any other pattern argument, a preset name, wire
         dict, points or file (``POST /v1/patterns/export``).
@@ -301,8 +305,10 @@ class Client:
         the unit square of the whole tile, with the ``# aalab-pattern`` header line that makes
         a round trip exact: E2 equal to 1e-12 when read back), ``points-json`` (the same as
         ``{"aalab": {...}, "points": [...]}``), ``vulkan``, ``d3d12`` (programmable sample
-        positions, or ``representable: false`` with a reason). JSON formats return a dict,
-        text formats a str. With ``path`` the answer is also written there, byte for byte."""
+        positions, or ``representable: false`` with a reason), ``metal`` (MTLSamplePosition
+        list), ``bin`` (UTK's binary, the header as a trailer) and ``rps`` (PSA's float32
+        points alone). JSON formats return a dict, text formats a str, bin and rps bytes. With
+        ``path`` the answer is also written there, byte for byte."""
         job_id = getattr(source, "job_id", None)
         if job_id is None and isinstance(source, int) and not isinstance(source, bool):
             job_id = source
@@ -315,11 +321,14 @@ class Client:
         if resp.status != 200:
             raise AalabError.from_body(resp.status, _error_doc(resp))
         ctype = resp.headers.get("content-type", "")
-        out: Union[Dict[str, Any], str]
+        out: Union[Dict[str, Any], str, bytes]
         if ctype.startswith("application/json"):
             out = resp.json()
-            if self.validate and job_id is not None and fmt in ("json", "vulkan", "d3d12"):
+            if self.validate and job_id is not None and fmt in ("json", "vulkan", "d3d12",
+                                                                "metal"):
                 _schemas.default().validate("export_response.json", out)
+        elif ctype.startswith("application/octet-stream"):
+            out = bytes(resp.body)  # bin, rps
         else:
             out = resp.body.decode("utf-8")
         if path is not None:

@@ -1,4 +1,5 @@
-"""Point-set files: read and write UTK, ``x y [w]`` text, CSV and JSON point sets.
+"""Point-set files: read and write UTK, ``x y [w]`` text, CSV and JSON point sets, UTK's binary
+``.bin`` and PSA's raw float32 ``.rps``, and files holding several sets.
 
 One coordinate convention for every format: points in the unit square [0, 1)² of the **whole
 tile** (UTK's convention): x to the right, y along the tile's y axis, one point per sample. A
@@ -16,6 +17,18 @@ Formats (the daemon's ``{"points": ...}`` pattern form reads the same):
   header are comments.
 - ``json``: an array of points, each ``[x, y]``, ``[x, y, w]`` or ``{"x":.., "y":.., "w":..}``,
   or an object ``{"aalab": {...}, "points": [...]}``.
+- ``bin``: UTK's binary file (utk-team/utk, ``include/utk/utils/PointsetIO.hpp``): the magic
+  ``UTK!`` (0x214B5455), a dtype byte (4 float, 5 double; aalab reads these two), 3 reserved
+  bytes, then m (sets), N (points per set) and d (dimension, 2 here) as little-endian u32,
+  then the values. aalab writes double and m = 1 and puts its header after the data as a
+  trailer line (UTK's reader stops at the data's end).
+- ``rps``: PSA's raw little-endian float32 ``x y`` pairs (nodag/psa, ``src/point.cpp``); no
+  header, so no weights or tile: read it back with ``tile``, ``kernel`` and ``weights``.
+
+Several sets in one file: ``utk`` and ``xyw`` text separated by ``#`` lines (UTK's and pbrt's
+``pspec`` convention: a ``#`` line after a point starts the next set; concatenated aalab
+exports are such files), ``bin`` with m > 1. ``set=i`` reads set i (from 0); the daemon's
+``POST /v1/analyze`` also takes ``set="all"`` (:meth:`aalab.Client.analyze`).
 
 aalab's own exports put what an exact round trip needs into a leading comment line that other
 tools ignore, ``# aalab-pattern {JSON}`` (in JSON files: the ``"aalab"`` member): tile, kernel
@@ -27,24 +40,29 @@ Without it, the options of :meth:`PointSet.to_pattern` (tile, kernel, weights) d
 
 from __future__ import annotations
 
+import base64
 import csv
 import io
 import json
 import math
 import os
 import re
+import struct
 from dataclasses import dataclass
 from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 from .errors import AalabError
 
-FORMATS = ("utk", "xyw", "csv", "json")
+FORMATS = ("utk", "xyw", "csv", "json", "bin", "rps")
+BINARY_FORMATS = ("bin", "rps")  # bytes: sent to the daemon as base64
+SET_FORMATS = ("utk", "xyw", "bin")  # may hold several sets
+UTK_MAGIC = 0x214B5455
 HEADER_PREFIX = "# aalab-pattern "
 WEIGHT_CHOICES = ("file", "filter", "equal")
 
 # File name suffix -> format (read and write guess from it).
 SUFFIXES = {".dat": "utk", ".utk": "utk", ".txt": "xyw", ".xyw": "xyw", ".pts": "xyw",
-            ".csv": "csv", ".json": "json"}
+            ".csv": "csv", ".json": "json", ".bin": "bin", ".rps": "rps"}
 
 # A decimal number as C's strtod reads it, without nan, inf, hex or Python's "1_000".
 _NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
@@ -72,6 +90,9 @@ class PointSet:
         format: the format read (``utk``, ``xyw``, ``csv``, ``json``).
         text: the file's text as read (sent to the daemon unchanged), None for point sets
             built from arrays.
+        data: a binary file's bytes as read (``bin``, ``rps``; sent base64), else None.
+        set: the set read from a file holding several (sent with the file), None for the
+            whole file.
     """
 
     points: Tuple[Tuple[float, float], ...]
@@ -79,6 +100,8 @@ class PointSet:
     meta: Optional[Dict[str, Any]] = None
     format: str = "json"
     text: Optional[str] = None
+    data: Optional[bytes] = None
+    set: Optional[int] = None
 
     def __len__(self) -> int:
         return len(self.points)
@@ -121,14 +144,17 @@ class PointSet:
         if weights in (None, "file") and self.weights is None and self.meta is None:
             raise AalabError("invalid_field", "the points have no weights; choose filter or equal",
                              "pattern.points.weights")
-        if self.text is not None:
-            body: Dict[str, Any] = {"format": self.format, "text": self.text}
+        if self.data is not None:
+            body: Dict[str, Any] = {"format": self.format,
+                                    "base64": base64.b64encode(self.data).decode("ascii")}
+        elif self.text is not None:
+            body = {"format": self.format, "text": self.text}
         else:
             data: List[List[float]] = [list(p) for p in self.points]
             if self.weights is not None:
                 data = [[x, y, w] for (x, y), w in zip(self.points, self.weights)]
             body = {"format": "json", "data": data}
-        for k, v in (("tile", tile), ("kernel", kernel), ("border", border),
+        for k, v in (("set", self.set), ("tile", tile), ("kernel", kernel), ("border", border),
                      ("weights", weights)):
             if v is not None:
                 body[k] = v
@@ -151,9 +177,10 @@ MAX_POINTS = 4096  # points of one file (one tile), the daemon's limit
 _BLANKS = " \t\r\f\v"
 
 
-def _lines(text: str):
-    """(1-based line number, line without surrounding blanks), every line."""
-    for n, raw in enumerate(text.split("\n"), 1):
+def _lines(text: str, line0: int = 0):
+    """(1-based line number, line without surrounding blanks), every line; the first is
+    line0 + 1 (a set of a longer file)."""
+    for n, raw in enumerate(text.split("\n"), line0 + 1):
         yield n, raw.strip(_BLANKS)
 
 
@@ -168,8 +195,8 @@ class _Header:
         if not line.startswith(HEADER_PREFIX):
             return
         if self.meta is not None:
-            raise FormatError("line %d: a second aalab-pattern header (the first is on line %d)"
-                              % (n, self.line))
+            raise FormatError("line %d: a second aalab-pattern header (the first is on line %d; "
+                              "several sets in one file? choose one with set)" % (n, self.line))
         if points:
             raise FormatError("line %d: the aalab-pattern header must come before the points" % n)
         try:
@@ -190,14 +217,14 @@ def _token(tok: str, where: str, column: str = "") -> float:
     return float(tok)
 
 
-def _parse_plain(text: str, fmt: str) -> PointSet:
+def _parse_plain(text: str, fmt: str, line0: int = 0) -> PointSet:
     utk = fmt == "utk"
     expect = "2 numbers (x y)" if utk else "2 or 3 numbers (x y [w])"
     header = _Header()
     pts: List[Tuple[float, float]] = []
     ws: List[float] = []
     arity, arity_line = 0, 0
-    for n, line in _lines(text):
+    for n, line in _lines(text, line0):
         if not line:
             continue
         if line.startswith("#"):
@@ -369,14 +396,64 @@ def _no_duplicates(pairs: List[Tuple[str, Any]]) -> Dict[str, Any]:
     return d
 
 
-def loads(text: str, fmt: str) -> PointSet:
-    """Parses the text of a point file in format ``fmt`` (one of :data:`FORMATS`).
+def _split_sets(text: str) -> List[Tuple[int, str]]:
+    """UTK's sets of a text: (the line before the set's first, its text). A ``#`` line after a
+    point starts the next set; sets without points do not count (proto/pointset_parse.c)."""
+    lines = text.split("\n")
+    sets: List[Tuple[int, str]] = []
+    start, has_points = 0, False
+    for i, raw in enumerate(lines):
+        line = raw.strip(_BLANKS)
+        if not line:
+            continue
+        if line.startswith("#"):
+            if has_points:
+                sets.append((start, "\n".join(lines[start:i]) + "\n"))
+                start, has_points = i, False
+            continue
+        has_points = True
+    if has_points:
+        sets.append((start, "\n".join(lines[start:])))
+    return sets
 
-    Raises :class:`FormatError` naming the line (``line 3: expected 2 or 3 numbers``) or the
-    point (``points[3]``)."""
+
+def _check_format(fmt: str) -> None:
     if fmt not in FORMATS:
         raise AalabError("invalid_field", "format must be one of %s" % ", ".join(FORMATS),
                          "pattern.points.format")
+
+
+def count_sets(content: Union[str, bytes], fmt: str) -> int:
+    """The number of sets in a file's text or bytes (1 for csv, json, rps)."""
+    _check_format(fmt)
+    if fmt == "bin":
+        return _parse_bin(bytes(content), 0, count_only=True)  # type: ignore[return-value]
+    if fmt not in SET_FORMATS:
+        return 1
+    return len(_split_sets(content if isinstance(content, str) else content.decode("utf-8")))
+
+
+def loads(text: str, fmt: str, set: Optional[int] = None) -> PointSet:
+    """Parses the text of a point file in format ``fmt`` (one of :data:`FORMATS`; bin and rps
+    go to :func:`loads_bytes`). ``set``: one set of a utk or xyw file holding several.
+
+    Raises :class:`FormatError` naming the line (``line 3: expected 2 or 3 numbers``) or the
+    point (``points[3]``)."""
+    _check_format(fmt)
+    if fmt in BINARY_FORMATS:
+        return loads_bytes(text.encode("latin-1") if isinstance(text, str) else text, fmt, set)
+    if set is not None:
+        if fmt not in SET_FORMATS:
+            raise FormatError("a %s file holds one set; set is for utk, xyw and bin files" % fmt,
+                              "pattern.points.set")
+        sets = _split_sets(text)
+        if not 0 <= set < len(sets):
+            raise FormatError("is %d but the file holds %d set%s ('#' lines separate them; sets "
+                              "count from 0)" % (set, len(sets), "" if len(sets) == 1 else "s"),
+                              "pattern.points.set")
+        line0, part = sets[set]
+        ps = _parse_plain(part, fmt, line0)
+        return PointSet(ps.points, ps.weights, ps.meta, fmt, text, None, set)
     if fmt == "csv":
         return _parse_csv(text)
     if fmt == "json":
@@ -384,18 +461,123 @@ def loads(text: str, fmt: str) -> PointSet:
     return _parse_plain(text, fmt)
 
 
-def read(path: PathLike, fmt: Optional[str] = None, *, text: Optional[str] = None) -> PointSet:
+_BASE64_FIELD = "pattern.points.base64"
+_DTYPES = ("int32", "int64", "uint32", "uint64", "float", "double")
+
+
+def _binary_points(data: bytes, offset: int, n: int, size: int) -> List[Tuple[float, float]]:
+    vals = struct.unpack_from("<%d%s" % (2 * n, "f" if size == 4 else "d"), data, offset)
+    pts = []
+    for i in range(n):
+        x, y = vals[2 * i], vals[2 * i + 1]
+        if not (math.isfinite(x) and math.isfinite(y)):
+            bad = y if math.isfinite(x) else x
+            raise FormatError("point %d: %s is not a finite number (%s)"
+                              % (i, "y" if math.isfinite(x) else "x", _c_g(bad)), _BASE64_FIELD)
+        pts.append((x, y))
+    return pts
+
+
+def _c_g(v: float) -> str:
+    """C's %g of a non-finite double."""
+    return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
+
+
+def _parse_bin(data: bytes, set: Optional[int], count_only: bool = False) -> Any:
+    F = _BASE64_FIELD
+    if len(data) < 20:
+        raise FormatError("truncated: %d bytes, but UTK's header alone is 20 (magic, dtype, m, N, "
+                          "d)" % len(data), F)
+    magic, dtype, m, n, d = struct.unpack_from("<IB3xIII", data)
+    if magic != UTK_MAGIC:
+        raise FormatError("bytes 0-3: magic is 0x%08X, not UTK's 0x%08X (\"UTK!\")"
+                          % (magic, UTK_MAGIC), F)
+    if dtype not in (4, 5):
+        raise FormatError("byte 4: dtype is %d (%s); aalab reads float (4) and double (5)"
+                          % (dtype, _DTYPES[dtype] if dtype < 6 else "unknown"), F)
+    if d != 2:
+        raise FormatError("bytes 16-19: dimension d is %d; aalab reads 2-D point sets only" % d, F)
+    if m == 0 or n == 0:
+        raise FormatError("no points: the header says m = %d sets of N = %d" % (m, n), F)
+    if n > MAX_POINTS:
+        raise FormatError("bytes 12-15: N is %d points per set, more than %d" % (n, MAX_POINTS), F)
+    size = 4 if dtype == 4 else 8
+    per_set = n * 2 * size
+    total, after = m * per_set, len(data) - 20
+    what = "m = %d sets of N = %d points of d = 2 %s (%d bytes of data), but %d bytes follow it" \
+        % (m, n, _DTYPES[dtype], total, after)
+    if after < total:
+        raise FormatError("truncated: the header says " + what, F)
+    meta = None
+    if after > total:
+        trailer = data[20 + total:]
+        if not trailer.startswith(HEADER_PREFIX.encode()):
+            raise FormatError("count mismatch: the header says " + what, F)
+        try:
+            meta = json.loads(trailer[len(HEADER_PREFIX):].rstrip(b"\n").decode("utf-8"))
+        except ValueError:
+            meta = None
+        if not isinstance(meta, dict):
+            raise FormatError("the aalab-pattern trailer after the data is not a JSON object", F)
+    if count_only:
+        return m
+    if set is None and m != 1:
+        raise FormatError("the file holds %d sets (UTK's m); choose one with set" % m,
+                          "pattern.points.set")
+    which = 0 if set is None else set
+    if which >= m:
+        raise FormatError("is %d but the file holds %d set%s (sets count from 0)"
+                          % (which, m, "" if m == 1 else "s"), "pattern.points.set")
+    return _binary_points(data, 20 + which * per_set, n, size), meta
+
+
+def loads_bytes(data: bytes, fmt: str, set: Optional[int] = None) -> PointSet:
+    """Parses a binary point file (``bin`` or ``rps``) as the daemon does; errors name
+    ``pattern.points.base64`` (or ``pattern.points.set``) with the byte or point at fault."""
+    data = bytes(data)
+    if fmt == "bin":
+        pts, meta = _parse_bin(data, set)
+        return PointSet(tuple(pts), None, meta, "bin", None, data, set)
+    if fmt != "rps":
+        raise AalabError("invalid_field", "loads_bytes reads bin or rps", "pattern.points.format")
+    if set not in (None, 0):
+        raise FormatError("is %d but an rps file holds one set" % set, "pattern.points.set")
+    if len(data) % 8:
+        raise FormatError("truncated: %d bytes is not a whole number of points (8 bytes each: x "
+                          "and y as little-endian float32)" % len(data), _BASE64_FIELD)
+    if not data:
+        raise FormatError("no points (an empty file)", _BASE64_FIELD)
+    if len(data) // 8 > MAX_POINTS:
+        raise FormatError("%d points, more than %d" % (len(data) // 8, MAX_POINTS), _BASE64_FIELD)
+    return PointSet(tuple(_binary_points(data, 0, len(data) // 8, 4)), None, None, "rps", None,
+                    data, set)
+
+
+def read(path: PathLike, fmt: Optional[str] = None, *, text: Optional[str] = None,
+         set: Optional[int] = None) -> PointSet:
     """Reads a point file; ``fmt`` defaults to the suffix's format (:func:`guess_format`).
-    ``text``: the file's contents when the caller has already read them. Errors name the file
-    and the line."""
+    ``text``: the file's contents when the caller has already read them; ``set``: one set of a
+    file holding several. Errors name the file and the line."""
     fmt = fmt or guess_format(path)
-    if text is None:
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
     try:
-        return loads(text, fmt)
+        if fmt in BINARY_FORMATS:
+            with open(path, "rb") as fb:
+                return loads_bytes(fb.read(), fmt, set)
+        if text is None:
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+        return loads(text, fmt, set)
     except FormatError as e:
         raise FormatError("%s: %s" % (os.fspath(path), e.message), e.field) from None
+
+
+def read_sets(path: PathLike, fmt: Optional[str] = None) -> List[PointSet]:
+    """Every set of a file holding several (utk, xyw, bin), each as :func:`read` with set=i."""
+    fmt = fmt or guess_format(path)
+    with open(path, "rb") as f:
+        raw = f.read()
+    n = count_sets(raw if fmt == "bin" else raw.decode("utf-8"), fmt)
+    return [read(path, fmt, set=i) for i in range(n)]
 
 
 def _fmt_num(v: float) -> str:
@@ -464,6 +646,8 @@ def dumps(points: Any, fmt: str, weights: Optional[Sequence[float]] = None,
     if fmt not in FORMATS:
         raise AalabError("invalid_field", "format must be one of %s" % ", ".join(FORMATS),
                          "format")
+    if fmt in BINARY_FORMATS:
+        raise AalabError("invalid_field", "%s is bytes: use dumps_bytes" % fmt, "format")
     if meta is None and isinstance(points, PointSet):
         meta = points.meta
     pts, ws = _as_rows(points, weights)
@@ -493,11 +677,43 @@ def dumps(points: Any, fmt: str, weights: Optional[Sequence[float]] = None,
     return out.getvalue()
 
 
+def dumps_bytes(points: Any, fmt: str, meta: Optional[Dict[str, Any]] = None) -> bytes:
+    """The bytes of a binary point file: ``bin`` (UTK's header, float64, m = 1, ``meta`` as the
+    aalab-pattern trailer after the data) or ``rps`` (float32 pairs, nothing else: no weights,
+    no header, numbers rounded to float32). Weights are refused unless ``meta`` carries them
+    (bin)."""
+    if meta is None and isinstance(points, PointSet):
+        meta = points.meta
+    pts, ws = _as_rows(points, None)
+    if fmt == "rps":
+        if ws is not None or meta is not None:
+            raise AalabError("invalid_field", "rps files hold float32 x y only: drop the weights "
+                             "and the header", "format")
+        return struct.pack("<%df" % (2 * len(pts)), *[v for p in pts for v in p])
+    if fmt != "bin":
+        raise AalabError("invalid_field", "dumps_bytes writes bin or rps", "format")
+    if ws is not None and meta is None:
+        raise AalabError("invalid_field", "UTK's bin has no weight column: write xyw, csv or "
+                         "json, or drop the weights", "format")
+    out = struct.pack("<IB3xIII", UTK_MAGIC, 5, 1, len(pts), 2)
+    out += struct.pack("<%dd" % (2 * len(pts)), *[v for p in pts for v in p])
+    if meta is not None:
+        out += (HEADER_PREFIX + json.dumps(meta, separators=(",", ":"), allow_nan=False)
+                + "\n").encode("utf-8")
+    return out
+
+
 def write(path: PathLike, points: Any, fmt: Optional[str] = None,
           weights: Optional[Sequence[float]] = None, meta: Optional[Dict[str, Any]] = None) -> str:
-    """Writes a point file (:func:`dumps`); ``fmt`` defaults to the suffix's format. Returns the
-    path written."""
+    """Writes a point file (:func:`dumps`, bin and rps :func:`dumps_bytes`); ``fmt`` defaults
+    to the suffix's format. Returns the path written."""
     fmt = fmt or guess_format(path)
+    if fmt in BINARY_FORMATS:
+        if weights is not None:
+            raise AalabError("invalid_field", "%s files have no weight column" % fmt, "format")
+        with open(path, "wb") as f:
+            f.write(dumps_bytes(points, fmt, meta))
+        return os.fspath(path)
     text = dumps(points, fmt, weights=weights, meta=meta)
     with open(path, "w", encoding="utf-8") as f:
         f.write(text)

@@ -37,7 +37,7 @@ def _looks_like_path(s: str) -> bool:
 
 
 def _from_file(path: str, tile: Optional[int], kernel: Optional[int],
-               weights: Optional[str], fmt: Optional[str]) -> Dict[str, Any]:
+               weights: Optional[str], fmt: Optional[str], which: Any = None) -> Dict[str, Any]:
     if not os.path.exists(path):
         raise AalabError("invalid_field", "%s: no such file" % path, "pattern")
     fmt = fmt or formats.guess_format(path)
@@ -52,17 +52,30 @@ def _from_file(path: str, tile: Optional[int], kernel: Optional[int],
         if isinstance(doc, dict) and not (set(doc) <= {"aalab", "points"} and
                                           isinstance(doc.get("points"), list)):
             return as_pattern(doc)  # a wire pattern, an evaluate request or an export
-    return formats.read(path, fmt, text=text).to_pattern(tile, kernel, weights)
+    # set "all" (analyze): checked here on set 0, the daemon reads every set
+    return formats.read(path, fmt, text=text, set=0 if which == "all" else which).to_pattern(
+        tile, kernel, weights)
 
 
 def as_pattern(pattern: Any, tile: Optional[int] = None, kernel: Optional[int] = None,
-               weights: Optional[str] = None, fmt: Optional[str] = None) -> Dict[str, Any]:
+               weights: Optional[str] = None, fmt: Optional[str] = None,
+               set: Any = None) -> Dict[str, Any]:
     """The wire form of any accepted pattern argument (module docstring).
 
     ``tile``, ``kernel`` and ``weights`` apply to points (arrays, point sets and point files;
     see :meth:`aalab.formats.PointSet.to_pattern`), ``fmt`` names a point file's format when
-    its suffix does not. Raises :class:`AalabError` (code ``invalid_field``, field
-    ``pattern``...) for anything else."""
+    its suffix does not, ``set`` picks one set of a file holding several (``"all"``: every
+    set, for :meth:`aalab.Client.analyze`). Raises :class:`AalabError` (code
+    ``invalid_field``, field ``pattern``...) for anything else."""
+    if set is not None:
+        wire = as_pattern(pattern, tile, kernel, weights, fmt, None) if not (
+            isinstance(pattern, (str, os.PathLike)) and _looks_like_path(os.fspath(pattern))) \
+            else _from_file(os.fspath(pattern), tile, kernel, weights, fmt, set)
+        if "points" not in wire:
+            raise AalabError("invalid_field", "set is for point files holding several sets",
+                             "pattern.points.set")
+        wire["points"] = dict(wire["points"], set=set)
+        return wire
     if isinstance(pattern, formats.PointSet):
         return pattern.to_pattern(tile, kernel, weights)
     job_id = getattr(pattern, "job_id", None)

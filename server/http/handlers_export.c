@@ -3,8 +3,9 @@
  *   POST /v1/patterns/export {"pattern","format","filter"?}   any pattern: a preset, a posted
  *        pattern of any form, a job reference {"job": ID}
  * F: json (aalab's pattern JSON, the default), utk, xyw, csv (text/plain point sets with the
- * "# aalab-pattern" header that reads back exactly), points-json (the point-set JSON), vulkan,
- * d3d12 (programmable sample positions, or representable false with a reason). Formatting is
+ * "# aalab-pattern" header that reads back exactly), bin (UTK binary, the header as a trailer),
+ * rps (PSA raw float32, application/octet-stream), points-json (the point-set JSON), vulkan,
+ * d3d12, metal (programmable sample positions, or representable false with a reason). Formatting is
  * bounded by the codec's limits (4096 tile samples): no handler blocks. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,6 +30,10 @@ static void reply_export(api_response *resp, const aa_pattern *p, proto_export_k
         api_reply_json(resp, 200, o);
         return;
     }
+    if (kind == PROTO_EXPORT_METAL) {
+        api_reply_json(resp, 200, proto_export_metal(p));
+        return;
+    }
     if (kind != PROTO_EXPORT_POINTS) {
         api_reply_json(resp, 200, proto_export_gpu(p, kind == PROTO_EXPORT_D3D12));
         return;
@@ -41,8 +46,9 @@ static void reply_export(api_response *resp, const aa_pattern *p, proto_export_k
         return;
     }
     api_reply_owned(resp, 200, text, len);
-    resp->content_type =
-        points == PROTO_POINTS_JSON ? "application/json" : "text/plain; charset=utf-8";
+    resp->content_type = points == PROTO_POINTS_JSON             ? "application/json"
+                         : proto_points_format_is_binary(points) ? "application/octet-stream"
+                                                                 : "text/plain; charset=utf-8";
 }
 
 void handle_export(api_context *ctx, const api_request *req, api_response *resp,

@@ -356,6 +356,52 @@ pts("header_pattern_mismatch", 400, "pattern.points.text", {"format": "utk", "te
 pts("header_pattern_recursive", 400, "pattern.points.text", {"format": "utk", "text": '# aalab-pattern {"pattern":{"points":{"format":"utk","text":"0.5 0.5"}}}\n0.5 0.5\n'})
 case("points_equal_ok", 200, None, body_json={"pattern": {"points": {"format": "utk", "text": "0.25 0.25\n0.75 0.75\n", "weights": "equal"}}}, check=OK)
 case("points_in_job_spec_bad", 400, "pattern.points.text", path="/v1/jobs", body_json={"kind": "optimize", "pattern": {"points": {"format": "csv", "text": "x\n"}}, "max_iterations": 1})
+# the sampling tools' formats (issue 31): UTK .bin and PSA .rps as base64, '#'-separated sets
+import base64 as _b64
+import struct as _st
+def _utk(sets, dtype=5, d=2):
+    f = "<d" if dtype == 5 else "<f"
+    return _st.pack("<IB3xIII", 0x214B5455, dtype, len(sets), len(sets[0]), d) + b"".join(_st.pack(f, v) for s_ in sets for p_ in s_ for v in p_)
+def _b(x): return _b64.b64encode(x).decode()
+_T = [(0.25, 0.25), (0.75, 0.75)]
+_B64F = "pattern.points.base64"
+pts("bin_ok", 200, None, {"format": "bin", "base64": _b(_utk([_T])), "weights": "equal"})
+pts("bin_truncated_header", 400, _B64F, {"format": "bin", "base64": _b(_utk([_T])[:19]), "weights": "equal"})
+pts("bin_truncated_data", 400, _B64F, {"format": "bin", "base64": _b(_utk([_T])[:-1]), "weights": "equal"})
+pts("bin_bad_magic", 400, _B64F, {"format": "bin", "base64": _b(b"UTK?" + _utk([_T])[4:]), "weights": "equal"})
+pts("bin_int_dtype", 400, _B64F, {"format": "bin", "base64": _b(_st.pack("<IB3xIII", 0x214B5455, 0, 1, 2, 2) + b"\0" * 16), "weights": "equal"})
+pts("bin_dimension_3", 400, _B64F, {"format": "bin", "base64": _b(_utk([[(0.1, 0.2, 0.3)]], d=3)), "weights": "equal"})
+pts("bin_count_mismatch", 400, _B64F, {"format": "bin", "base64": _b(_utk([_T]) + b"\0" * 8), "weights": "equal"})
+pts("bin_nan", 400, _B64F, {"format": "bin", "base64": _b(_utk([[(0.5, float("nan"))]])), "weights": "equal"})
+pts("bin_too_many", 400, _B64F, {"format": "bin", "base64": _b(_utk([[(0.5, 0.5)] * 4097])), "weights": "equal"})
+pts("bin_huge_m", 400, _B64F, {"format": "bin", "base64": _b(_st.pack("<IB3xIII", 0x214B5455, 5, 0xffffffff, 4096, 2)), "weights": "equal"})
+pts("bin_two_sets_no_set", 400, "pattern.points.set", {"format": "bin", "base64": _b(_utk([_T, _T])), "weights": "equal"})
+pts("bin_set_past_end", 400, "pattern.points.set", {"format": "bin", "base64": _b(_utk([_T, _T])), "set": 2, "weights": "equal"})
+pts("rps_truncated", 400, _B64F, {"format": "rps", "base64": _b(b"\0" * 12), "weights": "equal"})
+pts("rps_empty", 400, _B64F, {"format": "rps", "base64": "", "weights": "equal"})
+pts("rps_inf", 400, _B64F, {"format": "rps", "base64": _b(_st.pack("<ff", float("inf"), 0.5)), "weights": "equal"})
+pts("rps_too_many", 400, _B64F, {"format": "rps", "base64": _b(_st.pack("<f", 0.5) * 2 * 4097), "weights": "equal"})
+pts("rps_as_text", 400, "pattern.points.text", {"format": "rps", "text": "0.5 0.5\n", "weights": "equal"})
+pts("base64_invalid_char", 400, _B64F, {"format": "rps", "base64": "AAAA*AAA", "weights": "equal"})
+pts("base64_unpadded", 400, _B64F, {"format": "rps", "base64": "AAAAAAAAAAA", "weights": "equal"})
+pts("base64_not_string", 400, _B64F, {"format": "rps", "base64": 5, "weights": "equal"})
+pts("base64_and_text", 400, _B64F, {"format": "utk", "text": "0.5 0.5\n", "base64": "MC41IDAuNQo=", "weights": "equal"})
+pts("set_negative", 400, "pattern.points.set", {"format": "utk", "text": "0.5 0.5\n", "set": -1, "weights": "equal"})
+pts("set_real", 400, "pattern.points.set", {"format": "utk", "text": "0.5 0.5\n", "set": 0.5, "weights": "equal"})
+pts("set_past_end", 400, "pattern.points.set", {"format": "utk", "text": "0.1 0.1\n#\n0.5 0.5\n", "set": 2, "weights": "equal"})
+pts("set_all_in_evaluate", 400, "pattern.points.set", {"format": "utk", "text": "0.1 0.1\n#\n0.5 0.5\n", "set": "all", "weights": "equal"})
+pts("set_csv", 400, "pattern.points.set", {"format": "csv", "text": "x,y\n0.5,0.5\n", "set": 0, "weights": "equal"})
+pts("set_json_data", 400, "pattern.points.set", {"format": "json", "data": [[0.5, 0.5]], "set": 0, "weights": "equal"})
+pts("set_second_bad_line", 400, "pattern.points.text", {"format": "utk", "text": "0.1 0.1\n#\n0.5 x\n", "set": 1, "weights": "equal"})
+pts("sets_without_set", 400, "pattern.points.text", {"format": "utk", "text": '# aalab-pattern {"tile":1,"weights":[[1]]}\n0.5 0.5\n# aalab-pattern {"tile":1,"weights":[[1]]}\n0.5 0.5\n'})
+AN = "/v1/analyze"
+_two = "0.1 0.2\n0.6 0.7\n#\n0.3 0.3\n0.8 0.9\n"
+case("analyze_set_all_ok", 200, None, path=AN, body_json={"pattern": {"points": {"format": "utk", "text": _two, "set": "all", "weights": "equal"}}, "spectrum": {"radius": 4}})
+case("analyze_set_all_sizes_differ", 400, "pattern.points.set", path=AN, body_json={"pattern": {"points": {"format": "utk", "text": _two + "0.5 0.5\n", "set": "all", "weights": "equal"}}})
+case("analyze_set_all_bad_set", 400, "pattern.points.text", path=AN, body_json={"pattern": {"points": {"format": "utk", "text": _two + "#\n0.5 z\n", "set": "all", "weights": "equal"}}})
+case("analyze_set_all_too_many_sets", 400, "pattern.points.set", path=AN, body_json={"pattern": {"points": {"format": "utk", "text": "0.5 0.5\n#\n" * 1025, "set": "all", "weights": "equal"}}})
+case("analyze_set_all_rps", 400, "pattern.points.text", path=AN, body_json={"pattern": {"points": {"format": "rps", "text": "x", "set": "all", "weights": "equal"}}})
+case("export_post_metal_not_representable", 200, None, path="/v1/patterns/export", body_json={"pattern": {"preset": "flipquad"}, "format": "metal"})
 case("unknown_key_long_multibyte", 400, "pattern.a" + "é" * 29, body_json={"pattern": {"preset": "rgss", "a" + "é" * 40: 1}})
 EXP = "/v1/patterns/export"
 case("export_post_no_format", 400, "format", path=EXP, body_json={"pattern": {"preset": "rgss"}})

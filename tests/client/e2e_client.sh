@@ -219,7 +219,7 @@ expect 2 "export of an unknown job" -- A export 999999 --format json
 # point sets: every export format reads back as the same pattern (the same E2, to the digit)
 expect 0 "eval the job's best pattern" -- A --json eval "job:$id"
 e2_job=$(jq -r '."e2"' <<<"$out")
-for f in utk xyw csv points-json; do
+for f in utk xyw csv bin points-json; do
   ext=$f; [ "$f" = utk ] && ext=dat; [ "$f" = points-json ] && ext=json
   expect 0 "export $f -o FILE" -- A export "$id" --format "$f" -o "$tmp/pts.$ext"
   expect 0 "eval the $f export" -- A --json eval "$tmp/pts.$ext"
@@ -428,6 +428,20 @@ has "annulus  frequencies" "analyze prints the radial spectrum"
 expect 0 "analyze a job's pattern, spacing only" -- A analyze "job:$id" --metrics spacing
 has "min distance" "analyze --metrics spacing prints the spacing"
 expect 2 "analyze an unknown metric is a 4xx" -- A analyze flipquad --metrics spacing,fft
+# several sets in one file (UTK, pbrt's pspec): one by --set, or all averaged
+printf '0.1 0.2\n0.6 0.7\n0.3 0.9\n#\n0.3 0.3\n0.8 0.9\n0.5 0.1\n' >"$tmp/sets.dat"
+expect 0 "analyze --set all averages the sets" -- A --json analyze "$tmp/sets.dat" --set all --weights equal --radius 4
+jq -e '.sets.count == 2 and (.sets.per_set | length) == 2' <<<"$out" >/dev/null &&
+  ok "analyze --set all: 2 sets" || bad "analyze --set all: ${out:0:300}"
+expect 0 "analyze --set all prints the sets" -- A analyze "$tmp/sets.dat" --set all --weights equal --radius 4
+has "means over 2 sets" "analyze says the figures are means"
+expect 0 "eval --set 1" -- A --json eval "$tmp/sets.dat" --set 1 --weights equal
+expect 1 "eval --set 2 of 2 sets is a local error" -- A eval "$tmp/sets.dat" --set 2 --weights equal
+expect 0 "convert to PSA's rps" -- A convert d3d-4x --format rps -o "$tmp/d3d.rps"
+[ "$(stat -c %s "$tmp/d3d.rps")" = 32 ] && ok "rps: 4 points x 8 bytes" || bad "rps size $(stat -c %s "$tmp/d3d.rps")"
+expect 0 "eval an rps file" -- A --json eval "$tmp/d3d.rps" --weights equal
+expect 0 "export metal" -- A convert d3d-4x --format metal
+jq -e '.api == "metal" and .sampleCount == 4' <<<"$out" >/dev/null && ok "metal export" || bad "metal: ${out:0:300}"
 
 if jq -e '.render == true' <<<"$health" >/dev/null; then
   expect 0 "render -o tile.png" -- A render --pattern quincunx --scene siemens-star --size 64x64 -o "$tmp/tile.png"

@@ -200,6 +200,19 @@ static void point_set_options(void **state)
     assert_int_equal(PARSE(&a, "eval", "rgss", "--format", "csv"), -1);
     assert_int_equal(PARSE(&a, "optimize", "--family", "P(4,1+,2)", "--tile", "2"), -1);
     assert_non_null(strstr(err, "not a --family"));
+    /* the sampling tools' formats and sets */
+    assert_int_equal(PARSE(&a, "export", "5", "--format", "metal"), 0);
+    assert_int_equal(PARSE(&a, "convert", "rgss", "--format", "bin"), 0);
+    assert_int_equal(PARSE(&a, "convert", "rgss", "--format", "rps"), 0);
+    assert_int_equal(PARSE(&a, "eval", "p", "--points-format", "rps", "--set", "0"), 0);
+    assert_string_equal(a.points_format, "rps");
+    assert_string_equal(a.set, "0");
+    assert_int_equal(PARSE(&a, "analyze", "p.dat", "--set", "all"), 0);
+    assert_string_equal(a.set, "all");
+    assert_int_equal(PARSE(&a, "eval", "p.dat", "--set", "all"), -1);
+    assert_non_null(strstr(err, "--set all is for 'aalab analyze'"));
+    assert_int_equal(PARSE(&a, "eval", "p.dat", "--set", "-1"), -1);
+    assert_non_null(strstr(err, "--set wants a set number"));
 }
 
 static void render_size_and_output(void **state)

@@ -390,6 +390,91 @@ static void convert_round_trip(void **state)
     free(path);
 }
 
+static char *write_bytes_as(const void *b, size_t n, const char *suffix)
+{
+    const char *dir = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
+    char *path = malloc(strlen(dir) + strlen(suffix) + 32);
+    sprintf(path, "%s/aalab-test-XXXXXX%s", dir, suffix);
+    int fd = mkstemps(path, (int)strlen(suffix));
+    assert_true(fd >= 0);
+    assert_int_equal(write(fd, b, n), (ssize_t)n);
+    close(fd);
+    return path;
+}
+
+/* The sampling tools' files: .rps and .bin go base64, --set picks a set, convert writes bin,
+ * rps and metal with the daemon's writer. */
+static void tool_formats(void **state)
+{
+    char err[400] = "";
+    json_t *req;
+    static const unsigned char rps[16] = {0, 0, 0x80, 0x3e, 0, 0, 0x80, 0x3e,
+                                          0, 0, 0x40, 0x3f, 0, 0, 0x40, 0x3f};
+    char *path = write_bytes_as(rps, sizeof rps, ".rps");
+    cli_args a = {.command = CMD_EVAL, .target = path, .weights = "equal"};
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_json(req, "{\"pattern\":{\"points\":{\"format\":\"rps\",\"base64\":"
+                     "\"AACAPgAAgD4AAEA/AABAPw==\",\"weights\":\"equal\"}}}");
+    json_decref(req);
+    a.set = "1"; /* an rps file holds one set: the local codec says so */
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
+    if (!strstr(err, "--set: is 1 but an rps file holds one set"))
+        fail_msg("'%s'", err);
+    unlink(path);
+    free(path);
+
+    /* bin: rgss written by convert reads back as rgss */
+    json_t *rgss = json_pack("{s:s}", "preset", "rgss");
+    char *text, *j1, *j2;
+    size_t len, len2;
+    assert_int_equal(convert_text(rgss, "bin", &text, &len, err, sizeof err), 0);
+    assert_memory_equal(text, "UTK!\x05", 5);
+    path = write_bytes_as(text, len, ".bin");
+    free(text);
+    a = (cli_args){.command = CMD_CONVERT, .target = path};
+    json_t *back;
+    assert_int_equal(pattern_argument_load(path, &a, &back, NULL, err, sizeof err), 0);
+    assert_int_equal(convert_text(rgss, "json", &j1, &len, err, sizeof err), 0);
+    assert_int_equal(convert_text(back, "json", &j2, &len2, err, sizeof err), 0);
+    assert_string_equal(j1, j2);
+    free(j1);
+    free(j2);
+    json_decref(back);
+    unlink(path);
+    free(path);
+    assert_int_equal(convert_text(rgss, "rps", &text, &len, err, sizeof err), 0);
+    assert_int_equal(len, 4 * 8);
+    free(text);
+    json_decref(rgss);
+    json_t *d3d = json_pack("{s:s}", "preset", "d3d-4x");
+    assert_int_equal(convert_text(d3d, "metal", &text, &len, err, sizeof err), 0);
+    assert_non_null(strstr(text, "\"api\":\"metal\",\"family\":\"P(1,1,4)\""));
+    assert_non_null(strstr(text, "\"representable\":true"));
+    free(text);
+    json_decref(d3d);
+
+    /* sets: one by number, or all for analyze (checked locally on set 0) */
+    path = write_temp_as("0.1 0.2\n0.6 0.7\n#\n0.3 0.3\n0.8 0.9\n", ".dat");
+    a = (cli_args){.command = CMD_EVAL, .target = path, .weights = "equal", .set = "1"};
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), 0);
+    assert_int_equal(json_integer_value(json_object_get(
+                         json_object_get(json_object_get(req, "pattern"), "points"), "set")),
+                     1);
+    json_decref(req);
+    a.set = "2";
+    assert_int_equal(eval_request(&a, &req, err, sizeof err), -1);
+    if (!strstr(err, "--set: is 2 but the file holds 2 sets"))
+        fail_msg("'%s'", err);
+    a = (cli_args){.command = CMD_ANALYZE, .target = path, .weights = "equal", .set = "all"};
+    assert_int_equal(analyze_request(&a, &req, err, sizeof err), 0);
+    assert_string_equal(json_string_value(json_object_get(
+                            json_object_get(json_object_get(req, "pattern"), "points"), "set")),
+                        "all");
+    json_decref(req);
+    unlink(path);
+    free(path);
+}
+
 static void file_or_preset(void **state)
 {
     assert_false(pattern_argument_is_file("quincunx"));
@@ -417,6 +502,7 @@ int main(void)
         cmocka_unit_test(submit_specs),
         cmocka_unit_test(point_set_files),
         cmocka_unit_test(convert_round_trip),
+        cmocka_unit_test(tool_formats),
         cmocka_unit_test(file_or_preset),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

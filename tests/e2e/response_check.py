@@ -45,6 +45,8 @@ NOT_JSON = [
     ("GET", r"/v1/tiles/[^/]+", "image/png"),
     ("GET", r"/v1/patterns/[^/]+/export", "text/plain"),
     ("POST", r"/v1/patterns/export", "text/plain"),
+    ("GET", r"/v1/patterns/[^/]+/export", "application/octet-stream"),  # bin, rps
+    ("POST", r"/v1/patterns/export", "application/octet-stream"),
 ]
 STATIC = re.compile(r"^/(?!v1(/|$))")
 

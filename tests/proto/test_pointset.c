@@ -221,7 +221,7 @@ static void test_points_form_errors(void **state)
                  "must be file, filter or equal");
     expect_error("utk", "0.5 0.5\n", "{\"bogus\":1}", "pattern.points.bogus", "unknown field");
     expect_error("dat", "0.5 0.5\n", NULL, "pattern.points.format",
-                 "must be utk, xyw, csv or json");
+                 "must be utk, xyw, csv, json, bin or rps");
     expect_error("utk", "0.5 0.5\n", "{\"data\":[[0.5,0.5]]}", "pattern.points.data",
                  "give exactly one of text");
     expect_error("utk", "# aalab-pattern {\"tile\":2,\"weights\":[]}\n0.25 0.25\n", "{\"tile\":4}",

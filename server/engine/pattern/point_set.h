@@ -80,6 +80,10 @@ typedef struct aa_spectrum {
 int aa_point_set_spectrum(const aa_point *pts, size_t n, int radius, aa_spectrum *out,
                           aa_error *err);
 void aa_spectrum_free(aa_spectrum *s);
+/* The mean of m >= 1 spectra of one radius, each of a set of n points: the periodograms
+ * averaged, then the radial average, anisotropy and the two figures of that mean (pbrt-v4's
+ * pspec and PSA's --avg average several sets so). AA_EINVAL naming "sets" if the radii differ. */
+int aa_spectrum_mean(const aa_spectrum *s, size_t m, size_t n, aa_spectrum *out, aa_error *err);
 
 /* The pair correlation function on the torus, g(r) = sum_{i != j} k(r - d_ij) /
  * (n (n - 1) 2 pi r) at the bin centres r_b = (b + 1/2) r_max / bins, with the Gaussian kernel

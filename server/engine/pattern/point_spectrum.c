@@ -184,3 +184,32 @@ int aa_point_set_spectrum(const aa_point *pts, size_t n, int radius, aa_spectrum
     radial_figures(out, n);
     return AA_OK;
 }
+
+int aa_spectrum_mean(const aa_spectrum *s, size_t m, size_t n, aa_spectrum *out, aa_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (m < 1)
+        return aa_error_set(err, AA_EINVAL, "sets", "no spectra to average");
+    int R = s[0].radius;
+    for (size_t i = 1; i < m; i++)
+        if (s[i].radius != R)
+            return aa_error_set(err, AA_EINVAL, "sets", "spectra of different radii");
+    size_t side = (size_t)(2 * R + 1);
+    out->radius = R;
+    out->side = side;
+    out->power = calloc(side * side, sizeof *out->power);
+    out->radial = malloc((size_t)(R + 1) * sizeof *out->radial);
+    out->anisotropy_db = malloc((size_t)(R + 1) * sizeof *out->anisotropy_db);
+    out->annulus_count = calloc((size_t)R + 1, sizeof *out->annulus_count);
+    if (!out->power || !out->radial || !out->anisotropy_db || !out->annulus_count) {
+        aa_spectrum_free(out);
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    }
+    for (size_t i = 0; i < m; i++)
+        for (size_t k = 0; k < side * side; k++)
+            out->power[k] += s[i].power[k];
+    for (size_t k = 0; k < side * side; k++)
+        out->power[k] /= (double)m;
+    radial_figures(out, n);
+    return AA_OK;
+}
