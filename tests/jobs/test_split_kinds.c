@@ -237,6 +237,30 @@ static void table3_splits_alike(void **state)
                2, 3, keys);
 }
 
+/* table3 with figures: each row's rho over every seed's patterns, the same split or local. */
+static void table3_metrics_split_alike(void **state)
+{
+    (void)state;
+    static const char *const keys[] = {"best", "e2", "rows", NULL};
+    const char *spec = "{\"family\":\"P(4,4,2)\",\"seeds\":3,\"count\":8,\"max_iterations\":30,"
+                       "\"distributions\":[\"poisson\",\"uniform\"],"
+                       "\"metrics\":[\"centered\",\"mean_nn_distance\"]}";
+    check_kind(&kinds[3], spec, 2, 3, keys);
+    void *params = decode(&kinds[3], spec);
+    json_t *r = split_harness_run(&kinds[3], params, 2, 1);
+    const json_t *rows = json_object_get(r, "rows");
+    for (size_t i = 0; i < 2; i++) {
+        const json_t *pm = json_object_get(json_array_get(rows, i), "point_metrics");
+        const json_t *cd = json_array_get(json_object_get(pm, "spearman"), 0);
+        assert_int_equal(json_integer_value(json_object_get(cd, "n")), 24); /* 3 seeds x 8 */
+        assert_true(json_is_number(json_object_get(cd, "rho")));
+        assert_int_equal(json_array_size(json_object_get(json_object_get(pm, "patterns"), "e2")),
+                         24);
+    }
+    json_decref(r);
+    kinds[3].free_params(params);
+}
+
 /* max_iterations alone: reproducible; with max_seconds: best effort. */
 static void reproducible_follows_the_budget(void **state)
 {
@@ -333,6 +357,7 @@ int main(void)
         cmocka_unit_test(random_stats_splits_alike),
         cmocka_unit_test(random_stats_metrics_split_alike),
         cmocka_unit_test(table3_splits_alike),
+        cmocka_unit_test(table3_metrics_split_alike),
         cmocka_unit_test(reproducible_follows_the_budget),
         cmocka_unit_test(local_run_cancels),
         cmocka_unit_test(table3_local_run_cancels),
