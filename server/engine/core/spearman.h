@@ -20,7 +20,8 @@ int aa_rank_average(const double *v, size_t n, double *ranks);
  * when out of memory; every other case is an answer (rho NaN where undefined). */
 int aa_spearman_of(const double *x, const double *y, size_t n, aa_spearman_result *out);
 /* The regularised incomplete beta function I_x(a, b) for a, b > 0 and x in [0, 1] (Lentz's
- * continued fraction; relative error about 1e-13 for a, b up to 1e4). */
+ * continued fraction). The p-values it gives are within 1.1e-11 relative of scipy's for 3 to
+ * 5,000 pairs (spearman_scipy); the log-gamma terms lose some digits as a grows. */
 double aa_incomplete_beta(double a, double b, double x);
 
 #endif
