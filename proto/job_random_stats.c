@@ -7,7 +7,8 @@
 #include "codec_internal.h"
 #include "job_result_util.h"
 
-static const char *const kind_keys[] = {"family", "count", "distribution", "poisson_radius", NULL};
+static const char *const kind_keys[] = {"family",         "count",   "distribution",
+                                        "poisson_radius", "metrics", NULL};
 
 int proto_decode_random_stats_spec(const json_t *spec, proto_random_stats_spec *s, aa_error *err)
 {
@@ -38,6 +39,8 @@ int proto_decode_random_stats_spec(const json_t *spec, proto_random_stats_spec *
     if (!rc)
         rc = proto_spec_poisson_radius(spec, s->family.mirrored ? 1 : s->family.cost,
                                        &s->poisson_radius, err);
+    if (!rc)
+        rc = proto_spec_point_metrics(spec, &s->family, s->count, &s->metrics, err);
     if (rc)
         proto_random_stats_spec_free(s);
     return rc;
@@ -69,6 +72,11 @@ json_t *proto_encode_random_stats_result(const proto_random_stats_result *r)
         json_object_set_new(gen, "radius", proto_real(r->radius));
     if (o && gen)
         json_object_set_new(o, "generator", gen);
+    if (o && r->point_metrics.spec.count &&
+        json_object_set_new(o, "point_metrics", proto_encode_point_metrics(&r->point_metrics))) {
+        json_decref(o);
+        return NULL;
+    }
     if (o && !proto_run_info_encode(o, &r->run)) {
         json_decref(o);
         o = NULL;
@@ -93,10 +101,11 @@ static int decode_stage(const json_t *j, const char *field, proto_stats_stage *s
 
 int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result *r, aa_error *err)
 {
-    static const char *const keys[] = {"family",      "distribution", "count",  "random",
-                                       "best_random", "opt_w",        "opt_wp", "best",
-                                       "e2",          "executor",     "shards", "reproducible",
-                                       "acuity",      "generator",    NULL};
+    static const char *const keys[] = {
+        "family",      "distribution", "count",         "random",
+        "best_random", "opt_w",        "opt_wp",        "best",
+        "e2",          "executor",     "shards",        "reproducible",
+        "acuity",      "generator",    "point_metrics", NULL};
     static const char *const random_keys[] = {"min", "avg", "max", NULL};
     memset(r, 0, sizeof *r);
     const json_t *random = json_object_get(j, "random");
@@ -134,6 +143,9 @@ int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result 
         rc = proto_result_real(gen, "radius", &r->radius, err);
     if (!rc)
         rc = proto_run_info_decode(j, &r->run, err);
+    const json_t *pm = json_object_get(j, "point_metrics");
+    if (!rc && pm)
+        rc = proto_decode_point_metrics(pm, "point_metrics", &r->point_metrics, err);
     if (family)
         snprintf(r->family, sizeof r->family, "%s", family);
     r->count = (long)count;
@@ -147,4 +159,5 @@ void proto_random_stats_result_free(proto_random_stats_result *r)
     aa_pattern_free(&r->best_random);
     aa_pattern_free(&r->opt_w.pattern);
     aa_pattern_free(&r->opt_wp.pattern);
+    proto_point_metrics_free(&r->point_metrics);
 }

@@ -9,8 +9,8 @@
 
 const char *const proto_table3_columns[PROTO_T3_COLS] = {"min", "avg", "max", "opt_w", "opt_wp"};
 
-static const char *const kind_keys[] = {"family",        "seeds",          "count",
-                                        "distributions", "poisson_radius", NULL};
+static const char *const kind_keys[] = {"family",         "seeds",   "count", "distributions",
+                                        "poisson_radius", "metrics", NULL};
 
 int proto_decode_table3_spec(const json_t *spec, proto_table3_spec *s, aa_error *err)
 {
@@ -42,6 +42,9 @@ int proto_decode_table3_spec(const json_t *spec, proto_table3_spec *s, aa_error 
     }
     if (!rc)
         rc = proto_spec_poisson_radius(spec, s->family.cost, &s->poisson_radius, err);
+    if (!rc)
+        rc = proto_spec_point_metrics(spec, &s->family, s->seeds * s->count * s->kind_count,
+                                      &s->metrics, err);
     if (rc)
         proto_table3_spec_free(s);
     return rc;
@@ -77,8 +80,14 @@ static json_t *encode_row(const proto_table3_row *row, const proto_table3_result
             json_object_set_new(o, proto_table3_columns[c], proto_real(row->values[c][s]));
         json_array_append_new(per_seed, o);
     }
-    return json_pack("{s:s,s:o,s:o,s:o}", "distribution", aa_seed_kind_name(row->distribution),
-                     "generator", gen, "columns", cols, "per_seed", per_seed);
+    json_t *o = json_pack("{s:s,s:o,s:o,s:o}", "distribution", aa_seed_kind_name(row->distribution),
+                          "generator", gen, "columns", cols, "per_seed", per_seed);
+    if (o && row->point_metrics.spec.count &&
+        json_object_set_new(o, "point_metrics", proto_encode_point_metrics(&row->point_metrics))) {
+        json_decref(o);
+        o = NULL;
+    }
+    return o;
 }
 
 json_t *proto_encode_table3_result(const proto_table3_result *r)
@@ -101,7 +110,8 @@ json_t *proto_encode_table3_result(const proto_table3_result *r)
 static int decode_row(const json_t *j, const char *field, proto_table3_row *row,
                       const proto_table3_result *r, aa_error *err)
 {
-    static const char *const keys[] = {"distribution", "generator", "columns", "per_seed", NULL};
+    static const char *const keys[] = {"distribution", "generator",     "columns",
+                                       "per_seed",     "point_metrics", NULL};
     static const char *const stat_keys[] = {"mean", "sd", "paper", NULL};
     static const char *const column_keys[] = {"min", "avg", "max", "opt_w", "opt_wp", NULL};
     if (!json_is_object(j))
@@ -142,6 +152,9 @@ static int decode_row(const json_t *j, const char *field, proto_table3_row *row,
         for (int c = 0; !rc && c < PROTO_T3_COLS; c++)
             rc = proto_result_real(o, proto_table3_columns[c], &row->values[c][s], err);
     }
+    const json_t *pm = json_object_get(j, "point_metrics");
+    if (!rc && pm)
+        rc = proto_decode_point_metrics(pm, "point_metrics", &row->point_metrics, err);
     return rc ? proto_prefix_error(err, field) : AA_OK;
 }
 
@@ -196,4 +209,6 @@ int proto_decode_table3_result(const json_t *j, proto_table3_result *r, aa_error
 void proto_table3_result_free(proto_table3_result *r)
 {
     aa_pattern_free(&r->best);
+    for (size_t i = 0; i < PROTO_MAX_DISTRIBUTIONS; i++)
+        proto_point_metrics_free(&r->rows[i].point_metrics);
 }

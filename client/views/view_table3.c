@@ -1,7 +1,9 @@
 /* table3: Laine & Aila's Table 3 over K seeds, as the paper prints it: a row per distribution
  * with Min, Avg, Max, Opt W and Opt W+P, each followed by a ± column (the sd over the seeds),
  * and under it the paper's row where the paper has one. CSV: the same table, the paper's rows
- * named "<distribution> (paper)" with empty sd cells, the sd columns named min_sd ... opt_wp_sd. */
+ * named "<distribution> (paper)" with empty sd cells, the sd columns named min_sd ... opt_wp_sd.
+ * With the spec's metrics: Spearman's rho of each point-set figure with E2 per distribution, a
+ * table under the text and spearman_<figure> columns in CSV. */
 #include "job_views.h"
 
 #include <stdio.h>
@@ -10,6 +12,7 @@
 #include "../cli.h"
 #include "../table.h"
 #include "view_kv.h"
+#include "view_point_metrics.h"
 
 static const char *const columns[] = {"min", "avg", "max", "opt_w", "opt_wp"};
 /* CSV headers are unique ASCII names (pandas renames repeated ones to "±.1", ...). */
@@ -18,22 +21,32 @@ enum { COLS = 5 };
 
 void view_table3(FILE *out, const json_t *result, bool csv)
 {
-    const char *headers[1 + 2 * COLS] = {"distribution"};
+    const json_t *rows = json_object_get(result, "rows");
+    /* every row has the same figures (the spec's) */
+    char names[VIEW_PM_MAX][48];
+    size_t figures =
+        csv ? view_point_metrics_headers(json_object_get(json_array_get(rows, 0), "point_metrics"),
+                                         names, VIEW_PM_MAX)
+            : 0;
+    const char *headers[1 + 2 * COLS + VIEW_PM_MAX] = {"distribution"};
     for (int c = 0; c < COLS; c++) {
         headers[1 + 2 * c] = columns[c];
         headers[2 + 2 * c] = csv ? sd_columns[c] : "±";
     }
-    table *t = table_new(1 + 2 * COLS, headers);
+    for (size_t k = 0; k < figures; k++)
+        headers[1 + 2 * COLS + k] = names[k];
+    table *t = table_new(1 + 2 * COLS + figures, headers);
     if (!t)
         return;
     size_t i;
     const json_t *row;
-    json_array_foreach(json_object_get(result, "rows"), i, row)
+    json_array_foreach(rows, i, row)
     {
         const json_t *cols = json_object_get(row, "columns");
-        char v[2 * COLS][32], paper[COLS][32], name[64];
-        const char *cells[1 + 2 * COLS] = {fmt_string(json_object_get(row, "distribution"))};
-        const char *pcells[1 + 2 * COLS] = {name};
+        char v[2 * COLS][32], paper[COLS][32], name[64], rho[VIEW_PM_MAX][32];
+        const char *cells[1 + 2 * COLS + VIEW_PM_MAX] = {
+            fmt_string(json_object_get(row, "distribution"))};
+        const char *pcells[1 + 2 * COLS + VIEW_PM_MAX] = {name};
         bool have_paper = false;
         snprintf(name, sizeof name, "%s (paper)", cells[0]);
         for (int c = 0; c < COLS; c++) {
@@ -47,6 +60,10 @@ void view_table3(FILE *out, const json_t *result, bool csv)
             pcells[1 + 2 * c] = fmt_number(paper[c], sizeof paper[c], p, fmt_decimals(csv, 3));
             pcells[2 + 2 * c] = "";
         }
+        view_point_metrics_cells(json_object_get(row, "point_metrics"), figures,
+                                 cells + 1 + 2 * COLS, rho, csv);
+        for (size_t k = 0; k < figures; k++)
+            pcells[1 + 2 * COLS + k] = "";
         table_add_row(t, cells);
         if (have_paper)
             table_add_row(t, pcells);
@@ -91,4 +108,15 @@ void view_table3(FILE *out, const json_t *result, bool csv)
     view_kv_execution(&kv, result);
     fputs("\n(± = sample standard deviation over the seeds)\n", out);
     view_kv_print(out, &kv);
+    const json_t *blocks[8];
+    const char *labels[8];
+    size_t nb = 0;
+    json_array_foreach(rows, i, row)
+    {
+        if (nb == 8)
+            break;
+        blocks[nb] = json_object_get(row, "point_metrics");
+        labels[nb++] = fmt_string(json_object_get(row, "distribution"));
+    }
+    view_point_metrics_print(out, blocks, labels, nb);
 }

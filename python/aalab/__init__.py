@@ -22,7 +22,8 @@ from .errors import AalabError, DaemonUnreachable
 from .formats import FormatError, PointSet
 from .job import ENDED, Job
 from .patterns import as_pattern
-from .results import Analysis, Argmax, Enumeration, Evaluation, Render, Trace
+from .results import (Analysis, Argmax, Enumeration, Evaluation, PointMetrics, Render, Spearman,
+                      Trace)
 from . import temporal  # the module: aalab.temporal.temporal(...), .halton(...)
 from .temporal import TemporalArgmax, TemporalEvaluation
 
@@ -40,5 +41,6 @@ def __getattr__(name: str):
     raise AttributeError("module 'aalab' has no attribute %r" % name)
 
 __all__ = ["Client", "Job", "AalabError", "DaemonUnreachable", "FormatError", "PointSet",
-           "Evaluation", "Analysis", "Render", "Trace", "Enumeration", "Argmax", "as_pattern", "pattern",
+           "Evaluation", "Analysis", "PointMetrics", "Spearman", "Render", "Trace", "Enumeration",
+           "Argmax", "as_pattern", "pattern",
            "TemporalEvaluation", "TemporalArgmax", "temporal", "JOB_STATES", "ENDED", "__version__"]

@@ -7,7 +7,7 @@ import time
 from typing import TYPE_CHECKING, Any, Dict, Optional, Union
 
 from .errors import AalabError
-from .results import Trace
+from .results import PointMetrics, Trace
 
 if TYPE_CHECKING:  # pragma: no cover
     from .client import Client
@@ -112,6 +112,22 @@ class Job:
     def trace(self) -> Trace:
         """Best E2 against run time (:class:`~aalab.results.Trace`)."""
         return Trace.from_answer(self.info.get("trace"))
+
+    @property
+    def point_metrics(self) -> Union[None, PointMetrics, Dict[str, PointMetrics]]:
+        """The point-set figures per random pattern and their Spearman rho with E2, when the
+        spec of a random-stats or table3 job asked for ``metrics`` (docs/analysis.md):
+        a :class:`~aalab.results.PointMetrics` for random-stats, a dict distribution ->
+        :class:`~aalab.results.PointMetrics` for table3; None otherwise or before the job is
+        done."""
+        r = self.result
+        if not isinstance(r, dict):
+            return None
+        if isinstance(r.get("point_metrics"), dict):
+            return PointMetrics.from_answer(r["point_metrics"])
+        rows = {row["distribution"]: PointMetrics.from_answer(row["point_metrics"])
+                for row in r.get("rows") or [] if isinstance(row.get("point_metrics"), dict)}
+        return rows or None
 
     def wait(self, progress: bool = True, timeout: Optional[float] = None, poll: float = 0.25,
              raise_on_failure: bool = True) -> "Job":

@@ -268,3 +268,51 @@ class Analysis:
                    pcf_r=array(p["r"]) if "r" in p else None,
                    pcf=array(p["g"]) if "g" in p else None,
                    raw=d)
+
+
+class Spearman(NamedTuple):
+    """Spearman's rank correlation of one point-set figure with E2 over a job's random patterns
+    (ties as average ranks, as ``scipy.stats.spearmanr``): rho (NaN where undefined), n (patterns
+    where both are finite) and the two-sided p-value of the t approximation (NaN with rho)."""
+
+    rho: float
+    n: int
+    p_value: float
+
+
+@dataclass(frozen=True)
+class PointMetrics:
+    """Point-set figures of every random pattern of a random-stats job (or of one table3 row)
+    and their rank correlation with E2 (the spec's ``metrics``; point_metrics.json).
+
+    Attributes:
+        metrics: the figures' names, in the spec's order (``POST /v1/analyze``'s names).
+        spearman: name -> :class:`Spearman`.
+        e2: each random pattern's E2, in pattern order (table3: every seed's, in seed order).
+        values: name -> the figure per pattern, aligned with ``e2`` (NaN where undefined).
+        spectrum_radius: periodogram radius of the spectral figures.
+        raw: the block as sent.
+    """
+
+    metrics: List[str]
+    spearman: Dict[str, Spearman]
+    e2: Any
+    values: Dict[str, Any]
+    spectrum_radius: int
+    raw: Dict[str, Any] = field(repr=False)
+
+    @classmethod
+    def from_answer(cls, d: Dict[str, Any]) -> "PointMetrics":
+        nan = float("nan")
+        rho = {e["metric"]: Spearman(nan if e["rho"] is None else float(e["rho"]), int(e["n"]),
+                                     nan if e["p_value"] is None else float(e["p_value"]))
+               for e in d["spearman"]}
+        cols = d["patterns"]
+        return cls(metrics=list(d["metrics"]), spearman=rho, e2=array(cols["e2"]),
+                   values={m: array(cols[m]) for m in d["metrics"]},
+                   spectrum_radius=int(d["spectrum_radius"]), raw=d)
+
+    def rows(self) -> List[Dict[str, Any]]:
+        """One dict per figure: ``metric``, ``rho``, ``n``, ``p_value`` (e.g. for pandas)."""
+        return [dict(metric=m, rho=self.spearman[m].rho, n=self.spearman[m].n,
+                     p_value=self.spearman[m].p_value) for m in self.metrics]

@@ -11,7 +11,10 @@
  * lets ranges reproduce one run); a shard's output is {"e2": [its patterns' E2 in order], "best":
  * pattern, "best_index", "best_e2"}, merged into {"count", "min", "avg", "max", "best_random",
  * "best_index", "best_e2"} with min / avg / max over the concatenated lists (the order one run
- * sums them in, so bit-identical for any split). Stage 1: two fixed shards, Opt W and Opt W+P
+ * sums them in, so bit-identical for any split). With the spec's "metrics" (issue 31) a shard
+ * also outputs "metrics": its patterns' figures and E2 as columns (job_point_metrics.h), merged
+ * into "point_metrics" by concatenation; finish ranks them (Spearman's rho with E2), so the
+ * split result equals the local one. Stage 1: two fixed shards, Opt W and Opt W+P
  * ({"stage": "opt_w" | "opt_wp"}), both from the merged best random pattern; each outputs {"e2",
  * "pattern", "method"}; the merged state is stage 0's plus "opt_w" and "opt_wp". */
 #include <math.h>
@@ -128,9 +131,19 @@ static int run_patterns(const proto_random_stats_spec *sp, const json_t *shard,
     random_progress rp = {ctx, count};
     aa_pattern best;
     aa_random_stats rs;
-    rc = aa_random_patterns_range_radius(
-        &sp->family, sp->kind, sp->poisson_radius, &metric, sp->common.rng_seed, first, count,
-        random_patterns_progress, &rp, e2, &best, &best_index, &rs, err);
+    proto_point_metrics pm;
+    memset(&pm, 0, sizeof pm);
+    bool figures = sp->metrics.count > 0;
+    if (figures)
+        rc = proto_point_metrics_init(&pm, &sp->metrics, count, err);
+    if (rc) {
+        free(e2);
+        return rc;
+    }
+    rc = aa_random_patterns_range_visit(&sp->family, sp->kind, sp->poisson_radius, &metric,
+                                        sp->common.rng_seed, first, count, random_patterns_progress,
+                                        &rp, figures ? proto_point_metrics_visit : NULL, &pm, e2,
+                                        &best, &best_index, &rs, err);
     json_t *list = rc ? NULL : json_array();
     for (size_t i = 0; list && i < count; i++)
         if (json_array_append_new(list, proto_real(e2[i]))) {
@@ -142,10 +155,16 @@ static int run_patterns(const proto_random_stats_spec *sp, const json_t *shard,
             list ? json_pack("{s:o,s:o,s:I,s:o}", "e2", list, "best", proto_encode_pattern(&best),
                              "best_index", (json_int_t)best_index, "best_e2", proto_real(rs.min))
                  : NULL;
+        if (*output && figures &&
+            json_object_set_new(*output, "metrics", proto_point_metrics_columns(&pm))) {
+            json_decref(*output);
+            *output = NULL;
+        }
         if (!*output)
             rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
     aa_pattern_free(&best);
+    proto_point_metrics_free(&pm);
     free(e2);
     return rc;
 }
@@ -206,14 +225,17 @@ static int merge_patterns(const proto_random_stats_spec *sp, json_t *const *outp
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     size_t n = 0, win = 0;
     double win_e2 = INFINITY;
-    int rc = AA_OK;
+    bool figures = sp->metrics.count > 0;
+    proto_point_metrics pm;
+    memset(&pm, 0, sizeof pm);
+    int rc = figures ? proto_point_metrics_init(&pm, &sp->metrics, sp->count, err) : AA_OK;
     for (size_t s = 0; !rc && s < count; s++) {
         json_t *list = json_object_get(outputs[s], "e2"), *v;
         json_t *best_e2 = json_object_get(outputs[s], "best_e2");
         if (!json_is_array(list) || !json_is_number(best_e2) ||
             !json_is_object(json_object_get(outputs[s], "best")) ||
             !json_is_integer(json_object_get(outputs[s], "best_index")) ||
-            json_object_size(outputs[s]) != 4 || json_array_size(list) > sp->count - n) {
+            json_object_size(outputs[s]) != 4u + figures || json_array_size(list) > sp->count - n) {
             rc = aa_error_set(err, AA_EINVAL, "output",
                               "shard %zu: expected {\"e2\",\"best\","
                               "\"best_index\",\"best_e2\"}",
@@ -222,6 +244,14 @@ static int merge_patterns(const proto_random_stats_spec *sp, json_t *const *outp
         }
         size_t i;
         json_array_foreach(list, i, v) e2[n++] = json_is_number(v) ? json_number_value(v) : NAN;
+        if (figures) {
+            char field[48];
+            snprintf(field, sizeof field, "output[%zu].metrics", s);
+            rc =
+                proto_point_metrics_append(&pm, json_object_get(outputs[s], "metrics"), field, err);
+            if (rc)
+                break;
+        }
         if (json_number_value(best_e2) < win_e2) {
             win_e2 = json_number_value(best_e2);
             win = s;
@@ -237,9 +267,19 @@ static int merge_patterns(const proto_random_stats_spec *sp, json_t *const *outp
                       "best_random", json_object_get(outputs[win], "best"), "best_index",
                       json_object_get(outputs[win], "best_index"), "best_e2",
                       json_object_get(outputs[win], "best_e2"));
+        /* The figures stay per pattern in the merged state; finish ranks them. */
+        if (*merged && figures &&
+            json_object_set_new(*merged, "point_metrics", proto_point_metrics_columns(&pm))) {
+            json_decref(*merged);
+            *merged = NULL;
+        }
         if (!*merged)
             rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     }
+    if (!rc && figures && pm.n != sp->count)
+        rc = aa_error_set(err, AA_EINVAL, "output", "figures of %zu patterns for %zu", pm.n,
+                          sp->count);
+    proto_point_metrics_free(&pm);
     free(e2);
     return rc;
 }
@@ -296,6 +336,15 @@ static int finish(const void *params, const json_t *merged, const char *executor
         rc = decode_stage(json_object_get(merged, "opt_w"), "opt_w", &r->opt_w, err);
     if (!rc)
         rc = decode_stage(json_object_get(merged, "opt_wp"), "opt_wp", &r->opt_wp, err);
+    if (!rc && sp->metrics.count)
+        rc = proto_point_metrics_init(&r->point_metrics, &sp->metrics, sp->count, err);
+    if (!rc && sp->metrics.count)
+        rc = proto_point_metrics_append(&r->point_metrics, json_object_get(merged, "point_metrics"),
+                                        "point_metrics", err);
+    if (!rc && sp->metrics.count && r->point_metrics.n != (size_t)count)
+        rc = aa_error_set(err, AA_EINVAL, "point_metrics", "expected %lld patterns", count);
+    if (!rc && sp->metrics.count)
+        rc = proto_point_metrics_rank(&r->point_metrics, err);
     if (rc) {
         proto_random_stats_result_free(r);
         free(r);

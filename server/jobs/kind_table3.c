@@ -7,8 +7,11 @@
  * Split (job_split.h), one stage of K shards, one per rng_seed ({"seed_index": i}); a shard runs
  * the distributions of its seed side by side on the threads it may use (shard_ctx.workers; in
  * turn on one) and outputs {"rng_seed", "cells": [{"distribution",
- * "min", "avg", "max", "opt_w", "opt_wp", "best_index"}], "best": its lowest Opt W+P pattern,
- * "best_e2"}; merge keeps the outputs in seed order, finish computes the statistics. The trace
+ * "min", "avg", "max", "opt_w", "opt_wp", "best_index", "patterns"?}], "best": its lowest Opt
+ * W+P pattern, "best_e2"}; merge keeps the outputs in seed order, finish computes the
+ * statistics. "patterns" (spec "metrics", issue 31): the cell's random patterns' E2 and
+ * point-set figures as columns (job_point_metrics.h); finish joins a distribution's over the
+ * seeds and ranks them (Spearman's rho with E2). The trace
  * is the Opt W+P progress: the best Opt W+P E2 so far against the Opt W+P seconds spent. */
 #include <math.h>
 #include <pthread.h>
@@ -113,6 +116,8 @@ typedef struct cell_slot {
     const proto_table3_spec *sp;
     const aa_metric_params *metric;
     const aa_table3_params *tp;
+    aa_table3_params tp_own;     /* the shard's, with this cell's figures as the visitor */
+    proto_point_metrics figures; /* the random patterns' figures when the spec asks */
     uint64_t seed;
     aa_table3_cell cell;
     int rc;
@@ -186,12 +191,19 @@ static void run_cell(void *item)
     }
 }
 
-static json_t *cell_json(aa_seed_kind kind, const aa_table3_cell *c)
+static json_t *cell_json(aa_seed_kind kind, const aa_table3_cell *c,
+                         const proto_point_metrics *figures)
 {
-    return json_pack("{s:s,s:o,s:o,s:o,s:o,s:o,s:I}", "distribution", aa_seed_kind_name(kind),
-                     "min", proto_real(c->random.min), "avg", proto_real(c->random.avg), "max",
-                     proto_real(c->random.max), "opt_w", proto_real(c->opt_w), "opt_wp",
-                     proto_real(c->opt_wp), "best_index", (json_int_t)c->best_index);
+    json_t *o = json_pack("{s:s,s:o,s:o,s:o,s:o,s:o,s:I}", "distribution", aa_seed_kind_name(kind),
+                          "min", proto_real(c->random.min), "avg", proto_real(c->random.avg), "max",
+                          proto_real(c->random.max), "opt_w", proto_real(c->opt_w), "opt_wp",
+                          proto_real(c->opt_wp), "best_index", (json_int_t)c->best_index);
+    if (o && figures->spec.count &&
+        json_object_set_new(o, "patterns", proto_point_metrics_columns(figures))) {
+        json_decref(o);
+        o = NULL;
+    }
+    return o;
 }
 
 /* The shard's output from its finished cells, in distribution order (the lowest Opt W+P
@@ -204,7 +216,8 @@ static int shard_output(const proto_table3_spec *sp, uint64_t seed, cell_slot *s
     double best_e2 = INFINITY;
     bool ok = cells != NULL;
     for (size_t k = 0; ok && k < sp->kind_count; k++) {
-        ok = !json_array_append_new(cells, cell_json(sp->kinds[k], &slots[k].cell));
+        ok = !json_array_append_new(cells,
+                                    cell_json(sp->kinds[k], &slots[k].cell, &slots[k].figures));
         if (slots[k].cell.opt_wp < best_e2) {
             best_e2 = slots[k].cell.opt_wp;
             best = &slots[k].cell.opt_wp_pattern;
@@ -247,15 +260,32 @@ static int run_shard(const void *params, int stage, const json_t *shard, const j
     cell_hub hub = {.outer = ctx, .count = sp->kind_count, .best_posted = INFINITY};
     cell_slot slots[PROTO_MAX_DISTRIBUTIONS];
     memset(slots, 0, sizeof slots);
+    int figures_rc = AA_OK;
     if (pthread_mutex_init(&hub.lock, NULL))
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     for (size_t k = 0; k < sp->kind_count; k++) {
         hub.work[k] = (job_trace_point){0, 0, 0, INFINITY};
         cell_slot *c = &slots[k];
-        *c = (cell_slot){
-            .hub = &hub, .index = k, .sp = sp, .metric = &metric, .tp = &tp, .seed = seed};
+        *c = (cell_slot){.hub = &hub,
+                         .index = k,
+                         .sp = sp,
+                         .metric = &metric,
+                         .tp = &c->tp_own,
+                         .tp_own = tp,
+                         .seed = seed};
         c->ctx = (shard_ctx){hub_progress, hub_trace, c, ctx->clock, 1};
         c->bridge = opt_bridge_make(&c->ctx, 0, 1);
+        if (sp->metrics.count && !figures_rc) {
+            figures_rc = proto_point_metrics_init(&c->figures, &sp->metrics, sp->count, err);
+            c->tp_own.visit = proto_point_metrics_visit;
+            c->tp_own.visit_user = &c->figures;
+        }
+    }
+    if (figures_rc) {
+        for (size_t k = 0; k < sp->kind_count; k++)
+            proto_point_metrics_free(&slots[k].figures);
+        pthread_mutex_destroy(&hub.lock);
+        return figures_rc;
     }
     /* As many cells at once as the shard has threads; every cell's streams are its own, so a
      * clock-free budget gives the same output either way. */
@@ -277,8 +307,10 @@ static int run_shard(const void *params, int stage, const json_t *shard, const j
             ctx->trace(ctx->user, &total); /* the shard's last point: its whole work */
         rc = shard_output(sp, seed, slots, output, err);
     }
-    for (size_t k = 0; k < sp->kind_count; k++)
+    for (size_t k = 0; k < sp->kind_count; k++) {
         aa_table3_cell_free(&slots[k].cell);
+        proto_point_metrics_free(&slots[k].figures);
+    }
     pthread_mutex_destroy(&hub.lock);
     return rc;
 }
@@ -343,6 +375,21 @@ static int finish(const void *params, const json_t *merged, const char *executor
     if (!rc)
         rc = proto_result_pattern(json_array_get(seeds, best_seed), "best", false, &r->best, NULL,
                                   err);
+    /* Each distribution's figures over every seed's patterns, in seed order, then ranked. */
+    for (size_t k = 0; !rc && sp->metrics.count && k < sp->kind_count; k++) {
+        proto_point_metrics *pm = &r->rows[k].point_metrics;
+        rc = proto_point_metrics_init(pm, &sp->metrics, sp->seeds * sp->count, err);
+        for (size_t s = 0; !rc && s < sp->seeds; s++) {
+            const json_t *cells = json_object_get(json_array_get(seeds, s), "cells");
+            rc = proto_point_metrics_append(
+                pm, json_object_get(json_array_get(cells, k), "patterns"), "output", err);
+        }
+        if (!rc && pm->n != sp->seeds * sp->count)
+            rc = aa_error_set(err, AA_EINVAL, "output", "figures of %zu patterns for %zu", pm->n,
+                              sp->seeds * sp->count);
+        if (!rc)
+            rc = proto_point_metrics_rank(pm, err);
+    }
     for (size_t k = 0; !rc && k < sp->kind_count; k++) {
         proto_table3_row *row = &r->rows[k];
         row->distribution = sp->kinds[k];

@@ -478,6 +478,20 @@ case("analyze_bad_kernel", 400, "pattern.kernels[0][0][1]", path=AN, body_json={
 case("analyze_job_ref_unknown", 400, "pattern.job", path=AN, body_json={"pattern": {"job": 999999999}})
 case("analyze_not_object", 400, None, path=AN, body_json=[1, 2])
 case("analyze_get", 405, None, method="GET", path=AN)
+# --- point-set figures per random pattern in random-stats and table3 (issue 31; proto/job_point_metrics.c)
+RS = {"kind": "random-stats", "family": "P(1,1,4)", "count": 10, "max_iterations": 5}
+T3 = {"kind": "table3", "family": "P(1,1,4)", "seeds": 1, "count": 10, "max_iterations": 5}
+for kind, base in [("random_stats", RS), ("table3", T3)]:
+    case(kind + "_metrics_unknown", 400, "metrics[1]", path="/v1/jobs", body_json=dict(base, metrics=["l2_star", "fft"]))
+    case(kind + "_metrics_duplicate", 400, "metrics[1]", path="/v1/jobs", body_json=dict(base, metrics=["centered", "centered"]))
+    case(kind + "_metrics_too_many", 400, "metrics", path="/v1/jobs", body_json=dict(base, metrics=["l2_star"] * 13))
+    case(kind + "_metrics_not_array", 400, "metrics", path="/v1/jobs", body_json=dict(base, metrics="l2_star"))
+    case(kind + "_metrics_empty", 400, "metrics", path="/v1/jobs", body_json=dict(base, metrics=[]))
+    case(kind + "_metrics_not_string", 400, "metrics[0]", path="/v1/jobs", body_json=dict(base, metrics=[1]))
+    case(kind + "_metrics_group_name", 400, "metrics[0]", path="/v1/jobs", body_json=dict(base, metrics=["discrepancy"]))
+    case(kind + "_metrics_one_point", 400, "metrics", path="/v1/jobs", body_json=dict(base, family="P(1,1,1)", metrics=["mixture"]))
+case("random_stats_metrics_count_over", 400, "metrics", path="/v1/jobs", body_json=dict(RS, count=10001, metrics=["mixture"]))
+case("table3_metrics_patterns_over", 400, "metrics", path="/v1/jobs", body_json=dict(T3, seeds=2, count=2501, distributions=["uniform", "poisson"], metrics=["mixture"]))
 # --- the temporal pattern form (issue 30; proto/codec_temporal.c): POST /v1/evaluate only
 def tmp(name, status, field, temporal, **extra):
     evp("temporal_" + name, status, field, {"temporal": temporal, **extra})

@@ -506,6 +506,102 @@ static void table3_view(void **state)
     json_decref(job);
 }
 
+/* A line of text starts with head and holds a and b after it. */
+static void line_has(const char *text, const char *head, const char *a, const char *b)
+{
+    for (const char *p = text; p && *p; p = strchr(p, '\n'), p = p ? p + 1 : NULL) {
+        const char *end = strchr(p, '\n');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        char line[256];
+        snprintf(line, sizeof line, "%.*s", (int)len, p);
+        if (!strncmp(line, head, strlen(head)) && strstr(line + strlen(head), a) &&
+            strstr(line + strlen(head), b))
+            return;
+    }
+    fail_msg("no line '%s ... %s ... %s' in:\n%s", head, a, b, text);
+}
+
+/* Every CSV header is unique, printable ASCII without spaces (pandas-friendly). */
+static void csv_headers_unique_ascii(const csv_doc *d)
+{
+    size_t cols = csv_columns(d);
+    for (size_t c = 0; c < cols; c++) {
+        for (const char *p = d->fields[c]; *p; p++)
+            assert_true(*p > ' ' && *p < 127);
+        for (size_t o = 0; o < c; o++)
+            assert_string_not_equal(d->fields[c], d->fields[o]);
+    }
+}
+
+/* random-stats with metrics (issue 31): the rho table under the text, spearman_<figure>
+ * columns with every digit in CSV. */
+static void random_stats_metrics_view(void **state)
+{
+    (void)state;
+    json_t *job = fixture("job_random-stats-metrics.json");
+    const json_t *pm = json_object_get(result_of(job), "point_metrics");
+    const json_t *rho = json_object_get(pm, "spearman");
+    assert_int_equal(json_array_size(rho), 3);
+    capture c;
+    job_print(capture_begin(&c), job, false);
+    const char *text = capture_end(&c);
+    contains(text, "Spearman's rho of each point-set figure with E2 over the random patterns:\n");
+    contains(text, "figure         rho   n  p_value\n");
+    for (size_t k = 0; k < 3; k++) {
+        const json_t *e = json_array_get(rho, k);
+        char v[32];
+        fixed(v, sizeof v, json_object_get(e, "rho"), 3);
+        line_has(text, json_string_value(json_object_get(e, "metric")), v, " 30 ");
+    }
+    capture_free(&c);
+    csv_doc d;
+    view_csv(&d, job_print, job, 1);
+    csv_headers_unique_ascii(&d);
+    assert_same_number(csv_get(&d, 1, "spearman_mixture"),
+                       json_object_get(json_array_get(rho, 0), "rho"));
+    assert_same_number(csv_get(&d, 1, "spearman_oscillation"),
+                       json_object_get(json_array_get(rho, 2), "rho"));
+    csv_free(&d);
+    json_decref(job);
+}
+
+/* table3 with metrics: a rho row per distribution and figure; CSV spearman_<figure> columns on
+ * the distribution rows. */
+static void table3_metrics_view(void **state)
+{
+    (void)state;
+    json_t *job = fixture("job_table3-metrics.json");
+    const json_t *rows = json_object_get(result_of(job), "rows");
+    capture c;
+    job_print(capture_begin(&c), job, false);
+    const char *text = capture_end(&c);
+    contains(text, "distribution  figure               rho   n  p_value\n");
+    for (size_t i = 0; i < json_array_size(rows); i++) {
+        const json_t *row = json_array_get(rows, i);
+        const json_t *e =
+            json_array_get(json_object_get(json_object_get(row, "point_metrics"), "spearman"), 1);
+        char v[32], head[64];
+        fixed(v, sizeof v, json_object_get(e, "rho"), 3);
+        snprintf(head, sizeof head, "%-12s  mean_nn_distance",
+                 json_string_value(json_object_get(row, "distribution")));
+        line_has(text, head, v, " 20 ");
+    }
+    capture_free(&c);
+    csv_doc d;
+    view_csv(&d, job_print, job, json_array_size(rows));
+    csv_headers_unique_ascii(&d);
+    for (size_t i = 0; i < json_array_size(rows); i++) {
+        const json_t *pm = json_object_get(json_array_get(rows, i), "point_metrics");
+        const json_t *rho = json_object_get(pm, "spearman");
+        assert_same_number(csv_get(&d, i + 1, "spearman_centered"),
+                           json_object_get(json_array_get(rho, 0), "rho"));
+        assert_same_number(csv_get(&d, i + 1, "spearman_mean_nn_distance"),
+                           json_object_get(json_array_get(rho, 1), "rho"));
+    }
+    csv_free(&d);
+    json_decref(job);
+}
+
 static void every_kind_has_a_view(void **state)
 {
     const char *kinds[] = {"optimize", "family-sweep", "random-stats",         "table3",
@@ -617,7 +713,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(optimize_view),         cmocka_unit_test(large_pattern_summary),
         cmocka_unit_test(family_sweep_view),     cmocka_unit_test(random_stats_view),
-        cmocka_unit_test(table3_view),           cmocka_unit_test(compare_view),
+        cmocka_unit_test(table3_view),           cmocka_unit_test(random_stats_metrics_view),
+        cmocka_unit_test(table3_metrics_view),   cmocka_unit_test(compare_view),
         cmocka_unit_test(animation_view),        cmocka_unit_test(reference_convergence_view),
         cmocka_unit_test(every_kind_has_a_view), cmocka_unit_test(trace_points),
         cmocka_unit_test(pattern_csv),           cmocka_unit_test(job_list),

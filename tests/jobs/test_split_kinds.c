@@ -195,6 +195,37 @@ static void random_stats_splits_alike(void **state)
                keys);
 }
 
+/* Point-set figures per pattern (issue 31): computed per shard, ranked after the merge; the
+ * split result, the one-shard result and the local run agree to the digit. */
+static void random_stats_metrics_split_alike(void **state)
+{
+    (void)state;
+    static const char *const keys[] = {"best", "e2", "random", "point_metrics", NULL};
+    const char *spec = "{\"family\":\"P(1,1,4)\",\"count\":40,\"max_iterations\":30,"
+                       "\"metrics\":[\"mixture\",\"star_linf\",\"min_distance\","
+                       "\"oscillation\"]}";
+    check_kind(&kinds[2], spec, 3, 3, keys);
+    void *params = decode(&kinds[2], spec);
+    json_t *r = split_harness_run(&kinds[2], params, 3, 1);
+    const json_t *pm = json_object_get(r, "point_metrics");
+    assert_int_equal(json_array_size(json_object_get(pm, "spearman")), 4);
+    const json_t *mix = json_array_get(json_object_get(pm, "spearman"), 0);
+    assert_string_equal(json_string_value(json_object_get(mix, "metric")), "mixture");
+    assert_int_equal(json_integer_value(json_object_get(mix, "n")), 40);
+    /* the study's strongest figure: clearly positive for uniform P(1,1,4) (rho 0.88 at 1000) */
+    assert_true(json_real_value(json_object_get(mix, "rho")) > 0.5);
+    const json_t *cols = json_object_get(pm, "patterns");
+    assert_int_equal(json_array_size(json_object_get(cols, "e2")), 40);
+    assert_int_equal(json_array_size(json_object_get(cols, "star_linf")), 40);
+    /* the pattern E2 column holds the random patterns' E2: its minimum is the table's min */
+    double mn = INFINITY;
+    for (size_t i = 0; i < 40; i++)
+        mn = fmin(mn, json_real_value(json_array_get(json_object_get(cols, "e2"), i)));
+    assert_true(mn == json_real_value(json_object_get(json_object_get(r, "random"), "min")));
+    json_decref(r);
+    kinds[2].free_params(params);
+}
+
 /* table3: one shard per seed whatever the executor's limit (a fixed number of parts). */
 static void table3_splits_alike(void **state)
 {
@@ -204,6 +235,30 @@ static void table3_splits_alike(void **state)
                "{\"family\":\"P(4,4,2)\",\"seeds\":3,\"count\":8,\"max_iterations\":30,"
                "\"distributions\":[\"poisson\",\"jittered\"]}",
                2, 3, keys);
+}
+
+/* table3 with figures: each row's rho over every seed's patterns, the same split or local. */
+static void table3_metrics_split_alike(void **state)
+{
+    (void)state;
+    static const char *const keys[] = {"best", "e2", "rows", NULL};
+    const char *spec = "{\"family\":\"P(4,4,2)\",\"seeds\":3,\"count\":8,\"max_iterations\":30,"
+                       "\"distributions\":[\"poisson\",\"uniform\"],"
+                       "\"metrics\":[\"centered\",\"mean_nn_distance\"]}";
+    check_kind(&kinds[3], spec, 2, 3, keys);
+    void *params = decode(&kinds[3], spec);
+    json_t *r = split_harness_run(&kinds[3], params, 2, 1);
+    const json_t *rows = json_object_get(r, "rows");
+    for (size_t i = 0; i < 2; i++) {
+        const json_t *pm = json_object_get(json_array_get(rows, i), "point_metrics");
+        const json_t *cd = json_array_get(json_object_get(pm, "spearman"), 0);
+        assert_int_equal(json_integer_value(json_object_get(cd, "n")), 24); /* 3 seeds x 8 */
+        assert_true(json_is_number(json_object_get(cd, "rho")));
+        assert_int_equal(json_array_size(json_object_get(json_object_get(pm, "patterns"), "e2")),
+                         24);
+    }
+    json_decref(r);
+    kinds[3].free_params(params);
 }
 
 /* max_iterations alone: reproducible; with max_seconds: best effort. */
@@ -300,7 +355,9 @@ int main(void)
         cmocka_unit_test(optimize_pattern_splits_alike),
         cmocka_unit_test(family_sweep_splits_alike),
         cmocka_unit_test(random_stats_splits_alike),
+        cmocka_unit_test(random_stats_metrics_split_alike),
         cmocka_unit_test(table3_splits_alike),
+        cmocka_unit_test(table3_metrics_split_alike),
         cmocka_unit_test(reproducible_follows_the_budget),
         cmocka_unit_test(local_run_cancels),
         cmocka_unit_test(table3_local_run_cancels),

@@ -360,6 +360,65 @@ static void test_sweep_and_stats_result(void **state)
     proto_random_stats_result_free(&r);
 }
 
+/* Issue 31: the metrics list of random-stats and table3 specs, and the point_metrics block of
+ * their results through encode / decode (NaN as null) and the shards' columns. */
+static void test_point_metrics_codecs(void **state)
+{
+    (void)state;
+    aa_error err = {0};
+    proto_random_stats_spec sp;
+    json_t *j = parse("{\"family\":\"P(1,1,4)\",\"metrics\":[\"star_linf\",\"centered\"]}");
+    assert_int_equal(proto_decode_random_stats_spec(j, &sp, &err), AA_OK);
+    assert_int_equal(sp.metrics.count, 2);
+    assert_int_equal(sp.metrics.which[0], AA_PM_STAR_LINF);
+    assert_int_equal(sp.metrics.which[1], AA_PM_CENTERED);
+    proto_random_stats_spec_free(&sp);
+    json_decref(j);
+    DECODE_FAILS(proto_random_stats_spec, proto_decode_random_stats_spec,
+                 "{\"family\":\"P(1,1,4)\",\"metrics\":[\"centered\",\"centered\"]}", AA_EINVAL,
+                 "metrics[1]");
+    DECODE_FAILS(proto_random_stats_spec, proto_decode_random_stats_spec,
+                 "{\"family\":\"P(1,1,4)\",\"metrics\":{}}", AA_EINVAL, "metrics");
+    DECODE_FAILS(proto_table3_spec, proto_decode_table3_spec,
+                 "{\"family\":\"P(1,1,4)\",\"metrics\":[\"fft\"]}", AA_EINVAL, "metrics[0]");
+    /* 8 seeds x 1000 x 2 distributions by default: over the 10,000 patterns */
+    DECODE_FAILS(proto_table3_spec, proto_decode_table3_spec,
+                 "{\"family\":\"P(1,1,4)\",\"metrics\":[\"mixture\"]}", AA_EINVAL, "metrics");
+
+    proto_point_metrics_spec ms = {{AA_PM_MIXTURE, AA_PM_OSCILLATION}, 2};
+    proto_point_metrics pm;
+    assert_int_equal(proto_point_metrics_init(&pm, &ms, 5, &err), AA_OK);
+    const double e2[5] = {0.5, 0.7, 0.6, 0.9, 0.8};
+    const double mix[5] = {0.1, 0.3, 0.2, 0.5, 0.4}, osc[5] = {1, NAN, 3, 2, 2};
+    json_t *cols = json_pack("{s:[f,f,f,f,f],s:[f,f,f,f,f],s:[f,n,f,f,f]}", "e2", e2[0], e2[1],
+                             e2[2], e2[3], e2[4], "mixture", mix[0], mix[1], mix[2], mix[3], mix[4],
+                             "oscillation", osc[0], osc[2], osc[3], osc[4]);
+    assert_int_equal(proto_point_metrics_append(&pm, cols, "x", &err), AA_OK);
+    /* a shard's columns missing a figure are refused, naming the field given */
+    json_object_del(cols, "oscillation");
+    assert_int_equal(proto_point_metrics_append(&pm, cols, "output[1]", &err), AA_EINVAL);
+    assert_string_equal(err.field, "output[1]");
+    json_decref(cols);
+    assert_int_equal(proto_point_metrics_rank(&pm, &err), AA_OK);
+    assert_true(fabs(pm.rho[0].rho - 1) < 1e-15 && pm.rho[0].n == 5);
+    assert_int_equal(pm.rho[1].n, 4); /* the NaN pattern is left out */
+    proto_random_stats_result r = {.distribution = AA_SEED_UNIFORM, .count = 5};
+    snprintf(r.family, sizeof r.family, "P(1,1,4)");
+    preset_pattern("rgss", &r.best_random);
+    preset_pattern("rgss", &r.opt_w.pattern);
+    preset_pattern("rgss", &r.opt_wp.pattern);
+    r.point_metrics = pm;
+    j = proto_encode_random_stats_result(&r);
+    const json_t *b = json_object_get(j, "point_metrics");
+    assert_true(json_is_null(
+        json_array_get(json_object_get(json_object_get(b, "patterns"), "oscillation"), 1)));
+    assert_int_equal(json_integer_value(json_object_get(b, "spectrum_radius")), 32);
+    json_decref(j);
+    ROUND_TRIP_ONLY(proto_random_stats_result, proto_encode_random_stats_result,
+                    proto_decode_random_stats_result, proto_random_stats_result_free, &r);
+    proto_random_stats_result_free(&r);
+}
+
 static void test_preset_suggestions(void **state)
 {
     (void)state;
@@ -456,6 +515,7 @@ int main(void)
         cmocka_unit_test(test_optimize_scene_objective),
         cmocka_unit_test(test_sweep_and_stats_result),
         cmocka_unit_test(test_preset_suggestions),
+        cmocka_unit_test(test_point_metrics_codecs),
         cmocka_unit_test(test_budget_and_reproducibility),
         cmocka_unit_test(test_table3_codecs),
     };

@@ -373,3 +373,69 @@ def test_job_repr_says_kind_and_state_before_any_attribute(client, opt_job):
     """Issue 34: client.job(ID) printed "<aalab.Job N ? ?>" until an attribute was read."""
     fresh = client.job(opt_job.id)
     assert repr(fresh) == "<aalab.Job %d optimize done>" % opt_job.id
+
+
+def _ranks(v):
+    order = sorted(range(len(v)), key=lambda i: v[i])
+    r = [0.0] * len(v)
+    i = 0
+    while i < len(v):
+        j = i
+        while j + 1 < len(v) and v[order[j + 1]] == v[order[i]]:
+            j += 1
+        for k in range(i, j + 1):
+            r[order[k]] = (i + j) / 2 + 1
+        i = j + 1
+    return r
+
+
+def _spearman(x, y):
+    rx, ry = _ranks(x), _ranks(y)
+    mx, my = sum(rx) / len(rx), sum(ry) / len(ry)
+    sxy = sum((a - mx) * (b - my) for a, b in zip(rx, ry))
+    sxx = sum((a - mx) ** 2 for a in rx)
+    syy = sum((b - my) ** 2 for b in ry)
+    return sxy / (sxx * syy) ** 0.5
+
+
+def test_random_stats_point_metrics(client):
+    """Issue 31: figures per random pattern and rho with E2, checked against the job's own
+    columns (ranks computed here) and against POST /v1/analyze of the best random pattern."""
+    names = ["mixture", "star_linf", "mean_nn_distance"]
+    job = client.submit({"kind": "random-stats", "family": "P(1,1,4)", "count": 60,
+                         "max_iterations": 20, "metrics": names}).wait(progress=False)
+    pm = job.point_metrics
+    assert isinstance(pm, aalab.PointMetrics)
+    assert pm.metrics == names and len(pm.e2) == 60
+    for m in names:
+        s = pm.spearman[m]
+        assert isinstance(s, aalab.Spearman) and s.n == 60 and 0 <= s.p_value <= 1
+        assert s.rho == pytest.approx(_spearman(list(pm.values[m]), list(pm.e2)), abs=1e-12)
+    assert pm.spearman["mixture"].rho > 0.5  # the study: 0.88 over 1000 uniform patterns
+    assert [r["metric"] for r in pm.rows()] == names
+    best = int(np.argmin(pm.e2))
+    assert pm.e2[best] == job.result["random"]["min"]
+    a = client.analyze(job.result["best_random"], metrics=["discrepancy", "star_discrepancy",
+                                                           "spacing"])
+    assert pm.values["mixture"][best] == pytest.approx(a.discrepancy["mixture"], rel=1e-12)
+    assert pm.values["star_linf"][best] == pytest.approx(a.discrepancy["star_linf"], rel=1e-12)
+    assert pm.values["mean_nn_distance"][best] == pytest.approx(
+        a.spacing["mean_nn_distance"], rel=1e-12)
+    # the same spec and rng_seed: the same figures
+    again = client.submit(dict(job.info["spec"])).wait(progress=False)
+    assert again.result["point_metrics"] == job.result["point_metrics"]
+    with pytest.raises(aalab.AalabError) as e:
+        client.submit({"kind": "random-stats", "family": "P(1,1,4)", "metrics": ["mixture", "x"]})
+    assert e.value.field == "metrics[1]"
+
+
+def test_table3_point_metrics(client):
+    job = client.submit({"kind": "table3", "family": "P(4,4,2)", "seeds": 2, "count": 6,
+                         "max_iterations": 10, "distributions": ["uniform", "lloyd"],
+                         "metrics": ["centered"]}).wait(progress=False)
+    pm = job.point_metrics
+    assert set(pm) == {"uniform", "lloyd"}
+    for d in pm.values():
+        assert len(d.e2) == 12 and d.spearman["centered"].n == 12
+        assert d.spearman["centered"].rho == pytest.approx(
+            _spearman(list(d.values["centered"]), list(d.e2)), abs=1e-12)

@@ -178,7 +178,15 @@ static void same_key(const json_t *a, const json_t *b, const char *key)
     free(tb);
 }
 
+static void check_kind_key(const char *kind, const char *spec, const char *extra);
+
 static void check_kind(const char *kind, const char *spec)
+{
+    check_kind_key(kind, spec, NULL);
+}
+
+/* The same, and the result's member extra (when given) alike too. */
+static void check_kind_key(const char *kind, const char *spec, const char *extra)
 {
     const job_kind *k = job_kind_find(kind);
     assert_non_null(k);
@@ -188,6 +196,10 @@ static void check_kind(const char *kind, const char *spec)
     assert_non_null(local);
     same_key(local, workers, "best");
     same_key(local, workers, "e2");
+    if (extra) {
+        assert_non_null(json_object_get(local, extra));
+        same_key(local, workers, extra);
+    }
     assert_true(json_is_object(json_object_get(workers, "best")));
     json_decref(local);
     json_decref(workers);
@@ -210,6 +222,25 @@ static void random_stats_shards_merge_to_the_local_run(void **state)
 {
     (void)state;
     check_kind("random-stats", "{\"family\":\"P(1,4,2)\",\"count\":40,\"max_iterations\":60}");
+}
+
+/* Issue 31: the point-set figures are computed by each worker, ranked after the merge. */
+static void random_stats_metrics_merge_to_the_local_run(void **state)
+{
+    (void)state;
+    check_kind_key("random-stats",
+                   "{\"family\":\"P(1,1,4)\",\"count\":40,\"max_iterations\":30,"
+                   "\"metrics\":[\"centered\",\"star_linf\",\"min_distance\"]}",
+                   "point_metrics");
+}
+
+static void table3_metrics_merge_to_the_local_run(void **state)
+{
+    (void)state;
+    check_kind_key("table3",
+                   "{\"family\":\"P(4,4,2)\",\"seeds\":2,\"count\":8,\"max_iterations\":30,"
+                   "\"metrics\":[\"wrap_around\"]}",
+                   "rows");
 }
 
 static void table3_shards_merge_to_the_local_run(void **state)
@@ -325,6 +356,8 @@ int main(void)
         cmocka_unit_test(optimize_shards_merge_to_the_local_run),
         cmocka_unit_test(family_sweep_shards_merge_to_the_local_run),
         cmocka_unit_test(random_stats_shards_merge_to_the_local_run),
+        cmocka_unit_test(random_stats_metrics_merge_to_the_local_run),
+        cmocka_unit_test(table3_metrics_merge_to_the_local_run),
         cmocka_unit_test(table3_shards_merge_to_the_local_run),
         cmocka_unit_test(bad_task_is_65_naming_the_field),
         cmocka_unit_test(unwritable_output_is_73),

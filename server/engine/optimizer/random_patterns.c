@@ -21,6 +21,19 @@ int aa_random_patterns_range_radius(const aa_family *family, aa_seed_kind kind,
                                     aa_pattern *best, size_t *best_index, aa_random_stats *stats,
                                     aa_error *err)
 {
+    return aa_random_patterns_range_visit(family, kind, poisson_radius, metric, rng_seed, first,
+                                          count, progress, user, NULL, NULL, e2, best, best_index,
+                                          stats, err);
+}
+
+int aa_random_patterns_range_visit(const aa_family *family, aa_seed_kind kind,
+                                   double poisson_radius, const aa_metric_params *metric,
+                                   uint64_t rng_seed, size_t first, size_t count,
+                                   aa_random_progress_fn progress, void *user,
+                                   aa_random_visit_fn visit, void *visit_user, double *e2,
+                                   aa_pattern *best, size_t *best_index, aa_random_stats *stats,
+                                   aa_error *err)
+{
     memset(best, 0, sizeof *best);
     *best_index = SIZE_MAX;
     *stats = (aa_random_stats){0, INFINITY, NAN, -INFINITY};
@@ -36,6 +49,11 @@ int aa_random_patterns_range_radius(const aa_family *family, aa_seed_kind kind,
         aa_evaluation ev;
         if (!rc)
             rc = aa_evaluate(&p, metric, &ev, err);
+        if (!rc && visit) {
+            rc = visit(visit_user, i, &p, ev.e2, err);
+            if (rc)
+                aa_evaluation_free(&ev);
+        }
         if (rc) {
             aa_pattern_free(&p);
             break;

@@ -38,6 +38,18 @@ int aa_random_patterns_range_radius(const aa_family *family, aa_seed_kind kind,
                                     aa_random_progress_fn progress, void *user, double *e2,
                                     aa_pattern *best, size_t *best_index, aa_random_stats *stats,
                                     aa_error *err);
+/* Called with each pattern (local index i) and its E2 once evaluated, e.g. to take its
+ * point-set figures; a nonzero return (an AA_E* code, err filled) ends the run with it. */
+typedef int (*aa_random_visit_fn)(void *user, size_t i, const aa_pattern *p, double e2,
+                                  aa_error *err);
+/* The same, visiting every pattern (visit may be NULL). */
+int aa_random_patterns_range_visit(const aa_family *family, aa_seed_kind kind,
+                                   double poisson_radius, const aa_metric_params *metric,
+                                   uint64_t rng_seed, size_t first, size_t count,
+                                   aa_random_progress_fn progress, void *user,
+                                   aa_random_visit_fn visit, void *visit_user, double *e2,
+                                   aa_pattern *best, size_t *best_index, aa_random_stats *stats,
+                                   aa_error *err);
 /* min / avg / max of E2 values in order (avg as a running sum divided by the count, the way
  * aa_random_patterns_range computes it). */
 aa_random_stats aa_random_stats_of(const double *e2, size_t count);

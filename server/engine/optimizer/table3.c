@@ -101,9 +101,10 @@ int aa_table3_cell_run(const aa_family *family, aa_seed_kind kind, const aa_metr
     memset(out, 0, sizeof *out);
     out->opt_w = out->opt_wp = NAN;
     relay rl = {progress, user, 0, params->count};
-    int rc = aa_random_patterns_range_radius(
-        family, kind, params->poisson_radius, metric, rng_seed, 0, params->count, relay_random, &rl,
-        NULL, &out->best_random, &out->best_index, &out->random, err);
+    int rc = aa_random_patterns_range_visit(family, kind, params->poisson_radius, metric, rng_seed,
+                                            0, params->count, relay_random, &rl, params->visit,
+                                            params->visit_user, NULL, &out->best_random,
+                                            &out->best_index, &out->random, err);
     if (rc)
         return rc;
     aa_pattern w;

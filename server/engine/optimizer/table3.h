@@ -31,6 +31,9 @@ typedef struct aa_table3_params {
     long max_iterations;   /* Opt W+P steps, descent and search together; 0: none */
     int opt_wp_method;     /* an aa_optimize_method for Opt W+P; -1 (default): aa_auto_method */
     aa_clock clock;
+    /* Optional: called with every random pattern (aa_random_patterns_range_visit). */
+    aa_random_visit_fn visit;
+    void *visit_user;
 } aa_table3_params;
 void aa_table3_params_default(aa_table3_params *p);
 

@@ -7,7 +7,7 @@ import { assert, eventually } from '../lib/check.mjs';
 
 const SPECS = {
   'family-sweep': { kind: 'family-sweep', cost: 1.25, seeds_per_config: 1, max_seconds: 1, rng_seed: 3 },
-  'random-stats': { kind: 'random-stats', family: 'P(1,4,2)', count: 20, max_seconds: 1, rng_seed: 3 },
+  'random-stats': { kind: 'random-stats', family: 'P(1,4,2)', count: 20, max_seconds: 1, rng_seed: 3, metrics: ['mixture', 'star_linf'] },
   table3: { kind: 'table3', family: 'P(4,4,2)', seeds: 2, count: 10, max_iterations: 30, rng_seed: 3 },
   compare: { kind: 'compare', scene: { name: 'siemens-star', width: 32, height: 32 }, reference: { spp: 64 }, patterns: [{ preset: 'centroid' }, { preset: 'quincunx' }, { preset: 'rgss' }] },
   animation: { kind: 'animation', scene: { name: 'rotating-triangle', frames: 3, width: 32, height: 32 }, reference: { spp: 64 }, pattern: { preset: 'rgss' } },
@@ -91,6 +91,10 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
     const [row] = await cells(page, '#jd-stats-table');
     const want = [r.family, r.distribution, ...[r.random.min, r.random.avg, r.random.max, r.opt_w.e2, r.opt_wp.e2].map((v) => v.toFixed(4))];
     assert(JSON.stringify(row) === JSON.stringify(want), `row ${JSON.stringify(row)}, API ${JSON.stringify(want)}`);
+    // issue 31: the spec's metrics, Spearman's rho of each figure with E2 as the API
+    const rho = await cells(page, '#jd-point-metrics');
+    const wantRho = r.point_metrics.spearman.map((e) => [e.metric, e.rho.toFixed(3), String(e.n)]);
+    assert(JSON.stringify(rho.map((x) => x.slice(0, 3))) === JSON.stringify(wantRho), `rho ${JSON.stringify(rho)}, API ${JSON.stringify(wantRho)}`);
     await shot('jobs-random-stats');
   });
 

@@ -70,6 +70,28 @@ function randomStats(holder, job) {
       rows: [[x.family, x.distribution, fmt(x.min, 4), fmt(x.avg, 4), fmt(x.max, 4), link('opt_w', x.optW), link('opt_wp', x.optWP)]],
     }),
   );
+  pointMetrics(holder, [[null, job.result.point_metrics]]);
+}
+
+/* Spearman's ρ of each point-set figure with E2 over the random patterns, when the spec asked
+ * for metrics (point_metrics.json): one table, a row per figure (and distribution for table3). */
+function pointMetrics(holder, blocks) {
+  const rows = [];
+  for (const [label, pm] of blocks) {
+    for (const e of (pm && pm.spearman) || []) {
+      const p = e.p_value == null ? null : (e.p_value === 0 || e.p_value >= 1e-3 ? e.p_value.toPrecision(2) : e.p_value.toExponential(1));
+      rows.push([...(label == null ? [] : [label]), e.metric, fmt(e.rho, 3), String(e.n), p]);
+    }
+  }
+  if (!rows.length) return;
+  const labelled = blocks.some(([label]) => label != null);
+  holder.append(table({
+    id: 'jd-point-metrics',
+    caption: 'Spearman ρ of each point-set figure with E2 over the random patterns',
+    head: [...(labelled ? ['Distribution'] : []), 'Figure', 'ρ', 'n', 'p-value'],
+    numericFrom: labelled ? 2 : 1,
+    rows,
+  }));
 }
 
 /* table3: the paper's table with a ± column after each figure (sd over the seeds) and, under
@@ -88,6 +110,7 @@ function table3(holder, job) {
     node('p', { className: 'hint', text: `Laine & Aila Table 3 for ${x.family} over ${x.seeds.length} rng_seeds (${x.seeds.join(', ')}), ${x.count} random patterns each: mean ± sample standard deviation over the seeds, the paper's values below. Generators: ${gens}. Acuity ${x.acuity}.` }),
     table({ id: 'jd-table3', caption: 'Table 3: E2 mean ± sd over seeds, beside the paper', head, rows }),
   );
+  pointMetrics(holder, (job.result.rows || []).map((r) => [r.distribution, r.point_metrics]));
 }
 
 /* Comparison rows as RMSE and E2 against samples per pixel (a pattern's cost; its CPU render

@@ -9,5 +9,6 @@
 #include "../fork_join.h"
 #include "../gauss_legendre.h"
 #include "../rng.h"
+#include "../spearman.h"
 
 #endif

@@ -11,5 +11,6 @@
 #include "../presets.h"
 #include "../enumerate.h"
 #include "../point_set.h"
+#include "../point_metrics.h"
 
 #endif
