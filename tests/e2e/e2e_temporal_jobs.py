@@ -13,8 +13,12 @@ docs/temporal.md sections 6-7) against a running aalabd:
   400 naming the field where a format makes no sense.
 Every answer is checked against its JSON Schema (e2e_lib's response check)."""
 
+import json
 import os
+import shutil
+import subprocess
 import sys
+import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -126,18 +130,108 @@ BAD = [
     ({"kind": "optimize", "pattern": {"temporal": {"preset": "halton23-8"}}}, "pattern.temporal"),
     ({"kind": "compare", "patterns": [{"temporal": {"preset": "halton23-8"}}]},
      "patterns[0].temporal"),
+    ({"kind": "optimize", "family": "T(8)"}, "family"),
+    ({"kind": "random-stats", "family": "T(8)"}, "family"),
+    ({"kind": "table3", "family": "T(8)"}, "family"),
 ]
 
 
 def test_bad(d):
     for body, field in BAD:
-        expect_error(d.post("/v1/jobs", body), 400, field)
+        e = expect_error(d.post("/v1/jobs", body), 400, field)
+        if body["kind"] != "temporal-optimize" and field == "family":
+            check("temporal-optimize" in e["message"], e)
+
+
+def export(d, body):
+    return d.post("/v1/patterns/export", body)
+
+
+def test_exports(d):
+    h8 = {"temporal": {"preset": "halton23-8"}}
+    ev = evaluate(d, h8)
+    # json: the explicit form, which evaluates to the same figures bit for bit.
+    r = export(d, {"pattern": h8, "format": "json"})
+    check(r.status == 200, r)
+    p = r.json()["pattern"]
+    check(len(p["temporal"]["jitter"]) == 8 and p["temporal"]["blend"]["alpha"] == 0.1, p)
+    ev2 = evaluate(d, p)
+    check(ev2["e2"] == ev["e2"] and ev2["f2"] == ev["f2"], (ev, ev2))
+    # jitter-c / jitter-hlsl: the offsets (Halton(2,3) index 1: (0, -1/6)), alpha, age weights,
+    # and the exact wire form on the first line.
+    for fmt, needle in (("jitter-c", "static const float aalab_jitter[AALAB_JITTER_COUNT][2]"),
+                        ("jitter-hlsl", "static const float2 AalabJitter[8]")):
+        r = export(d, {"pattern": h8, "format": fmt})
+        check(r.status == 200 and r.headers.get("content-type", "").startswith("text/plain"), r)
+        check(needle in r.body and "0.1" in r.body and "-0.166666667" in r.body, r.body[:600])
+        first = r.body.splitlines()[0]
+        check(first.startswith("// aalab-temporal "), first)
+        wire = json.loads(first[len("// aalab-temporal "):])
+        check(evaluate(d, wire)["e2"] == ev["e2"], "jitter-c wire form")
+        if fmt == "jitter-c" and shutil.which("cc"):
+            with tempfile.NamedTemporaryFile("w", suffix=".c") as src:
+                src.write(r.body + "int main(void) { return (int)(aalab_jitter[1][0] * 4 + "
+                          "aalab_blend_alpha * aalab_age_weight[0]); }\n")
+                src.flush()
+                cc = subprocess.run(["cc", "-std=c11", "-Wall", "-Werror", "-fsyntax-only",
+                                     src.name], capture_output=True, text=True)
+                check(cc.returncode == 0, cc.stderr)
+    box = export(d, {"pattern": {"temporal": {"jitter": [[0, 0], [0.25, 0.25]],
+                                              "blend": {"kind": "box"}}}, "format": "jitter-c"})
+    check(box.status == 200 and "AALAB_BLEND_BOX" in box.body, box)
+    # A phase's kernels in the point formats: phase 0 of a box blend over the D3D 4x positions is
+    # the D3D 4x kernel, whose csv evaluates to the spatial E2.
+    d3d = {"temporal": {"jitter": {"generator": "preset", "preset": "d3d-4x"},
+                        "blend": {"kind": "box"}}}
+    r = export(d, {"pattern": d3d, "format": "csv", "phase": 0})
+    check(r.status == 200, r)
+    e_csv = d.post("/v1/evaluate", {"pattern": {"points": {"format": "csv", "text": r.body}}})
+    spatial = evaluate(d, {"preset": "d3d-4x"})
+    check(e_csv.status == 200 and abs(e_csv.json()["e2"] - spatial["e2"]) < 1e-12,
+          (e_csv, spatial["e2"]))
+    r = export(d, {"pattern": h8, "format": "xyw", "phase": 3})
+    check(r.status == 200 and len([x for x in r.body.splitlines() if not x.startswith("#")]) == 8,
+          r)
+    # A job's best, by GET and by reference.
+    j = run_job(d, dict(T8, seeds=1, max_iterations=2))
+    r = d.get("/v1/patterns/%d/export?format=json" % j["id"])
+    check(r.status == 200 and r.json()["job"] == j["id"] and
+          r.json()["pattern"] == j["result"]["best"], r)
+    r = d.get("/v1/patterns/%d/export?format=jitter-hlsl" % j["id"])
+    check(r.status == 200 and "AalabJitter" in r.body, r)
+    r = d.get("/v1/patterns/%d/export?format=utk&phase=7" % j["id"])
+    check(r.status == 200, r)
+    expect_error(d.get("/v1/patterns/%d/export?format=utk" % j["id"]), 400, "phase")
+    expect_error(d.get("/v1/patterns/%d/export?format=utk&phase=8" % j["id"]), 400, "phase")
+    expect_error(d.get("/v1/patterns/%d/export?format=csv&phase=x" % j["id"]), 400, "phase")
+    expect_error(d.get("/v1/patterns/%d/export?format=vulkan" % j["id"]), 400, "format")
+    r = export(d, {"pattern": {"job": j["id"]}, "format": "jitter-c"})
+    check(r.status == 200 and "aalab_jitter" in r.body, r)
+    # Where it makes no sense: 400 naming the field.
+    for body, field in (
+            ({"pattern": h8, "format": "vulkan"}, "format"),
+            ({"pattern": h8, "format": "d3d12"}, "format"),
+            ({"pattern": h8, "format": "csv"}, "phase"),
+            ({"pattern": h8, "format": "csv", "phase": 8}, "phase"),
+            ({"pattern": h8, "format": "csv", "phase": -1}, "phase"),
+            ({"pattern": h8, "format": "csv", "phase": 1.5}, "phase"),
+            ({"pattern": h8, "format": "json", "phase": 0}, "phase"),
+            ({"pattern": h8, "format": "jitter-c", "phase": 0}, "phase"),
+            ({"pattern": h8, "format": "bogus"}, "format"),
+            ({"pattern": {"preset": "rgss"}, "format": "jitter-c"}, "format"),
+            ({"pattern": {"preset": "rgss"}, "format": "csv", "phase": 0}, "phase"),
+            ({"pattern": {"temporal": {"preset": "nope"}}, "format": "json"},
+             "pattern.temporal.preset")):
+        expect_error(export(d, body), 400, field)
+    expect_error(d.get("/v1/patterns/%d/export?format=bogus" % j["id"]), 400, "format")
+    print("exports: json, jitter-c, jitter-hlsl, per-phase point formats ok")
 
 
 def main():
     d = Daemon(sys.argv[1], tcp=False).start()
     try:
         test_bad(d)
+        test_exports(d)
         test_jobs(d)
     except BaseException:
         print(d.log_text()[-4000:])
