@@ -7,9 +7,11 @@
  * `bench_temporal S L gaussian` also optimizes under the urp-like Gaussian resolve, and
  * `bench_temporal S L gaussian 16` also on a grid of 1/16 pixel;
  * `bench_temporal grid S` also runs N = 4, 8, 16 at alpha 0.05, 0.1, 0.2 for S seconds
- * each, without and with that resolve.
+ * each, without and with that resolve; `bench_temporal constrained S T` searches, on T threads
+ * for S seconds, for E2 <= 0.31 with F2 no higher than Halton's (constrained() below).
  * The sequences are generated as the presets of proto/temporal_presets.c state them. */
 #include <math.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -155,6 +157,124 @@ static void optimize(size_t n, double alpha, double seconds, double lambda, bool
     aa_temporal_evaluation_free(&ev_o);
 }
 
+/* The constrained search (`bench_temporal constrained S [threads]`): E2 <= 0.31 with F2 no
+ * higher than Halton's at N = 8, alpha 0.1, no resolve. Each thread repeats, until S seconds:
+ * one E2-only start from a uniform random sequence (seed k), then a schedule of descents from
+ * it with the objective E2 + lambda max(0, F2 - cap), lambda = 2, 5, 10, 20, 50, 100, cap =
+ * 0.99 x Halton's F2 (a margin: the descent's power mean of F1 is below its maximum). The best
+ * sequence with F2 <= Halton's wins. */
+typedef struct constrained_job {
+    double seconds, cap, halton_f2, t0;
+    int thread, threads;
+    aa_point best[8];
+    double best_e2, best_f2, best_any_e2, best_any_f2;
+    long candidates, feasible;
+} constrained_job;
+
+static double exact_f2(const aa_point *j, aa_blend blend, double *e2)
+{
+    aa_temporal t;
+    aa_temporal_evaluation ev;
+    aa_temporal_spec spec = {.count = 8, .jitter = j, .blend = blend};
+    aa_error err = {0};
+    if (aa_temporal_build(&t, &spec, &err) || aa_temporal_evaluate(&t, &mp, 1, &ev, &err))
+        die("f2", &err);
+    double f2 = ev.f2;
+    *e2 = ev.e2;
+    aa_temporal_evaluation_free(&ev);
+    aa_temporal_free(&t);
+    return f2;
+}
+
+static void *constrained_thread(void *arg)
+{
+    constrained_job *cj = arg;
+    aa_blend blend = {AA_BLEND_EXPONENTIAL, 0.1};
+    const double lambdas[] = {2, 5, 10, 20, 50, 100};
+    cj->best_e2 = cj->best_any_e2 = INFINITY;
+    for (uint64_t k = (uint64_t)cj->thread; aa_monotonic_seconds() - cj->t0 < cj->seconds;
+         k += (uint64_t)cj->threads) {
+        aa_point x[8], y[8];
+        aa_error err = {0};
+        aa_temporal_opt_params p = {
+            .count = 8, .blend = blend, .range = 1, .metric = &mp, .max_starts = 1, .seed = k};
+        aa_temporal_opt_result r;
+        if (aa_temporal_optimize(&p, x, &r, &err))
+            die("constrained e2", &err);
+        p.start = x;
+        p.flicker_cap = cj->cap;
+        for (size_t l = 0; l < sizeof lambdas / sizeof *lambdas; l++) {
+            p.flicker_weight = lambdas[l];
+            if (aa_temporal_optimize(&p, y, &r, &err))
+                die("constrained", &err);
+            memcpy(x, y, sizeof x);
+            double e2, f2 = exact_f2(x, blend, &e2);
+            cj->candidates++;
+            if (e2 < cj->best_any_e2 && f2 <= 1.05 * cj->halton_f2) {
+                cj->best_any_e2 = e2;
+                cj->best_any_f2 = f2;
+            }
+            if (f2 <= cj->halton_f2) {
+                cj->feasible++;
+                if (e2 < cj->best_e2) {
+                    cj->best_e2 = e2;
+                    cj->best_f2 = f2;
+                    memcpy(cj->best, x, sizeof x);
+                }
+                break; /* feasible: a larger lambda only trades E2 away */
+            }
+        }
+    }
+    return NULL;
+}
+
+static void constrained(double seconds, int threads)
+{
+    aa_point h[8];
+    halton(h, 8, 1);
+    aa_blend blend = {AA_BLEND_EXPONENTIAL, 0.1};
+    double halton_e2, halton_f2 = exact_f2(h, blend, &halton_e2);
+    constrained_job jobs[8];
+    pthread_t tid[8];
+    threads = threads < 1 ? 1 : threads > 8 ? 8 : threads;
+    double t0 = aa_monotonic_seconds();
+    for (int i = 0; i < threads; i++) {
+        jobs[i] = (constrained_job){.seconds = seconds,
+                                    .cap = 0.99 * halton_f2,
+                                    .halton_f2 = halton_f2,
+                                    .t0 = t0,
+                                    .thread = i,
+                                    .threads = threads};
+        pthread_create(&tid[i], NULL, constrained_thread, &jobs[i]);
+    }
+    constrained_job *win = NULL;
+    long candidates = 0, feasible = 0;
+    double any_e2 = INFINITY, any_f2 = 0;
+    for (int i = 0; i < threads; i++) {
+        pthread_join(tid[i], NULL);
+        candidates += jobs[i].candidates;
+        feasible += jobs[i].feasible;
+        if (!win || jobs[i].best_e2 < win->best_e2)
+            win = &jobs[i];
+        if (jobs[i].best_any_e2 < any_e2) {
+            any_e2 = jobs[i].best_any_e2;
+            any_f2 = jobs[i].best_any_f2;
+        }
+    }
+    printf("constrained N8 a0.1, %d threads, %.1f s: Halton E2 %.4f F2 %.4f; best with F2 <= "
+           "Halton's: E2 %.4f F2 %.4f (ratio %.3f / %.3f); %ld candidates, %ld feasible; best "
+           "with F2 <= 1.05 x Halton's: E2 %.4f F2 %.4f\n",
+           threads, aa_monotonic_seconds() - t0, halton_e2, halton_f2, win->best_e2, win->best_f2,
+           win->best_e2 / halton_e2, win->best_f2 / halton_f2, candidates, feasible, any_e2,
+           any_f2);
+    if (isfinite(win->best_e2)) {
+        printf("  offsets:");
+        for (size_t f = 0; f < 8; f++)
+            printf(" (%.17g, %.17g)", win->best[f].x, win->best[f].y);
+        printf("\n");
+    }
+}
+
 int main(int argc, char **argv)
 {
     aa_filter_default(&filter);
@@ -167,6 +287,10 @@ int main(int argc, char **argv)
         die("gaussian", &err);
     presets();
     printf("\n");
+    if (argc > 1 && !strcmp(argv[1], "constrained")) {
+        constrained(argc > 2 ? atof(argv[2]) : 60, argc > 3 ? atoi(argv[3]) : 2);
+        return 0;
+    }
     if (argc > 1 && !strcmp(argv[1], "grid")) {
         double s = argc > 2 ? atof(argv[2]) : 10;
         const size_t ns[] = {4, 8, 16};

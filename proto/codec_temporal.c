@@ -268,6 +268,64 @@ static int decode_object(const json_t *v, proto_temporal *out, const char *prefi
     return rc;
 }
 
+int proto_decode_temporal_object(const json_t *v, proto_temporal *out, const char *field_prefix,
+                                 aa_error *err)
+{
+    memset(out, 0, sizeof *out);
+    const char *prefix = field_prefix ? field_prefix : "";
+    if (!json_is_object(v))
+        return proto_fail(err, AA_EINVAL, prefix, "", "a temporal pattern is an object");
+    static const char *const keys[] = {"jitter",  "jitter_range", "blend", "frame_pattern",
+                                       "resolve", "cut_frames",   NULL};
+    int rc = proto_check_keys(v, keys, err, prefix);
+    if (!rc)
+        rc = decode_object(v, out, prefix, err);
+    if (rc)
+        proto_temporal_free(out);
+    return rc;
+}
+
+int proto_temporal_copy(const proto_temporal *t, proto_temporal *out, aa_error *err)
+{
+    *out = *t;
+    out->jitter = NULL;
+    out->has_frame = false;
+    int rc = alloc_jitter(out, t->count, err);
+    if (!rc)
+        memcpy(out->jitter, t->jitter, t->count * sizeof *t->jitter);
+    if (!rc && t->has_frame) {
+        if (aa_pattern_copy(&out->frame, &t->frame))
+            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        out->has_frame = !rc;
+    }
+    if (rc)
+        proto_temporal_free(out);
+    return rc;
+}
+
+json_t *proto_encode_temporal(const proto_temporal *t)
+{
+    json_t *jit = json_array();
+    for (size_t f = 0; jit && f < t->count; f++)
+        json_array_append_new(
+            jit, json_pack("[o,o]", proto_real(t->jitter[f].x), proto_real(t->jitter[f].y)));
+    json_t *blend = t->blend.kind == AA_BLEND_BOX ? json_pack("{s:s}", "kind", "box")
+                                                  : json_pack("{s:s,s:o}", "kind", "exponential",
+                                                              "alpha", proto_real(t->blend.alpha));
+    json_t *v = json_pack("{s:o,s:o,s:o}", "jitter", jit, "jitter_range",
+                          proto_real(t->jitter_range), "blend", blend);
+    if (v && t->has_frame)
+        json_object_set_new(v, "frame_pattern", proto_encode_pattern(&t->frame));
+    if (v && t->has_resolve)
+        json_object_set_new(v, "resolve",
+                            json_pack("{s:o,s:I}", "filter",
+                                      proto_encode_filter(&t->resolve.filter), "radius",
+                                      (json_int_t)t->resolve.radius));
+    if (v && t->cut_frames)
+        json_object_set_new(v, "cut_frames", json_integer((json_int_t)t->cut_frames));
+    return v ? json_pack("{s:o}", "temporal", v) : NULL;
+}
+
 int proto_decode_temporal(const json_t *j, proto_temporal *out, const char *field_prefix,
                           aa_error *err)
 {

@@ -30,8 +30,18 @@ typedef struct proto_temporal {
  * free (freeing is safe). */
 int proto_decode_temporal(const json_t *j, proto_temporal *out, const char *field_prefix,
                           aa_error *err);
+/* The inner temporal object v (the value of "temporal", without "preset"): what a job spec that
+ * gives a sequence's setting beside a family decodes (fields named relative to field_prefix). */
+int proto_decode_temporal_object(const json_t *v, proto_temporal *out, const char *field_prefix,
+                                 aa_error *err);
 aa_temporal_spec proto_temporal_spec(const proto_temporal *t);
 void proto_temporal_free(proto_temporal *t);
+/* A deep copy (out owns its jitter and frame pattern). */
+int proto_temporal_copy(const proto_temporal *t, proto_temporal *out, aa_error *err);
+/* The explicit wire form {"temporal": {"jitter": [[x, y], ...], "jitter_range", "blend",
+ * "frame_pattern"?, "resolve"?, "cut_frames"?}} that decodes back to the same kernels bit for
+ * bit (offsets as 17-digit numbers); NULL when out of memory. */
+json_t *proto_encode_temporal(const proto_temporal *t);
 
 /* The evaluate answer: E2 (worst phase), its argmax, the mean over phases, per phase E2 and E1
  * per group and angle, F2 and F1 per group and angle, the after-cut curve and frames to 5 %. */

@@ -72,6 +72,10 @@ int proto_spec_family(const json_t *spec, bool required, bool *present, aa_famil
         return rc;
     if (!text)
         return required ? aa_error_set(err, AA_EINVAL, "family", "family is required") : AA_OK;
+    /* T(N) names a temporal jitter sequence (docs/temporal.md), not a spatial family. */
+    if (!strncmp(text, "T(", 2))
+        return aa_error_set(err, AA_EINVAL, "family",
+                            "T(N) is a temporal family: the temporal-optimize kind optimises it");
     return aa_family_parse(text, out, err);
 }
 

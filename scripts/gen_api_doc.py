@@ -32,6 +32,8 @@ SUMMARY = {
                      ' .["opt_w"]["e2"], .["opt_wp"]["e2"]] | @tsv'),
     "table3": ('.["result"]["rows"][] | [.["distribution"], .["columns"]["opt_w"]["mean"],'
                ' .["columns"]["opt_w"]["sd"], .["columns"]["opt_wp"]["mean"]] | @tsv'),
+    "temporal-optimize": ('.["result"] | [.["e2"], .["mean_phase_e2"], .["f2"], .["family"],'
+                          ' .["seeds_run"]] | @tsv'),
     "compare": ('.["result"]["rows"][] | [.["name"], .["samples_per_pixel"], .["e2"], .["rmse"]]'
                 ' | @tsv'),
     "animation": '.["result"]["frames"][] | [.["frame"], .["rmse"], .["max_dev"]] | @tsv',

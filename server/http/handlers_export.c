@@ -5,19 +5,23 @@
  * F: json (aalab's pattern JSON, the default), utk, xyw, csv (text/plain point sets with the
  * "# aalab-pattern" header that reads back exactly), bin (UTK binary, the header as a trailer),
  * rps (PSA raw float32, application/octet-stream), points-json (the point-set JSON), vulkan,
- * d3d12, metal (programmable sample positions, or representable false with a reason). Formatting is
- * bounded by the codec's limits (4096 tile samples): no handler blocks. */
+ * d3d12, metal (programmable sample positions, or representable false with a reason); a temporal
+ * pattern's exports (json, jitter-c, jitter-hlsl, one phase in the point formats) are
+ * handlers_export_temporal.c's. Formatting is bounded by the codec's limits (4096 tile
+ * samples): no handler blocks. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "codec.h"
+#include "export_temporal.h"
 #include "handlers.h"
+#include "handlers_export_temporal.h"
 #include "job_access.h"
 #include "job_manager.h"
 #include "pointset.h"
 
-static const char *const export_keys[] = {"pattern", "format", "filter", NULL};
+static const char *const export_keys[] = {"pattern", "format", "filter", "phase", NULL};
 
 /* Answers p in format (already validated); job > 0 is named in the json answer. */
 static void reply_export(api_response *resp, const aa_pattern *p, proto_export_kind kind,
@@ -54,13 +58,17 @@ static void reply_export(api_response *resp, const aa_pattern *p, proto_export_k
 void handle_export(api_context *ctx, const api_request *req, api_response *resp,
                    const char *id_text)
 {
-    char fmt[16];
+    char fmt[16], ph[24];
     const char *format = api_query_get(req->query, "format", fmt, sizeof fmt);
     proto_export_kind kind = PROTO_EXPORT_PATTERN;
     proto_points_format points = PROTO_POINTS_UTK;
-    if (format && !proto_export_format_parse(format, &kind, &points)) {
-        api_reply_wire(resp, WIRE_INVALID_FIELD, "format", "format must be %s",
-                       PROTO_EXPORT_FORMATS);
+    /* A temporal job's best and the jitter formats are export_temporal_answer's. */
+    const char *phase_text = api_query_get(req->query, "phase", ph, sizeof ph);
+    bool jitter_format = false;
+    if (format && !proto_export_format_parse(format, &kind, &points) &&
+        !proto_jitter_format_parse(format, &jitter_format)) {
+        api_reply_wire(resp, WIRE_INVALID_FIELD, "format", "format must be %s, %s",
+                       PROTO_EXPORT_FORMATS, PROTO_JITTER_FORMATS);
         return;
     }
     long long id = api_parse_job_id(id_text);
@@ -72,6 +80,17 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
     if (!pj) {
         api_reply_wire(resp, strcmp(why, "no such job") ? WIRE_CONFLICT : WIRE_NOT_FOUND, "id",
                        "job %.40s: %s", id_text, why);
+        return;
+    }
+    char *end = NULL;
+    long long pv = phase_text ? strtoll(phase_text, &end, 10) : 0;
+    json_t *phase = !phase_text                  ? NULL
+                    : end != phase_text && !*end ? json_integer((json_int_t)pv)
+                                                 : json_string(phase_text);
+    bool answered = export_temporal_answer(resp, pj, format, phase, id);
+    json_decref(phase);
+    if (answered) {
+        json_decref(pj);
         return;
     }
     aa_pattern p;
@@ -106,13 +125,21 @@ void handle_export_post(api_context *ctx, const api_request *req, api_response *
     int rc = AA_OK;
     if (!fj)
         rc = aa_error_set(&err, AA_EINVAL, "format", "is required: %s", PROTO_EXPORT_FORMATS);
-    else if (!json_is_string(fj) ||
-             !proto_export_format_parse(json_string_value(fj), &kind, &points))
+    else if (!json_is_string(fj))
         rc = aa_error_set(&err, AA_EINVAL, "format", "must be %s", PROTO_EXPORT_FORMATS);
     if (!rc && !json_object_get(body, "pattern"))
         rc = aa_error_set(&err, AA_EINVAL, "pattern", "pattern is required");
     if (!rc)
         rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
+    /* A temporal pattern, a jitter format or a phase: export_temporal_answer's. */
+    if (!rc && export_temporal_answer(resp, json_object_get(body, "pattern"), json_string_value(fj),
+                                      json_object_get(body, "phase"), 0)) {
+        json_decref(body);
+        return;
+    }
+    if (!rc && !proto_export_format_parse(json_string_value(fj), &kind, &points))
+        rc = aa_error_set(&err, AA_EINVAL, "format", "must be %s, %s", PROTO_EXPORT_FORMATS,
+                          PROTO_JITTER_FORMATS);
     aa_filter filter;
     if (!rc)
         rc = proto_decode_filter(json_object_get(body, "filter"), &filter, "filter", &err);

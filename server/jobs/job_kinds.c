@@ -54,6 +54,17 @@ static const job_kind table[] = {
      .free_result = kind_table3_free_result,
      .best_of = kind_table3_best_of,
      .split = &kind_table3_split},
+    {.name = "temporal-optimize",
+     .summary = "Multi-start optimisation of a TAA jitter sequence (a family T(N), or a given "
+                "temporal pattern) for the smallest worst-phase E2, optionally plus lambda F2.",
+     .decode = kind_temporal_optimize_decode,
+     .free_params = kind_temporal_optimize_free,
+     .spec_family = kind_temporal_optimize_family,
+     .max_seconds = kind_temporal_optimize_max_seconds,
+     .run = kind_temporal_optimize_run,
+     .encode_result = kind_temporal_optimize_encode_result,
+     .free_result = kind_temporal_optimize_free_result,
+     .best_of = kind_temporal_optimize_best_of},
     {.name = "compare",
      .summary = "Renders one scene with several patterns and tabulates samples per pixel, E2, "
                 "RMSE and max deviation against a supersampled reference.",

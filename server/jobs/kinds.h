@@ -22,6 +22,7 @@ JOB_KIND_FUNCTIONS(kind_compare);
 JOB_KIND_FUNCTIONS(kind_animation);
 JOB_KIND_FUNCTIONS(kind_reference_convergence);
 JOB_KIND_FUNCTIONS(kind_sleep);
+JOB_KIND_FUNCTIONS(kind_temporal_optimize);
 
 /* decode and free of a kind whose spec is a proto struct `type` with a proto decoder and free:
  * the spec struct is the kind's params. */
@@ -113,6 +114,10 @@ json_t *kind_family_sweep_best_of(const json_t *result, double *e2);
 json_t *kind_random_stats_best_of(const json_t *result, double *e2);
 json_t *kind_table3_best_of(const json_t *result, double *e2);
 json_t *kind_sleep_best_of(const json_t *result, double *e2);
+/* The temporal-optimize kind (kind_temporal_optimize.c): no split, one thread. */
+const char *kind_temporal_optimize_family(const void *params);
+double kind_temporal_optimize_max_seconds(const void *params);
+json_t *kind_temporal_optimize_best_of(const json_t *result, double *e2);
 /* The sleep kind's split (kind_sleep_split.c): the test kind the Slurm executor tests drive. */
 extern const struct job_split kind_sleep_split;
 

@@ -16,8 +16,8 @@ sys.path.insert(0, HERE)
 from schema_check import schemas  # noqa: E402
 from e2e_lib import Daemon, check  # noqa: E402
 
-KINDS = ["optimize", "family-sweep", "random-stats", "table3", "compare", "animation",
-         "reference-convergence", "sleep"]
+KINDS = ["optimize", "family-sweep", "random-stats", "table3", "temporal-optimize", "compare",
+         "animation", "reference-convergence", "sleep"]
 DOC = os.path.join(ROOT, "docs", "api.md")
 FENCE = re.compile(r"(<!-- generated:begin example (\S+) -->\n)?```sh\n(.*?)```", re.S)
 

@@ -20,8 +20,8 @@ from schema_check import schemas  # noqa: E402
 import gen_api_doc  # noqa: E402
 import response_check  # noqa: E402
 
-KINDS = ["optimize", "family-sweep", "random-stats", "table3", "compare", "animation",
-         "reference-convergence", "sleep"]
+KINDS = ["optimize", "family-sweep", "random-stats", "table3", "temporal-optimize", "compare",
+         "animation", "reference-convergence", "sleep"]
 DOC = os.path.join(ROOT, "docs", "api.md")
 BLOCK = re.compile(r"<!-- generated:begin table (\S+) -->\n(.*?)<!-- generated:end -->", re.S)
 

@@ -8,7 +8,10 @@
 #include <cmocka.h>
 
 #include "codec.h"
+#include "codec_temporal.h"
+#include "export_temporal.h"
 #include "aa_pattern.h"
+#include <stdlib.h>
 
 static json_t *parse(const char *text)
 {
@@ -226,12 +229,77 @@ static void test_encode_evaluation(void **state)
     json_decref(fj);
 }
 
+/* A temporal pattern's explicit encoding decodes to the same sequence and setting bit for bit
+ * (a preset with a resolve); phase p's pattern holds the N samples with the age weights of
+ * phase p; the jitter text's first line is that encoding. */
+static void test_temporal_encode_and_export(void **state)
+{
+    (void)state;
+    aa_error err = {0};
+    json_t *in = json_loads("{\"temporal\": {\"preset\": \"urp-like\"}}", 0, NULL);
+    proto_temporal a, b;
+    assert_int_equal(proto_decode_temporal(in, &a, "pattern", &err), AA_OK);
+    json_t *enc = proto_encode_temporal(&a);
+    assert_non_null(enc);
+    char *text = json_dumps(enc, JSON_COMPACT);
+    json_t *back = json_loads(text, 0, NULL);
+    assert_int_equal(proto_decode_temporal(back, &b, "pattern", &err), AA_OK);
+    assert_int_equal(a.count, b.count);
+    assert_memory_equal(a.jitter, b.jitter, a.count * sizeof *a.jitter);
+    assert_true(a.blend.kind == b.blend.kind && a.blend.alpha == b.blend.alpha);
+    assert_true(b.has_resolve && a.resolve.radius == b.resolve.radius);
+    assert_true(a.jitter_range == b.jitter_range);
+    /* Phase 2 of Halton x 8 without the resolve: offset f weighs the age weight of (2 - f) mod 8.
+     */
+    a.has_resolve = false;
+    aa_pattern p;
+    assert_int_equal(proto_temporal_phase_pattern(&a, 2, &p, &err), AA_OK);
+    double w[8];
+    assert_int_equal(aa_blend_weights(&a.blend, 8, w, &err), AA_OK);
+    assert_int_equal(p.kernel_count, 1);
+    assert_int_equal(p.kernels[0].count, 8);
+    for (size_t f = 0; f < 8; f++) {
+        const aa_sample *s = &p.kernels[0].samples[f];
+        size_t k = 0;
+        while (k < 8 && !(a.jitter[k].x == s->x && a.jitter[k].y == s->y))
+            k++;
+        assert_true(k < 8);
+        assert_true(fabs(s->w - w[(2 + 8 - k) % 8]) < 1e-15);
+    }
+    aa_pattern_free(&p);
+    assert_int_equal(proto_temporal_phase_pattern(&a, 8, &p, &err), AA_EINVAL);
+    assert_string_equal(err.field, "phase");
+    size_t len = 0;
+    char *c = proto_export_jitter_text(&b, false, &len, &err);
+    assert_non_null(c);
+    assert_int_equal(strlen(c), len);
+    assert_non_null(strstr(c, "#define AALAB_JITTER_COUNT 8"));
+    const char *nl = strchr(c, '\n');
+    json_t *first = json_loadb(c + 18, (size_t)(nl - c - 18), 0, NULL);
+    assert_true(!strncmp(c, "// aalab-temporal ", 18) && json_equal(first, enc));
+    bool hlsl = false;
+    assert_true(proto_jitter_format_parse("jitter-hlsl", &hlsl) && hlsl);
+    assert_false(proto_jitter_format_parse("csv", &hlsl));
+    json_decref(first);
+    free(c);
+    free(text);
+    json_decref(back);
+    json_decref(enc);
+    json_decref(in);
+    proto_temporal_free(&a);
+    proto_temporal_free(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_decode_errors),      cmocka_unit_test(test_filter_acuity_errors),
-        cmocka_unit_test(test_round_trip_presets), cmocka_unit_test(test_round_trip_forms),
-        cmocka_unit_test(test_encode_evaluation),  cmocka_unit_test(test_filter_round_trip),
+        cmocka_unit_test(test_decode_errors),
+        cmocka_unit_test(test_filter_acuity_errors),
+        cmocka_unit_test(test_round_trip_presets),
+        cmocka_unit_test(test_round_trip_forms),
+        cmocka_unit_test(test_encode_evaluation),
+        cmocka_unit_test(test_filter_round_trip),
+        cmocka_unit_test(test_temporal_encode_and_export),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

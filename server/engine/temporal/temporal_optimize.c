@@ -27,7 +27,46 @@ typedef struct opt_ctx {
     aa_flicker_scratch fs;
     double *f1, *dp; /* [group][angle], [sample] */
     long evaluations;
+    /* The run's progress (aa_temporal_optimize only; params NULL elsewhere). */
+    const aa_temporal_opt_params *params;
+    double t0;
+    long starts;
+    const aa_point *best; /* NULL until a start ended */
+    double best_score, best_e2;
 } opt_ctx;
+
+static double run_seconds(const opt_ctx *c)
+{
+    return aa_clock_seconds(&c->params->clock) - c->t0;
+}
+
+static double run_fraction(const opt_ctx *c, double seconds)
+{
+    const aa_temporal_opt_params *p = c->params;
+    double f = 0;
+    if (p->max_starts > 0)
+        f = (double)c->starts / (double)p->max_starts;
+    if (p->max_seconds > 0)
+        f = fmax(f, seconds / p->max_seconds);
+    return fmin(f, 1);
+}
+
+/* Progress within a start (start -1): AA_ECANCELED when the callback asks to stop. */
+static int tick(opt_ctx *c)
+{
+    if (!c->params || !c->params->progress)
+        return AA_OK;
+    double t = run_seconds(c);
+    aa_temporal_opt_progress pr = {.fraction = run_fraction(c, t),
+                                   .start = -1,
+                                   .best_score = c->best_score,
+                                   .best_e2 = c->best_e2,
+                                   .best = c->best,
+                                   .starts = c->starts,
+                                   .evaluations = c->evaluations,
+                                   .seconds = t};
+    return c->params->progress(c->params->progress_user, &pr) ? AA_ECANCELED : AA_OK;
+}
 
 static void ctx_free(opt_ctx *c)
 {
@@ -328,7 +367,9 @@ static int descend(opt_ctx *c, aa_point *o, double half, int steps, aa_point *tr
     size_t N = c->t.phase_count;
     for (double q = 8; q <= 2048; q *= 2) {
         double F, e2;
-        int rc = objective(c, o, q, &F, &e2, grad);
+        int rc = tick(c);
+        if (!rc)
+            rc = objective(c, o, q, &F, &e2, grad);
         double step = 0.05 * half * 2;
         for (int it = 0; it < steps && !rc && step > 1e-7; it++) {
             double gmax = 0;
@@ -378,6 +419,7 @@ static int snap_and_polish(opt_ctx *c, aa_point *o, double half, double step, aa
     bool moved = true;
     for (int sweep = 0; sweep < 64 && moved && !rc; sweep++) {
         moved = false;
+        rc = tick(c);
         for (size_t f = 0; f < N && !rc; f++) {
             for (int axis = 0; axis < 2 && !rc; axis++) {
                 for (int dir = -1; dir <= 1 && !rc; dir += 2) {
@@ -434,7 +476,9 @@ static int best_order(opt_ctx *c, aa_point *o, aa_point *trial, double *best_e2)
         perm[i] = best[i] = i;
     double F, e2;
     int rc = objective(c, o, 0, &F, best_e2, NULL);
-    while (!rc && next_permutation(perm + 1, N - 1)) {
+    for (long k = 1; !rc && next_permutation(perm + 1, N - 1); k++) {
+        if (k % 512 == 0 && (rc = tick(c)))
+            break;
         for (size_t i = 0; i < N; i++)
             trial[i] = o[perm[i]];
         rc = objective(c, trial, 0, &F, &e2, NULL);
@@ -446,6 +490,36 @@ static int best_order(opt_ctx *c, aa_point *o, aa_point *trial, double *best_e2)
     for (size_t i = 0; i < N; i++)
         trial[i] = o[best[i]];
     memcpy(o, trial, N * sizeof *o);
+    return rc;
+}
+
+/* The order of o by pairwise swaps (N > 8): sweeps over every pair, a swap kept when the true
+ * objective drops, until a sweep keeps none or `sweeps` ran; o is reordered in place. */
+static int swap_order(opt_ctx *c, aa_point *o, aa_point *trial, int sweeps)
+{
+    size_t N = c->t.phase_count;
+    double F, best, score;
+    int rc = objective(c, o, 0, &F, &best, NULL);
+    bool kept = true;
+    long k = 0;
+    for (int sweep = 0; sweep < sweeps && kept && !rc; sweep++) {
+        kept = false;
+        for (size_t i = 0; i + 1 < N && !rc; i++) {
+            for (size_t j = i + 1; j < N && !rc; j++) {
+                if (++k % 64 == 0 && (rc = tick(c)))
+                    break;
+                memcpy(trial, o, N * sizeof *o);
+                trial[i] = o[j];
+                trial[j] = o[i];
+                rc = objective(c, trial, 0, &F, &score, NULL);
+                if (!rc && score < best) {
+                    best = score;
+                    memcpy(o, trial, N * sizeof *o);
+                    kept = true;
+                }
+            }
+        }
+    }
     return rc;
 }
 
@@ -512,14 +586,18 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
                           "a flicker weight with a resolve is not supported yet");
     c.flicker_weight = rc ? 0 : p->flicker_weight;
     c.flicker_cap = isfinite(p->flicker_cap) && p->flicker_cap > 0 ? p->flicker_cap : 0;
-    double t0 = aa_monotonic_seconds();
+    c.params = p;
+    c.t0 = aa_clock_seconds(&p->clock);
+    c.best_score = c.best_e2 = INFINITY;
     result->score = INFINITY;
     int steps = p->descent_steps > 0 ? p->descent_steps : 60;
-    bool reorder = N <= 8 && N > 2 && p->blend.kind == AA_BLEND_EXPONENTIAL;
+    bool exponential = p->blend.kind == AA_BLEND_EXPONENTIAL && p->swap_sweeps >= 0;
+    bool reorder = N <= 8 && N > 2 && exponential;
+    int sweeps = N > 8 && exponential ? (p->swap_sweeps > 0 ? p->swap_sweeps : 4) : 0;
     for (long s = 0; !rc; s++) {
         if (p->max_starts > 0 && s >= p->max_starts)
             break;
-        if (p->max_seconds > 0 && s > 0 && aa_monotonic_seconds() - t0 >= p->max_seconds)
+        if (p->max_seconds > 0 && s > 0 && run_seconds(&c) >= p->max_seconds)
             break;
         /* Odd starts (with hop > 0) hop from the best so far: each offset moved by up to
          * hop * range; even starts are uniform. */
@@ -531,26 +609,56 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
                                     (aa_rng_uniform(&rng) - 0.5) * p->range};
         for (size_t f = 0; f < N; f++)
             o[f] = (aa_point){clamp(o[f].x, half), clamp(o[f].y, half)};
-        rc = descend(&c, o, half, steps, trial, grad);
-        double e2, F;
-        if (!rc && reorder) {
-            rc = best_order(&c, o, trial, &e2);
+        double e2, F, initial, f2 = 0;
+        rc = objective(&c, o, 0, &F, &initial, NULL);
+        if (!rc)
+            rc = descend(&c, o, half, steps, trial, grad);
+        if (!rc && (reorder || sweeps > 0)) {
+            rc = reorder ? best_order(&c, o, trial, &e2) : swap_order(&c, o, trial, sweeps);
             if (!rc)
                 rc = descend(&c, o, half, steps, trial, grad);
         }
         if (!rc && p->grid_step > 0)
             rc = snap_and_polish(&c, o, half, p->grid_step, trial);
+        double score = 0;
         if (!rc)
-            rc = objective(&c, o, 0, &F, &e2, NULL);
+            rc = objective(&c, o, 0, &F, &score, NULL);
+        if (!rc)
+            rc = objective_e2(&c, o, 0, &F, &e2, NULL);
+        if (!rc)
+            flicker_term(&c, 0, &F, &f2, NULL);
         if (rc)
             break;
         if (s == 0)
-            result->first_score = e2;
-        if (e2 < result->score) {
-            result->score = e2;
+            result->first_score = score;
+        if (score < result->score) {
+            result->score = score;
             memcpy(best, o, N * sizeof *best);
+            c.best = best;
+            c.best_score = score;
+            c.best_e2 = e2;
         }
-        result->starts = s + 1;
+        result->starts = c.starts = s + 1;
+        if (p->progress) {
+            double t = run_seconds(&c);
+            aa_temporal_opt_progress pr = {.fraction = run_fraction(&c, t),
+                                           .start = s,
+                                           .start_kind = s == 0 && p->start ? 0
+                                                         : hop              ? 2
+                                                                            : 1,
+                                           .start_initial_score = initial,
+                                           .start_score = score,
+                                           .start_e2 = e2,
+                                           .start_f2 = f2,
+                                           .best_score = c.best_score,
+                                           .best_e2 = c.best_e2,
+                                           .best = best,
+                                           .starts = c.starts,
+                                           .evaluations = c.evaluations,
+                                           .seconds = t};
+            if (p->progress(p->progress_user, &pr))
+                rc = AA_ECANCELED;
+        }
     }
     if (!rc && result->starts > 0) {
         /* The winner's E2 and F2 apart. */
@@ -559,10 +667,12 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
         if (!rc)
             flicker_term(&c, 0, &F, &result->f2, NULL);
     }
-    if (rc && (!err || !err->code))
+    if (rc == AA_ECANCELED)
+        aa_error_set(err, rc, "", "cancelled");
+    else if (rc && (!err || !err->code))
         aa_error_set(err, rc, "", "the objective cannot be evaluated");
     result->evaluations = c.evaluations;
-    result->seconds = aa_monotonic_seconds() - t0;
+    result->seconds = c.params ? run_seconds(&c) : 0;
     ctx_free(&c);
     free(o);
     return rc;

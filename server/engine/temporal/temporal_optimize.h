@@ -18,6 +18,9 @@
  *  - With a grid step (hardware and engines store offsets at finite precision) each start ends
  *    by snapping the offsets to the nearest multiples inside the square and moving single
  *    coordinates by one step while the true objective drops.
+ *  - Above N = 8 (exponential blend) the order is searched by pairwise swaps instead: sweeps
+ *    over every pair (i, j), a swap kept when the true objective drops, until a sweep keeps none
+ *    or swap_sweeps sweeps ran.
  * Reproducible when bounded by max_starts and max_seconds is 0. */
 #ifndef AA_TEMPORAL_OPTIMIZE_H
 #define AA_TEMPORAL_OPTIMIZE_H
@@ -27,6 +30,22 @@
 
 #include "aa_metric.h"
 #include "temporal.h"
+
+/* What the progress callback sees: after every start (start >= 0, its figures set) and within
+ * starts (start -1: only the fractions and counts), so that a caller can cancel promptly. */
+typedef struct aa_temporal_opt_progress {
+    double fraction; /* of the budget: starts or seconds, whichever is further */
+    long start;      /* the start that just ended, or -1 */
+    int start_kind;  /* 0 the given sequence, 1 uniform random, 2 a hop from the best */
+    double start_initial_score, start_score, start_e2, start_f2; /* the start's, when start >= 0 */
+    double best_score, best_e2;                                  /* so far (INFINITY: none yet) */
+    const aa_point *best;                                        /* [N], so far (NULL: none) */
+    long starts, evaluations;
+    double seconds;
+} aa_temporal_opt_progress;
+
+/* Nonzero: stop (aa_temporal_optimize returns AA_ECANCELED). */
+typedef int (*aa_temporal_opt_progress_fn)(void *user, const aa_temporal_opt_progress *p);
 
 typedef struct aa_temporal_opt_params {
     size_t count; /* N */
@@ -44,6 +63,10 @@ typedef struct aa_temporal_opt_params {
     double flicker_weight; /* lambda: the objective is E2 + lambda F2 (power means in descent) */
     double flicker_cap;    /* > 0: E2 + lambda max(0, F2 - cap) instead (a penalty above a cap) */
     uint64_t seed;
+    int swap_sweeps; /* N > 8: pairwise swap sweeps per start; 0: 4, < 0: no order search */
+    aa_clock clock;  /* of max_seconds and the reported seconds (fn NULL: monotonic) */
+    aa_temporal_opt_progress_fn progress; /* may be NULL */
+    void *progress_user;
 } aa_temporal_opt_params;
 
 typedef struct aa_temporal_opt_result {
@@ -55,7 +78,9 @@ typedef struct aa_temporal_opt_result {
     double first_score; /* the first start's result */
 } aa_temporal_opt_result;
 
-/* best: [N]. Errors as aa_temporal_build, and AA_EINVAL for a bad range or no bound. */
+/* best: [N]. Errors as aa_temporal_build, AA_EINVAL for a bad range or no bound, AA_ECANCELED
+ * when the progress callback asked to stop (best then holds the best so far, if any start
+ * ended: result->starts > 0). */
 int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
                          aa_temporal_opt_result *result, aa_error *err);
 
