@@ -10,9 +10,7 @@
 
 static const char *const kind_keys[] = {"pattern", NULL};
 
-/* Group samples the expansion will hold, before building it (so that a huge one is refused
- * without allocating it): N x the frame samples each output pixel reads. */
-static double planned_samples(const proto_temporal *t)
+double proto_temporal_planned_samples(const proto_temporal *t)
 {
     double per_frame;
     if (t->has_resolve) {
@@ -43,12 +41,13 @@ int proto_decode_temporal_render_spec(const json_t *spec, proto_temporal_render_
                           "patterns render with the compare kind)");
     if (!rc)
         rc = proto_decode_temporal(pj, &s->temporal, "pattern", err);
-    if (!rc && planned_samples(&s->temporal) * (2.0 * (double)s->temporal.count + 1) * 36 >
-                   (double)PROTO_TEMPORAL_RENDER_MAX_EVAL_WORK)
+    if (!rc &&
+        proto_temporal_planned_samples(&s->temporal) * (2.0 * (double)s->temporal.count + 1) * 36 >
+            (double)PROTO_TEMPORAL_RENDER_MAX_EVAL_WORK)
         rc = aa_error_set(err, AA_ERANGE, "pattern.temporal",
                           "%.0f samples per output pixel over %zu phases is more than a render "
                           "job evaluates (group samples x (2 N + 1) x 36 angles <= %ld)",
-                          planned_samples(&s->temporal), s->temporal.count,
+                          proto_temporal_planned_samples(&s->temporal), s->temporal.count,
                           PROTO_TEMPORAL_RENDER_MAX_EVAL_WORK);
     if (!rc) {
         aa_temporal_spec ts = proto_temporal_spec(&s->temporal);

@@ -22,6 +22,10 @@ typedef struct proto_temporal_render_spec {
     size_t cut_frames; /* K */
 } proto_temporal_render_spec;
 
+/* Kernel samples of one phase of the temporal pattern (every frame's, for every output pixel of
+ * the frame pattern), from the spec alone: what aa_temporal_build will allocate, for bounds. */
+double proto_temporal_planned_samples(const proto_temporal *t);
+
 /* Errors name "scene.name", "pattern", "pattern.temporal..." and the shared render fields. */
 int proto_decode_temporal_render_spec(const json_t *spec, proto_temporal_render_spec *out,
                                       aa_error *err);
