@@ -487,6 +487,28 @@ case("temporal_ok_256_phases", 200, None, body_json={"pattern": {"temporal": {"j
 case("temporal_lp", 400, "lp", body_json={"pattern": {"temporal": {"jitter": H8}}, "lp": 2})
 case("temporal_in_export", 400, "pattern.temporal", path="/v1/patterns/export", body_json={"pattern": {"temporal": {"jitter": H8}}, "format": "csv"})
 case("temporal_in_job", 400, "pattern.temporal", path="/v1/jobs", body_json={"kind": "optimize", "pattern": {"temporal": {"jitter": H8}}, "max_iterations": 1})
+# --- the temporal-render job kind and POST /v1/predict with a temporal pattern (issue 30 point 5)
+TR = {"kind": "temporal-render", "scene": "rings", "size": [32, 32], "reference": {"spp": 16}}
+def trj(name, status, field, **spec):
+    case("temporal_render_" + name, status, field, path="/v1/jobs", body_json={**TR, **spec})
+trj("spatial_pattern", 400, "pattern", pattern="rgss")
+trj("no_pattern", 400, "pattern")
+trj("animation_scene", 400, "scene.name", pattern={"temporal": {"jitter": H8}}, scene="rotating-triangle")
+trj("bad_alpha", 400, "pattern.temporal.blend.alpha", pattern={"temporal": {"jitter": H8, "blend": {"kind": "exponential", "alpha": 0}}})
+trj("pattern_extra_key", 400, "pattern.preset", pattern={"temporal": {"jitter": H8}, "preset": "rgss"})
+trj("resolve_no_weight", 400, "pattern.temporal.jitter[0]", pattern={"temporal": {"jitter": [[0.5, 0.5]], "jitter_range": 2, "resolve": {"filter": {"name": "box", "radius": 0.25}, "radius": 0}}})
+trj("work_bound", 400, "pattern.temporal", pattern={"temporal": {"jitter": {"generator": "halton", "count": 1024}, "resolve": {"filter": {"name": "gaussian"}, "radius": 3}}})
+trj("unknown_key", 400, "frames", pattern={"temporal": {"jitter": H8}}, frames=4)
+trj("tiles_not_bool", 400, "tiles", pattern={"temporal": {"jitter": H8}}, tiles="no")
+case("temporal_in_render", 400, "pattern.temporal", path="/v1/render", body_json={"scene": "rings", "size": [32, 32], "pattern": {"temporal": {"jitter": H8}}})
+case("temporal_in_compare", 400, "patterns[0].temporal", path="/v1/jobs", body_json={"kind": "compare", "scene": "rings", "patterns": [{"temporal": {"jitter": H8}}]})
+case("temporal_in_animation", 400, "pattern.temporal", path="/v1/jobs", body_json={"kind": "animation", "scene": "rotating-triangle", "pattern": {"temporal": {"jitter": H8}}})
+case("predict_temporal_ok", 200, None, path=PR, body_json={"pattern": {"temporal": {"preset": "halton23-8"}}, "scene": {"name": "half-plane", "angle": 27}})
+case("predict_temporal_bad_alpha", 400, "pattern.temporal.blend.alpha", path=PR, body_json={"pattern": {"temporal": {"jitter": H8, "blend": {"kind": "exponential", "alpha": 2}}}})
+case("predict_temporal_in_list_bad", 400, "patterns[1].temporal.jitter[1]", path=PR, body_json={"patterns": ["rgss", {"temporal": {"jitter": [[0, 0], [0.7, 0]]}}]})
+case("predict_temporal_phase_samples", 400, "pattern.temporal", path=PR, body_json={"pattern": {"temporal": {"jitter": {"generator": "halton", "count": 1024}, "resolve": {"filter": {"name": "gaussian"}, "radius": 4}}}})
+case("predict_temporal_kernel_samples", 400, "pattern.temporal.jitter", path=PR, body_json={"pattern": {"temporal": {"jitter": {"generator": "halton", "count": 512}, "resolve": {"filter": {"name": "gaussian"}}}}})
+case("predict_temporal_work", 400, "pattern", path=PR, body_json={"scene": "rings", "pattern": {"temporal": {"jitter": {"generator": "halton", "count": 256}}}})
 with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "cases.jsonl"), "w") as f:
     for c in C:
         f.write(json.dumps(c, separators=(",", ":")) + "\n")
