@@ -70,6 +70,14 @@ static const job_kind table[] = {
      .run = kind_animation_run,
      .encode_result = kind_animation_encode_result,
      .free_result = kind_animation_free_result},
+    {.name = "reference-convergence",
+     .summary = "Measures how the reference render's error falls with its samples per pixel, "
+                "against a high-sample baseline.",
+     .decode = kind_reference_convergence_decode,
+     .free_params = kind_reference_convergence_free,
+     .run = kind_reference_convergence_run,
+     .encode_result = kind_reference_convergence_encode_result,
+     .free_result = kind_reference_convergence_free_result},
     {.name = "temporal-render",
      .summary = "Renders a still scene through the TAA loop of a temporal pattern and reports "
                 "the steady-state RMSE per phase, the RMSE per frame after a cut and the flicker, "
@@ -79,14 +87,6 @@ static const job_kind table[] = {
      .run = kind_temporal_render_run,
      .encode_result = kind_temporal_render_encode_result,
      .free_result = kind_temporal_render_free_result},
-    {.name = "reference-convergence",
-     .summary = "Measures how the reference render's error falls with its samples per pixel, "
-                "against a high-sample baseline.",
-     .decode = kind_reference_convergence_decode,
-     .free_params = kind_reference_convergence_free,
-     .run = kind_reference_convergence_run,
-     .encode_result = kind_reference_convergence_encode_result,
-     .free_result = kind_reference_convergence_free_result},
     {.name = "sleep",
      .summary = "Test kind: waits a given time, reporting progress, and returns an optional "
                 "pattern.",

@@ -6,7 +6,12 @@
  *  - the measured per-phase RMSE equals aa_diff of those kernel renders against the reference;
  *    the after-cut RMSE at k = 1 is frame 0's, and at every k the loop's own image's;
  *  - flicker: 0 for a repeated offset; the frame-to-frame sum equals the images' differences;
- *  - alpha = 1: each phase is its frame; cancellation. */
+ *  - alpha = 1: each phase is its frame; cancellation;
+ *  - the edge model predicts each phase's steady-state RMSE from its kernels as the spatial
+ *    predictor is checked (test_predict.c, docs/predict.md): on the 27-degree half-plane the
+ *    median over phases of predicted/rendered within 0.9-1.1 and each phase within 0.85-1.15; on
+ *    the pixel-locked 0, 90, 45 and 2:1 half-planes each within 0.97-1.03; for Halton(2,3) x 8 and
+ *    the optimized sequence of docs/temporal.md section 7. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -15,6 +20,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -278,6 +284,95 @@ static void test_cancel(void **state)
     aa_temporal_free(&t);
 }
 
+/* docs/temporal.md section 7, on a 1/16-pixel grid (E2 0.3032). */
+static const aa_point optimized8[8] = {{0.25, 0.375},    {-0.0625, -0.4375}, {-0.5, 0.1875},
+                                       {0.375, -0.1875}, {0.0625, 0.5},      {-0.375, -0.0625},
+                                       {0.5, -0.5},      {-0.25, 0.0625}};
+
+static int by_value(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void check_prediction(const aa_scene_params *sp, const aa_point *jitter, double lo,
+                             double hi, const char *what)
+{
+    aa_scene s;
+    assert_int_equal(aa_scene_init(&s, sp, NULL), AA_OK);
+    aa_temporal t;
+    aa_temporal_spec spec = {.count = 8, .jitter = jitter, .blend = {AA_BLEND_EXPONENTIAL, 0.1}};
+    assert_int_equal(aa_temporal_build(&t, &spec, NULL), AA_OK);
+    aa_taa r;
+    assert_int_equal(aa_taa_init(&r, &s, &t, true, NULL), AA_OK);
+    aa_image ref;
+    assert_int_equal(aa_image_init(&ref, sp->width, sp->height, NULL), AA_OK);
+    aa_reference_params rp = aa_reference_params_default();
+    rp.spp = 256;
+    assert_int_equal(aa_render_reference(&s, &rp, r.offset, &ref, NULL, NULL, NULL), AA_OK);
+    aa_taa_stats st;
+    assert_int_equal(aa_taa_measure(&r, &ref, 1, NULL, NULL, &st, NULL), AA_OK);
+    aa_edge_histogram *h = malloc(sizeof *h);
+    assert_int_equal(aa_edge_histogram_of_scene(&s, h, NULL), AA_OK);
+    double ratios[8];
+    for (size_t p = 0; p < 8; p++) {
+        aa_pattern pat;
+        aa_prediction pred;
+        assert_int_equal(aa_taa_phase_pattern(&t, p, &pat, NULL), AA_OK);
+        assert_int_equal(aa_predict_rmse(&pat, NULL, h, &pred, NULL), AA_OK);
+        double rendered = aa_taa_rmse(&st, st.phase_sum_sq[p]), ratio = pred.rmse / rendered;
+        printf("%-14s phase %zu rendered %.4f predicted %.4f ratio %.3f\n", what, p, rendered,
+               pred.rmse, ratio);
+        ratios[p] = ratio;
+        if (!(ratio >= lo && ratio <= hi))
+            fail_msg("%s phase %zu: predicted/rendered %.4f outside [%g, %g]", what, p, ratio, lo,
+                     hi);
+        aa_pattern_free(&pat);
+    }
+    qsort(ratios, 8, sizeof ratios[0], by_value);
+    double median = (ratios[3] + ratios[4]) / 2;
+    if (!(median >= 0.9 && median <= 1.1))
+        fail_msg("%s: median predicted/rendered %.4f outside [0.9, 1.1]", what, median);
+    free(h);
+    aa_taa_stats_free(&st);
+    aa_image_free(&ref);
+    aa_temporal_free(&t);
+}
+
+static void test_predicted_phases_match_render(void **state)
+{
+    (void)state;
+    aa_point halton[8];
+    assert_int_equal(aa_jitter_halton(halton, 8, 2, 3, 1, 1.0, NULL), AA_OK);
+    const aa_point *seqs[2] = {halton, optimized8};
+    const char *names[2] = {"halton", "optimized"};
+    for (int q = 0; q < 2; q++) {
+        char what[32];
+        aa_scene_params sp = aa_scene_params_default(AA_SCENE_HALF_PLANE);
+        sp.width = sp.height = 128;
+        sp.angle_deg = 27;
+        sp.offset = 0.37;
+        snprintf(what, sizeof what, "half-27 %s", names[q]);
+        check_prediction(&sp, seqs[q], 0.85, 1.15, what);
+        sp = aa_scene_params_default(AA_SCENE_HALF_PLANE);
+        sp.width = sp.height = 128;
+        snprintf(what, sizeof what, "half-0 %s", names[q]);
+        check_prediction(&sp, seqs[q], 0.97, 1.03, what);
+        sp.angle_deg = 90;
+        sp.offset = 0.3;
+        snprintf(what, sizeof what, "half-90 %s", names[q]);
+        check_prediction(&sp, seqs[q], 0.97, 1.03, what);
+        sp.angle_deg = 45;
+        sp.offset = 0.37;
+        snprintf(what, sizeof what, "half-45 %s", names[q]);
+        check_prediction(&sp, seqs[q], 0.97, 1.03, what);
+        sp.angle_deg = 180 - atan(0.5) * 180 / 3.14159265358979323846;
+        sp.offset = -2.1;
+        snprintf(what, sizeof what, "half-153 %s", names[q]);
+        check_prediction(&sp, seqs[q], 0.97, 1.03, what);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -285,6 +380,7 @@ int main(void)
         cmocka_unit_test(test_repeated_offset_has_no_flicker),
         cmocka_unit_test(test_alpha_one_phase_is_its_frame),
         cmocka_unit_test(test_cancel),
+        cmocka_unit_test(test_predicted_phases_match_render),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
