@@ -158,6 +158,13 @@ json_t *proto_encode_temporal_render_result(const proto_temporal_render_result *
         proto_real(r->reference_seconds), "taa_seconds", proto_real(r->taa_seconds),
         "predict_seconds", proto_real(r->predict_seconds), "pixels", "sampled",
         (json_int_t)r->pixels_sampled, "samples_evaluated", (json_int_t)r->samples_evaluated);
+    json_t *flicker = out ? json_object_get(out, "flicker") : NULL;
+    if (flicker && isfinite(r->flicker_predicted)) {
+        json_object_set_new(flicker, "predicted_mean_rmse", proto_real(r->flicker_predicted));
+        if (r->flicker_mean_rmse > 0)
+            json_object_set_new(flicker, "ratio",
+                                proto_real(r->flicker_predicted / r->flicker_mean_rmse));
+    }
     if (out && r->tiles)
         json_object_set(out, "tiles", r->tiles);
     if (out && !proto_acuity_ref_encode(out, r->acuity_name, r->acuity_version)) {

@@ -48,6 +48,7 @@ typedef struct proto_temporal_render_result {
     double *cut_rmse; /* [K] */
     long frames_to_5pct;
     double flicker_step_rmse, flicker_mean_rmse;
+    double flicker_predicted; /* aa_taa_predict_flicker's mean_rmse; NaN: none */
     double reference_seconds, taa_seconds, predict_seconds;
     long long pixels_sampled, samples_evaluated;
     json_t *tiles; /* {"reference", "pattern", "difference"} of the worst phase, or NULL */
@@ -59,8 +60,9 @@ typedef struct proto_temporal_render_result {
  * "phase_count", "group_count", "samples_per_pixel", "blend", "jitter", "preset"?}, "e2",
  * "mean_phase_e2", "f2", "phases": [{"phase", "e2", "rmse", "max_dev", "predicted_rmse"?,
  * "ratio"?}], "steady": {"worst_phase", "rmse", "mean_rmse", "predicted_rmse"?, "ratio"?},
- * "after_cut": [rmse], "frames_to_5pct", "flicker": {"step_rmse", "mean_rmse"}, "times",
- * "pixels", "tiles"?, "acuity"} (proto/schemas/kinds/temporal-render.result.json). */
+ * "after_cut": [rmse], "frames_to_5pct", "flicker": {"step_rmse", "mean_rmse",
+ * "predicted_mean_rmse"?, "ratio"?}, "times", "pixels", "tiles"?, "acuity"}
+ * (proto/schemas/kinds/temporal-render.result.json). */
 json_t *proto_encode_temporal_render_result(const proto_temporal_render_result *r);
 void proto_temporal_render_result_free(proto_temporal_render_result *r);
 

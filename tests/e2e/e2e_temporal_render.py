@@ -1,10 +1,12 @@
 """End-to-end: the temporal-render job kind and POST /v1/predict with a temporal pattern (issue 30
 point 5, docs/temporal.md section 9), through the daemon.
 - Render check: Halton(2,3) x 8 at alpha 0.1 (preset halton23-8) against the grid-snapped optimized
-  sequence of docs/temporal.md section 7 (E2 0.3032), rendered through the TAA loop on eight still
+  sequence of docs/temporal.md section 7 (E2 0.3032), rendered through the TAA loop on seven still
   scenes (the three half-planes of the spatial predictor's check in e2e_predict.py: 27, 63 and the
-  pixel-locked 0 degrees; rings, Siemens star, spiral, sliver): the optimized sequence renders a lower steady-state RMSE (RMS over phases) on every
-  one, and the edge model's prediction of every phase is within 0.9-1.1 of the render.
+  pixel-locked 0 degrees; rings, Siemens star, spiral, sliver): the optimized sequence renders a
+  lower steady-state RMSE (RMS over phases) on every one, the edge model's prediction of every
+  phase is within 0.9-1.1 of the render, and so is its prediction of the flicker about the mean
+  (from F1) but on the locked edge.
 - The job's predictions are POST /v1/predict's for the same body, its per-phase E2 POST
   /v1/evaluate's; the after-cut curve over 20 periods ends at its phase's steady state (1e-5).
 - A box blend over the D3D 4x positions renders exactly the spatial D3D 4x (a compare job with the
@@ -115,13 +117,19 @@ def render_check(d):
             settle = res["frames_to_5pct"]
             check(settle is None or 1 <= settle <= 160, settle)
             mean[name] = res["steady"]["mean_rmse"]
+            fl = res["flicker"]
+            check(fl["mean_rmse"] == 0 or
+                  abs(fl["ratio"] - fl["predicted_mean_rmse"] / fl["mean_rmse"]) <= 1e-12, fl)
+            if "locked" not in label:  # a locked edge's offsets are not spread (temporal.md 9)
+                check(0.9 <= fl["ratio"] <= 1.1, "%s %s: flicker predicted/rendered %.3f" %
+                      (label, name, fl["ratio"]))
             print("# figure: %s %s: E2 %.4f steady RMSE worst %.4f (phase %d) mean %.4f, "
                   "predicted mean %.4f (ratio %.3f, per phase %.3f-%.3f), flicker step %.3f "
-                  "about mean %.3f, after cut k=1 %.3f, frames to 5%% %s" %
+                  "about mean %.3f (predicted %.3f), after cut k=1 %.3f, frames to 5%% %s" %
                   (label, name, res["e2"], res["steady"]["rmse"], worst, mean[name],
                    res["steady"]["predicted_rmse"], res["steady"]["ratio"], min(ratios),
                    max(ratios), res["flicker"]["step_rmse"], res["flicker"]["mean_rmse"],
-                   res["after_cut"][0], settle))
+                   res["flicker"]["predicted_mean_rmse"], res["after_cut"][0], settle))
         check(mean["optimized"] < mean["halton"], "%s: optimized %.4f not below Halton %.4f" %
               (label, mean["optimized"], mean["halton"]))
         print("# figure: %s optimized/Halton steady RMSE %.3f" %

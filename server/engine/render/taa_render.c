@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "aa_metric.h"
 #include "raster.h"
 #include "raster_traverse.h"
 
@@ -283,4 +284,29 @@ int aa_taa_phase_pattern(const aa_temporal *t, size_t p, aa_pattern *out, aa_err
     free(kernels);
     free(counts);
     return rc;
+}
+
+int aa_taa_predict_flicker(const aa_temporal *t, const aa_edge_histogram *h, double *rmse,
+                           aa_error *err)
+{
+    double length[AA_EDGE_BINS];
+    memcpy(length, h->length, sizeof length);
+    for (size_t k = 0; k < h->locked_count; k++)
+        length[aa_locked_edge_bin(&h->locked[k])] += h->locked[k].length;
+    double sum = 0;
+    for (int d = 0; d < AA_EDGE_BINS; d++) {
+        if (!(length[d] > 0))
+            continue;
+        double c, s, mean_sq = 0;
+        aa_metric_direction(d * 3.14159265358979323846 / 180.0, &c, &s);
+        for (size_t g = 0; g < t->group_count; g++) {
+            double f1;
+            if (aa_temporal_flicker_at_direction(t, g, c, s, &f1, NULL))
+                return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+            mean_sq += f1 * f1;
+        }
+        sum += length[d] * mean_sq / (double)t->group_count;
+    }
+    *rmse = 255.0 * sqrt(sum / ((double)h->width * (double)h->height));
+    return AA_OK;
 }

@@ -27,6 +27,7 @@
 #include <stddef.h>
 
 #include "aa_temporal.h"
+#include "edge_histogram.h"
 #include "image.h"
 #include "scene.h"
 
@@ -78,5 +79,14 @@ int aa_taa_phase_image(const aa_taa *r, size_t p, aa_image *out, aa_error *err);
  * weight 0 where the phase gives it none, so that every phase has the same K and grid). Errors
  * of aa_pattern_from_kernels (more than AA_MAX_KERNEL_SAMPLES samples per group: AA_ERANGE). */
 int aa_taa_phase_pattern(const aa_temporal *t, size_t p, aa_pattern *out, aa_error *err);
+
+/* The flicker about the mean over phases predicted by the edge model (docs/temporal.md §9): along
+ * an edge the squared deviation of phase p from the mean over phases, summed over phases / N, is
+ * F1(theta)^2 per unit length (§3) as E1^2 is for the error (docs/predict.md), so
+ *   flicker_mean_rmse ~ 255 sqrt( sum_d L(d) mean_g F1_g(theta_d)^2 / (width height) ),
+ * L(d) the histogram's length in bin d with its locked edges (taken as evenly spread: a locked
+ * edge whose offsets never move a sample across it flickers less). Errors: AA_ENOMEM. */
+int aa_taa_predict_flicker(const aa_temporal *t, const aa_edge_histogram *h, double *rmse,
+                           aa_error *err);
 
 #endif
