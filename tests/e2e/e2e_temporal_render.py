@@ -8,7 +8,8 @@ point 5, docs/temporal.md section 9), through the daemon.
   phase is within 0.9-1.1 of the render, and so is its prediction of the flicker about the mean
   (from F1) but on the locked edge.
 - The job's predictions are POST /v1/predict's for the same body, its per-phase E2 POST
-  /v1/evaluate's; the after-cut curve over 20 periods ends at its phase's steady state (1e-5).
+  /v1/evaluate's, its phases' RMSE POST /v1/render's of the phase (the spatial renderer on the
+  phase's kernels) within 1e-5; the after-cut curve over 20 periods ends at its phase's steady state (1e-5).
 - A box blend over the D3D 4x positions renders exactly the spatial D3D 4x (a compare job with the
   same reference): the same samples with weights 1/4, no flicker.
 - A repeated offset has no flicker; the worst phase's tiles are PNGs; a large job is cancelled.
@@ -117,6 +118,14 @@ def render_check(d):
             settle = res["frames_to_5pct"]
             check(settle is None or 1 <= settle <= 160, settle)
             mean[name] = res["steady"]["mean_rmse"]
+            # POST /v1/render of one phase (its kernels, the spatial renderer) is the loop's.
+            for p in (0, N - 1):
+                one = post(d, "/v1/render", {"scene": scene, "pattern": pattern, "phase": p,
+                                             "reference": REFERENCE})
+                check(one["temporal"] == {"phase": p, "phase_count": N}, one["temporal"])
+                check(abs(one["stats"]["rmse"] - res["phases"][p]["rmse"]) <=
+                      1e-5 * res["phases"][p]["rmse"] and one["e2"] == res["phases"][p]["e2"],
+                      (label, name, p, one["stats"]["rmse"], res["phases"][p]["rmse"]))
             fl = res["flicker"]
             check(fl["mean_rmse"] == 0 or
                   abs(fl["ratio"] - fl["predicted_mean_rmse"] / fl["mean_rmse"]) <= 1e-12, fl)
@@ -192,9 +201,12 @@ def main():
                                                        "blend": {"kind": "exponential",
                                                                  "alpha": 0}}}),
                    "pattern.temporal.blend.alpha")
-        r = d.request("POST", "/v1/render", {"scene": "rings", "size": [32, 32],
+        r = d.request("POST", "/v1/render", {"scene": "rings", "size": [32, 32], "phase": 8,
                                              "pattern": {"temporal": {"preset": "halton23-8"}}})
-        check(r.status == 400 and r.error_field() == "pattern.temporal", r.body[:300])
+        check(r.status == 400 and r.error_field() == "phase", r.body[:300])
+        r = d.request("POST", "/v1/jobs", {"kind": "compare", "scene": "rings",
+                                           "patterns": [{"temporal": {"preset": "halton23-8"}}]})
+        check(r.status == 400 and r.error_field() == "patterns[0].temporal", r.body[:300])
         reports = d.sanitizer_reports()
         check(not reports, "sanitizer reports: %s" % reports)
     finally:
