@@ -9,7 +9,7 @@ point 5, docs/temporal.md section 9), through the daemon.
   (from F1) but on the locked edge.
 - The job's predictions are POST /v1/predict's for the same body, its per-phase E2 POST
   /v1/evaluate's, its phases' RMSE POST /v1/render's of the phase (the spatial renderer on the
-  phase's kernels) within 1e-5; the after-cut curve over 20 periods ends at its phase's steady state (1e-5).
+  phase's kernels) and a compare job's rows (one per phase) within 1e-5; the after-cut curve over 20 periods ends at its phase's steady state (1e-5).
 - A box blend over the D3D 4x positions renders exactly the spatial D3D 4x (a compare job with the
   same reference): the same samples with weights 1/4, no flicker.
 - A repeated offset has no flicker; the worst phase's tiles are PNGs; a large job is cancelled.
@@ -165,6 +165,18 @@ def main():
         check(box["flicker"]["step_rmse"] == 0 and box["flicker"]["mean_rmse"] == 0, "no flicker")
         print("# figure: box over D3D 4x positions %.6f, spatial D3D 4x %.6f" %
               (box["phases"][0]["rmse"], spatial["rmse"]))
+        # A compare job renders a temporal pattern as one row per phase: the same as the loop's.
+        h8 = {"temporal": {"preset": "halton23-8"}}
+        loop = run(d, {"kind": "temporal-render", "scene": scene, "reference": REFERENCE,
+                       "tiles": False, "pattern": h8})
+        rows = run(d, {"kind": "compare", "scene": scene, "reference": REFERENCE, "tiles": False,
+                       "patterns": ["rgss", h8]})["rows"]
+        check([r["name"] for r in rows] ==
+              ["rgss"] + ["halton23-8 phase %d" % p for p in range(8)], [r["name"] for r in rows])
+        for row, ph in zip(rows[1:], loop["phases"]):
+            check(abs(row["rmse"] - ph["rmse"]) <= 1e-5 * ph["rmse"] and row["e2"] == ph["e2"] and
+                  abs(row["predicted_rmse"] - ph["predicted_rmse"]) <= 1e-9 * ph["rmse"],
+                  (row, ph))
         # The tiles of the worst phase are PNGs.
         for key in ("pattern", "reference", "difference"):
             r = d.request("GET", box["tiles"][key]["url"])
@@ -204,9 +216,10 @@ def main():
         r = d.request("POST", "/v1/render", {"scene": "rings", "size": [32, 32], "phase": 8,
                                              "pattern": {"temporal": {"preset": "halton23-8"}}})
         check(r.status == 400 and r.error_field() == "phase", r.body[:300])
-        r = d.request("POST", "/v1/jobs", {"kind": "compare", "scene": "rings",
-                                           "patterns": [{"temporal": {"preset": "halton23-8"}}]})
-        check(r.status == 400 and r.error_field() == "patterns[0].temporal", r.body[:300])
+        r = d.request("POST", "/v1/jobs", {"kind": "compare", "scene": "rings", "patterns": [
+            {"temporal": {"preset": "halton23-8", "blend": {"kind": "exponential"}}}]})
+        check(r.status == 400 and r.error_field() == "patterns[0].temporal.blend.alpha",
+              r.body[:300])
         reports = d.sanitizer_reports()
         check(not reports, "sanitizer reports: %s" % reports)
     finally:
