@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "codec.h"
+#include "codec_temporal.h"
+#include "job_temporal_render.h"
 
 static const char *const predict_keys[] = {"scene",     "size",        "pattern", "patterns",
                                            "reference", "e1_by_angle", "model",   NULL};
@@ -47,8 +49,14 @@ void proto_predict_request_free(proto_predict_request *r)
         aa_pattern_free(&r->patterns[i]);
     free(r->patterns);
     free(r->names);
+    free(r->source);
+    free(r->phase);
+    free(r->phase_count);
     r->patterns = NULL;
     r->names = NULL;
+    r->source = NULL;
+    r->phase = NULL;
+    r->phase_count = NULL;
     r->pattern_count = 0;
 }
 
@@ -57,7 +65,84 @@ void proto_predict_pattern_field(const proto_predict_request *r, size_t i, char 
     if (r->single)
         snprintf(out, cap, "pattern");
     else
-        snprintf(out, cap, "patterns[%zu]", i);
+        snprintf(out, cap, "patterns[%zu]", r->source ? r->source[i] : i);
+}
+
+/* Room for n more patterns. */
+static int grow(proto_predict_request *out, size_t *cap, size_t n, aa_error *err)
+{
+    if (out->pattern_count + n <= *cap)
+        return AA_OK;
+    size_t c = (out->pattern_count + n) * 2;
+    aa_pattern *p = realloc(out->patterns, c * sizeof *p);
+    if (p)
+        out->patterns = p;
+    char(*names)[64] = p ? realloc(out->names, c * sizeof *names) : NULL;
+    if (names)
+        out->names = names;
+    size_t *source = names ? realloc(out->source, c * sizeof *source) : NULL;
+    if (source)
+        out->source = source;
+    long *phase = source ? realloc(out->phase, c * sizeof *phase) : NULL;
+    if (phase)
+        out->phase = phase;
+    size_t *count = phase ? realloc(out->phase_count, c * sizeof *count) : NULL;
+    if (!count)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    out->phase_count = count;
+    *cap = c;
+    return AA_OK;
+}
+
+/* A temporal pattern: one pattern per phase. samples: the phase patterns' kernel samples so
+ * far over the request, bounded before anything is built. */
+static int decode_temporal(const json_t *pj, size_t index, const char *field,
+                           proto_predict_request *out, size_t *cap, double *samples, aa_error *err)
+{
+    proto_temporal spec;
+    int rc = proto_decode_temporal(pj, &spec, field, err);
+    if (rc)
+        return rc;
+    char tf[64];
+    snprintf(tf, sizeof tf, "%s.temporal", field);
+    double planned = proto_temporal_planned_samples(&spec) * (double)spec.count;
+    *samples += planned;
+    if (*samples > (double)PROTO_PREDICT_MAX_PHASE_SAMPLES) {
+        proto_temporal_free(&spec);
+        return aa_error_set(err, AA_ERANGE, tf,
+                            "%.0f phase kernel samples is more than a prediction does (%ld); "
+                            "send fewer phases or frame samples",
+                            *samples, PROTO_PREDICT_MAX_PHASE_SAMPLES);
+    }
+    aa_temporal t = {0};
+    aa_temporal_spec ts = proto_temporal_spec(&spec);
+    rc = aa_temporal_build(&t, &ts, err);
+    if (rc) {
+        char f[sizeof err->field];
+        proto_join_field(f, sizeof f, tf, err->field);
+        memcpy(err->field, f, sizeof f);
+    }
+    if (!rc)
+        rc = grow(out, cap, t.phase_count, err);
+    for (size_t p = 0; !rc && p < t.phase_count; p++) {
+        size_t i = out->pattern_count;
+        rc = aa_taa_phase_pattern(&t, p, &out->patterns[i], err);
+        if (rc) {
+            /* More than AA_MAX_KERNEL_SAMPLES per output pixel over the frames. */
+            char f[sizeof err->field];
+            proto_join_field(f, sizeof f, tf, "jitter");
+            memcpy(err->field, f, sizeof f);
+            break;
+        }
+        snprintf(out->names[i], sizeof out->names[i], "%s", spec.preset ? spec.preset : "");
+        out->source[i] = index;
+        out->phase[i] = (long)p;
+        out->phase_count[i] = t.phase_count;
+        out->pattern_count = i + 1;
+    }
+    aa_temporal_free(&t);
+    proto_temporal_free(&spec);
+    return rc;
 }
 
 static int decode_patterns(const json_t *body, proto_predict_request *out, aa_error *err)
@@ -78,17 +163,33 @@ static int decode_patterns(const json_t *body, proto_predict_request *out, aa_er
                                 PROTO_PREDICT_MAX_PATTERNS);
     }
     out->single = one != NULL;
-    out->patterns = calloc(n, sizeof *out->patterns);
-    out->names = calloc(n, sizeof *out->names);
-    if (!out->patterns || !out->names)
-        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    for (size_t i = 0; i < n; i++) {
-        const json_t *pj = one ? one : json_array_get(many, i);
+    size_t cap = 0;
+    double samples = 0;
+    for (size_t j = 0; j < n; j++) {
+        const json_t *pj = one ? one : json_array_get(many, j);
         char field[32];
-        proto_predict_pattern_field(out, i, field, sizeof field);
-        int rc = proto_decode_pattern_or_name(pj, 0, &out->patterns[i], field, err);
+        if (one)
+            snprintf(field, sizeof field, "pattern");
+        else
+            snprintf(field, sizeof field, "patterns[%zu]", j);
+        int rc;
+        if (json_is_object(pj) && json_object_get(pj, "temporal")) {
+            rc = decode_temporal(pj, j, field, out, &cap, &samples, err);
+            if (rc)
+                return rc;
+            continue;
+        }
+        rc = grow(out, &cap, 1, err);
         if (rc)
             return rc;
+        size_t i = out->pattern_count;
+        rc = proto_decode_pattern_or_name(pj, 0, &out->patterns[i], field, err);
+        if (rc)
+            return rc;
+        out->names[i][0] = 0;
+        out->source[i] = j;
+        out->phase[i] = -1;
+        out->phase_count[i] = 0;
         out->pattern_count = i + 1;
         const json_t *name = json_is_object(pj) ? json_object_get(pj, "preset") : pj;
         if (json_is_string(name))
@@ -213,6 +314,12 @@ json_t *proto_encode_predictions(const proto_predict_request *r, const aa_edge_h
                               proto_real(q->sum_sq > 0 ? q->locked_sq / q->sum_sq : 0.0),
                               "subpixel_area_share", q->subpixel_area_share,
                               "subpixel_error_estimated", false, "angles", encode_angles(h, q));
+        if (o && r->phase && r->phase[i] >= 0 &&
+            json_object_set_new(o, "temporal",
+                                json_pack("{s:I, s:I, s:I}", "index", (json_int_t)r->source[i],
+                                          "phase", (json_int_t)r->phase[i], "phase_count",
+                                          (json_int_t)r->phase_count[i])))
+            o = (json_decref(o), NULL);
         if (o && e1_by_angle && json_object_set_new(o, "e1_by_angle", encode_bins(e1_by_angle[i])))
             o = (json_decref(o), NULL);
         if (!o || json_array_append_new(list, o))

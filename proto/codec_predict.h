@@ -24,12 +24,20 @@
 #include "codec_scene.h"
 
 #define PROTO_PREDICT_MAX_PATTERNS 64
+/* Phase patterns of the request's temporal patterns: their kernel samples in all (each costs at
+ * least one E1 evaluation, so the handler's work bound, 2^23, refuses more anyway). */
+#define PROTO_PREDICT_MAX_PHASE_SAMPLES (1L << 23)
 
 typedef struct proto_predict_request {
     aa_scene_params scene;
     size_t pattern_count;
-    aa_pattern *patterns;           /* [pattern_count] */
-    char (*names)[64];              /* [pattern_count]: preset name, or "" */
+    aa_pattern *patterns; /* [pattern_count] */
+    char (*names)[64];    /* [pattern_count]: preset name, or "" */
+    /* A temporal pattern {"temporal": {...}} is predicted per phase: it expands into one
+     * pattern per phase (its phase kernels, aa_taa_phase_pattern), each with these set. */
+    size_t *source;                 /* [pattern_count]: index of the pattern in the request */
+    long *phase;                    /* [pattern_count]: the phase, or -1 for a spatial pattern */
+    size_t *phase_count;            /* [pattern_count]: N, or 0 */
     proto_reference_spec reference; /* reference.params.filter points into it: no copies */
     bool single;                    /* "pattern" (not "patterns") */
     bool e1_by_angle;               /* answer with E1 at every bin */
@@ -40,7 +48,7 @@ typedef struct proto_predict_request {
  * Errors name "pattern", "patterns", "patterns[i]...", "scene...", "size", "reference...". */
 int proto_decode_predict_request(const json_t *body, proto_predict_request *out, aa_error *err);
 void proto_predict_request_free(proto_predict_request *r);
-/* JSON field of pattern i as the request named it: "pattern" or "patterns[i]". */
+/* JSON field of (expanded) pattern i as the request named it: "pattern" or "patterns[j]". */
 void proto_predict_pattern_field(const proto_predict_request *r, size_t i, char *out, size_t cap);
 
 /* The wire name of model flags: "edge", "reference-profile", "exact" (NULL: no wire name). */

@@ -4,9 +4,11 @@
 #include <string.h>
 
 #include "codec.h"
+#include "codec_temporal.h"
+#include "job_temporal_render.h"
 
-static const char *const render_keys[] = {"scene", "size",   "pattern",    "reference",
-                                          "crop",  "acuity", "visibility", NULL};
+static const char *const render_keys[] = {"scene",  "size",       "pattern", "reference", "crop",
+                                          "acuity", "visibility", "phase",   NULL};
 
 int proto_decode_visibility(const json_t *j, bool *private_out, const char *field, aa_error *err)
 {
@@ -18,6 +20,47 @@ int proto_decode_visibility(const json_t *j, bool *private_out, const char *fiel
         return AA_OK;
     }
     return aa_error_set(err, AA_EINVAL, field, "%s must be \"team\" or \"private\"", field);
+}
+
+/* The steady state of one phase of a temporal pattern, as a spatial pattern: its kernels. The
+ * expansion is bounded like the temporal-render kind's (proto_temporal_planned_samples). */
+static int decode_temporal_phase(const json_t *body, const json_t *pj, proto_render_request *out,
+                                 aa_error *err)
+{
+    proto_temporal spec;
+    int rc = proto_decode_temporal(pj, &spec, "pattern", err);
+    if (rc)
+        return rc;
+    aa_temporal t = {0};
+    if (proto_temporal_planned_samples(&spec) > (double)AA_MAX_KERNEL_SAMPLES * AA_MAX_KERNELS)
+        rc = aa_error_set(err, AA_ERANGE, "pattern.temporal",
+                          "more than %d samples per output pixel over the frames",
+                          AA_MAX_KERNEL_SAMPLES);
+    if (!rc) {
+        aa_temporal_spec ts = proto_temporal_spec(&spec);
+        rc = aa_temporal_build(&t, &ts, err);
+        if (rc) {
+            char f[sizeof err->field];
+            proto_join_field(f, sizeof f, "pattern.temporal", err->field);
+            memcpy(err->field, f, sizeof f);
+        }
+    }
+    const json_t *ph = json_object_get(body, "phase");
+    if (!rc && ph &&
+        (!json_is_integer(ph) || json_integer_value(ph) < 0 ||
+         json_integer_value(ph) >= (json_int_t)t.phase_count))
+        rc = aa_error_set(err, AA_EINVAL, "phase", "phase must be an integer in [0, %zu]",
+                          t.phase_count - 1);
+    if (!rc) {
+        out->phase = ph ? (long)json_integer_value(ph) : 0;
+        out->phase_count = t.phase_count;
+        rc = aa_taa_phase_pattern(&t, (size_t)out->phase, &out->pattern, err);
+        if (rc) /* more than AA_MAX_KERNEL_SAMPLES per output pixel */
+            snprintf(err->field, sizeof err->field, "pattern.temporal.jitter");
+    }
+    aa_temporal_free(&t);
+    proto_temporal_free(&spec);
+    return rc;
 }
 
 int proto_decode_render_request(const json_t *body, proto_render_request *out, aa_error *err)
@@ -34,7 +77,13 @@ int proto_decode_render_request(const json_t *body, proto_render_request *out, a
     json_t *pj = json_object_get(body, "pattern");
     if (!rc && !pj)
         rc = aa_error_set(err, AA_EINVAL, "pattern", "a pattern is required");
-    if (!rc)
+    out->phase = -1;
+    bool temporal = json_is_object(pj) && json_object_get(pj, "temporal");
+    if (!rc && temporal)
+        rc = decode_temporal_phase(body, pj, out, err);
+    else if (!rc && json_object_get(body, "phase"))
+        rc = aa_error_set(err, AA_EINVAL, "phase", "phase is for a temporal pattern only");
+    else if (!rc)
         rc = proto_decode_pattern_or_name(pj, 0, &out->pattern, "pattern", err);
     if (!rc)
         rc = proto_decode_reference(json_object_get(body, "reference"), &out->reference,
@@ -84,4 +133,12 @@ json_t *proto_encode_render_result(const aa_render_params *rp, const aa_pattern 
         (json_int_t)r->ref.pixels_supersampled, "reference_input_pixels_sampled",
         (json_int_t)r->ref.input_pixels, "reference_samples", (json_int_t)r->ref.samples, "tiles",
         tiles);
+}
+
+void proto_encode_render_phase(json_t *answer, const proto_render_request *r)
+{
+    if (answer && r->phase >= 0)
+        json_object_set_new(answer, "temporal",
+                            json_pack("{s:I, s:I}", "phase", (json_int_t)r->phase, "phase_count",
+                                      (json_int_t)r->phase_count));
 }

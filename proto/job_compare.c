@@ -7,6 +7,8 @@
 
 #include "codec.h"
 #include "codec_internal.h"
+#include "codec_temporal.h"
+#include "job_temporal_render.h"
 
 void proto_compare_spec_free(proto_compare_spec *cp)
 {
@@ -32,6 +34,68 @@ static void pattern_name(const json_t *pj, const aa_pattern *p, char out[64])
 
 static const char *const kind_keys[] = {"patterns", NULL};
 
+/* Room for n more rows. */
+static int grow(proto_compare_spec *cp, size_t *cap, size_t n, aa_error *err)
+{
+    if (cp->count + n <= *cap)
+        return AA_OK;
+    size_t c = (cp->count + n) * 2;
+    aa_pattern *p = realloc(cp->patterns, c * sizeof *p);
+    if (p)
+        cp->patterns = p;
+    char(*names)[64] = p ? realloc(cp->names, c * sizeof *names) : NULL;
+    if (!names)
+        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    cp->names = names;
+    *cap = c;
+    return AA_OK;
+}
+
+/* A temporal pattern: one row per phase, its steady state (the phase's kernels). samples: the
+ * rows' kernel samples so far, bounded before anything is built. */
+static int decode_temporal_rows(const json_t *pj, const char *field, proto_compare_spec *cp,
+                                size_t *cap, double *samples, aa_error *err)
+{
+    proto_temporal spec;
+    int rc = proto_decode_temporal(pj, &spec, field, err);
+    if (rc)
+        return rc;
+    char tf[64];
+    snprintf(tf, sizeof tf, "%s.temporal", field);
+    *samples += proto_temporal_planned_samples(&spec) * (double)spec.count;
+    if (*samples > (double)PROTO_COMPARE_MAX_PHASE_SAMPLES ||
+        cp->count + spec.count > PROTO_COMPARE_MAX_ROWS)
+        rc = aa_error_set(err, AA_ERANGE, tf,
+                          "the phases are more rows (at most %d) or kernel samples (at most %ld) "
+                          "than a compare renders",
+                          PROTO_COMPARE_MAX_ROWS, PROTO_COMPARE_MAX_PHASE_SAMPLES);
+    aa_temporal t = {0};
+    if (!rc) {
+        aa_temporal_spec ts = proto_temporal_spec(&spec);
+        rc = aa_temporal_build(&t, &ts, err);
+        if (rc) {
+            char f[sizeof err->field];
+            proto_join_field(f, sizeof f, tf, err->field);
+            memcpy(err->field, f, sizeof f);
+        }
+    }
+    if (!rc)
+        rc = grow(cp, cap, t.phase_count, err);
+    for (size_t p = 0; !rc && p < t.phase_count; p++) {
+        rc = aa_taa_phase_pattern(&t, p, &cp->patterns[cp->count], err);
+        if (rc) { /* more than AA_MAX_KERNEL_SAMPLES per output pixel */
+            snprintf(err->field, sizeof err->field, "%s.jitter", tf);
+            break;
+        }
+        snprintf(cp->names[cp->count], sizeof cp->names[cp->count], "%.40s phase %u",
+                 spec.preset ? spec.preset : "temporal", (unsigned)p);
+        cp->count++;
+    }
+    aa_temporal_free(&t);
+    proto_temporal_free(&spec);
+    return rc;
+}
+
 int proto_decode_compare_spec(const json_t *spec, proto_compare_spec *cp, aa_error *err)
 {
     memset(cp, 0, sizeof *cp);
@@ -42,21 +106,22 @@ int proto_decode_compare_spec(const json_t *spec, proto_compare_spec *cp, aa_err
                 json_array_size(list) > PROTO_COMPARE_MAX_PATTERNS))
         rc = aa_error_set(err, AA_EINVAL, "patterns", "a list of 1..%d patterns is required",
                           PROTO_COMPARE_MAX_PATTERNS);
-    size_t n = json_array_size(list);
-    if (!rc) {
-        cp->patterns = calloc(n, sizeof *cp->patterns);
-        cp->names = calloc(n, sizeof *cp->names);
-        if (!cp->patterns || !cp->names)
-            rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    }
+    size_t n = json_array_size(list), cap = 0;
+    double samples = 0;
     for (size_t i = 0; i < n && !rc; i++) {
         char field[32];
         snprintf(field, sizeof field, "patterns[%zu]", i);
         json_t *pj = json_array_get(list, i);
-        rc = proto_render_pattern_decode(pj, &cp->patterns[i], field, err);
+        if (json_is_object(pj) && json_object_get(pj, "temporal")) {
+            rc = decode_temporal_rows(pj, field, cp, &cap, &samples, err);
+            continue;
+        }
+        rc = grow(cp, &cap, 1, err);
+        if (!rc)
+            rc = proto_render_pattern_decode(pj, &cp->patterns[cp->count], field, err);
         if (!rc) {
-            cp->count = i + 1;
-            pattern_name(pj, &cp->patterns[i], cp->names[i]);
+            pattern_name(pj, &cp->patterns[cp->count], cp->names[cp->count]);
+            cp->count++;
         }
     }
     if (rc)

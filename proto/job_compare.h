@@ -1,13 +1,18 @@
 /* Spec and result of the "compare" job kind: one scene rendered with several patterns, each
  * row against a supersampled reference (one per output grid: odd / even kernel size).
  * Spec: {"scene", "size", "reference", "acuity", "tiles", "patterns": [1..64 preset names or
- * pattern objects]} (job_render_spec.h for the shared fields). */
+ * pattern objects; a temporal pattern gives one row per phase]} (job_render_spec.h for the shared
+ * fields). */
 #ifndef AALAB_PROTO_JOB_COMPARE_H
 #define AALAB_PROTO_JOB_COMPARE_H
 
 #include "job_render_spec.h"
 
 #define PROTO_COMPARE_MAX_PATTERNS 64
+/* A temporal pattern in the list is one row per phase (its steady state: the phase's kernels,
+ * named "<preset or temporal> phase p"); all rows together at most these. */
+#define PROTO_COMPARE_MAX_ROWS 1024
+#define PROTO_COMPARE_MAX_PHASE_SAMPLES (1L << 22)
 
 typedef struct proto_compare_spec {
     proto_render_spec common;

@@ -38,6 +38,8 @@ SUMMARY = {
                 ' | @tsv'),
     "animation": '.["result"]["frames"][] | [.["frame"], .["rmse"], .["max_dev"]] | @tsv',
     "reference-convergence": '.["result"]["rows"][] | [.["spp"], .["rmse"], .["seconds"]] | @tsv',
+    "temporal-render": ('.["result"]["phases"][] | [.["phase"], .["e2"], .["rmse"],'
+                        ' .["predicted_rmse"]] | @tsv'),
     "sleep": '.["result"]["slept_seconds"]',
 }
 

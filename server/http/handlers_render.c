@@ -92,6 +92,7 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
         api_reply_aa_error(resp, &err);
         goto done;
     }
+    proto_encode_render_phase(out, &rq);
     json_t *enc = proto_encode_pattern(&rq.pattern);
     if (enc)
         json_object_set_new(json_object_get(out, "pattern"), "wire", enc);

@@ -89,6 +89,15 @@ static const job_kind table[] = {
      .run = kind_reference_convergence_run,
      .encode_result = kind_reference_convergence_encode_result,
      .free_result = kind_reference_convergence_free_result},
+    {.name = "temporal-render",
+     .summary = "Renders a still scene through the TAA loop of a temporal pattern and reports "
+                "the steady-state RMSE per phase, the RMSE per frame after a cut and the flicker, "
+                "with the edge model's prediction per phase.",
+     .decode = kind_temporal_render_decode,
+     .free_params = kind_temporal_render_free,
+     .run = kind_temporal_render_run,
+     .encode_result = kind_temporal_render_encode_result,
+     .free_result = kind_temporal_render_free_result},
     {.name = "sleep",
      .summary = "Test kind: waits a given time, reporting progress, and returns an optional "
                 "pattern.",

@@ -20,6 +20,7 @@ JOB_KIND_FUNCTIONS(kind_random_stats);
 JOB_KIND_FUNCTIONS(kind_table3);
 JOB_KIND_FUNCTIONS(kind_compare);
 JOB_KIND_FUNCTIONS(kind_animation);
+JOB_KIND_FUNCTIONS(kind_temporal_render);
 JOB_KIND_FUNCTIONS(kind_reference_convergence);
 JOB_KIND_FUNCTIONS(kind_sleep);
 JOB_KIND_FUNCTIONS(kind_temporal_optimize);

@@ -17,7 +17,7 @@ from schema_check import schemas  # noqa: E402
 from e2e_lib import Daemon, check  # noqa: E402
 
 KINDS = ["optimize", "family-sweep", "random-stats", "table3", "temporal-optimize", "compare",
-         "animation", "reference-convergence", "sleep"]
+         "animation", "reference-convergence", "temporal-render", "sleep"]
 DOC = os.path.join(ROOT, "docs", "api.md")
 FENCE = re.compile(r"(<!-- generated:begin example (\S+) -->\n)?```sh\n(.*?)```", re.S)
 

@@ -21,7 +21,7 @@ import gen_api_doc  # noqa: E402
 import response_check  # noqa: E402
 
 KINDS = ["optimize", "family-sweep", "random-stats", "table3", "temporal-optimize", "compare",
-         "animation", "reference-convergence", "sleep"]
+         "animation", "reference-convergence", "temporal-render", "sleep"]
 DOC = os.path.join(ROOT, "docs", "api.md")
 BLOCK = re.compile(r"<!-- generated:begin table (\S+) -->\n(.*?)<!-- generated:end -->", re.S)
 

@@ -93,9 +93,10 @@ static void test_kinds_listing(void **state)
     assert_int_equal(st, 200);
     assert_true(json_is_object(json_object_get(j, "envelope_schema")));
     json_t *kinds = json_object_get(j, "kinds");
-    const char *names[] = {"optimize",         "compare", "family-sweep", "animation",
-                           "random-stats",     "table3",  "sleep",        "reference-convergence",
-                           "temporal-optimize"};
+    const char *names[] = {"optimize",          "compare",        "family-sweep",
+                           "animation",         "random-stats",   "table3",
+                           "sleep",             "reference-convergence",
+                           "temporal-optimize", "temporal-render"};
     size_t found = 0;
     size_t i;
     json_t *k;
@@ -116,8 +117,8 @@ static void test_kinds_listing(void **state)
                                    json_object_get(json_object_get(k, "spec_schema"), "examples")));
         }
     }
-    assert_int_equal(found, 9);
-    assert_int_equal(json_array_size(kinds), 9);
+    assert_int_equal(found, 10);
+    assert_int_equal(json_array_size(kinds), 10);
     assert_string_equal(json_string_value(json_object_get(json_array_get(kinds, 0), "name")),
                         "optimize");
     json_decref(j);

@@ -20,6 +20,8 @@
 #include "job_compare.h"
 #include "job_reference_convergence.h"
 #include "job_sleep.h"
+#include "job_temporal_render.h"
+#include "codec_predict.h"
 
 /* A changed copy of j (path set to value, or deleted when value is NULL) fails to decode with
  * field want. */
@@ -358,12 +360,130 @@ static void test_sleep(void **state)
     proto_sleep_spec_free(&s);
 }
 
+/* The temporal-render spec: a temporal pattern and a still scene; K defaults to 4 N and is capped;
+ * errors name the field. The result encodes every phase, the steady state, the after-cut curve and
+ * the flicker, with the predictions and ratios where they exist. */
+static void test_temporal_render(void **state)
+{
+    (void)state;
+    DECODE_FAILS(proto_temporal_render_spec, proto_decode_temporal_render_spec,
+                 "{\"scene\":\"rings\",\"pattern\":\"rgss\"}", AA_EINVAL, "pattern");
+    DECODE_FAILS(proto_temporal_render_spec, proto_decode_temporal_render_spec,
+                 "{\"scene\":\"rings\"}", AA_EINVAL, "pattern");
+    DECODE_FAILS(proto_temporal_render_spec, proto_decode_temporal_render_spec,
+                 "{\"scene\":\"translating-circle\",\"pattern\":{\"temporal\":{\"preset\":"
+                 "\"halton23-8\"}}}",
+                 AA_EINVAL, "scene.name");
+    DECODE_FAILS(proto_temporal_render_spec, proto_decode_temporal_render_spec,
+                 "{\"pattern\":{\"temporal\":{\"jitter\":[[0,0]],\"blend\":{\"kind\":"
+                 "\"exponential\",\"alpha\":1.5}}}}",
+                 AA_EINVAL, "pattern.temporal.blend.alpha");
+    DECODE_FAILS(proto_temporal_render_spec, proto_decode_temporal_render_spec,
+                 "{\"pattern\":{\"temporal\":{\"jitter\":{\"generator\":\"halton\",\"count\":1024},"
+                 "\"resolve\":{\"filter\":{\"name\":\"gaussian\"},\"radius\":3}}}}",
+                 AA_ERANGE, "pattern.temporal");
+    json_t *j = parse("{\"scene\":\"rings\",\"size\":[16,16],\"pattern\":{\"temporal\":"
+                      "{\"jitter\":{\"generator\":\"halton\",\"count\":1024}}}}");
+    proto_temporal_render_spec s;
+    aa_error err = {0};
+    assert_int_equal(proto_decode_temporal_render_spec(j, &s, &err), AA_OK);
+    assert_int_equal(s.built.phase_count, 1024);
+    assert_int_equal(s.cut_frames, AA_TEMPORAL_MAX_CUT_FRAMES); /* 4 N, capped */
+    proto_temporal_render_spec_free(&s);
+    json_decref(j);
+    j = parse("{\"pattern\":{\"temporal\":{\"preset\":\"halton23-8\",\"cut_frames\":5}}}");
+    assert_int_equal(proto_decode_temporal_render_spec(j, &s, &err), AA_OK);
+    assert_int_equal(s.cut_frames, 5);
+    assert_string_equal(s.temporal.preset, "halton23-8");
+
+    proto_temporal_render_result r;
+    memset(&r, 0, sizeof r);
+    r.scene = s.common.scene;
+    r.phase_count = 2;
+    r.group_count = 1;
+    r.cut_count = 3;
+    r.blend = (aa_blend){AA_BLEND_EXPONENTIAL, 0.1};
+    r.jitter = calloc(2, sizeof *r.jitter);
+    r.phase_e2 = calloc(2, sizeof *r.phase_e2);
+    r.phase_rmse = calloc(2, sizeof *r.phase_rmse);
+    r.phase_max_dev = calloc(2, sizeof *r.phase_max_dev);
+    r.phase_predicted = calloc(2, sizeof *r.phase_predicted);
+    r.cut_rmse = calloc(3, sizeof *r.cut_rmse);
+    r.phase_rmse[0] = 2;
+    r.phase_rmse[1] = 4;
+    r.worst_phase = 1;
+    r.phase_predicted[0] = 2.2;
+    r.phase_predicted[1] = NAN; /* no prediction: no ratio, none in steady either */
+    r.flicker_mean_rmse = 0.5;
+    r.flicker_predicted = 0.55;
+    r.frames_to_5pct = -1;
+    json_t *out = proto_encode_temporal_render_result(&r);
+    assert_non_null(out);
+    json_t *phases = json_object_get(out, "phases");
+    assert_int_equal(json_array_size(phases), 2);
+    assert_true(fabs(json_real_value(json_object_get(json_array_get(phases, 0), "ratio")) - 1.1) <
+                1e-15);
+    assert_null(json_object_get(json_array_get(phases, 1), "predicted_rmse"));
+    json_t *steady = json_object_get(out, "steady");
+    assert_int_equal(json_integer_value(json_object_get(steady, "worst_phase")), 1);
+    assert_true(json_real_value(json_object_get(steady, "rmse")) == 4);
+    assert_true(fabs(json_real_value(json_object_get(steady, "mean_rmse")) - sqrt(10)) < 1e-15);
+    assert_null(json_object_get(steady, "predicted_rmse"));
+    assert_true(json_is_null(json_object_get(out, "frames_to_5pct")));
+    assert_int_equal(json_array_size(json_object_get(out, "after_cut")), 3);
+    assert_true(fabs(json_real_value(json_object_get(json_object_get(out, "flicker"), "ratio")) -
+                     1.1) < 1e-15);
+    assert_string_equal(
+        json_string_value(json_object_get(json_object_get(out, "pattern"), "family")), "T(2)");
+    json_decref(out);
+    proto_temporal_render_result_free(&r);
+    proto_temporal_render_spec_free(&s);
+    json_decref(j);
+}
+
+/* POST /v1/predict expands a temporal pattern into one pattern per phase, beside spatial ones. */
+static void test_predict_temporal(void **state)
+{
+    (void)state;
+    json_t *j =
+        parse("{\"patterns\":[\"rgss\",{\"temporal\":{\"preset\":\"halton23-8\"}},"
+              "{\"temporal\":{\"jitter\":[[0,0],[0.25,0.25]],\"blend\":{\"kind\":\"box\"}}}]}");
+    proto_predict_request rq;
+    aa_error err = {0};
+    assert_int_equal(proto_decode_predict_request(j, &rq, &err), AA_OK);
+    assert_int_equal(rq.pattern_count, 1 + 8 + 2);
+    assert_int_equal(rq.phase[0], -1);
+    for (size_t p = 0; p < 8; p++) {
+        assert_int_equal(rq.source[1 + p], 1);
+        assert_int_equal(rq.phase[1 + p], (long)p);
+        assert_int_equal(rq.phase_count[1 + p], 8);
+        assert_string_equal(rq.names[1 + p], "halton23-8");
+    }
+    assert_int_equal(rq.source[10], 2);
+    assert_int_equal(rq.phase[10], 1);
+    char field[32];
+    proto_predict_pattern_field(&rq, 10, field, sizeof field);
+    assert_string_equal(field, "patterns[2]");
+    /* A box blend: every phase has the same kernel (weights 1/2). */
+    assert_int_equal(rq.patterns[9].kernels[0].count, 2);
+    assert_true(rq.patterns[9].kernels[0].samples[1].w == 0.5);
+    proto_predict_request_free(&rq);
+    json_decref(j);
+    DECODE_FAILS(proto_predict_request, proto_decode_predict_request,
+                 "{\"patterns\":[\"rgss\",{\"temporal\":{\"jitter\":[[0.7,0]]}}]}", AA_EINVAL,
+                 "patterns[1].temporal.jitter[0]");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_compare_spec), cmocka_unit_test(test_compare_result),
-        cmocka_unit_test(test_animation),    cmocka_unit_test(test_reference_convergence),
+        cmocka_unit_test(test_compare_spec),
+        cmocka_unit_test(test_compare_result),
+        cmocka_unit_test(test_animation),
+        cmocka_unit_test(test_reference_convergence),
         cmocka_unit_test(test_sleep),
+        cmocka_unit_test(test_temporal_render),
+        cmocka_unit_test(test_predict_temporal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

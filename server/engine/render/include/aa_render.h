@@ -12,5 +12,6 @@
 #include "../edge_histogram.h"
 #include "../edge_profile.h"
 #include "../predict.h"
+#include "../taa_render.h"
 
 #endif
