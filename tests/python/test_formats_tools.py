@@ -113,6 +113,28 @@ def test_write_read(tmp_path):
 
 # -- through the daemon -----------------------------------------------------------------------
 
+SET_CASES = [  # (text, fmt, set): errors of a set, word for word the daemon's
+    ("0.1 0.1\n#\n0.5 x\n", "utk", 1),
+    ("0.1 0.1\n#\n0.5 0.5\n", "utk", 2),
+    ("0.1 0.1 1\n#\n0.5 0.5\n# c\n\n0.3\n", "xyw", 2),
+    ("x,y\n0.5,0.5\n", "csv", 0),
+    ('# aalab-pattern {"tile":1,"weights":[[1]]}\n0.5 0.5\n# aalab-pattern {"tile":1}\n0.5 0.5\n',
+     "utk", None),
+]
+
+
+@pytest.mark.parametrize("text,fmt,set_", SET_CASES)
+def test_daemon_gives_the_same_set_errors(client, text, fmt, set_):
+    with pytest.raises(formats.FormatError) as local:
+        formats.loads(text, fmt, set=set_)
+    body = {"format": fmt, "text": text, "weights": "equal"}
+    if set_ is not None:
+        body["set"] = set_
+    with pytest.raises(aalab.AalabError) as remote:
+        client.evaluate({"points": body})
+    assert (remote.value.field, remote.value.message) == (local.value.field, local.value.message)
+
+
 @pytest.fixture(scope="module")
 def preset_names(daemon):
     return [p["name"] for p in aalab.Client(daemon.socket_path).presets()]
