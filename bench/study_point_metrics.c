@@ -101,71 +101,12 @@ static void *run(void *arg)
     return NULL;
 }
 
-typedef struct ranked {
-    double v;
-    size_t i;
-} ranked;
-
-static int cmp_ranked(const void *a, const void *b)
-{
-    double x = ((const ranked *)a)->v, y = ((const ranked *)b)->v;
-    return x < y ? -1 : x > y;
-}
-
-/* Ranks 1..n, ties given their mean rank. */
-static void ranks(const double *v, size_t n, double *out)
-{
-    ranked *r = malloc(n * sizeof *r);
-    for (size_t i = 0; i < n; i++)
-        r[i] = (ranked){v[i], i};
-    qsort(r, n, sizeof *r, cmp_ranked);
-    for (size_t i = 0; i < n;) {
-        size_t j = i;
-        while (j + 1 < n && r[j + 1].v == r[i].v)
-            j++;
-        double mean = 0.5 * (double)(i + j) + 1;
-        for (size_t k = i; k <= j; k++)
-            out[r[k].i] = mean;
-        i = j + 1;
-    }
-    free(r);
-}
-
-/* Spearman's rho: Pearson's correlation of the ranks (NaN values dropped pairwise). */
+/* Spearman's rho (aa_spearman_of, the one random-stats and table3 report; pairs with a NaN
+ * dropped). */
 static double spearman(const double *a, const double *b, size_t n)
 {
-    double *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y);
-    double *ra = malloc(n * sizeof *ra), *rb = malloc(n * sizeof *rb);
-    size_t m = 0;
-    for (size_t i = 0; i < n; i++)
-        if (isfinite(a[i]) && isfinite(b[i])) {
-            x[m] = a[i];
-            y[m] = b[i];
-            m++;
-        }
-    double rho = NAN;
-    if (m > 2) {
-        ranks(x, m, ra);
-        ranks(y, m, rb);
-        double mx = 0, my = 0, sxy = 0, sxx = 0, syy = 0;
-        for (size_t i = 0; i < m; i++) {
-            mx += ra[i];
-            my += rb[i];
-        }
-        mx /= (double)m;
-        my /= (double)m;
-        for (size_t i = 0; i < m; i++) {
-            sxy += (ra[i] - mx) * (rb[i] - my);
-            sxx += (ra[i] - mx) * (ra[i] - mx);
-            syy += (rb[i] - my) * (rb[i] - my);
-        }
-        rho = sxx > 0 && syy > 0 ? sxy / sqrt(sxx * syy) : NAN;
-    }
-    free(x);
-    free(y);
-    free(ra);
-    free(rb);
-    return rho;
+    aa_spearman_result r;
+    return aa_spearman_of(a, b, n, &r) ? NAN : r.rho;
 }
 
 int main(int argc, char **argv)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """End-to-end on a real one-node Slurm cluster (tests/slurm/slurm_cluster.py): aalabd with
---slurm-shared-dir hands optimize and family-sweep jobs to Slurm as job arrays run by
-aalab-worker, and
+--slurm-shared-dir hands optimize, family-sweep and random-stats (with point-set metrics) jobs to
+Slurm as job arrays run by aalab-worker, and
 
   - the results with executor slurm equal the same spec's local result to the last bit (best
     pattern, E2, every per-seed / per-configuration figure), for two --slurm-max-tasks values;
@@ -42,6 +42,10 @@ OPT_SHORT = {"kind": "optimize", "family": "P(1,4,2)", "seeds": 8, "max_iteratio
              "rng_seed": 11}
 SWEEP = {"kind": "family-sweep", "cost": 1.25, "seeds_per_config": 2, "max_iterations": 300,
          "rng_seed": 5}
+# Issue 31: point-set figures per random pattern, computed by each shard's aalab-worker and ranked
+# (Spearman's rho with E2) after the merge: the point_metrics block equals the local one.
+RS_METRICS = {"kind": "random-stats", "family": "P(1,1,4)", "count": 400, "max_iterations": 100,
+              "rng_seed": 4, "metrics": ["mixture", "star_linf", "mean_nn_distance"]}
 OPT_LONG = {"kind": "optimize", "family": "P(1,16,8)", "seeds": 8, "max_iterations": 4000,
             "rng_seed": 3}
 # OPT_CANCEL never ends within the test: ~50 seeds of several seconds in each shard.
@@ -254,7 +258,8 @@ def check_same_as_local(env, d, d3):
     log("compare with executor slurm: 400 executor (%s)" % e["message"])
 
     local = {}
-    for name, spec in (("optimize", OPT_SHORT), ("family-sweep", SWEEP)):
+    for name, spec in (("optimize", OPT_SHORT), ("family-sweep", SWEEP),
+                       ("random-stats with metrics", RS_METRICS)):
         local[name] = run(d, spec)
         check_result_meta(local[name], "local")
         sl = run(d, spec, "slurm")

@@ -8,7 +8,7 @@ import { assert, eventually } from '../lib/check.mjs';
 const SPECS = {
   'family-sweep': { kind: 'family-sweep', cost: 1.25, seeds_per_config: 1, max_seconds: 1, rng_seed: 3 },
   'random-stats': { kind: 'random-stats', family: 'P(1,4,2)', count: 20, max_seconds: 1, rng_seed: 3, metrics: ['mixture', 'star_linf'] },
-  table3: { kind: 'table3', family: 'P(4,4,2)', seeds: 2, count: 10, max_iterations: 30, rng_seed: 3 },
+  table3: { kind: 'table3', family: 'P(4,4,2)', seeds: 2, count: 10, max_iterations: 30, rng_seed: 3, metrics: ['centered'] },
   compare: { kind: 'compare', scene: { name: 'siemens-star', width: 32, height: 32 }, reference: { spp: 64 }, patterns: [{ preset: 'centroid' }, { preset: 'quincunx' }, { preset: 'rgss' }] },
   animation: { kind: 'animation', scene: { name: 'rotating-triangle', frames: 3, width: 32, height: 32 }, reference: { spp: 64 }, pattern: { preset: 'rgss' } },
   'reference-convergence': { kind: 'reference-convergence', scene: { name: 'siemens-star', width: 32, height: 32 }, levels: [16, 64], baseline_spp: 256 },
@@ -111,6 +111,10 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
     }
     const hint = await page.$eval('#job-detail-body', (n) => n.textContent);
     assert(hint.includes('dart-throwing-torus') && hint.includes('naiman v2'), 'generator and acuity shown');
+    // issue 31: rho of the spec's figure with E2 per distribution, over both seeds' patterns
+    const rho = await cells(page, '#jd-point-metrics');
+    const wantRho = r.rows.map((row) => [row.distribution, 'centered', row.point_metrics.spearman[0].rho.toFixed(3), '20']);
+    assert(JSON.stringify(rho.map((x) => x.slice(0, 4))) === JSON.stringify(wantRho), `rho ${JSON.stringify(rho)}, API ${JSON.stringify(wantRho)}`);
     await shot('jobs-table3');
   });
 
