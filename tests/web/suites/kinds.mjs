@@ -44,6 +44,8 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
       const row = await page.waitForSelector(`#jobs-table tr[data-job-id="${s.id}"][data-state="${s.state}"]`, { timeout: 10000 });
       const e2 = await row.$eval('td.best-e2', (td) => td.textContent);
       assert(e2 === (typeof s.best_e2 === 'number' ? s.best_e2.toFixed(4) : '—'), `job ${s.id}: best E2 shown ${e2}, summary ${s.best_e2}`);
+      // An animation's pattern E2 is its best: the list says what the detail says (issue 34).
+      if (s.kind === 'animation') assert(e2 === jobs.animation.result.e2.toFixed(4), `animation ${s.id}: list shows ${e2}, its result E2 ${jobs.animation.result.e2}`);
     }
   });
 
