@@ -149,20 +149,37 @@ export function executionText(spec, result) {
   return spec && typeof spec.executor === 'string' ? spec.executor : null;
 }
 
+/* Kinds whose trace seconds are not the job's clock: table3's are the Opt W+P work summed over
+ * its cells (which may run side by side), so its curve ends at its last point, not at the job's
+ * wall time. */
+const TRACE_WORK_SECONDS = { table3: 'Opt W+P seconds (summed over cells)' };
+
+/* The trace chart's x-axis label for a job's kind. */
+export function traceXLabel(kind) {
+  return TRACE_WORK_SECONDS[kind] || 'seconds';
+}
+
 /* Trace points to draw, sorted by time, and the curve's end: best-so-far stays constant after
  * the last improvement, so the curve runs on to the job's end (finished - started; now for a
- * running job). Points at t = 0 are kept for linear axes; log axes drop them. */
+ * running job), except for kinds whose trace seconds are work, not the clock. The job's best E2
+ * (posted apart from the trace, so a running job's may be newer) ends the curve when it is
+ * lower, so the legend's last value and the header's agree. Points at t = 0 are kept for linear
+ * axes; log axes drop them. `best`: the E2 both show. */
 export function traceCurve(job, now = Date.now() / 1000) {
   const pts = job.trace.filter((p) => num(p.seconds) != null && num(p.best_e2) != null).sort((a, b) => a.seconds - b.seconds);
-  const end = job.started != null ? (job.finished ?? (ACTIVE_STATES.has(job.state) ? now : null)) : null;
+  const clock = !TRACE_WORK_SECONDS[job.kind];
+  const end = clock && job.started != null ? (job.finished ?? (ACTIVE_STATES.has(job.state) ? now : null)) : null;
   const endSeconds = end != null ? end - job.started : null;
   const xs = pts.map((p) => p.seconds);
   const ys = pts.map((p) => p.best_e2);
+  const lastY = ys.length ? ys[ys.length - 1] : null;
+  const jobBest = num(job.bestE2);
+  const best = lastY == null ? jobBest : jobBest != null && jobBest < lastY ? jobBest : lastY;
   if (pts.length && endSeconds != null && endSeconds > xs[xs.length - 1]) {
     xs.push(endSeconds);
-    ys.push(ys[ys.length - 1]);
-  }
-  return { xs, ys, points: pts.length, endSeconds };
+    ys.push(best);
+  } else if (pts.length && best < lastY) ys[ys.length - 1] = best;
+  return { xs, ys, points: pts.length, endSeconds, best };
 }
 
 /* family-sweep result: {cost, configurations, seeds_per_config, ranked: [{rank, config:

@@ -49,6 +49,23 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
     }
   });
 
+  await step('the job list fits its panel at 1400x1000 and 1000x800, Cancel buttons included', async () => {
+    for (const size of [{ width: 1400, height: 1000 }, { width: 1000, height: 800 }]) {
+      await page.setViewportSize(size);
+      await page.waitForTimeout(150);
+      const out = await page.evaluate(() => {
+        // The panel's content edge: inside its border and padding.
+        const p = document.getElementById('jobs-table').closest('.panel');
+        const cs = getComputedStyle(p);
+        const edge = p.getBoundingClientRect().right - parseFloat(cs.borderRightWidth) - parseFloat(cs.paddingRight);
+        const right = Math.max(...[...document.querySelectorAll('#jobs-table button, #jobs-table')].map((b) => b.getBoundingClientRect().right));
+        return { right, panel: edge + 0.5 };
+      });
+      assert(out.right <= out.panel, `${size.width}x${size.height}: the jobs table reaches ${out.right} px, its panel ends at ${out.panel}`);
+    }
+    await page.setViewportSize({ width: 1366, height: 900 });
+  });
+
   await step('family-sweep: ranked table; a row opens its configuration in Evaluate', async () => {
     const r = jobs['family-sweep'].result;
     await open('family-sweep');
@@ -109,6 +126,24 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
     }
     const hint = await page.$eval('#job-detail-body', (n) => n.textContent);
     assert(hint.includes('dart-throwing-torus') && hint.includes('naiman v2'), 'generator and acuity shown');
+    // Its trace is Opt W+P work: drawn to its last point, not to the job's wall time (issue 34).
+    const trace = jobs.table3.trace;
+    const tr = await page.$eval('#jd-trace', (h) => ({ end: h.dataset.end, label: h.dataset.xLabel, points: h.dataset.points }));
+    assert(tr.end === '' && /Opt W\+P seconds/.test(tr.label) && Number(tr.points) === trace.length, `table3 trace ${JSON.stringify(tr)}, ${trace.length} points`);
+    // The table fits the panel at both sizes: nothing scrolls or is cut off (issue 34).
+    for (const size of [{ width: 1400, height: 1000 }, { width: 1000, height: 800 }]) {
+      await page.setViewportSize(size);
+      await page.waitForTimeout(150);
+      const fit = await page.evaluate(() => {
+        const t = document.getElementById('jd-table3').getBoundingClientRect();
+        const p = document.getElementById('job-detail');
+        const cs = getComputedStyle(p);
+        const edge = p.getBoundingClientRect().right - parseFloat(cs.borderRightWidth) - parseFloat(cs.paddingRight);
+        const k = document.getElementById('jd-kind');
+        return { table: t.right, panel: edge + 0.5, scroll: k.scrollWidth, client: k.clientWidth };
+      });
+      assert(fit.table <= fit.panel && fit.scroll <= fit.client, `${size.width}x${size.height}: table3 ${JSON.stringify(fit)}`);
+    }
     await shot('jobs-table3');
   });
 

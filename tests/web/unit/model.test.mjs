@@ -8,7 +8,7 @@ import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import {
-  normEvaluation, normJob, jobsFrom, traceCurve, sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, comparisonPrediction, animationTable, convergenceTable,
+  normEvaluation, normJob, jobsFrom, traceCurve, traceXLabel, sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, comparisonPrediction, animationTable, convergenceTable,
   renderImages, renderStats, presetsFrom, normPreset, filtersFrom, acuityFrom, acuityLabel, wirePattern, jobPattern, familySeries,
   executionText, predictionFrom, predictionRatio, costliestAngles, fmtShare,
 } from '../../../web/js/model.js';
@@ -110,6 +110,31 @@ test('a running job: the trace curve runs to now; a job not started has no end',
   assert.equal(c.xs[c.xs.length - 1], 5);
   const queued = traceCurve(normJob({ ...raw, state: 'queued', started: null, trace: [] }), now);
   assert.deepEqual([queued.xs, queued.endSeconds], [[], null]);
+});
+
+test('table3: the trace is Opt W+P work, its curve ends at its last point, not the wall time (issue 34)', () => {
+  const raw = { ...load('job-optimize'), kind: 'table3' };
+  raw.finished = raw.started + raw.trace[raw.trace.length - 1].seconds * 5;
+  const c = traceCurve(normJob(raw));
+  assert.equal(c.endSeconds, null);
+  assert.equal(c.xs.length, raw.trace.length);
+  assert.equal(Math.max(...c.xs), Math.max(...raw.trace.map((p) => p.seconds)));
+  assert.match(traceXLabel('table3'), /Opt W\+P seconds/);
+  assert.equal(traceXLabel('optimize'), 'seconds');
+});
+
+test('a running job whose best is newer than its trace: the curve ends at the best, as the header (issue 34)', () => {
+  const raw = { ...load('job-optimize'), state: 'running', finished: null };
+  const last = raw.trace[raw.trace.length - 1].best_e2;
+  raw.best_e2 = last - 1e-6;
+  raw.result = null;
+  const c = traceCurve(normJob(raw), raw.started + 1000);
+  assert.equal(c.ys[c.ys.length - 1], raw.best_e2);
+  assert.equal(c.best, raw.best_e2);
+  // A best that lags behind the trace does not lift the curve.
+  const lag = traceCurve(normJob({ ...raw, best_e2: last + 1e-3 }), raw.started + 1000);
+  assert.equal(lag.ys[lag.ys.length - 1], last);
+  assert.equal(lag.best, last);
 });
 
 test('sleep job with a pattern: best {elapsed, pattern}, trace from 1 down', () => {

@@ -4,7 +4,7 @@
 
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
 import { apiPost, apiDelete, apiGetText } from '../api.js';
-import { ACTIVE_STATES, fmt, traceCurve } from '../model.js';
+import { ACTIVE_STATES, fmt, traceCurve, traceXLabel } from '../model.js';
 import { loadJobs, loadJob, jobKinds } from '../store.js';
 import { PatternView } from '../pattern-view.js';
 import { drawableOf } from '../pattern-geometry.js';
@@ -215,12 +215,18 @@ let marked = 0; // points of the curve drawn with a marker (the trace's own, not
 
 function drawTrace(j) {
   const curve = traceCurve(j);
+  // The header shows the E2 the curve ends at (a running job's best may be newer than its trace).
+  $('jd-e2').textContent = fmt(curve.best ?? j.bestE2, 6);
   const mode = $('jd-axes').value;
   axes = traceAxes(curve.xs, curve.ys, mode);
   const holder = $('jd-trace');
   holder.dataset.points = String(curve.points);
   holder.dataset.end = curve.endSeconds == null ? '' : String(curve.endSeconds);
   holder.dataset.yTicks = String(axes.y.ticks.length);
+  holder.dataset.xLabel = traceXLabel(j.kind);
+  $('jd-trace-caption').textContent = curve.endSeconds == null && j.kind === 'table3'
+    ? 'Best Opt W+P E2 so far against the Opt W+P work (seconds summed over the cells), to its last point'
+    : "Best E2 so far against run time (seconds), up to the job's end";
   holder.setAttribute('aria-label', `Best E2 against run time, ${mode} axes`);
   // The curve's last point is the job's end (no marker there) when it runs past the last
   // improvement.
@@ -255,7 +261,7 @@ function drawTrace(j) {
       scales: { x: scale('x'), y: scale('y') },
       axes: [
         // uPlot labels only some ticks of a log axis by default: label every one of ours.
-        { label: 'seconds', splits: ticks('x'), filter: (u, splits) => splits, values: labels('x') },
+        { label: traceXLabel(j.kind), splits: ticks('x'), filter: (u, splits) => splits, values: labels('x') },
         { label: 'best E2', size: 70, splits: ticks('y'), filter: (u, splits) => splits, values: labels('y') },
       ],
       // Without the cursor over the plot, the legend shows the job's end and its best E2.

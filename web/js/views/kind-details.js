@@ -23,8 +23,8 @@ function evaluateLink(href, text) {
 
 /* A table with a caption, a header row and body rows; cells are strings or nodes; columns from
  * numeric onwards are right-aligned numbers. */
-export function table({ id, caption, head, rows, numericFrom = 1 }) {
-  const t = node('table', { className: 'data', ...(id ? { id } : {}) });
+export function table({ id, caption, head, rows, numericFrom = 1, compact = false }) {
+  const t = node('table', { className: compact ? 'data compact' : 'data', ...(id ? { id } : {}) });
   if (caption) t.append(node('caption', { text: caption }));
   t.append(node('thead', {}, [node('tr', {}, head.map((h) => node('th', { scope: 'col', text: h })))]));
   const body = node('tbody');
@@ -86,7 +86,7 @@ function table3(holder, job) {
   const gens = x.rows.map((r) => `${r.distribution}: ${r.generator}${r.radius != null ? ` (radius ${fmt(r.radius, 3)} px)` : ''}`).join('; ');
   holder.append(
     node('p', { className: 'hint', text: `Laine & Aila Table 3 for ${x.family} over ${x.seeds.length} rng_seeds (${x.seeds.join(', ')}), ${x.count} random patterns each: mean ± sample standard deviation over the seeds, the paper's values below. Generators: ${gens}. Acuity ${x.acuity}.` }),
-    table({ id: 'jd-table3', caption: 'Table 3: E2 mean ± sd over seeds, beside the paper', head, rows }),
+    table({ id: 'jd-table3', caption: 'Table 3: E2 mean ± sd over seeds, beside the paper', head, rows, compact: true }),
   );
 }
 
