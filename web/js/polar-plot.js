@@ -7,10 +7,15 @@ import { el, text, clear, COLOURS, DASHES, niceTicks, enlargeSmallText } from '.
 const SIZE = 360;
 const PAD = 40;
 
-export function drawPolar(container, { title, series, argmax, valueLabel, marks = [] }) {
+/* only: the index of the one series to draw (the kernel picker), or null for all; its colour and
+ * dash stay those of its index, and the radius scale fits what is drawn. */
+export function drawPolar(container, { title, series, argmax, valueLabel, marks = [], only = null }) {
   clear(container);
   const svg = el('svg', { viewBox: `0 0 ${SIZE} ${SIZE + 24}`, class: 'polar-svg', role: 'img' }, container);
-  const rMaxData = Math.max(1e-9, ...series.flatMap((s) => s.points.map((p) => p.r ?? 0)));
+  const shown = (k) => only == null || k === only;
+  if (only != null) svg.dataset.kernel = String(only);
+  if (argmax && argmax.kernel != null && !shown(argmax.kernel)) argmax = null;
+  const rMaxData = Math.max(1e-9, ...series.filter((_, k) => shown(k)).flatMap((s) => s.points.map((p) => p.r ?? 0)));
   const ticks = niceTicks(0, rMaxData, 4).filter((t) => t > 0);
   const rTop = Math.max(rMaxData, ticks[ticks.length - 1] || rMaxData);
   const R = SIZE / 2 - PAD;
@@ -35,6 +40,7 @@ export function drawPolar(container, { title, series, argmax, valueLabel, marks 
     text(svg, tx, ty + 4, `${d}°`, { class: 'polar-tick', 'text-anchor': 'middle' });
   }
   series.forEach((s, k) => {
+    if (!shown(k)) return;
     const pts = s.points.filter((p) => p.r != null);
     if (!pts.length) return;
     const full = [...pts, ...pts.map((p) => ({ angle: p.angle + 180, r: p.r }))];
@@ -78,4 +84,28 @@ export function polarLegend(container, count) {
     item.append(` kernel ${k}`);
     container.appendChild(item);
   }
+}
+
+/* A menu picking the kernel the polar plots draw: "all kernels" or one of them (16 curves in one
+ * plot cannot be read apart). Shown only for more than one kernel; keeps the choice while the
+ * count stays. onPick(k or null). Returns the current choice. */
+export function polarKernelPicker(select, count, onPick) {
+  const before = select.value;
+  if (select.options.length !== count + 1) {
+    select.replaceChildren();
+    const all = document.createElement('option');
+    all.value = 'all';
+    all.textContent = `all ${count} kernels`;
+    select.append(all);
+    for (let k = 0; k < count; k++) {
+      const o = document.createElement('option');
+      o.value = String(k);
+      o.textContent = `kernel ${k}`;
+      select.append(o);
+    }
+    select.value = [...select.options].some((o) => o.value === before) ? before : 'all';
+  }
+  select.closest('label, .kernel-pick')?.toggleAttribute('hidden', count < 2);
+  select.onchange = () => onPick(select.value === 'all' ? null : Number(select.value));
+  return select.value === 'all' ? null : Number(select.value);
 }

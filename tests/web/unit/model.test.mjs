@@ -13,7 +13,7 @@ import {
   executionText, predictionFrom, predictionRatio, costliestAngles, fmtShare,
 } from '../../../web/js/model.js';
 import { traceAxes, tickLabels } from '../../../web/js/trace-axes.js';
-import { kernelsOf, layoutDots, moveSample, drawableOf } from '../../../web/js/pattern-geometry.js';
+import { kernelsOf, layoutDots, moveSample, drawableOf, placeWeightLabels } from '../../../web/js/pattern-geometry.js';
 
 const FIXTURES = path.join(path.dirname(fileURLToPath(import.meta.url)), '..', 'fixtures');
 const load = (name) => JSON.parse(fs.readFileSync(path.join(FIXTURES, `${name}.json`), 'utf8'));
@@ -354,4 +354,25 @@ test('prediction ratio and costliest angles', () => {
   assert.ok(Math.abs(c.rest - 0.3) < 1e-12);
   assert.equal(fmtShare(0.1234), '12.3 %');
   assert.equal(fmtShare(null), '—');
+});
+
+test('weight labels of a 64-sample kernel cover no dot and no other label (issue 34: P(16,16,4) drawings)', () => {
+  // An 8x8 grid in a 140-unit pixel, as the job view draws a P(16,16,4) kernel, plus neighbours.
+  const circles = [];
+  for (let j = -8; j < 16; j++) for (let i = -8; i < 16; i++) circles.push({ x: 140 + i * 17.5 + 8, y: 140 + j * 17.5 + 8, r: 4 + ((i * 7 + j) % 3) });
+  const primary = circles.map((c, i) => ({ c, i })).filter(({ c }) => c.x > 140 && c.x < 280 && c.y > 140 && c.y < 280);
+  assert.equal(primary.length, 64);
+  const labels = primary.map(({ i }) => ({ i, text: '0.016' }));
+  const placed = placeWeightLabels(circles, labels, 12);
+  for (const [k, p] of placed.entries()) {
+    for (const c of circles) {
+      const dx = Math.max(p.box.x0 - c.x, 0, c.x - p.box.x1);
+      const dy = Math.max(p.box.y0 - c.y, 0, c.y - p.box.y1);
+      assert.ok(dx * dx + dy * dy >= c.r * c.r, `label of dot ${p.i} covers a dot at ${c.x},${c.y}`);
+    }
+    for (const q of placed.slice(k + 1)) assert.ok(!(p.box.x0 < q.box.x1 && q.box.x0 < p.box.x1 && p.box.y0 < q.box.y1 && q.box.y0 < p.box.y1), `labels ${p.i} and ${q.i} overlap`);
+  }
+  // A sparse kernel (4 samples far apart) keeps every label.
+  const sparse = [{ x: 100, y: 100, r: 20 }, { x: 300, y: 100, r: 20 }, { x: 100, y: 300, r: 20 }, { x: 300, y: 300, r: 20 }];
+  assert.equal(placeWeightLabels(sparse, sparse.map((_, i) => ({ i, text: '0.25' })), 12).length, 4);
 });
