@@ -4,7 +4,7 @@
 
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
 import { apiPost, apiDelete, apiGetText } from '../api.js';
-import { ACTIVE_STATES, fmt, traceCurve, traceXLabel } from '../model.js';
+import { ACTIVE_STATES, fmt, traceCurve, traceXLabel, jobSettings, jobTimings, timingsText } from '../model.js';
 import { loadJobs, loadJob, jobKinds } from '../store.js';
 import { PatternView } from '../pattern-view.js';
 import { drawableOf } from '../pattern-geometry.js';
@@ -118,7 +118,7 @@ function clearDetail() {
   chartKey = '';
   $('jd-trace').replaceChildren();
   delete $('jd-trace').dataset.points;
-  for (const id of ['jd-state', 'jd-label', 'jd-e2', 'jd-family', 'jd-points', 'jd-executor']) $(id).textContent = '—';
+  for (const id of ['jd-state', 'jd-label', 'jd-e2', 'jd-family', 'jd-points', 'jd-executor', 'jd-settings', 'jd-timings']) $(id).textContent = '—';
   $('jd-error').textContent = '';
   $('jd-kind').replaceChildren();
   delete $('jd-kind').dataset.kind;
@@ -187,7 +187,15 @@ async function renderDetail(id) {
   $('jd-e2').textContent = fmt(j.bestE2, 6);
   $('jd-family').textContent = j.family || '—';
   $('jd-points').textContent = String(j.trace.length);
-  $('jd-executor').textContent = j.execution || 'local';
+  $('jd-executor').textContent = j.execution || j.executor || 'local';
+  // The submitted settings (what the spec left out took the daemon's defaults) and timings.
+  const settings = jobSettings(j.spec);
+  const sd = $('jd-settings');
+  sd.replaceChildren(...settings.flatMap(([k, v], i) => [...(i ? [' · '] : []), Object.assign(document.createElement('span'), { className: 'setting', textContent: `${k} ${v}` })]));
+  if (!settings.length) sd.textContent = 'defaults';
+  const t = jobTimings(j);
+  $('jd-timings').textContent = timingsText(t);
+  $('jd-timings').title = t.created == null ? '' : `submitted ${new Date(t.created * 1000).toISOString()}`;
   $('jd-error').textContent = j.error ? `error: ${j.error}` : '';
   $('jd-trace-figure').hidden = !j.trace.length;
   drawTrace(j);
