@@ -405,6 +405,12 @@ has "annulus  frequencies" "analyze prints the radial spectrum"
 expect 0 "analyze a job's pattern, spacing only" -- A analyze "job:$id" --metrics spacing
 has "min distance" "analyze --metrics spacing prints the spacing"
 expect 2 "analyze an unknown metric is a 4xx" -- A analyze flipquad --metrics spacing,fft
+# The remaining --csv tables (issue 34: every one read by Python's csv module, unique ASCII headers).
+A analyze flipquad --radius 8 --csv >"$tmp/an.csv" && csv_ok "$tmp/an.csv" "analyze --csv"
+A eval rgss --csv >"$tmp/ev.csv" && csv_ok "$tmp/ev.csv" "eval --csv"
+A presets quincunx --csv >"$tmp/pq.csv" && csv_ok "$tmp/pq.csv" "presets NAME --csv"
+A job "$id" --pattern --csv >"$tmp/jp.csv" && csv_ok "$tmp/jp.csv" "job ID --pattern --csv"
+A jobs --state done --csv >"$tmp/jd.csv" && csv_ok "$tmp/jd.csv" "jobs --state done --csv"
 
 if jq -e '.render == true' <<<"$health" >/dev/null; then
   expect 0 "render -o tile.png" -- A render --pattern quincunx --scene siemens-star --size 64x64 -o "$tmp/tile.png"
