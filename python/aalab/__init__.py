@@ -23,6 +23,7 @@ from .formats import FormatError, PointSet
 from .job import ENDED, Job
 from .patterns import as_pattern
 from .results import Analysis, Argmax, Enumeration, Evaluation, Render, Trace
+from .tables import ResultTable, result_table
 
 __version__ = "0.1.0"
 
@@ -39,4 +40,4 @@ def __getattr__(name: str):
 
 __all__ = ["Client", "Job", "AalabError", "DaemonUnreachable", "FormatError", "PointSet",
            "Evaluation", "Analysis", "Render", "Trace", "Enumeration", "Argmax", "as_pattern", "pattern",
-           "JOB_STATES", "ENDED", "__version__"]
+           "JOB_STATES", "ENDED", "ResultTable", "result_table", "__version__"]
