@@ -3,13 +3,14 @@
 // maximum is marked with a ring and a text label; optional marks are dots at given angles.
 
 import { el, text, clear, COLOURS, DASHES, niceTicks, enlargeSmallText } from './svg.js';
+import { addPlotTools } from './plot-tools.js';
 
 const SIZE = 360;
 const PAD = 40;
 
 /* only: the index of the one series to draw (the kernel picker), or null for all; its colour and
  * dash stay those of its index, and the radius scale fits what is drawn. */
-export function drawPolar(container, { title, series, argmax, valueLabel, marks = [], only = null }) {
+export function drawPolar(container, { title, series, argmax, valueLabel, marks = [], only = null, tools = true }) {
   clear(container);
   const svg = el('svg', { viewBox: `0 0 ${SIZE} ${SIZE + 24}`, class: 'polar-svg', role: 'img' }, container);
   const shown = (k) => only == null || k === only;
@@ -70,6 +71,15 @@ export function drawPolar(container, { title, series, argmax, valueLabel, marks 
   }
   if (valueLabel) text(svg, SIZE - 6, 16, valueLabel, { class: 'polar-tick', 'text-anchor': 'end' });
   enlargeSmallText(svg);
+  if (tools)
+    addPlotTools(container, svg, {
+      title,
+      // Each drawn series' half-turn as computed (E1 is even in θ+180°).
+      csv: () => ({
+        header: ['kernel', 'angle_deg', 'value'],
+        rows: series.flatMap((s, k) => (shown(k) ? s.points.filter((p) => p.r != null).map((p) => [k, p.angle, p.r]) : [])),
+      }),
+    });
   return svg;
 }
 

@@ -2,8 +2,10 @@
 // with a title), one marker shape per series so series read without colour.
 
 import { el, text, clear, marker, MARKERS, COLOURS, DASHES, niceTicks, logTicks, enlargeSmallText } from './svg.js';
+import { addPlotTools } from './plot-tools.js';
 
-export function drawScatter(container, { series, xLabel, yLabel, xLog = false, yLog = false, width = 640, height = 360, lines = false, title = '', labels = false }) {
+/* tools: the zoom/reset and PNG/SVG/CSV toolbar under the plot (plot-tools.js). */
+export function drawScatter(container, { series, xLabel, yLabel, xLog = false, yLog = false, width = 640, height = 360, lines = false, title = '', labels = false, tools = true }) {
   clear(container);
   const m = { l: 56, r: 16, t: title ? 26 : 12, b: 44 };
   const svg = el('svg', { viewBox: `0 0 ${width} ${height}`, class: 'scatter-svg', role: 'group', 'aria-label': title || `${yLabel} against ${xLabel}` }, container);
@@ -97,7 +99,21 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
     }
   });
   enlargeSmallText(svg);
+  if (tools)
+    addPlotTools(container, svg, {
+      title: title || `${yLabel} against ${xLabel}`,
+      csv: () => ({
+        header: ['series', fileField(xLabel), fileField(yLabel), 'title'],
+        rows: series.flatMap((s) => s.points.map((p) => [s.label, p.x, p.y, p.title || ''])),
+      }),
+    });
   return svg;
+}
+
+/* A CSV column name from an axis label: ASCII, lower case, words joined by _. */
+function fileField(label) {
+  const s = String(label).normalize('NFKD').replace(/[^\x20-\x7e]/g, '').toLowerCase().replace(/[^a-z0-9]+/g, '_').replace(/^_+|_+$/g, '');
+  return s || 'value';
 }
 
 export function scatterLegend(container, labels) {

@@ -8,7 +8,9 @@ import { ACTIVE_STATES, fmt, traceCurve, traceXLabel, jobSettings, jobTimings, t
 import { loadJobs, loadJob, jobKinds } from '../store.js';
 import { PatternView } from '../pattern-view.js';
 import { drawableOf } from '../pattern-geometry.js';
-import { traceAxes, tickLabels } from '../trace-axes.js';
+import { traceAxes, tickLabels, axisFor } from '../trace-axes.js';
+import { drawScatter } from '../scatter-plot.js';
+import { csvText, standaloneSvg, fileStem } from '../plot-tools.js';
 import { renderKindDetail } from './kind-details.js';
 import { currentEvaluatePattern } from './evaluate-bridge.js';
 
@@ -79,7 +81,16 @@ export async function init(context) {
   $('jd-axes').addEventListener('change', () => {
     if (chart) chart.destroy();
     chart = null;
+    zoom = null;
     if (lastJob) drawTrace(lastJob);
+  });
+  $('jd-trace-tools').addEventListener('click', (e) => {
+    const action = e.target.closest('button')?.dataset.action;
+    if (!action || !lastJob) return;
+    if (action === 'reset') {
+      zoom = null;
+      drawTrace(lastJob);
+    } else traceDownload(lastJob, action);
   });
   window.addEventListener('resize', () => chart && chart.setSize(chartSize()));
 }
@@ -116,6 +127,7 @@ function clearDetail() {
   if (chart) chart.destroy();
   chart = null;
   chartKey = '';
+  zoom = null;
   $('jd-trace').replaceChildren();
   delete $('jd-trace').dataset.points;
   for (const id of ['jd-state', 'jd-label', 'jd-e2', 'jd-family', 'jd-points', 'jd-executor', 'jd-settings', 'jd-timings']) $(id).textContent = '—';
@@ -220,6 +232,49 @@ function chartSize() {
 let axes = null; // the trace chart's ranges and ticks, read by its scale and axis callbacks
 let chartKey = '';
 let marked = 0; // points of the curve drawn with a marker (the trace's own, not the end)
+let zoom = null; // {x: [lo, hi], y: [lo, hi]} chosen by dragging over the chart; null: all
+
+/* The trace as a file: CSV of its points, PNG of the chart's canvas, or SVG drawn from the same
+ * points (scatter-plot.js, off screen so the page's styles can be read and inlined). */
+function traceDownload(j, what) {
+  const stem = `aalab-job-${j.id}-trace`;
+  const save = (blob, ext) => {
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = `${stem}.${ext}`;
+    document.body.append(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+  };
+  if (what === 'csv') {
+    const rows = j.trace.map((p) => [p.seconds, p.iterations, p.evaluations, p.best_e2]);
+    save(new Blob([csvText(['seconds', 'iterations', 'evaluations', 'best_e2'], rows)], { type: 'text/csv' }), 'csv');
+  } else if (what === 'png') {
+    const canvas = $('jd-trace').querySelector('canvas');
+    if (canvas) canvas.toBlob((b) => b && save(b, 'png'), 'image/png');
+  } else if (what === 'svg') {
+    const c = traceCurve(j);
+    const log = $('jd-axes').value === 'log';
+    const off = document.createElement('div');
+    off.style.cssText = 'position:absolute;left:-10000px;top:0;width:720px';
+    document.body.append(off);
+    const svg = drawScatter(off, {
+      series: [{ label: `job ${j.id}`, line: true, points: c.xs.map((x, i) => ({ x, y: c.ys[i] })) }],
+      xLabel: traceXLabel(j.kind),
+      yLabel: 'best E2',
+      xLog: log,
+      yLog: log,
+      width: 720,
+      height: 400,
+      title: `Job ${j.id} (${j.kind}): best E2 against ${traceXLabel(j.kind)}`,
+      tools: false,
+    });
+    const text = standaloneSvg(svg);
+    off.remove();
+    save(new Blob([text], { type: 'image/svg+xml' }), 'svg');
+  }
+}
 
 function drawTrace(j) {
   const curve = traceCurve(j);
@@ -227,6 +282,10 @@ function drawTrace(j) {
   $('jd-e2').textContent = fmt(curve.best ?? j.bestE2, 6);
   const mode = $('jd-axes').value;
   axes = traceAxes(curve.xs, curve.ys, mode);
+  // A zoom keeps its ranges (ticks inside them) until reset, another job or other axes.
+  if (zoom) axes = { ...axes, x: axisFor(zoom.x, mode), y: axisFor(zoom.y, mode) };
+  $('jd-trace-tools').querySelector('[data-action="reset"]').disabled = !zoom;
+  $('jd-trace').dataset.zoomed = zoom ? 'true' : '';
   const holder = $('jd-trace');
   holder.dataset.points = String(curve.points);
   holder.dataset.end = curve.endSeconds == null ? '' : String(curve.endSeconds);
@@ -241,7 +300,7 @@ function drawTrace(j) {
   const endPoint = curve.xs.length > curve.points;
   marked = axes.xs.length - (endPoint ? 1 : 0);
   const data = [axes.xs, axes.ys];
-  const key = `${j.id}:${mode}`;
+  const key = `${j.id}:${mode}:${zoom ? zoom.x.join() + zoom.y.join() : ''}`;
   if (!axes.xs.length) {
     if (chart) chart.destroy();
     chart = null;
@@ -267,6 +326,21 @@ function drawTrace(j) {
     {
       ...chartSize(),
       scales: { x: scale('x'), y: scale('y') },
+      // Dragging a rectangle zooms to it (the chart is rebuilt with those ranges); the toolbar's
+      // Reset zoom goes back.
+      cursor: { drag: { x: true, y: true, uni: 20, setScale: false } },
+      hooks: {
+        setSelect: [
+          (u) => {
+            const s = u.select;
+            if (s.width < 6 && s.height < 6) return;
+            const x = [u.posToVal(s.left, 'x'), u.posToVal(s.left + Math.max(s.width, 1), 'x')];
+            const y = [u.posToVal(s.top + Math.max(s.height, 1), 'y'), u.posToVal(s.top, 'y')];
+            zoom = { x: s.width < 6 ? axes.x.range : x, y: s.height < 6 ? axes.y.range : y };
+            setTimeout(() => lastJob && drawTrace(lastJob));
+          },
+        ],
+      },
       axes: [
         // uPlot labels only some ticks of a log axis by default: label every one of ours.
         { label: traceXLabel(j.kind), splits: ticks('x'), filter: (u, splits) => splits, values: labels('x') },

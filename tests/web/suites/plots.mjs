@@ -1,0 +1,91 @@
+// Plots of paper quality (issue 34, What to build 2): every plot has zoom (drag a rectangle) and
+// reset, and downloads as PNG and SVG and of its data as CSV; the job trace's as well; Families
+// draws the published bests as reference marks; several jobs' traces overlay in one plot.
+
+import fs from 'node:fs';
+import { assert, eventually } from '../lib/check.mjs';
+
+async function download(page, selector) {
+  const [dl] = await Promise.all([page.waitForEvent('download', { timeout: 10000 }), page.click(selector)]);
+  const file = await dl.path();
+  return { name: dl.suggestedFilename(), bytes: fs.readFileSync(file) };
+}
+
+function csvRows(text) {
+  assert(text.endsWith('\r\n'), 'CSV records end in CRLF');
+  return text.trimEnd().split('\r\n').map((l) => l.split(','));
+}
+
+async function drag(page, selector, from, to) {
+  const r = await page.$eval(selector, (e) => {
+    const b = e.getBoundingClientRect();
+    return { x: b.left, y: b.top, w: b.width, h: b.height };
+  });
+  await page.mouse.move(r.x + r.w * from[0], r.y + r.h * from[1]);
+  await page.mouse.down();
+  await page.mouse.move(r.x + r.w * ((from[0] + to[0]) / 2), r.y + r.h * ((from[1] + to[1]) / 2), { steps: 4 });
+  await page.mouse.move(r.x + r.w * to[0], r.y + r.h * to[1], { steps: 4 });
+  await page.mouse.up();
+}
+
+export default async function plotsSuite({ page, base, api, step }) {
+  await step('Families: zoom by dragging, reset, and PNG, SVG and CSV downloads', async () => {
+    await page.setViewportSize({ width: 1400, height: 1000 });
+    await page.goto(`${base}/#/families`);
+    await page.waitForFunction(() => /\d+ points/.test(document.getElementById('fam-status').textContent), null, { timeout: 30000 });
+    const svgSel = '#fam-plot svg.scatter-svg';
+    const vb0 = await page.getAttribute(svgSel, 'viewBox');
+    await drag(page, svgSel, [0.3, 0.3], [0.6, 0.7]);
+    const vb1 = await page.getAttribute(svgSel, 'viewBox');
+    assert(vb1 !== vb0 && (await page.getAttribute(svgSel, 'data-zoomed')) === 'true', `no zoom: viewBox ${vb0} -> ${vb1}`);
+    const w1 = Number(vb1.split(' ')[2]);
+    assert(w1 < 0.5 * Number(vb0.split(' ')[2]), `zoomed viewBox ${vb1} of ${vb0}`);
+    await page.click('#fam-plot .plot-tools button[data-action="reset"]');
+    assert((await page.getAttribute(svgSel, 'viewBox')) === vb0, 'reset does not restore the view');
+    const svg = await download(page, '#fam-plot .plot-tools button[data-action="svg"]');
+    const text = svg.bytes.toString('utf8');
+    assert(svg.name.endsWith('.svg') && text.startsWith('<?xml') && text.includes('<svg') && text.includes('samples per pixel'), `SVG download ${svg.name}: ${text.slice(0, 200)}`);
+    assert(/font-size:\s*\d/.test(text), 'the SVG has no inlined styles');
+    const png = await download(page, '#fam-plot .plot-tools button[data-action="png"]');
+    assert(png.bytes.subarray(0, 8).toString('hex') === '89504e470d0a1a0a' && png.bytes.length > 2000, `PNG download ${png.name}, ${png.bytes.length} bytes`);
+    const csv = await download(page, '#fam-plot .plot-tools button[data-action="csv"]');
+    const rows = csvRows(csv.bytes.toString('utf8'));
+    assert(rows[0].join(',') === 'series,samples_per_pixel,e2,title', `CSV header ${rows[0]}`);
+    const points = await page.$$eval('#fam-plot .point-marker', (m) => m.length);
+    assert(rows.length - 1 === points, `${rows.length - 1} CSV rows, ${points} points drawn`);
+  });
+
+  await step('Evaluate: the polar plots download as PNG and their data as CSV', async () => {
+    await page.goto(`${base}/#/evaluate?preset=flipquad`);
+    await page.waitForFunction(() => document.querySelectorAll('#ev-polar-e1 path.polar-curve').length === 4);
+    const csv = await download(page, '#ev-polar-e1 .plot-tools button[data-action="csv"]');
+    const rows = csvRows(csv.bytes.toString('utf8'));
+    assert(rows[0].join(',') === 'kernel,angle_deg,value' && rows.length - 1 === 4 * 36, `polar CSV: ${rows[0]}, ${rows.length - 1} rows`);
+    const png = await download(page, '#ev-polar-weighted .plot-tools button[data-action="png"]');
+    assert(png.bytes.subarray(0, 8).toString('hex') === '89504e470d0a1a0a', 'polar PNG');
+  });
+
+  let id;
+  await step("a job's trace: zoom by dragging and reset; CSV, SVG and PNG downloads", async () => {
+    id = String((await api('POST', '/v1/jobs', { kind: 'sleep', seconds: 0.6, pattern: { preset: 'rgss' } })).id);
+    const j = await eventually(async () => {
+      const x = await api('GET', `/v1/jobs/${id}`);
+      return x.state === 'done' && x;
+    }, { timeout: 20000, message: 'the sleep job' });
+    await page.goto(`${base}/#/jobs?job=${id}`);
+    await page.waitForSelector('#jd-trace canvas');
+    await page.waitForTimeout(300);
+    await drag(page, '#jd-trace .u-over', [0.2, 0.2], [0.7, 0.8]);
+    await page.waitForFunction(() => document.getElementById('jd-trace').dataset.zoomed === 'true');
+    assert(!(await page.$eval('#jd-trace-tools [data-action="reset"]', (b) => b.disabled)), 'Reset zoom stays disabled after a zoom');
+    await page.click('#jd-trace-tools [data-action="reset"]');
+    await page.waitForFunction(() => document.getElementById('jd-trace').dataset.zoomed === '');
+    const csv = await download(page, '#jd-trace-tools [data-action="csv"]');
+    const rows = csvRows(csv.bytes.toString('utf8'));
+    assert(rows[0].join(',') === 'seconds,iterations,evaluations,best_e2' && rows.length - 1 === j.trace.length, `trace CSV ${rows[0]}, ${rows.length - 1} rows for ${j.trace.length} points`);
+    const svg = await download(page, '#jd-trace-tools [data-action="svg"]');
+    assert(svg.bytes.toString('utf8').includes('best E2'), 'trace SVG without its axis label');
+    const png = await download(page, '#jd-trace-tools [data-action="png"]');
+    assert(png.bytes.subarray(0, 8).toString('hex') === '89504e470d0a1a0a', 'trace PNG');
+  });
+}
