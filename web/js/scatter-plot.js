@@ -37,8 +37,13 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
   const fy = f(yLog);
   const X = (v) => m.l + ((fx(v) - fx(x0)) / (fx(x1) - fx(x0))) * (width - m.l - m.r);
   const Y = (v) => height - m.b - ((fy(v) - fy(y0)) / (fy(y1) - fy(y0))) * (height - m.t - m.b);
-  const xt = xLog ? logTicks(x0, x1) : niceTicks(x0, x1, 6);
-  const yt = yLog ? logTicks(y0, y1) : niceTicks(y0, y1, 5);
+  // At least four labelled ticks on a linear axis (1-2-5 steps over 0.13..1.3 gave 0.5 and 1).
+  const linTicks = (lo, hi, n) => {
+    const t = niceTicks(lo, hi, n);
+    return t.length >= 4 ? t : niceTicks(lo, hi, 2 * n);
+  };
+  const xt = xLog ? logTicks(x0, x1) : linTicks(x0, x1, 6);
+  const yt = yLog ? logTicks(y0, y1) : linTicks(y0, y1, 5);
   for (const t of xt) {
     el('line', { x1: X(t), x2: X(t), y1: m.t, y2: height - m.b, class: 'grid' }, svg);
     text(svg, X(t), height - m.b + 16, fmtTick(t), { 'text-anchor': 'middle', class: 'tick' });
@@ -88,6 +93,16 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
     if ((lines || s.line) && pts.length > 1) {
       const sorted = [...pts].sort((a, b) => a.x - b.x);
       el('path', { d: sorted.map((p, i) => `${i ? 'L' : 'M'}${X(p.x).toFixed(1)},${Y(p.y).toFixed(1)}`).join(''), class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);
+    }
+    if (s.reference) {
+      // Reference marks (published values): a black bar across the point, titled with its
+      // source; no marker shape, so they read apart from measured points.
+      for (const p of pts) {
+        const g = el('g', { class: 'ref-mark' }, svg);
+        el('path', { d: `M${(X(p.x) - 9).toFixed(1)},${Y(p.y).toFixed(1)}h18M${X(p.x).toFixed(1)},${(Y(p.y) - 5).toFixed(1)}v10`, class: 'ref-mark-shape' }, g);
+        el('title', {}, g).textContent = p.title || `${s.label}: ${p.x}, ${p.y}`;
+      }
+      return;
     }
     for (const p of pts) {
       const holder = p.href ? el('a', { href: p.href, class: 'point-link' }, svg) : el('g', { class: 'point' }, svg);

@@ -34,6 +34,10 @@ export default async function plotsSuite({ page, base, api, step }) {
     await page.goto(`${base}/#/families`);
     await page.waitForFunction(() => /\d+ points/.test(document.getElementById('fam-status').textContent), null, { timeout: 30000 });
     const svgSel = '#fam-plot svg.scatter-svg';
+    // The E2 axis: labelled at four values at least, and says whether it is log or linear.
+    const yTicks = await page.$$eval(`${svgSel} text.tick[text-anchor="end"]`, (t) => t.map((x) => x.textContent));
+    assert(yTicks.length >= 4, `E2 axis ticks ${JSON.stringify(yTicks)}`);
+    assert(/E2 \((linear|log scale)\)/.test(await page.$eval(svgSel, (s) => s.textContent)), 'the E2 axis does not say log or linear');
     const vb0 = await page.getAttribute(svgSel, 'viewBox');
     await drag(page, svgSel, [0.3, 0.3], [0.6, 0.7]);
     const vb1 = await page.getAttribute(svgSel, 'viewBox');
@@ -51,8 +55,21 @@ export default async function plotsSuite({ page, base, api, step }) {
     const csv = await download(page, '#fam-plot .plot-tools button[data-action="csv"]');
     const rows = csvRows(csv.bytes.toString('utf8'));
     assert(rows[0].join(',') === 'series,samples_per_pixel,e2,title', `CSV header ${rows[0]}`);
-    const points = await page.$$eval('#fam-plot .point-marker', (m) => m.length);
-    assert(rows.length - 1 === points, `${rows.length - 1} CSV rows, ${points} points drawn`);
+    const points = await page.$$eval('#fam-plot .point-marker, #fam-plot g.ref-mark', (m) => m.length);
+    assert(rows.length - 1 === points, `${rows.length - 1} CSV rows, ${points} points and marks drawn`);
+    assert(rows.some((r) => r[0] === 'published best'), 'the reference marks are not in the CSV');
+  });
+
+  await step('Families: the published bests are reference marks, each with its source', async () => {
+    const marks = await page.$$eval('#fam-plot g.ref-mark title', (t) => t.map((x) => x.textContent));
+    const rows = await page.$$eval('#fam-published tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
+    assert(marks.length === rows.length && rows.length >= 5, `${marks.length} marks, ${rows.length} table rows`);
+    for (const r of rows) {
+      assert(/Laine & Aila 2006/.test(r[3]) && /Table [23]/.test(r[3]), `source "${r[3]}"`);
+      assert(marks.some((m) => m.includes(`of ${r[0]}: E2 ${Number(r[2])}`)), `no mark for ${r[0]} ${r[2]}`);
+    }
+    // Table 2's Flipquad row and Table 3's Poisson-disk Opt W+P are there as printed.
+    assert(rows.some((r) => r[0] === 'P(4,1+,2)' && r[2] === '0.359') && rows.some((r) => r[0] === 'P(16,16,4)' && r[2] === '0.161'), JSON.stringify(rows));
   });
 
   await step('Evaluate: the polar plots download as PNG and their data as CSV', async () => {
