@@ -42,8 +42,17 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
     const t = niceTicks(lo, hi, n);
     return t.length >= 4 ? t : niceTicks(lo, hi, 2 * n);
   };
-  const xt = xLog ? logTicks(x0, x1) : linTicks(x0, x1, 6);
-  const yt = yLog ? logTicks(y0, y1) : linTicks(y0, y1, 5);
+  // A log axis over many decades (a trace from 1e-7 s): powers of ten, then every k-th, so
+  // that labels do not overprint.
+  const logAxis = (lo, hi, max) => {
+    const t = logTicks(lo, hi);
+    if (t.length <= max) return t;
+    const dec = t.filter((v) => Math.abs(Math.log10(v) - Math.round(Math.log10(v))) < 1e-9);
+    const k = Math.ceil(dec.length / max);
+    return dec.filter((_, i) => i % k === (dec.length - 1) % k);
+  };
+  const xt = xLog ? logAxis(x0, x1, Math.max(3, Math.floor((width - m.l - m.r) / 60))) : linTicks(x0, x1, 6);
+  const yt = yLog ? logAxis(y0, y1, Math.max(3, Math.floor((height - m.t - m.b) / 28))) : linTicks(y0, y1, 5);
   for (const t of xt) {
     el('line', { x1: X(t), x2: X(t), y1: m.t, y2: height - m.b, class: 'grid' }, svg);
     text(svg, X(t), height - m.b + 16, fmtTick(t), { 'text-anchor': 'middle', class: 'tick' });
@@ -90,7 +99,12 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
       if (env.length > 1)
         el('path', { d: env.map(([x, y], i) => `${i ? 'L' : 'M'}${X(x).toFixed(1)},${Y(y).toFixed(1)}`).join(''), class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);
     }
-    if ((lines || s.line) && pts.length > 1) {
+    if (s.step && pts.length > 1) {
+      // Best so far: constant until the next improvement, a step after each point.
+      const sorted = [...pts].sort((a, b) => a.x - b.x);
+      const d = sorted.map((p, i) => (i ? `H${X(p.x).toFixed(1)}V${Y(p.y).toFixed(1)}` : `M${X(p.x).toFixed(1)},${Y(p.y).toFixed(1)}`)).join('');
+      el('path', { d, class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null, 'data-series': s.label }, svg);
+    } else if ((lines || s.line) && pts.length > 1) {
       const sorted = [...pts].sort((a, b) => a.x - b.x);
       el('path', { d: sorted.map((p, i) => `${i ? 'L' : 'M'}${X(p.x).toFixed(1)},${Y(p.y).toFixed(1)}`).join(''), class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);
     }

@@ -11,9 +11,32 @@ async function download(page, selector) {
   return { name: dl.suggestedFilename(), bytes: fs.readFileSync(file) };
 }
 
+/* RFC 4180 records (quoted fields may hold commas and quotes). */
 function csvRows(text) {
   assert(text.endsWith('\r\n'), 'CSV records end in CRLF');
-  return text.trimEnd().split('\r\n').map((l) => l.split(','));
+  const rows = [];
+  for (const line of text.slice(0, -2).split('\r\n')) {
+    const cells = [];
+    let i = 0;
+    while (i <= line.length) {
+      if (line[i] === '"') {
+        let v = '';
+        i++;
+        while (i < line.length && !(line[i] === '"' && line[i + 1] !== '"')) {
+          v += line[i] === '"' ? '"' : line[i];
+          i += line[i] === '"' ? 2 : 1;
+        }
+        cells.push(v);
+        i += 2;
+      } else {
+        const j = line.indexOf(',', i);
+        cells.push(line.slice(i, j < 0 ? line.length : j));
+        i = j < 0 ? line.length + 1 : j + 1;
+      }
+    }
+    rows.push(cells);
+  }
+  return rows;
 }
 
 async function drag(page, selector, from, to) {
@@ -28,7 +51,7 @@ async function drag(page, selector, from, to) {
   await page.mouse.up();
 }
 
-export default async function plotsSuite({ page, base, api, step }) {
+export default async function plotsSuite({ page, base, api, step, shot }) {
   await step('Families: zoom by dragging, reset, and PNG, SVG and CSV downloads', async () => {
     await page.setViewportSize({ width: 1400, height: 1000 });
     await page.goto(`${base}/#/families`);
@@ -104,5 +127,51 @@ export default async function plotsSuite({ page, base, api, step }) {
     assert(svg.bytes.toString('utf8').includes('best E2'), 'trace SVG without its axis label');
     const png = await download(page, '#jd-trace-tools [data-action="png"]');
     assert(png.bytes.subarray(0, 8).toString('hex') === '89504e470d0a1a0a', 'trace PNG');
+  });
+
+  await step('the traces of jobs ticked in the list overlay in one plot, with their data as CSV', async () => {
+    const other = String((await api('POST', '/v1/jobs', { kind: 'sleep', seconds: 0.4, pattern: { preset: 'quincunx' } })).id);
+    const jobs = {};
+    for (const x of [id, other])
+      jobs[x] = await eventually(async () => {
+        const j = await api('GET', `/v1/jobs/${x}`);
+        return j.state === 'done' && j;
+      }, { timeout: 20000, message: `job ${x}` });
+    await page.goto(`${base}/#/jobs`);
+    assert(await page.$eval('#jobs-overlay-figure', (f) => f.hidden), 'an overlay shown with no job ticked');
+    for (const x of [id, other]) await page.check(`#jobs-table tr[data-job-id="${x}"] input.overlay-pick`);
+    await page.waitForFunction(() => document.querySelectorAll('#jobs-overlay path.series-line').length === 2);
+    const legend = await page.$$eval('#jobs-overlay-legend .legend-item', (l) => l.map((x) => x.textContent.trim()));
+    assert(legend.length === 2 && legend[0].startsWith(`#${id} sleep`) && legend[1].startsWith(`#${other} sleep`), `legend ${JSON.stringify(legend)}`);
+    const csv = await download(page, '#jobs-overlay .plot-tools button[data-action="csv"]');
+    const rows = csvRows(csv.bytes.toString('utf8'));
+    for (const x of [id, other]) {
+      const n = rows.filter((r) => r[0].startsWith(`#${x} `)).length;
+      assert(n >= jobs[x].trace.filter((p) => p.seconds > 0).length, `job ${x}: ${n} CSV rows, ${jobs[x].trace.length} trace points`);
+    }
+    // No two labels of the overlay plot overprint (its x axis spans 1e-7 .. 1 s).
+    const clash = await page.evaluate(() => {
+      const b = [...document.querySelectorAll('#jobs-overlay svg text')].map((t) => ({ t: t.textContent, r: t.getBoundingClientRect() }));
+      const out = [];
+      for (let i = 0; i < b.length; i++)
+        for (let j = i + 1; j < b.length; j++) {
+          const ox = Math.min(b[i].r.right, b[j].r.right) - Math.max(b[i].r.left, b[j].r.left);
+          const oy = Math.min(b[i].r.bottom, b[j].r.bottom) - Math.max(b[i].r.top, b[j].r.top);
+          if (ox > 1 && oy > 1) out.push(`${b[i].t} / ${b[j].t}`);
+        }
+      return out;
+    });
+    assert(!clash.length, `overlay labels overprint: ${clash.slice(0, 5).join('; ')}`);
+    await shot('jobs-overlay');
+    // The choice survives the list's refresh; unticking one leaves one line.
+    await page.waitForTimeout(4500);
+    await page.uncheck(`#jobs-table tr[data-job-id="${other}"] input.overlay-pick`);
+    await page.waitForFunction(() => document.querySelectorAll('#jobs-overlay path.series-line').length === 1);
+    for (const size of [{ width: 1400, height: 1000 }, { width: 1000, height: 800 }]) {
+      await page.setViewportSize(size);
+      await page.waitForTimeout(150);
+      const w = await page.evaluate(() => document.documentElement.scrollWidth);
+      assert(w <= size.width, `${size.width}: page ${w} px wide with the overlay`);
+    }
   });
 }

@@ -9,7 +9,7 @@ import { loadJobs, loadJob, jobKinds } from '../store.js';
 import { PatternView } from '../pattern-view.js';
 import { drawableOf } from '../pattern-geometry.js';
 import { traceAxes, tickLabels, axisFor } from '../trace-axes.js';
-import { drawScatter } from '../scatter-plot.js';
+import { drawScatter, scatterLegend } from '../scatter-plot.js';
 import { csvText, standaloneSvg, fileStem } from '../plot-tools.js';
 import { renderKindDetail } from './kind-details.js';
 import { currentEvaluatePattern } from './evaluate-bridge.js';
@@ -26,6 +26,8 @@ let chart = null;
 let lastJob = null;
 let bestView = null;
 let lastJobs = [];
+const overlay = new Set(); // ids of the jobs whose traces the overlay plot draws
+let overlayKey = '';
 
 export async function init(context) {
   ctx = context;
@@ -58,6 +60,15 @@ export async function init(context) {
       $('job-submit').disabled = false;
     }
   });
+  $('jobs-table').addEventListener('change', (e) => {
+    const box = e.target.closest('input.overlay-pick');
+    if (!box) return;
+    const id = box.closest('tr').dataset.jobId;
+    if (box.checked) overlay.add(id);
+    else overlay.delete(id);
+    drawOverlay(true);
+  });
+  $('jobs-overlay-axes').addEventListener('change', () => drawOverlay(true));
   $('jobs-table').addEventListener('click', async (e) => {
     const btn = e.target.closest('button');
     if (!btn) return;
@@ -154,6 +165,7 @@ async function refresh() {
     lastJobs = await loadJobs();
     renderTable(lastJobs);
     if (selected) await renderDetail(selected);
+    await drawOverlay(false);
   } catch (e) {
     $('job-form-status').textContent = `jobs: ${e.message}`;
   }
@@ -169,7 +181,7 @@ function renderTable(jobs) {
     if (String(j.id) === String(selected)) tr.classList.add('selected');
     const pct = Math.round(j.progress * 100);
     tr.innerHTML = `
-        <td>#${esc(j.id)}</td>
+        <td class="nowrap"><input type="checkbox" class="overlay-pick" ${overlay.has(String(j.id)) ? 'checked' : ''} aria-label="overlay the trace of job ${esc(j.id)}" title="overlay this job's trace"> #${esc(j.id)}</td>
         <td>${esc(j.kind)}${j.family ? ` <span class="hint">${esc(j.family)}</span>` : ''}</td>
         <td class="label">${esc(j.label)}</td>
         <td class="state state-${esc(j.state)}">${STATE_MARK[j.state] || ''}${esc(j.state)}</td>
@@ -222,6 +234,31 @@ async function renderDetail(id) {
   if (d) bestView.setPattern(structuredClone(d.pattern), 0);
   else bestView.svg.replaceChildren();
   for (const b of $('jd-export').querySelectorAll('button')) b.disabled = !j.best;
+}
+
+/* The traces of the ticked jobs in one plot (best E2 against each job's seconds). Redrawn
+ * when the choice or the axes change, or while a ticked job runs (force: redraw anyway). */
+async function drawOverlay(force) {
+  const ids = [...overlay].filter((id) => lastJobs.some((j) => String(j.id) === id));
+  $('jobs-overlay-figure').hidden = !ids.length;
+  if (!ids.length) {
+    overlayKey = '';
+    $('jobs-overlay').replaceChildren();
+    return;
+  }
+  const active = lastJobs.some((j) => ids.includes(String(j.id)) && ACTIVE_STATES.has(j.state));
+  const key = `${ids.join()}|${$('jobs-overlay-axes').value}`;
+  if (!force && !active && key === overlayKey) return;
+  overlayKey = key;
+  const jobs = await Promise.all(ids.map((id) => loadJob(id).catch(() => null)));
+  const log = $('jobs-overlay-axes').value === 'log';
+  const series = jobs.filter(Boolean).map((j) => {
+    const c = traceCurve(j);
+    const label = `#${j.id} ${j.kind}${j.family ? ` ${j.family}` : ''}${j.spec.method ? ` ${j.spec.method}` : ''}${j.spec.rng_seed != null ? ` seed ${j.spec.rng_seed}` : ''}`;
+    return { label, step: true, points: c.xs.map((x, i) => ({ x, y: c.ys[i], title: `${label}: E2 ${fmt(c.ys[i], 6)} at ${+x.toPrecision(4)} s` })).filter((p) => !log || (p.x > 0 && p.y > 0)) };
+  });
+  drawScatter($('jobs-overlay'), { series, xLabel: 'seconds', yLabel: 'best E2', xLog: log, yLog: log, width: 640, height: 340, title: 'Best E2 against run time' });
+  scatterLegend($('jobs-overlay-legend'), series.map((s) => s.label));
 }
 
 function chartSize() {
