@@ -7,7 +7,14 @@ import { addPlotTools } from './plot-tools.js';
 /* tools: the zoom/reset and PNG/SVG/CSV toolbar under the plot (plot-tools.js). */
 export function drawScatter(container, { series, xLabel, yLabel, xLog = false, yLog = false, width = 640, height = 360, lines = false, title = '', labels = false, tools = true }) {
   clear(container);
-  const m = { l: 56, r: 16, t: title ? 26 : 12, b: 44 };
+  // Drawn at the width it is shown at (a 560-unit plot in a 290 px column had its text scaled
+  // up after the labels were placed, and they overprinted): one viewBox unit is one pixel.
+  const fitW = container.clientWidth;
+  if (fitW > 0 && fitW < width) {
+    height = Math.round(Math.max(220, (height * fitW) / width));
+    width = Math.max(240, fitW);
+  }
+  const m = { l: 56, r: 16, t: title ? 30 : 12, b: 44 };
   const svg = el('svg', { viewBox: `0 0 ${width} ${height}`, class: 'scatter-svg', role: 'group', 'aria-label': title || `${yLabel} against ${xLabel}` }, container);
   const all = series.flatMap((s) => s.points).filter((p) => Number.isFinite(p.x) && Number.isFinite(p.y) && (!xLog || p.x > 0) && (!yLog || p.y > 0));
   if (title) text(svg, 6, 16, title, { class: 'plot-title' });
@@ -81,7 +88,8 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
     ];
     for (const sp of spots) {
       const box = { x0: sp.x0, x1: sp.x1, y0: sp.y - 11, y1: sp.y + 3 };
-      if (box.x0 < 0 || box.x1 > width || box.y0 < 0 || box.y1 > height || !free(box)) continue;
+      // Inside the frame: a label never covers a tick, an axis label or the title.
+      if (box.x0 < m.l || box.x1 > width - m.r || box.y0 < m.t || box.y1 > height - m.b || !free(box)) continue;
       placed.push(box);
       text(svg, sp.x, sp.y, label, { class: 'point-label', 'text-anchor': sp.anchor });
       return;

@@ -120,6 +120,29 @@ export default async function layoutSuite({ page, base, api, step, artifacts }) 
     assert(!bad.out.length, `${bad.out.length} overlaps of ${bad.labels} labels, e.g. ${bad.out.slice(0, 5).join('; ')}`);
   });
 
+  // A finished job of each kind with a detail view of its own: its tables, plots and images
+  // are checked at both sizes too (compare with two patterns at 2 spp, as in defect 6).
+  const kindJobs = {};
+  await step('a finished job of each kind', async () => {
+    const specs = {
+      optimize: { kind: 'optimize', family: 'P(4,1+,2)', seeds: 2, max_iterations: 20, rng_seed: 3 },
+      table3: { kind: 'table3', family: 'P(4,4,2)', seeds: 2, count: 10, max_iterations: 30, rng_seed: 3 },
+      compare: { kind: 'compare', scene: { name: 'siemens-star', width: 32, height: 32 }, reference: { spp: 64 }, patterns: [{ preset: 'centroid' }, { preset: 'quincunx' }, { preset: 'flipquad' }, { preset: 'hasselgren-f' }, { preset: 'rgss' }] },
+      animation: { kind: 'animation', scene: { name: 'rotating-triangle', frames: 3, width: 32, height: 32 }, reference: { spp: 64 }, pattern: { preset: 'rgss' } },
+      'reference-convergence': { kind: 'reference-convergence', scene: { name: 'siemens-star', width: 32, height: 32 }, levels: [16, 64], baseline_spp: 256 },
+    };
+    for (const [k, spec] of Object.entries(specs)) kindJobs[k] = String((await api('POST', '/v1/jobs', spec)).id);
+    for (const [k, jid] of Object.entries(kindJobs)) {
+      let j;
+      for (let i = 0; i < 600; i++) {
+        j = await api('GET', `/v1/jobs/${jid}`);
+        if (!['queued', 'running'].includes(j.state)) break;
+        await new Promise((res) => setTimeout(res, 100));
+      }
+      assert(j.state === 'done', `${k} job ${jid}: ${j.state}`);
+    }
+  });
+
   for (const size of SIZES) {
     const tag = `${size.width}x${size.height}`;
     await step(`${tag}: every view fits the window, plot labels do not overlap`, async () => {
@@ -130,13 +153,15 @@ export default async function layoutSuite({ page, base, api, step, artifacts }) 
         ['families', () => page.waitForFunction(() => /\d+ points/.test(document.getElementById('fam-status').textContent), null, { timeout: 30000 })],
         [`jobs?job=${id}`, () => page.waitForSelector('#jd-pattern g.dot-primary')],
         ['tiles', () => page.waitForTimeout(500)],
+        ...Object.entries(kindJobs).map(([k, jid]) => [`jobs?job=${jid}&kind=${k}`, () => page.waitForFunction((x) => document.getElementById('jd-kind').dataset.kind === x, k, { timeout: 20000 })]),
       ];
       const problems = [];
       for (const [route, ready] of views) {
         await page.goto(`${base}/#/${route}`);
         await ready();
         await page.waitForTimeout(300);
-        await page.screenshot({ path: `${artifacts}/layout-${route.split('?')[0]}-${tag}.png`, fullPage: true }).catch(() => {});
+        const name = route.includes('kind=') ? `jobs-${route.split('kind=')[1]}` : route.split('?')[0];
+        await page.screenshot({ path: `${artifacts}/layout-${name}-${tag}.png`, fullPage: true }).catch(() => {});
         const w = await page.evaluate(() => ({ scroll: document.documentElement.scrollWidth, inner: window.innerWidth }));
         if (w.scroll > w.inner) problems.push(`${route}: page ${w.scroll} px wide in a ${w.inner} px window`);
         const overlaps = await overlappingLabels(page);
