@@ -29,16 +29,18 @@ export function drawPolar(container, { title, series, argmax, valueLabel, marks 
   };
   svg.setAttribute('aria-label', `${title}; maximum ${argmax ? `${argmax.value.toFixed(4)} at ${argmax.angle}°${argmax.kernel != null ? ` in kernel ${argmax.kernel}` : ''}` : 'n/a'}`);
   text(svg, 6, 16, title, { class: 'plot-title' });
-  for (const t of ticks) {
-    el('circle', { cx, cy, r: (t / rTop) * R, class: 'polar-ring' }, svg);
-    const [lx, ly] = toXY(80, t);
-    text(svg, lx + 2, ly, t.toPrecision(2), { class: 'polar-tick' });
-  }
+  for (const t of ticks) el('circle', { cx, cy, r: (t / rTop) * R, class: 'polar-ring' }, svg);
   for (let d = 0; d < 360; d += 45) {
     const [x, y] = toXY(d, rTop);
     el('line', { x1: cx, y1: cy, x2: x, y2: y, class: 'polar-spoke' }, svg);
     const [tx, ty] = toXY(d, rTop * 1.1);
     text(svg, tx, ty + 4, `${d}°`, { class: 'polar-tick', 'text-anchor': 'middle' });
+  }
+  // Ring labels between the 45° and 90° spokes, over a white halo (drawn after the spokes, so
+  // no spoke crosses them), as plain numbers: 200, not 2.0e+2.
+  for (const t of ticks) {
+    const [lx, ly] = toXY(67.5, t);
+    text(svg, lx + 3, ly - 2, ringLabel(t), { class: 'polar-tick polar-ring-label' });
   }
   series.forEach((s, k) => {
     if (!shown(k)) return;
@@ -118,4 +120,13 @@ export function polarKernelPicker(select, count, onPick) {
   select.closest('label, .kernel-pick')?.toggleAttribute('hidden', count < 2);
   select.onchange = () => onPick(select.value === 'all' ? null : Number(select.value));
   return select.value === 'all' ? null : Number(select.value);
+}
+
+/* A ring's value as a plain number with at most 3 significant digits (200, 0.05, 1.5e-5 only
+ * below 1e-4). */
+export function ringLabel(v) {
+  if (v === 0) return '0';
+  const a = Math.abs(v);
+  if (a < 1e-4 || a >= 1e6) return v.toExponential(1);
+  return String(+v.toPrecision(3));
 }
