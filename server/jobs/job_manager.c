@@ -1138,7 +1138,9 @@ json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why
     const job_kind *kind = job_kind_find(json_string_value(json_object_get(o, "kind")));
     json_t *result = json_object_get(o, "result");
     double e2;
-    json_t *out = json_is_object(p) ? json_deep_copy(p) : NULL;
+    /* Only an encoded pattern (it has a form): animation's best names its pattern's family and
+     * cost only. */
+    json_t *out = json_is_object(p) && json_object_get(p, "form") ? json_deep_copy(p) : NULL;
     if (!out && kind && kind->best_of && json_is_object(result))
         out = kind->best_of(result, &e2);
     json_decref(o);
