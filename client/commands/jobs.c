@@ -201,7 +201,9 @@ void job_print_with(FILE *out, const json_t *job, bool csv, bool full_pattern)
     }
     const json_t *best = json_object_get(job, "best");
     const json_t *pattern = json_object_get(best, "pattern");
-    if (json_is_object(pattern)) {
+    /* An encoded pattern only (it has a form): animation's best names its pattern's family and
+     * cost, which its view prints already. */
+    if (json_is_object(pattern) && json_object_get(pattern, "form")) {
         fputc('\n', out);
         if (full_pattern)
             view_pattern(out, pattern, false);
