@@ -120,7 +120,9 @@ class Job:
         """The best pattern so far in wire form (pattern.json, with ``family``, ``cost_spp``,
         ``form`` and ``kernels_expanded``), None if none yet."""
         best = self.info.get("best")
-        return best.get("pattern") if isinstance(best, dict) else None
+        p = best.get("pattern") if isinstance(best, dict) else None
+        # An encoded pattern only: animation's best names its pattern's family and cost.
+        return p if isinstance(p, dict) and "form" in p else None
 
     @property
     def best_e2(self) -> Optional[float]:
