@@ -36,12 +36,6 @@ export function drawPolar(container, { title, series, argmax, valueLabel, marks 
     const [tx, ty] = toXY(d, rTop * 1.1);
     text(svg, tx, ty + 4, `${d}°`, { class: 'polar-tick', 'text-anchor': 'middle' });
   }
-  // Ring labels between the 45° and 90° spokes, over a white halo (drawn after the spokes, so
-  // no spoke crosses them), as plain numbers: 200, not 2.0e+2.
-  for (const t of ticks) {
-    const [lx, ly] = toXY(67.5, t);
-    text(svg, lx + 3, ly - 2, ringLabel(t), { class: 'polar-tick polar-ring-label' });
-  }
   series.forEach((s, k) => {
     if (!shown(k)) return;
     const pts = s.points.filter((p) => p.r != null);
@@ -56,6 +50,12 @@ export function drawPolar(container, { title, series, argmax, valueLabel, marks 
       'data-kernel': k,
     }, svg);
   });
+  // Ring labels between the 45° and 90° spokes, over a white halo (drawn after the spokes and
+  // curves, so none crosses them), as plain numbers: 200, not 2.0e+2.
+  for (const t of ticks) {
+    const [lx, ly] = toXY(67.5, t);
+    text(svg, lx + 3, ly - 2, ringLabel(t), { class: 'polar-tick polar-ring-label' });
+  }
   // Marked angles (the Tiles view's costliest scene angles): a dot on each half-turn, titled.
   for (const m of marks) {
     for (const a of [m.angle, m.angle + 180]) {
