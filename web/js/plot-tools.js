@@ -158,3 +158,30 @@ export function addPlotTools(container, svg, { title = '', csv = null } = {}) {
   container.append(bar);
   return bar;
 }
+
+/* The same toolbar for a canvas chart (uPlot): Reset zoom (reset()), PNG of its canvas and CSV
+ * of its data. uPlot zooms by dragging over it already. */
+export function addCanvasPlotTools(container, { title = '', canvas, reset = null, csv = null }) {
+  container.querySelector(':scope > .plot-tools')?.remove();
+  const bar = document.createElement('div');
+  bar.className = 'plot-tools';
+  const stem = fileStem(title);
+  const button = (label, action, onclick) => {
+    const b = document.createElement('button');
+    b.type = 'button';
+    b.textContent = label;
+    b.dataset.action = action;
+    b.setAttribute('aria-label', `${label} (${title || 'plot'})`);
+    b.onclick = onclick;
+    bar.append(b);
+  };
+  if (reset) button('Reset zoom', 'reset', reset);
+  button('PNG', 'png', () => canvas().toBlob((b) => b && download(`${stem}.png`, b), 'image/png'));
+  if (csv)
+    button('CSV', 'csv', () => {
+      const d = csv();
+      download(`${stem}.csv`, new Blob([csvText(d.header, d.rows)], { type: 'text/csv' }));
+    });
+  container.append(bar);
+  return bar;
+}

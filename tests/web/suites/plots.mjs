@@ -105,6 +105,19 @@ export default async function plotsSuite({ page, base, api, step, shot }) {
     assert(png.bytes.subarray(0, 8).toString('hex') === '89504e470d0a1a0a', 'polar PNG');
   });
 
+  await step("Tiles: the penalised histogram downloads as PNG and its 256 counts as CSV", async () => {
+    await page.goto(`${base}/#/tiles`);
+    await page.click('#tile-render');
+    await page.waitForSelector('#tile-hist canvas', { timeout: 20000 });
+    await page.waitForSelector('#tile-hist .plot-tools button[data-action="csv"]');
+    const csv = await download(page, '#tile-hist .plot-tools button[data-action="csv"]');
+    const rows = csvRows(csv.bytes.toString('utf8'));
+    assert(rows[0].join(',') === 'abs_error,penalised_count' && rows.length - 1 === 256, `histogram CSV ${rows[0]}, ${rows.length - 1} rows`);
+    const png = await download(page, '#tile-hist .plot-tools button[data-action="png"]');
+    assert(png.bytes.subarray(0, 8).toString('hex') === '89504e470d0a1a0a', 'histogram PNG');
+    await page.click('#tile-hist .plot-tools button[data-action="reset"]');
+  });
+
   let id;
   await step("a job's trace: zoom by dragging and reset; CSV, SVG and PNG downloads", async () => {
     id = String((await api('POST', '/v1/jobs', { kind: 'sleep', seconds: 0.6, pattern: { preset: 'rgss' } })).id);
