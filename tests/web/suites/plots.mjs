@@ -187,4 +187,26 @@ export default async function plotsSuite({ page, base, api, step, shot }) {
       assert(w <= size.width, `${size.width}: page ${w} px wide with the overlay`);
     }
   });
+
+  await step('while a job runs, the header and the trace legend show the same best E2', async () => {
+    const run = String((await api('POST', '/v1/jobs', { kind: 'optimize', family: 'P(4,4,2)', seeds: 4, max_seconds: 2.5, rng_seed: 5 })).id);
+    await page.goto(`${base}/#/jobs?job=${run}`);
+    await page.waitForSelector('#jd-trace canvas', { timeout: 20000 });
+    let compared = 0;
+    for (let i = 0; i < 40; i++) {
+      const s = await page.evaluate(() => ({
+        state: document.getElementById('jd-state').dataset.state,
+        header: document.getElementById('jd-e2').textContent,
+        legend: [...document.querySelectorAll('#jd-trace .u-legend .u-value')].map((v) => v.textContent),
+      }));
+      if (s.state !== 'running') break;
+      if (s.legend.length === 2 && s.legend[1] !== '--') {
+        assert(s.header === s.legend[1], `running: header ${s.header}, legend ${s.legend[1]}`);
+        compared++;
+      }
+      await page.waitForTimeout(120);
+    }
+    assert(compared >= 3, `compared header and legend ${compared} times while the job ran`);
+    await eventually(async () => (await api('GET', `/v1/jobs/${run}`)).state === 'done', { timeout: 20000, message: 'the optimize job' });
+  });
 }
