@@ -46,7 +46,79 @@ void jobs_print(FILE *out, const json_t *resp, bool csv)
     table_free(t);
 }
 
-/* The job's own members (job.json) as "key  value" lines: what the views below do not show. */
+/* One submitted setting's value, short: a preset by its name, a pattern by its size, a long
+ * list or object by its count. */
+static void setting_text(char *buf, size_t cap, const json_t *v)
+{
+    const json_t *preset = json_object_get(v, "preset");
+    const json_t *kernels = json_object_get(v, "kernels");
+    if (json_is_string(preset) && json_object_size(v) == 1) {
+        snprintf(buf, cap, "%s", json_string_value(preset));
+        return;
+    }
+    if (json_is_array(kernels)) {
+        snprintf(buf, cap, "pattern, %zu kernels", json_array_size(kernels));
+        return;
+    }
+    if (json_is_array(json_object_get(v, "mirrored"))) {
+        snprintf(buf, cap, "mirrored pattern, %zu samples",
+                 json_array_size(json_object_get(v, "mirrored")));
+        return;
+    }
+    char *text = json_dumps(v, JSON_COMPACT | JSON_ENCODE_ANY | JSON_REAL_PRECISION(6));
+    if (text && strlen(text) <= 80)
+        snprintf(buf, cap, "%s", text);
+    else if (json_is_array(v))
+        snprintf(buf, cap, "[%zu items]", json_array_size(v));
+    else
+        snprintf(buf, cap, "{%zu settings}", json_object_size(v));
+    free(text);
+}
+
+/* "family P(16,16,4), seeds 2, max_seconds 2": the spec as submitted, less its kind (what it
+ * left out took the daemon's defaults). */
+static void settings_line(char *buf, size_t cap, const json_t *spec)
+{
+    size_t n = 0;
+    buf[0] = '\0';
+    const char *key;
+    const json_t *v;
+    json_object_foreach((json_t *)spec, key, v)
+    {
+        if (!strcmp(key, "kind") || n + 1 >= cap)
+            continue;
+        char value[96];
+        setting_text(value, sizeof value, v);
+        if (json_is_string(v))
+            snprintf(value, sizeof value, "%s", json_string_value(v));
+        int w = snprintf(buf + n, cap - n, "%s%s %s", n ? ", " : "", key, value);
+        n = w < 0 ? n : n + (size_t)w < cap ? n + (size_t)w : cap - 1;
+    }
+    if (!n)
+        snprintf(buf, cap, "defaults");
+}
+
+/* "queued 0.01 s, ran 2.05 s, paused 0.00 s": what is known of the job's times. */
+static void timings_line(char *buf, size_t cap, const json_t *job)
+{
+    const json_t *c = json_object_get(job, "created"), *s = json_object_get(job, "started"),
+                 *f = json_object_get(job, "finished"), *p = json_object_get(job, "paused_seconds");
+    size_t n = 0;
+    buf[0] = '\0';
+    if (json_is_number(c) && json_is_number(s))
+        n += (size_t)snprintf(buf + n, cap - n, "queued %.2f s",
+                              json_number_value(s) - json_number_value(c));
+    if (json_is_number(s) && json_is_number(f) && n < cap)
+        n += (size_t)snprintf(buf + n, cap - n, "%sran %.2f s", n ? ", " : "",
+                              json_number_value(f) - json_number_value(s));
+    if (json_is_number(p) && n < cap)
+        snprintf(buf + n, cap - n, "%spaused %.2f s", n ? ", " : "", json_number_value(p));
+    if (!buf[0])
+        snprintf(buf, cap, "not started");
+}
+
+/* The job's own members (job.json) as "key  value" lines: what the views below do not show,
+ * then its submitted settings and its timings (issue 34: a job is a complete record). */
 static void job_head(FILE *out, const json_t *job)
 {
     static const char *const SHOWN_ELSEWHERE[] = {"result", "spec", "trace", "best", "error"};
@@ -67,6 +139,15 @@ static void job_head(FILE *out, const json_t *job)
                      json_number_value(finished) - json_number_value(started));
         json_object_set_new(copy, "progress", json_string(pct));
     }
+    char line[512];
+    const json_t *spec = json_object_get(job, "spec");
+    if (json_is_object(spec)) {
+        settings_line(line, sizeof line, spec);
+        json_object_set_new(copy, "settings", json_string(line));
+    }
+    timings_line(line, sizeof line, job);
+    json_object_del(copy, "paused_seconds");
+    json_object_set_new(copy, "timings", json_string(line));
     print_flat(out, copy);
     json_decref(copy);
 }
@@ -120,7 +201,9 @@ void job_print_with(FILE *out, const json_t *job, bool csv, bool full_pattern)
     }
     const json_t *best = json_object_get(job, "best");
     const json_t *pattern = json_object_get(best, "pattern");
-    if (json_is_object(pattern)) {
+    /* An encoded pattern only (it has a form): animation's best names its pattern's family and
+     * cost, which its view prints already. */
+    if (json_is_object(pattern) && json_object_get(pattern, "form")) {
         fputc('\n', out);
         if (full_pattern)
             view_pattern(out, pattern, false);

@@ -43,4 +43,22 @@ void view_animation(FILE *out, const json_t *result, bool csv)
     };
     view_rows_write(out, json_object_get(result, "frames"), cols, sizeof cols / sizeof cols[0],
                     csv);
+    if (csv)
+        return;
+    /* Each frame's renders: the pattern's, the reference and their difference. */
+    const json_t *frames = json_object_get(result, "frames"), *f;
+    size_t i;
+    bool heading = false;
+    json_array_foreach(frames, i, f)
+    {
+        if (!json_object_get(f, "tiles"))
+            continue;
+        if (!heading)
+            view_images_heading(out);
+        heading = true;
+        char label[32];
+        snprintf(label, sizeof label, "frame %lld",
+                 (long long)json_integer_value(json_object_get(f, "frame")));
+        view_images_line(out, label, json_object_get(f, "tiles"));
+    }
 }

@@ -36,4 +36,27 @@ void view_compare(FILE *out, const json_t *result, bool csv)
         {"pixels_sampled", "pixels_sampled", VIEW_FIXED, 0},
     };
     view_rows_write(out, json_object_get(result, "rows"), cols, sizeof cols / sizeof cols[0], csv);
+    if (csv)
+        return;
+    /* The renders themselves: the reference, then each pattern's and its difference. */
+    const json_t *rows = json_object_get(result, "rows"), *row;
+    const json_t *ref =
+        json_array_get(json_object_get(json_object_get(result, "reference"), "renders"), 0);
+    size_t i;
+    bool any = json_object_get(ref, "tile") != NULL;
+    json_array_foreach(rows, i, row) any = any || json_object_get(row, "tiles");
+    if (!any)
+        return;
+    view_images_heading(out);
+    if (json_object_get(ref, "tile")) {
+        json_t *t = json_pack("{s:O}", "reference", json_object_get(ref, "tile"));
+        view_images_line(out, "reference", t);
+        json_decref(t);
+    }
+    json_array_foreach(rows, i, row)
+    {
+        if (json_object_get(row, "tiles"))
+            view_images_line(out, view_str(json_object_get(row, "name")),
+                             json_object_get(row, "tiles"));
+    }
 }

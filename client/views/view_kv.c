@@ -77,3 +77,21 @@ const char *view_str(const json_t *v)
 {
     return json_is_string(v) ? json_string_value(v) : "-";
 }
+
+void view_images_heading(FILE *out)
+{
+    fputs("\nimages (PNG; GET each URL on the socket, or with a token over TCP)\n", out);
+}
+
+void view_images_line(FILE *out, const char *label, const json_t *tiles)
+{
+    static const char *const KINDS[] = {"pattern", "reference", "difference"};
+    fprintf(out, "  %-18s", label);
+    for (size_t i = 0; i < sizeof KINDS / sizeof KINDS[0]; i++) {
+        const char *url =
+            json_string_value(json_object_get(json_object_get(tiles, KINDS[i]), "url"));
+        if (url)
+            fprintf(out, "  %s %s", KINDS[i], url);
+    }
+    fputc('\n', out);
+}

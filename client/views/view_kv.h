@@ -36,4 +36,9 @@ const char *view_str(const json_t *v);
 /* Adds the "scene" line, "siemens-star 64x64", of a scene object. */
 void view_kv_scene(view_kv *kv, const json_t *scene);
 
+/* "images" lines: one per labelled set of tiles ({"pattern"|"reference"|"difference": {url}}),
+ * "  LABEL  pattern URL  difference URL", under a heading that says how to fetch them. */
+void view_images_heading(FILE *out);
+void view_images_line(FILE *out, const char *label, const json_t *tiles);
+
 #endif

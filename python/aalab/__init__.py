@@ -26,6 +26,7 @@ from .results import (Analysis, Argmax, Enumeration, Evaluation, PointMetrics, R
                       Trace)
 from . import temporal  # the module: aalab.temporal.temporal(...), .halton(...)
 from .temporal import TemporalArgmax, TemporalEvaluation
+from .tables import ResultTable, result_table
 
 __version__ = "0.1.0"
 
@@ -43,4 +44,5 @@ def __getattr__(name: str):
 __all__ = ["Client", "Job", "AalabError", "DaemonUnreachable", "FormatError", "PointSet",
            "Evaluation", "Analysis", "PointMetrics", "Spearman", "Render", "Trace", "Enumeration",
            "Argmax", "as_pattern", "pattern",
-           "TemporalEvaluation", "TemporalArgmax", "temporal", "JOB_STATES", "ENDED", "__version__"]
+           "TemporalEvaluation", "TemporalArgmax", "temporal", "JOB_STATES", "ENDED", "ResultTable",
+           "result_table", "__version__"]

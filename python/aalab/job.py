@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import html
 import sys
 import time
 from typing import TYPE_CHECKING, Any, Dict, Optional, Union
 
 from .errors import AalabError
 from .results import PointMetrics, Trace
+from .tables import ResultTable, result_table
 
 if TYPE_CHECKING:  # pragma: no cover
     from .client import Client
@@ -49,6 +51,27 @@ class Job:
                 pass
         return "<aalab.Job %d %s %s>" % (self.job_id, known.get("kind", "?"),
                                          known.get("state", "?"))
+
+    def table(self) -> ResultTable:
+        """The kind's result as a table (columns as ``aalab job ID --csv``); no rows before
+        the job is done."""
+        info = self.info
+        return result_table(info.get("kind", "?"), info.get("result"))
+
+    def to_frame(self) -> Any:
+        """The kind's result as a ``pandas.DataFrame`` (python3-pandas): optimize a row per
+        seed, family-sweep per configuration, random-stats one Table 3 row, table3 per
+        distribution (mean, sd and paper per column), compare per pattern, animation per frame,
+        reference-convergence per level."""
+        return self.table().to_frame()
+
+    def _repr_html_(self) -> str:
+        """Jupyter: the job's id, kind and state, then its result table."""
+        info = self.info
+        head = "<p><b>aalab job %d</b> %s, %s</p>" % (
+            self.job_id, html.escape(str(info.get("kind", "?"))),
+            html.escape(str(info.get("state", "?"))))
+        return head + self.table()._repr_html_()
 
     def refresh(self) -> Dict[str, Any]:
         """Fetches the job (``GET /v1/jobs/{id}``, job.json) and returns it."""
@@ -97,7 +120,9 @@ class Job:
         """The best pattern so far in wire form (pattern.json, with ``family``, ``cost_spp``,
         ``form`` and ``kernels_expanded``), None if none yet."""
         best = self.info.get("best")
-        return best.get("pattern") if isinstance(best, dict) else None
+        p = best.get("pattern") if isinstance(best, dict) else None
+        # An encoded pattern only: animation's best names its pattern's family and cost.
+        return p if isinstance(p, dict) and "form" in p else None
 
     @property
     def best_e2(self) -> Optional[float]:

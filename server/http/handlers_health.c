@@ -52,6 +52,9 @@ void handle_health(api_context *ctx, const api_request *req, api_response *resp)
                                       ? json_boolean(slurm.answering == 1)
                                       : json_null(),
                                   "message", slurm.message));
+    /* "tcp" says how this request came; tcp_listener whether the daemon listens on TCP at all
+     * (--tcp or socket activation), so a socket client sees the dashboard is on. */
+    json_object_set_new(o, "tcp_listener", json_boolean(cfg->tcp_port > 0));
     /* Where the dashboard is, so `aalab token` can print its URL (--tcp; a socket-activated
      * listener is not known here). */
     if (o && cfg->tcp_port > 0) {

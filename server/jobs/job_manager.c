@@ -890,11 +890,22 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
     }
     void *params = NULL;
     rc = kind->decode(kind_spec, &params, err);
-    if (!rc && kind->max_seconds && kind->max_seconds(params) > jm->cfg.max_job_seconds) {
+    double whole = !rc && kind->max_seconds ? kind->max_seconds(params) : 0;
+    if (whole > jm->cfg.max_job_seconds) {
         kind->free_params(params);
-        rc = aa_error_set(err, AA_ERANGE, "max_seconds",
-                          "must be at most %.0f (this daemon's --max-job-seconds)",
-                          jm->cfg.max_job_seconds);
+        const json_t *asked = json_object_get(kind_spec, "max_seconds");
+        double per = json_is_number(asked) ? json_number_value(asked) : whole;
+        /* Kinds that spend max_seconds per seed or stage (table3) say what it adds up to, so
+         * that a 0.5 refused under a ceiling of 3 makes sense. */
+        if (per < whole)
+            rc = aa_error_set(err, AA_ERANGE, "max_seconds",
+                              "max_seconds %g makes this %s job's whole budget %g s (it is spent "
+                              "per seed and stage), over this daemon's --max-job-seconds %.0f",
+                              per, kind->name, whole, jm->cfg.max_job_seconds);
+        else
+            rc = aa_error_set(err, AA_ERANGE, "max_seconds",
+                              "must be at most %.0f (this daemon's --max-job-seconds)",
+                              jm->cfg.max_job_seconds);
     }
     /* Stored as submitted, less the envelope (which has columns of its own). */
     json_t *stored = rc ? NULL : json_pack("{s:s}", "kind", kind->name);
@@ -1127,7 +1138,9 @@ json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why
     const job_kind *kind = job_kind_find(json_string_value(json_object_get(o, "kind")));
     json_t *result = json_object_get(o, "result");
     double e2;
-    json_t *out = json_is_object(p) ? json_deep_copy(p) : NULL;
+    /* Only an encoded pattern (it has a form): animation's best names its pattern's family and
+     * cost only. */
+    json_t *out = json_is_object(p) && json_object_get(p, "form") ? json_deep_copy(p) : NULL;
     if (!out && kind && kind->best_of && json_is_object(result))
         out = kind->best_of(result, &e2);
     json_decref(o);

@@ -41,6 +41,11 @@ static int animation_run(void *params, job_ctx *ctx, proto_animation_result *out
     rp.reference.progress = job_progress_span_report;
     rp.reference.user = &probe;
     int rc = aa_pattern_e2(&ap->pattern, rp.reference.filter, &ap->common.acuity, &out->e2, err);
+    /* The pattern's E2 is the job's best (job.json: {pattern: {family, samples_per_pixel}, e2}),
+     * so the job list shows it as the detail does. */
+    json_t *best = rc ? NULL
+                      : json_pack("{s:{s:s,s:f},s:f}", "pattern", "family", out->family,
+                                  "samples_per_pixel", out->samples_per_pixel, "e2", out->e2);
     aa_animation an;
     memset(&an, 0, sizeof an);
     if (!rc)
@@ -70,7 +75,7 @@ static int animation_run(void *params, job_ctx *ctx, proto_animation_result *out
         if (ts && ap->common.tiles)
             out->frames[f].tiles = tile_put_render_images_as(ts, &access, &an.pattern_img,
                                                              &an.reference_img, NULL, err);
-        if (job_ctx_progress(ctx, (f + 1.0) / F, NULL))
+        if (job_ctx_progress(ctx, (f + 1.0) / F, best))
             rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
     }
     if (!rc) {
@@ -80,6 +85,7 @@ static int animation_run(void *params, job_ctx *ctx, proto_animation_result *out
             (long long)((size_t)F * (size_t)rp.scene.width * (size_t)rp.scene.height);
     }
     aa_animation_free(&an);
+    json_decref(best);
     return rc;
 }
 

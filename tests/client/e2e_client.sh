@@ -442,6 +442,12 @@ expect 0 "convert to PSA's rps" -- A convert d3d-4x --format rps -o "$tmp/d3d.rp
 expect 0 "eval an rps file" -- A --json eval "$tmp/d3d.rps" --weights equal
 expect 0 "export metal" -- A convert d3d-4x --format metal
 jq -e '.api == "metal" and .sampleCount == 4' <<<"$out" >/dev/null && ok "metal export" || bad "metal: ${out:0:300}"
+# The remaining --csv tables (issue 34: every one read by Python's csv module, unique ASCII headers).
+A analyze flipquad --radius 8 --csv >"$tmp/an.csv" && csv_ok "$tmp/an.csv" "analyze --csv"
+A eval rgss --csv >"$tmp/ev.csv" && csv_ok "$tmp/ev.csv" "eval --csv"
+A presets quincunx --csv >"$tmp/pq.csv" && csv_ok "$tmp/pq.csv" "presets NAME --csv"
+A job "$id" --pattern --csv >"$tmp/jp.csv" && csv_ok "$tmp/jp.csv" "job ID --pattern --csv"
+A jobs --state done --csv >"$tmp/jd.csv" && csv_ok "$tmp/jd.csv" "jobs --state done --csv"
 
 if jq -e '.render == true' <<<"$health" >/dev/null; then
   expect 0 "render -o tile.png" -- A render --pattern quincunx --scene siemens-star --size 64x64 -o "$tmp/tile.png"

@@ -265,6 +265,16 @@ static void large_pattern_summary(void **state)
     contains(text, "1024 samples ('aalab job ID --pattern' lists them)\n");
     contains(text, "              E2 ");
     assert_null(strstr(text, "kernel  sample"));
+    /* the submitted settings and the timings (issue 34: a complete record) */
+    contains(text, "\nsettings    family P(4,1+,2), seeds 4, max_seconds 2, rng_seed 7\n");
+    char timings[96];
+    snprintf(timings, sizeof timings, "\ntimings     queued %.2f s, ran %.2f s\n",
+             json_number_value(json_object_get(job, "started")) -
+                 json_number_value(json_object_get(job, "created")),
+             json_number_value(json_object_get(job, "finished")) -
+                 json_number_value(json_object_get(job, "started")));
+    contains(text, timings);
+    contains(text, "\nexecutor    ");
     /* a job that ended early says how long it ran beside its progress */
     char ran[96];
     snprintf(ran, sizeof ran, "(failed after %.1f s)\n",
@@ -374,6 +384,21 @@ static void compare_view(void **state)
     contains(text, "17.1704          -");
     assert_null(strstr(text, "prediction rho"));
     assert_null(strstr(text, "acuity"));
+    /* the renders: the reference's, then each pattern's and its difference */
+    const json_t *ref_tile = json_object_get(
+        json_array_get(json_object_get(json_object_get(result_of(job), "reference"), "renders"), 0),
+        "tile");
+    char img[256];
+    snprintf(img, sizeof img, "\n  reference           reference %s\n",
+             json_string_value(json_object_get(ref_tile, "url")));
+    contains(text, img);
+    const json_t *t1 = json_object_get(json_array_get(rows, 1), "tiles");
+    snprintf(img, sizeof img, "\n  flipquad            pattern %s  difference %s\n",
+             json_string_value(json_object_get(json_object_get(t1, "pattern"), "url")),
+             json_string_value(json_object_get(json_object_get(t1, "difference"), "url")));
+    contains(text, img);
+    contains(text, "\nsettings    scene {\"name\":\"siemens-star\",\"width\":64,\"height\":64}, "
+                   "patterns [\"rgss\",{\"preset\":\"flipquad\"}], reference {\"spp\":64}\n");
     capture_free(&c);
     /* With the prediction: its rho above the table, the row's value in the column. */
     json_t *res = (json_t *)result_of(with);
@@ -403,6 +428,10 @@ static void animation_view(void **state)
 {
     json_t *job = fixture("job_animation.json");
     const json_t *frames = json_object_get(result_of(job), "frames");
+    /* Its best as the daemon posts it since issue 34: no pattern to summarise ("0 samples"). */
+    json_object_set_new(job, "best",
+                        json_pack("{s:{s:s,s:f},s:f}", "pattern", "family", "P(1,1,4)",
+                                  "samples_per_pixel", 4.0, "e2", 0.438987));
     capture c;
     job_print(capture_begin(&c), job, false);
     const char *text = capture_end(&c);
@@ -410,6 +439,18 @@ static void animation_view(void **state)
     contains(text, "pattern            P(1,1,4), 4.00 spp\n");
     contains(text, "acuity             naiman version 2\n");
     contains(text, "frame    rmse  max_dev  pixels_recomputed");
+    assert_null(strstr(text, "best pattern"));
+    /* each frame's renders, by URL */
+    contains(text, "\nimages (PNG; ");
+    const json_t *tiles0 = json_object_get(json_array_get(frames, 0), "tiles");
+    char img[256];
+    snprintf(img, sizeof img, "  frame 0             pattern %s  reference %s  difference %s\n",
+             json_string_value(json_object_get(json_object_get(tiles0, "pattern"), "url")),
+             json_string_value(json_object_get(json_object_get(tiles0, "reference"), "url")),
+             json_string_value(json_object_get(json_object_get(tiles0, "difference"), "url")));
+    contains(text, img);
+    contains(text, "settings    scene {\"name\":\"translating-circle\",\"width\":48,\"height\":48,"
+                   "\"frames\":4}, pattern rgss, reference {\"spp\":64}\n");
     char want[64], rmse[32];
     for (size_t i = 0; i < json_array_size(frames); i++) {
         const json_t *f = json_array_get(frames, i);

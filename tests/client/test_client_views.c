@@ -228,16 +228,20 @@ static void health_listing(void **state)
 {
     json_t *r = doc("{\"version\":\"0.1.0\",\"uptime_s\":12.5,\"workers\":2,"
                     "\"jobs\":{\"queued\":1,\"done\":4},\"job_kinds\":[\"sleep\",\"optimize\"],"
-                    "\"big\":[[1],[2]]}");
+                    "\"big\":[[1],[2]],\"tcp\":false,\"tcp_listener\":true}");
     capture c;
     health_print(capture_begin(&c), r, false);
     const char *text = capture_end(&c);
-    contains(text, "version      0.1.0\n");
-    contains(text, "uptime_s     12.5\n");
-    contains(text, "jobs.queued  1\n");
-    contains(text, "jobs.done    4\n");
-    contains(text, "job_kinds    sleep, optimize\n");
-    contains(text, "big          [2 items]\n");
+    /* Asked on the socket of a daemon serving the dashboard: not "tcp false" (issue 34). */
+    assert_null(strstr(text, "\ntcp "));
+    contains(text, "request_over_tcp  false\n");
+    contains(text, "tcp_listener      true\n");
+    contains(text, "version           0.1.0\n");
+    contains(text, "uptime_s          12.5\n");
+    contains(text, "jobs.queued       1\n");
+    contains(text, "jobs.done         4\n");
+    contains(text, "job_kinds         sleep, optimize\n");
+    contains(text, "big               [2 items]\n");
     capture_free(&c);
     json_decref(r);
 }

@@ -183,6 +183,18 @@ static void test_max_job_seconds(void **state)
     assert_true(job_manager_submit(jm, spec, ALICE, &id, &err) < 0);
     assert_string_equal(err.field, "max_seconds");
     json_decref(spec);
+    /* table3 spends max_seconds per seed and distribution: 0.5 is refused under a ceiling of 1,
+     * and the message says what it adds up to instead of "must be at most 1" (issue 34). */
+    spec = json_loads("{\"kind\":\"table3\",\"family\":\"P(4,4,2)\",\"seeds\":2,"
+                      "\"count\":10,\"max_seconds\":0.5}",
+                      0, &je);
+    assert_non_null(spec);
+    err = (aa_error){0};
+    assert_true(job_manager_submit(jm, spec, ALICE, &id, &err) < 0);
+    assert_string_equal(err.field, "max_seconds");
+    assert_non_null(strstr(err.message, "max_seconds 0.5 makes this table3 job's whole budget"));
+    assert_null(strstr(err.message, "must be at most"));
+    json_decref(spec);
     /* A job that runs past it fails with code time_limit, its best kept. */
     id = submit(jm, "{\"kind\":\"sleep\",\"seconds\":30,\"pattern\":{\"preset\":\"rgss\"}}", ALICE);
     json_t *o = wait_final(jm, id, NULL, 20);

@@ -44,11 +44,18 @@ struct job_ctx {
     int cancel_after; /* 0: never */
     double last_fraction;
     bool private_job;
+    double best_e2; /* e2 of the last best posted; NaN: none */
+    char best_family[64];
 };
 
 bool job_ctx_progress(job_ctx *ctx, double fraction, json_t *best_so_far)
 {
-    (void)best_so_far;
+    if (best_so_far) {
+        ctx->best_e2 = json_real_value(json_object_get(best_so_far, "e2"));
+        snprintf(
+            ctx->best_family, sizeof ctx->best_family, "%s",
+            json_string_value(json_object_get(json_object_get(best_so_far, "pattern"), "family")));
+    }
     assert_true(fraction >= ctx->last_fraction - 1e-12 && fraction <= 1 + 1e-12);
     ctx->last_fraction = fraction;
     ctx->progress_calls++;
@@ -260,6 +267,12 @@ static void test_animation_frames_and_cancel(void **state)
                        "\"width\":48,\"height\":40,\"frames\":3},\"pattern\":\"quincunx\","
                        "\"reference\":{\"spp\":16},\"acuity\":{\"name\":\"naiman-envelope\"}}";
     assert_int_equal(run(&job_kind_animation, spec, &ctx, &res, &err), AA_OK);
+    /* The pattern's E2 is posted as the job's best, so the job list has it (issue 34: the list
+     * showed "-" where the detail said 0.438987). */
+    assert_true(ctx.best_e2 > 0);
+    assert_float_equal(ctx.best_e2, json_real_value(json_object_get(res, "e2")), 0);
+    assert_string_equal(ctx.best_family, json_string_value(json_object_get(
+                                             json_object_get(res, "pattern"), "family")));
     /* e2 uses the table the spec named, and the result says which. */
     json_t *acuity = json_object_get(res, "acuity");
     assert_string_equal(json_string_value(json_object_get(acuity, "name")), "naiman-envelope");

@@ -16,7 +16,7 @@ import { Report } from './lib/check.mjs';
 import { CHROMIUM } from './lib/browser.mjs';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
-const SUITES = ['evaluate', 'families', 'jobs', 'optimize', 'tiles', 'kinds', 'recovery', 'layout', 'temporal', 'analysis'];
+const SUITES = ['evaluate', 'families', 'jobs', 'optimize', 'tiles', 'kinds', 'recovery', 'layout', 'temporal', 'analysis', 'plots'];
 
 function parseArgs(argv) {
   const o = { suites: SUITES, daemonArgs: [], widths: [1366, 1920], schemas: path.resolve(HERE, '../../proto/schemas') };

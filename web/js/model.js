@@ -133,6 +133,8 @@ export function normJob(j) {
     best: bestPattern ? { pattern: wirePattern(bestPattern), family: str(bestPattern.family), cost: num(bestPattern.cost_spp), e2 } : null,
     trace: normTrace(j.trace),
     spec: j.spec || {},
+    pausedSeconds: num(j.paused_seconds),
+    executor: str(j.executor),
     result: r,
     execution: executionText(j.spec, r),
   };
@@ -149,20 +151,37 @@ export function executionText(spec, result) {
   return spec && typeof spec.executor === 'string' ? spec.executor : null;
 }
 
+/* Kinds whose trace seconds are not the job's clock: table3's are the Opt W+P work summed over
+ * its cells (which may run side by side), so its curve ends at its last point, not at the job's
+ * wall time. */
+const TRACE_WORK_SECONDS = { table3: 'Opt W+P seconds (summed over cells)' };
+
+/* The trace chart's x-axis label for a job's kind. */
+export function traceXLabel(kind) {
+  return TRACE_WORK_SECONDS[kind] || 'seconds';
+}
+
 /* Trace points to draw, sorted by time, and the curve's end: best-so-far stays constant after
  * the last improvement, so the curve runs on to the job's end (finished - started; now for a
- * running job). Points at t = 0 are kept for linear axes; log axes drop them. */
+ * running job), except for kinds whose trace seconds are work, not the clock. The job's best E2
+ * (posted apart from the trace, so a running job's may be newer) ends the curve when it is
+ * lower, so the legend's last value and the header's agree. Points at t = 0 are kept for linear
+ * axes; log axes drop them. `best`: the E2 both show. */
 export function traceCurve(job, now = Date.now() / 1000) {
   const pts = job.trace.filter((p) => num(p.seconds) != null && num(p.best_e2) != null).sort((a, b) => a.seconds - b.seconds);
-  const end = job.started != null ? (job.finished ?? (ACTIVE_STATES.has(job.state) ? now : null)) : null;
+  const clock = !TRACE_WORK_SECONDS[job.kind];
+  const end = clock && job.started != null ? (job.finished ?? (ACTIVE_STATES.has(job.state) ? now : null)) : null;
   const endSeconds = end != null ? end - job.started : null;
   const xs = pts.map((p) => p.seconds);
   const ys = pts.map((p) => p.best_e2);
+  const lastY = ys.length ? ys[ys.length - 1] : null;
+  const jobBest = num(job.bestE2);
+  const best = lastY == null ? jobBest : jobBest != null && jobBest < lastY ? jobBest : lastY;
   if (pts.length && endSeconds != null && endSeconds > xs[xs.length - 1]) {
     xs.push(endSeconds);
-    ys.push(ys[ys.length - 1]);
-  }
-  return { xs, ys, points: pts.length, endSeconds };
+    ys.push(best);
+  } else if (pts.length && best < lastY) ys[ys.length - 1] = best;
+  return { xs, ys, points: pts.length, endSeconds, best };
 }
 
 /* family-sweep result: {cost, configurations, seeds_per_config, ranked: [{rank, config:
@@ -377,4 +396,87 @@ export function costliestAngles(angles, count = 6) {
 /* "12.3 %" of a 0..1 share; "—" when absent. */
 export function fmtShare(v, digits = 1) {
   return v == null || !Number.isFinite(v) ? '—' : `${(v * 100).toFixed(digits)} %`;
+}
+
+/* The submitted settings of a job (its spec less the kind) as [name, text] pairs in the spec's
+ * order: numbers and strings as they are, a pattern or other object shortened to what names it
+ * ({"preset": "rgss"} -> rgss; a pattern -> "pattern, N kernels"), long lists by their length.
+ * Settings left out of the spec took the daemon's defaults. */
+export function jobSettings(spec) {
+  const out = [];
+  for (const [k, v] of Object.entries(spec || {})) {
+    if (k === 'kind') continue;
+    out.push([k, settingText(v)]);
+  }
+  return out;
+}
+
+function settingText(v) {
+  if (v == null) return '—';
+  if (typeof v === 'number' || typeof v === 'boolean' || typeof v === 'string') return String(v);
+  if (Array.isArray(v)) {
+    const inner = v.map(settingText).join(', ');
+    return inner.length <= 60 ? `[${inner}]` : `${v.length} items`;
+  }
+  if (typeof v.preset === 'string' && Object.keys(v).length === 1) return v.preset;
+  if (typeof v.job !== 'undefined' && Object.keys(v).length <= 2) return `job ${v.job}`;
+  const kernels = Array.isArray(v.kernels) ? v.kernels : Array.isArray(v.kernels_expanded) ? v.kernels_expanded : null;
+  if (kernels) return `pattern${v.family ? ` ${v.family}` : ''}, ${kernels.length} kernel${kernels.length === 1 ? '' : 's'}`;
+  if (Array.isArray(v.mirrored)) return `mirrored pattern, ${v.mirrored.length} samples`;
+  const inner = Object.entries(v).map(([k, x]) => `${k} ${settingText(x)}`).join(', ');
+  return inner.length <= 80 ? inner : `${Object.keys(v).length} settings`;
+}
+
+/* How long a job waited, ran and was paused (seconds; null where not known yet): queued is
+ * started - created (now - created while it waits), ran is finished - started (now - started
+ * while it runs), paused the running job's time with its worker lent to others (fair share). */
+export function jobTimings(job, now = Date.now() / 1000) {
+  const created = num(job.created);
+  const started = num(job.started);
+  const finished = num(job.finished);
+  const queued = created == null ? null : (started ?? (job.state === 'queued' ? now : null)) == null ? null : (started ?? now) - created;
+  const ran = started == null ? null : (finished ?? (ACTIVE_STATES.has(job.state) ? now : null)) == null ? null : (finished ?? now) - started;
+  return { created, started, finished, queued, ran, paused: num(job.pausedSeconds) };
+}
+
+/* "queued 0.2 s · ran 2.05 s · paused 0.0 s" (parts not known are left out). */
+export function timingsText(t) {
+  const part = (name, v) => (v == null ? null : `${name} ${fmtDuration(v)}`);
+  return [part('queued', t.queued), part('ran', t.ran), part('paused', t.paused)].filter(Boolean).join(' · ') || '—';
+}
+
+export function fmtDuration(s) {
+  if (s == null || !Number.isFinite(s)) return '—';
+  if (s < 60) return `${s.toFixed(s < 10 ? 2 : 1)} s`;
+  const m = Math.floor(s / 60);
+  return m < 60 ? `${m} min ${Math.round(s - 60 * m)} s` : `${Math.floor(m / 60)} h ${m % 60} min`;
+}
+
+/* optimize result's per_seed: [{seed, distribution, initial_e2, e2, iterations}] (sorted by
+ * seed), and the best seed's index. */
+export function optimizeSeeds(result) {
+  const rows = list(result && result.per_seed).map((x) => ({ seed: x.seed, distribution: str(x.distribution), initial: num(x.initial_e2), e2: num(x.e2), iterations: x.iterations }));
+  let best = -1;
+  rows.forEach((r, i) => {
+    if (r.e2 != null && (best < 0 || r.e2 < rows[best].e2)) best = i;
+  });
+  return { rows, best };
+}
+
+/* The images of a compare result: the reference's and, per row, the pattern's render and its
+ * difference ({url, width, height} or null). */
+export function comparisonImages(result) {
+  const r = result || {};
+  const ref = list(r.reference && r.reference.renders)[0];
+  const img = (t) => (t && typeof t.url === 'string' ? { url: t.url, width: t.width, height: t.height } : null);
+  return {
+    reference: img(ref && ref.tile),
+    rows: list(r.rows).map((x) => ({ label: str(x.name), pattern: img(x.tiles && x.tiles.pattern), difference: img(x.tiles && x.tiles.difference) })),
+  };
+}
+
+/* The images of an animation result per frame: pattern, reference and difference. */
+export function animationImages(result) {
+  const img = (t) => (t && typeof t.url === 'string' ? { url: t.url, width: t.width, height: t.height } : null);
+  return list(result && result.frames).map((f) => ({ frame: f.frame, pattern: img(f.tiles && f.tiles.pattern), reference: img(f.tiles && f.tiles.reference), difference: img(f.tiles && f.tiles.difference) }));
 }

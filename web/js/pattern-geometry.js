@@ -75,3 +75,39 @@ export function extentOf(p) {
   for (const k of kernelsOf(p)) for (const [x, y] of k) m = Math.max(m, Math.abs(x), Math.abs(y));
   return m;
 }
+
+/* Where the weight labels go: circles [{x, y, r}] are every drawn dot (screen units), labels
+ * [{i, text}] the dots to label (i indexes circles). A label sits beside its dot (right above,
+ * right below, left above, left below: the first that fits) where it covers no other label and
+ * no dot; else it is left out (its weight stays in the dot's name and tooltip). A P(16,16,4)
+ * kernel has 64 samples in the pixel: most labels would overprint or hide under dots (issue 34).
+ * Boxes assume digits about 0.62 em wide. Returns [{i, x, y, anchor, box}]. */
+export function placeWeightLabels(circles, labels, fontPx) {
+  const placed = [];
+  const hitsBox = (b) => placed.some((p) => b.x0 < p.box.x1 && p.box.x0 < b.x1 && b.y0 < p.box.y1 && p.box.y0 < b.y1);
+  const hitsCircle = (b) =>
+    circles.some((c) => {
+      const dx = Math.max(b.x0 - c.x, 0, c.x - b.x1);
+      const dy = Math.max(b.y0 - c.y, 0, c.y - b.y1);
+      return dx * dx + dy * dy < c.r * c.r;
+    });
+  for (const { i, text } of labels) {
+    const c = circles[i];
+    const w = 0.62 * fontPx * text.length;
+    const tries = [
+      { x: c.x + c.r + 3, y: c.y - c.r - 1, anchor: 'start' },
+      { x: c.x + c.r + 3, y: c.y + c.r + fontPx - 1, anchor: 'start' },
+      { x: c.x - c.r - 3, y: c.y - c.r - 1, anchor: 'end' },
+      { x: c.x - c.r - 3, y: c.y + c.r + fontPx - 1, anchor: 'end' },
+    ];
+    for (const t of tries) {
+      const x0 = t.anchor === 'start' ? t.x - 1 : t.x - w - 1;
+      const box = { x0, x1: x0 + w + 2, y0: t.y - fontPx, y1: t.y + 3 };
+      if (!hitsBox(box) && !hitsCircle(box)) {
+        placed.push({ i, ...t, box });
+        break;
+      }
+    }
+  }
+  return placed;
+}

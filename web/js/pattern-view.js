@@ -3,7 +3,7 @@
 // colour. Samples of the centre pixel can be dragged with the mouse or moved with arrow keys.
 
 import { el, text, clear, screenScale } from './svg.js';
-import { layoutDots, moveSample, editableSamples, kernelsOf } from './pattern-geometry.js';
+import { layoutDots, moveSample, editableSamples, kernelsOf, placeWeightLabels } from './pattern-geometry.js';
 
 const SIZE = 420;
 const HALF = 1.5; // three pixels across
@@ -73,35 +73,42 @@ export class PatternView {
 
     const dots = layoutDots(this.pattern, this.kernel);
     const maxW = Math.max(1e-12, ...dots.map((d) => Math.abs(d.w)));
-    const rMax = s * 0.13;
+    // A dense kernel (64 samples of a P(16,16,4)) gets smaller dots, so they do not merge.
+    const nPrimary = dots.filter((d) => d.primary).length;
+    const rMax = s * Math.min(0.13, 0.42 / Math.sqrt(Math.max(1, nPrimary)));
     const samples = editableSamples(this.pattern, this.kernel);
     // Neighbours first, so centre dots sit on top.
     dots.sort((a, b) => a.primary - b.primary);
-    // Weight labels only where they do not cover one already drawn: a P(16,16,4) kernel has 64
-    // samples in the pixel and its labels would overprint. Each weight stays in the sample's
-    // accessible name and tooltip. Boxes in viewBox units (12 px labels, digits ~0.6 em wide).
-    const placed = [];
+    // Weight labels on top of every dot, only where they cover no other label and no dot
+    // (placeWeightLabels); each weight stays in the sample's accessible name and tooltip.
     const fontPx = Math.max(12, 11 / screenScale(svg)); // at least 11 px on screen
-    const fits = (bx) => !placed.some((p) => bx.x0 < p.x1 && p.x0 < bx.x1 && bx.y0 < p.y1 && p.y0 < bx.y1);
-    for (const d of dots) {
+    const circles = dots.map((d) => {
       const [x, y] = this.toScreen(d.x, d.y);
-      const r = Math.max(2.5, rMax * Math.sqrt(Math.abs(d.w) / maxW));
+      return { x, y, r: Math.max(2.5, rMax * Math.sqrt(Math.abs(d.w) / maxW)) };
+    });
+    const groups = [];
+    dots.forEach((d, k) => {
+      const { x, y, r } = circles[k];
       const neg = d.w < 0;
       const g = el('g', { class: `dot ${d.primary ? 'dot-primary' : 'dot-neighbour'} ${neg ? 'dot-negative' : 'dot-positive'}` }, svg);
+      groups.push(g);
       el('circle', { cx: x, cy: y, r, class: 'dot-shape' }, g);
       if (neg) text(g, x, y + 4, '−', { class: 'dot-sign', 'text-anchor': 'middle' });
       if (d.primary) {
-        const label = formatWeight(d.w);
-        const box = { x0: x + r + 2, x1: x + r + 4 + 0.62 * fontPx * label.length, y0: y - r - 1 - fontPx, y1: y - r + 2 };
-        if (fits(box)) {
-          placed.push(box);
-          text(g, x + r + 3, y - r - 1, label, { class: 'dot-label' }).style.fontSize = `${fontPx.toFixed(2)}px`;
-        } else el('title', {}, g).textContent = `weight ${label}`;
         g.dataset.index = d.index;
         const [sx, sy] = samples[d.index];
         g.setAttribute('aria-label', `sample ${d.index + 1}: x ${sx.toFixed(3)}, y ${sy.toFixed(3)}, weight ${formatWeight(d.w)}`);
+        el('title', {}, g).textContent = `weight ${formatWeight(d.w)}`;
         if (this.editable) this.makeEditable(g, d.index);
       }
+    });
+    const wanted = dots.map((d, i) => ({ i, text: formatWeight(d.w), primary: d.primary })).filter((l) => l.primary);
+    // A label is a child of its dot's group (the group is re-appended last, so labels sit on top).
+    for (const p of placeWeightLabels(circles, wanted, fontPx)) {
+      const g = groups[p.i];
+      svg.appendChild(g);
+      const t = text(g, p.x, p.y, formatWeight(dots[p.i].w), { class: 'dot-label', 'text-anchor': p.anchor });
+      t.style.fontSize = `${fontPx.toFixed(2)}px`;
     }
   }
 

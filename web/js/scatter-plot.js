@@ -2,10 +2,19 @@
 // with a title), one marker shape per series so series read without colour.
 
 import { el, text, clear, marker, MARKERS, COLOURS, DASHES, niceTicks, logTicks, enlargeSmallText } from './svg.js';
+import { addPlotTools } from './plot-tools.js';
 
-export function drawScatter(container, { series, xLabel, yLabel, xLog = false, yLog = false, width = 640, height = 360, lines = false, title = '', labels = false }) {
+/* tools: the zoom/reset and PNG/SVG/CSV toolbar under the plot (plot-tools.js). */
+export function drawScatter(container, { series, xLabel, yLabel, xLog = false, yLog = false, width = 640, height = 360, lines = false, title = '', labels = false, tools = true }) {
   clear(container);
-  const m = { l: 56, r: 16, t: title ? 26 : 12, b: 44 };
+  // Drawn at the width it is shown at (a 560-unit plot in a 290 px column had its text scaled
+  // up after the labels were placed, and they overprinted): one viewBox unit is one pixel.
+  const fitW = container.clientWidth;
+  if (fitW > 0 && fitW < width) {
+    height = Math.round(Math.max(220, (height * fitW) / width));
+    width = Math.max(240, fitW);
+  }
+  const m = { l: 56, r: 16, t: title ? 30 : 12, b: 44 };
   const svg = el('svg', { viewBox: `0 0 ${width} ${height}`, class: 'scatter-svg', role: 'group', 'aria-label': title || `${yLabel} against ${xLabel}` }, container);
   const all = series.flatMap((s) => s.points).filter((p) => Number.isFinite(p.x) && Number.isFinite(p.y) && (!xLog || p.x > 0) && (!yLog || p.y > 0));
   if (title) text(svg, 6, 16, title, { class: 'plot-title' });
@@ -35,8 +44,22 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
   const fy = f(yLog);
   const X = (v) => m.l + ((fx(v) - fx(x0)) / (fx(x1) - fx(x0))) * (width - m.l - m.r);
   const Y = (v) => height - m.b - ((fy(v) - fy(y0)) / (fy(y1) - fy(y0))) * (height - m.t - m.b);
-  const xt = xLog ? logTicks(x0, x1) : niceTicks(x0, x1, 6);
-  const yt = yLog ? logTicks(y0, y1) : niceTicks(y0, y1, 5);
+  // At least four labelled ticks on a linear axis (1-2-5 steps over 0.13..1.3 gave 0.5 and 1).
+  const linTicks = (lo, hi, n) => {
+    const t = niceTicks(lo, hi, n);
+    return t.length >= 4 ? t : niceTicks(lo, hi, 2 * n);
+  };
+  // A log axis over many decades (a trace from 1e-7 s): powers of ten, then every k-th, so
+  // that labels do not overprint.
+  const logAxis = (lo, hi, max) => {
+    const t = logTicks(lo, hi);
+    if (t.length <= max) return t;
+    const dec = t.filter((v) => Math.abs(Math.log10(v) - Math.round(Math.log10(v))) < 1e-9);
+    const k = Math.ceil(dec.length / max);
+    return dec.filter((_, i) => i % k === (dec.length - 1) % k);
+  };
+  const xt = xLog ? logAxis(x0, x1, Math.max(3, Math.floor((width - m.l - m.r) / 60))) : linTicks(x0, x1, 6);
+  const yt = yLog ? logAxis(y0, y1, Math.max(3, Math.floor((height - m.t - m.b) / 28))) : linTicks(y0, y1, 5);
   for (const t of xt) {
     el('line', { x1: X(t), x2: X(t), y1: m.t, y2: height - m.b, class: 'grid' }, svg);
     text(svg, X(t), height - m.b + 16, fmtTick(t), { 'text-anchor': 'middle', class: 'tick' });
@@ -65,7 +88,8 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
     ];
     for (const sp of spots) {
       const box = { x0: sp.x0, x1: sp.x1, y0: sp.y - 11, y1: sp.y + 3 };
-      if (box.x0 < 0 || box.x1 > width || box.y0 < 0 || box.y1 > height || !free(box)) continue;
+      // Inside the frame: a label never covers a tick, an axis label or the title.
+      if (box.x0 < m.l || box.x1 > width - m.r || box.y0 < m.t || box.y1 > height - m.b || !free(box)) continue;
       placed.push(box);
       text(svg, sp.x, sp.y, label, { class: 'point-label', 'text-anchor': sp.anchor });
       return;
@@ -83,9 +107,24 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
       if (env.length > 1)
         el('path', { d: env.map(([x, y], i) => `${i ? 'L' : 'M'}${X(x).toFixed(1)},${Y(y).toFixed(1)}`).join(''), class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);
     }
-    if ((lines || s.line) && pts.length > 1) {
+    if (s.step && pts.length > 1) {
+      // Best so far: constant until the next improvement, a step after each point.
+      const sorted = [...pts].sort((a, b) => a.x - b.x);
+      const d = sorted.map((p, i) => (i ? `H${X(p.x).toFixed(1)}V${Y(p.y).toFixed(1)}` : `M${X(p.x).toFixed(1)},${Y(p.y).toFixed(1)}`)).join('');
+      el('path', { d, class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null, 'data-series': s.label }, svg);
+    } else if ((lines || s.line) && pts.length > 1) {
       const sorted = [...pts].sort((a, b) => a.x - b.x);
       el('path', { d: sorted.map((p, i) => `${i ? 'L' : 'M'}${X(p.x).toFixed(1)},${Y(p.y).toFixed(1)}`).join(''), class: 'series-line', stroke: colour, 'stroke-dasharray': DASHES[k % DASHES.length] || null }, svg);
+    }
+    if (s.reference) {
+      // Reference marks (published values): a black bar across the point, titled with its
+      // source; no marker shape, so they read apart from measured points.
+      for (const p of pts) {
+        const g = el('g', { class: 'ref-mark' }, svg);
+        el('path', { d: `M${(X(p.x) - 9).toFixed(1)},${Y(p.y).toFixed(1)}h18M${X(p.x).toFixed(1)},${(Y(p.y) - 5).toFixed(1)}v10`, class: 'ref-mark-shape' }, g);
+        el('title', {}, g).textContent = p.title || `${s.label}: ${p.x}, ${p.y}`;
+      }
+      return;
     }
     for (const p of pts) {
       const holder = p.href ? el('a', { href: p.href, class: 'point-link' }, svg) : el('g', { class: 'point' }, svg);
@@ -97,7 +136,21 @@ export function drawScatter(container, { series, xLabel, yLabel, xLog = false, y
     }
   });
   enlargeSmallText(svg);
+  if (tools)
+    addPlotTools(container, svg, {
+      title: title || `${yLabel} against ${xLabel}`,
+      csv: () => ({
+        header: ['series', fileField(xLabel), fileField(yLabel), 'title'],
+        rows: series.flatMap((s) => s.points.map((p) => [s.label, p.x, p.y, p.title || ''])),
+      }),
+    });
   return svg;
+}
+
+/* A CSV column name from an axis label: ASCII, lower case, words joined by _. */
+function fileField(label) {
+  const s = String(label).normalize('NFKD').replace(/[^\x20-\x7e]/g, '').toLowerCase().replace(/[^a-z0-9]+/g, '_').replace(/^_+|_+$/g, '');
+  return s || 'value';
 }
 
 export function scatterLegend(container, labels) {

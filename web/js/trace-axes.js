@@ -62,3 +62,11 @@ export function traceAxes(xs, ys, mode) {
   const y = log ? logRange(py) : linearRange(py);
   return { xs: px, ys: py, x: { range: x, ticks: ticksIn(x, log) }, y: { range: y, ticks: ticksIn(y, log) } };
 }
+
+/* An axis over a given range (a zoom): the range itself and ticks inside it. */
+export function axisFor(range, mode) {
+  const log = mode === 'log';
+  const r = [Math.min(...range), Math.max(...range)];
+  if (log && r[0] <= 0) r[0] = r[1] / 1e3;
+  return { range: r, ticks: ticksIn(r, log) };
+}

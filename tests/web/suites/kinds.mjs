@@ -6,6 +6,7 @@
 import { assert, eventually } from '../lib/check.mjs';
 
 const SPECS = {
+  optimize: { kind: 'optimize', family: 'P(4,1+,2)', seeds: 3, max_iterations: 20, rng_seed: 3 },
   'family-sweep': { kind: 'family-sweep', cost: 1.25, seeds_per_config: 1, max_seconds: 1, rng_seed: 3 },
   'random-stats': { kind: 'random-stats', family: 'P(1,4,2)', count: 20, max_seconds: 1, rng_seed: 3, metrics: ['mixture', 'star_linf'] },
   table3: { kind: 'table3', family: 'P(4,4,2)', seeds: 2, count: 10, max_iterations: 30, rng_seed: 3, metrics: ['centered'] },
@@ -44,7 +45,62 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
       const row = await page.waitForSelector(`#jobs-table tr[data-job-id="${s.id}"][data-state="${s.state}"]`, { timeout: 10000 });
       const e2 = await row.$eval('td.best-e2', (td) => td.textContent);
       assert(e2 === (typeof s.best_e2 === 'number' ? s.best_e2.toFixed(4) : '—'), `job ${s.id}: best E2 shown ${e2}, summary ${s.best_e2}`);
+      // An animation's pattern E2 is its best: the list says what the detail says (issue 34).
+      if (s.kind === 'animation') assert(e2 === jobs.animation.result.e2.toFixed(4), `animation ${s.id}: list shows ${e2}, its result E2 ${jobs.animation.result.e2}`);
     }
+  });
+
+  await step('the job list fits its panel at 1400x1000 and 1000x800, Cancel buttons included', async () => {
+    for (const size of [{ width: 1400, height: 1000 }, { width: 1000, height: 800 }]) {
+      await page.setViewportSize(size);
+      await page.waitForTimeout(150);
+      const out = await page.evaluate(() => {
+        // The panel's content edge: inside its border and padding.
+        const p = document.getElementById('jobs-table').closest('.panel');
+        const cs = getComputedStyle(p);
+        const edge = p.getBoundingClientRect().right - parseFloat(cs.borderRightWidth) - parseFloat(cs.paddingRight);
+        const right = Math.max(...[...document.querySelectorAll('#jobs-table button, #jobs-table')].map((b) => b.getBoundingClientRect().right));
+        return { right, panel: edge + 0.5 };
+      });
+      assert(out.right <= out.panel, `${size.width}x${size.height}: the jobs table reaches ${out.right} px, its panel ends at ${out.panel}`);
+    }
+    await page.setViewportSize({ width: 1366, height: 900 });
+  });
+
+  await step("every kind's detail shows its submitted settings, its timings and its executor", async () => {
+    for (const kind of Object.keys(SPECS)) {
+      const j = jobs[kind];
+      await open(kind);
+      const d = await page.evaluate(() => ({
+        settings: [...document.querySelectorAll('#jd-settings .setting')].map((x) => x.textContent),
+        timings: document.getElementById('jd-timings').textContent,
+        executor: document.getElementById('jd-executor').textContent,
+      }));
+      const keys = Object.keys(SPECS[kind]).filter((k) => k !== 'kind');
+      assert(JSON.stringify(d.settings.map((x) => x.split(' ')[0])) === JSON.stringify(keys), `${kind}: settings ${JSON.stringify(d.settings)}, spec keys ${keys}`);
+      for (const k of keys) {
+        const v = SPECS[kind][k];
+        if (typeof v === 'number' || typeof v === 'string') assert(d.settings.includes(`${k} ${v}`), `${kind}: ${k} ${v} not in ${JSON.stringify(d.settings)}`);
+      }
+      const ran = (j.finished - j.started).toFixed(j.finished - j.started < 10 ? 2 : 1);
+      const queued = (j.started - j.created).toFixed(j.started - j.created < 10 ? 2 : 1);
+      assert(d.timings.includes(`ran ${ran} s`) && d.timings.includes(`queued ${queued} s`), `${kind}: timings "${d.timings}", API queued ${queued} ran ${ran}`);
+      assert(/^(local|slurm)/.test(d.executor), `${kind}: executor "${d.executor}"`);
+    }
+  });
+
+  await step('optimize: a row per seed, initial and final E2 as the API, the best seed marked', async () => {
+    const r = jobs.optimize.result;
+    await open('optimize');
+    const rows = await cells(page, '#jd-seeds-table');
+    assert(rows.length === r.per_seed.length && rows.length === 3, `${rows.length} rows, ${r.per_seed.length} seeds`);
+    r.per_seed.forEach((x, i) => assert(rows[i][0].startsWith(String(x.seed)) && rows[i][2] === x.initial_e2.toFixed(6) && rows[i][3] === x.e2.toFixed(6), `seed ${x.seed}: ${JSON.stringify(rows[i])}`));
+    const best = rows.filter((x) => x[0].includes('(best)'));
+    const lowest = Math.min(...r.per_seed.map((x) => x.e2));
+    assert(best.length === 1 && best[0][3] === lowest.toFixed(6), `best seed row ${JSON.stringify(best)}, lowest seed E2 ${lowest}`);
+    const hint = await page.$eval('#jd-kind', (k) => k.textContent);
+    assert(hint.includes(r.e2.toFixed(6)), `the job's final E2 ${r.e2} is not said beside the seeds`);
+    await shot('jobs-optimize');
   });
 
   await step('family-sweep: ranked table; a row opens its configuration in Evaluate', async () => {
@@ -115,6 +171,24 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
     const rho = await cells(page, '#jd-point-metrics');
     const wantRho = r.rows.map((row) => [row.distribution, 'centered', row.point_metrics.spearman[0].rho.toFixed(3), '20']);
     assert(JSON.stringify(rho.map((x) => x.slice(0, 4))) === JSON.stringify(wantRho), `rho ${JSON.stringify(rho)}, API ${JSON.stringify(wantRho)}`);
+    // Its trace is Opt W+P work: drawn to its last point, not to the job's wall time (issue 34).
+    const trace = jobs.table3.trace;
+    const tr = await page.$eval('#jd-trace', (h) => ({ end: h.dataset.end, label: h.dataset.xLabel, points: h.dataset.points }));
+    assert(tr.end === '' && /Opt W\+P seconds/.test(tr.label) && Number(tr.points) === trace.length, `table3 trace ${JSON.stringify(tr)}, ${trace.length} points`);
+    // The table fits the panel at both sizes: nothing scrolls or is cut off (issue 34).
+    for (const size of [{ width: 1400, height: 1000 }, { width: 1000, height: 800 }]) {
+      await page.setViewportSize(size);
+      await page.waitForTimeout(150);
+      const fit = await page.evaluate(() => {
+        const t = document.getElementById('jd-table3').getBoundingClientRect();
+        const p = document.getElementById('job-detail');
+        const cs = getComputedStyle(p);
+        const edge = p.getBoundingClientRect().right - parseFloat(cs.borderRightWidth) - parseFloat(cs.paddingRight);
+        const k = document.getElementById('jd-kind');
+        return { table: t.right, panel: edge + 0.5, scroll: k.scrollWidth, client: k.clientWidth };
+      });
+      assert(fit.table <= fit.panel && fit.scroll <= fit.client, `${size.width}x${size.height}: table3 ${JSON.stringify(fit)}`);
+    }
     await shot('jobs-table3');
   });
 
@@ -128,6 +202,13 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
       // The edge model's prediction beside the measured RMSE.
       assert(rows[i][6] === x.predicted_rmse.toFixed(3) && rows[i][7] === (x.rmse / x.predicted_rmse).toFixed(3), `row ${JSON.stringify(rows[i])}: predicted ${x.predicted_rmse}`);
     });
+    for (const size of [{ width: 1400, height: 1000 }, { width: 1000, height: 800 }]) {
+      await page.setViewportSize(size);
+      await page.waitForTimeout(150);
+      const k = await page.$eval('#jd-kind', (x) => ({ scroll: x.scrollWidth, client: x.clientWidth }));
+      assert(k.scroll <= k.client, `${size.width}x${size.height}: the comparison's table is wider than the panel ${JSON.stringify(k)}`);
+    }
+    await page.setViewportSize({ width: 1366, height: 900 });
     for (const plot of ['#jd-cmp-plot', '#jd-cmp-plot-e2']) {
       const n = await page.$$eval(`${plot} .point-marker`, (m) => m.length);
       assert(n === r.rows.length, `${plot}: ${n} points`);
@@ -135,6 +216,10 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
       assert(svgText.includes('samples per pixel') && !/render time/.test(svgText), `${plot}: x axis is not samples per pixel`);
     }
     assert(await page.$eval('#jd-best', (e) => e.hidden), 'a comparison has no best pattern to show');
+    // Its images: the reference, then each pattern's render and difference, all loaded.
+    await page.waitForFunction((n) => [...document.querySelectorAll('#jd-cmp-images img')].filter((i) => i.complete && i.naturalWidth > 0).length === n, 1 + 2 * r.rows.length, { timeout: 10000 });
+    const tiles = await page.$$eval('#jd-cmp-images img', (i) => i.map((x) => x.dataset.tile));
+    assert(tiles[0] === r.reference.renders[0].tile.url && tiles[1] === r.rows[0].tiles.pattern.url && tiles[2] === r.rows[0].tiles.difference.url, `images ${JSON.stringify(tiles)}`);
     await shot('jobs-compare');
   });
 
@@ -145,6 +230,8 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
     assert(rows.length === r.frames.length + 1, `${rows.length} rows for ${r.frames.length} frames`);
     r.frames.forEach((f, i) => assert(rows[i][0] === String(f.frame) && rows[i][1] === f.rmse.toFixed(3) && rows[i][3] === String(f.pixels_recomputed), `frame ${f.frame}: ${JSON.stringify(rows[i])}`));
     assert(rows[r.frames.length][1] === r.total.rmse.toFixed(3), `total RMSE ${rows[r.frames.length][1]}, API ${r.total.rmse}`);
+    await page.waitForFunction((n) => [...document.querySelectorAll('#jd-anim-images img')].filter((i) => i.complete && i.naturalWidth > 0).length === n, 3 * r.frames.length, { timeout: 10000 });
+    await shot('jobs-animation');
   });
 
   await step('reference-convergence: RMSE per reference level', async () => {
@@ -153,6 +240,12 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
     const rows = await cells(page, '#jd-conv-table');
     assert(JSON.stringify(rows.map((x) => x[0])) === JSON.stringify(r.rows.map((x) => String(x.spp))), `levels ${JSON.stringify(rows.map((x) => x[0]))}`);
     r.rows.forEach((x, i) => assert(rows[i][1] === x.rmse.toFixed(3), `${x.spp} spp: RMSE ${rows[i][1]}, API ${x.rmse}`));
+    // RMSE against spp as a plot: one point per level, log axes.
+    const titles = await page.$$eval('#jd-conv-plot title', (t) => t.map((x) => x.textContent));
+    r.rows.forEach((x) => assert(titles.includes(`${x.spp} spp: RMSE ${x.rmse.toFixed(3)}`), `no point for ${x.spp} spp in ${JSON.stringify(titles)}`));
+    const text = await page.$eval('#jd-conv-plot', (p) => p.textContent);
+    assert(text.includes('(log scale)'), 'the convergence plot does not say its axes are logarithmic');
+    await shot('jobs-reference-convergence');
   });
 
   await step("showing job B after job A's export leaves nothing of A", async () => {

@@ -79,6 +79,70 @@ export default async function layoutSuite({ page, base, api, step, artifacts }) 
     throw new Error(`job ${id} not done in 10 s`);
   });
 
+  await step('16 kernels: the polar plots draw the kernel picked in their menu, or all', async () => {
+    await page.goto(`${base}/#/evaluate?job=${id}`);
+    await page.waitForFunction(() => document.querySelectorAll('#ev-polar-weighted path.polar-curve').length === 16);
+    const options = await page.$$eval('#ev-polar-kernel option', (o) => o.map((x) => x.value));
+    assert(options.length === 17 && options[0] === 'all', `picker options ${JSON.stringify(options)}`);
+    assert(await page.isVisible('#ev-polar-kernel'), 'the kernel picker is hidden');
+    await page.selectOption('#ev-polar-kernel', '5');
+    await page.waitForFunction(() => document.querySelectorAll('#ev-polar-weighted path.polar-curve').length === 1);
+    for (const plot of ['#ev-polar-weighted', '#ev-polar-e1']) {
+      const k = await page.$$eval(`${plot} path.polar-curve`, (p) => p.map((x) => x.dataset.kernel));
+      assert(JSON.stringify(k) === '["5"]', `${plot} draws kernels ${JSON.stringify(k)}`);
+    }
+    await page.selectOption('#ev-polar-kernel', 'all');
+    await page.waitForFunction(() => document.querySelectorAll('#ev-polar-e1 path.polar-curve').length === 16);
+    // A preset of one kernel has no picker.
+    await page.goto(`${base}/#/evaluate?preset=rgss`);
+    await page.waitForFunction(() => document.querySelectorAll('#ev-polar-weighted path.polar-curve').length === 1);
+    assert(!(await page.isVisible('#ev-polar-kernel')), 'a one-kernel pattern shows a kernel picker');
+  });
+
+  await step("the P(16,16,4)-sized pattern's weight labels cover no dot and no other label", async () => {
+    await page.goto(`${base}/#/jobs?job=${id}`);
+    await page.waitForSelector('#jd-pattern g.dot-primary');
+    const bad = await page.evaluate(() => {
+      const dots = [...document.querySelectorAll('#jd-pattern circle.dot-shape')].map((c) => c.getBoundingClientRect());
+      const labels = [...document.querySelectorAll('#jd-pattern .dot-label')].map((t) => t.getBoundingClientRect());
+      const out = [];
+      const inter = (a, b, m) => Math.min(a.right, b.right) - Math.max(a.left, b.left) > m && Math.min(a.bottom, b.bottom) - Math.max(a.top, b.top) > m;
+      labels.forEach((l, i) => {
+        // A circle's box corners stick out of it: a label box overlapping its middle half is on the dot.
+        for (const d of dots) {
+          const core = { left: d.left + d.width / 4, right: d.right - d.width / 4, top: d.top + d.height / 4, bottom: d.bottom - d.height / 4 };
+          if (inter(l, core, 0.5)) out.push(`label ${i} on a dot`);
+        }
+        for (const m of labels.slice(i + 1)) if (inter(l, m, 1)) out.push(`label ${i} on another label`);
+      });
+      return { out, labels: labels.length, dots: dots.length };
+    });
+    assert(!bad.out.length, `${bad.out.length} overlaps of ${bad.labels} labels, e.g. ${bad.out.slice(0, 5).join('; ')}`);
+  });
+
+  // A finished job of each kind with a detail view of its own: its tables, plots and images
+  // are checked at both sizes too (compare with two patterns at 2 spp, as in defect 6).
+  const kindJobs = {};
+  await step('a finished job of each kind', async () => {
+    const specs = {
+      optimize: { kind: 'optimize', family: 'P(4,1+,2)', seeds: 2, max_iterations: 20, rng_seed: 3 },
+      table3: { kind: 'table3', family: 'P(4,4,2)', seeds: 2, count: 10, max_iterations: 30, rng_seed: 3 },
+      compare: { kind: 'compare', scene: { name: 'siemens-star', width: 32, height: 32 }, reference: { spp: 64 }, patterns: [{ preset: 'centroid' }, { preset: 'quincunx' }, { preset: 'flipquad' }, { preset: 'hasselgren-f' }, { preset: 'rgss' }] },
+      animation: { kind: 'animation', scene: { name: 'rotating-triangle', frames: 3, width: 32, height: 32 }, reference: { spp: 64 }, pattern: { preset: 'rgss' } },
+      'reference-convergence': { kind: 'reference-convergence', scene: { name: 'siemens-star', width: 32, height: 32 }, levels: [16, 64], baseline_spp: 256 },
+    };
+    for (const [k, spec] of Object.entries(specs)) kindJobs[k] = String((await api('POST', '/v1/jobs', spec)).id);
+    for (const [k, jid] of Object.entries(kindJobs)) {
+      let j;
+      for (let i = 0; i < 600; i++) {
+        j = await api('GET', `/v1/jobs/${jid}`);
+        if (!['queued', 'running'].includes(j.state)) break;
+        await new Promise((res) => setTimeout(res, 100));
+      }
+      assert(j.state === 'done', `${k} job ${jid}: ${j.state}`);
+    }
+  });
+
   for (const size of SIZES) {
     const tag = `${size.width}x${size.height}`;
     await step(`${tag}: every view fits the window, plot labels do not overlap`, async () => {
@@ -89,13 +153,15 @@ export default async function layoutSuite({ page, base, api, step, artifacts }) 
         ['families', () => page.waitForFunction(() => /\d+ points/.test(document.getElementById('fam-status').textContent), null, { timeout: 30000 })],
         [`jobs?job=${id}`, () => page.waitForSelector('#jd-pattern g.dot-primary')],
         ['tiles', () => page.waitForTimeout(500)],
+        ...Object.entries(kindJobs).map(([k, jid]) => [`jobs?job=${jid}&kind=${k}`, () => page.waitForFunction((x) => document.getElementById('jd-kind').dataset.kind === x, k, { timeout: 20000 })]),
       ];
       const problems = [];
       for (const [route, ready] of views) {
         await page.goto(`${base}/#/${route}`);
         await ready();
         await page.waitForTimeout(300);
-        await page.screenshot({ path: `${artifacts}/layout-${route.split('?')[0]}-${tag}.png`, fullPage: true }).catch(() => {});
+        const name = route.includes('kind=') ? `jobs-${route.split('kind=')[1]}` : route.split('?')[0];
+        await page.screenshot({ path: `${artifacts}/layout-${name}-${tag}.png`, fullPage: true }).catch(() => {});
         const w = await page.evaluate(() => ({ scroll: document.documentElement.scrollWidth, inner: window.innerWidth }));
         if (w.scroll > w.inner) problems.push(`${route}: page ${w.scroll} px wide in a ${w.inner} px window`);
         const overlaps = await overlappingLabels(page);

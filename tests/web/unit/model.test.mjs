@@ -8,12 +8,12 @@ import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import {
-  normEvaluation, normJob, jobsFrom, traceCurve, sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, comparisonPrediction, animationTable, convergenceTable,
+  normEvaluation, normJob, jobsFrom, traceCurve, traceXLabel, sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, comparisonPrediction, animationTable, convergenceTable,
   renderImages, renderStats, presetsFrom, normPreset, filtersFrom, acuityFrom, acuityLabel, wirePattern, jobPattern, familySeries,
   executionText, predictionFrom, predictionRatio, costliestAngles, fmtShare,
 } from '../../../web/js/model.js';
 import { traceAxes, tickLabels } from '../../../web/js/trace-axes.js';
-import { kernelsOf, layoutDots, moveSample, drawableOf } from '../../../web/js/pattern-geometry.js';
+import { kernelsOf, layoutDots, moveSample, drawableOf, placeWeightLabels } from '../../../web/js/pattern-geometry.js';
 
 const FIXTURES = path.join(path.dirname(fileURLToPath(import.meta.url)), '..', 'fixtures');
 const load = (name) => JSON.parse(fs.readFileSync(path.join(FIXTURES, `${name}.json`), 'utf8'));
@@ -110,6 +110,31 @@ test('a running job: the trace curve runs to now; a job not started has no end',
   assert.equal(c.xs[c.xs.length - 1], 5);
   const queued = traceCurve(normJob({ ...raw, state: 'queued', started: null, trace: [] }), now);
   assert.deepEqual([queued.xs, queued.endSeconds], [[], null]);
+});
+
+test('table3: the trace is Opt W+P work, its curve ends at its last point, not the wall time (issue 34)', () => {
+  const raw = { ...load('job-optimize'), kind: 'table3' };
+  raw.finished = raw.started + raw.trace[raw.trace.length - 1].seconds * 5;
+  const c = traceCurve(normJob(raw));
+  assert.equal(c.endSeconds, null);
+  assert.equal(c.xs.length, raw.trace.length);
+  assert.equal(Math.max(...c.xs), Math.max(...raw.trace.map((p) => p.seconds)));
+  assert.match(traceXLabel('table3'), /Opt W\+P seconds/);
+  assert.equal(traceXLabel('optimize'), 'seconds');
+});
+
+test('a running job whose best is newer than its trace: the curve ends at the best, as the header (issue 34)', () => {
+  const raw = { ...load('job-optimize'), state: 'running', finished: null };
+  const last = raw.trace[raw.trace.length - 1].best_e2;
+  raw.best_e2 = last - 1e-6;
+  raw.result = null;
+  const c = traceCurve(normJob(raw), raw.started + 1000);
+  assert.equal(c.ys[c.ys.length - 1], raw.best_e2);
+  assert.equal(c.best, raw.best_e2);
+  // A best that lags behind the trace does not lift the curve.
+  const lag = traceCurve(normJob({ ...raw, best_e2: last + 1e-3 }), raw.started + 1000);
+  assert.equal(lag.ys[lag.ys.length - 1], last);
+  assert.equal(lag.best, last);
 });
 
 test('sleep job with a pattern: best {elapsed, pattern}, trace from 1 down', () => {
@@ -329,4 +354,25 @@ test('prediction ratio and costliest angles', () => {
   assert.ok(Math.abs(c.rest - 0.3) < 1e-12);
   assert.equal(fmtShare(0.1234), '12.3 %');
   assert.equal(fmtShare(null), '—');
+});
+
+test('weight labels of a 64-sample kernel cover no dot and no other label (issue 34: P(16,16,4) drawings)', () => {
+  // An 8x8 grid in a 140-unit pixel, as the job view draws a P(16,16,4) kernel, plus neighbours.
+  const circles = [];
+  for (let j = -8; j < 16; j++) for (let i = -8; i < 16; i++) circles.push({ x: 140 + i * 17.5 + 8, y: 140 + j * 17.5 + 8, r: 4 + ((i * 7 + j) % 3) });
+  const primary = circles.map((c, i) => ({ c, i })).filter(({ c }) => c.x > 140 && c.x < 280 && c.y > 140 && c.y < 280);
+  assert.equal(primary.length, 64);
+  const labels = primary.map(({ i }) => ({ i, text: '0.016' }));
+  const placed = placeWeightLabels(circles, labels, 12);
+  for (const [k, p] of placed.entries()) {
+    for (const c of circles) {
+      const dx = Math.max(p.box.x0 - c.x, 0, c.x - p.box.x1);
+      const dy = Math.max(p.box.y0 - c.y, 0, c.y - p.box.y1);
+      assert.ok(dx * dx + dy * dy >= c.r * c.r, `label of dot ${p.i} covers a dot at ${c.x},${c.y}`);
+    }
+    for (const q of placed.slice(k + 1)) assert.ok(!(p.box.x0 < q.box.x1 && q.box.x0 < p.box.x1 && p.box.y0 < q.box.y1 && q.box.y0 < p.box.y1), `labels ${p.i} and ${q.i} overlap`);
+  }
+  // A sparse kernel (4 samples far apart) keeps every label.
+  const sparse = [{ x: 100, y: 100, r: 20 }, { x: 300, y: 100, r: 20 }, { x: 100, y: 300, r: 20 }, { x: 300, y: 300, r: 20 }];
+  assert.equal(placeWeightLabels(sparse, sparse.map((_, i) => ({ i, text: '0.25' })), 12).length, 4);
 });

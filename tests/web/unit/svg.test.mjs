@@ -4,6 +4,7 @@ import test from 'node:test';
 import assert from 'node:assert/strict';
 import { niceTicks, logTicks } from '../../../web/js/svg.js';
 import { traceAxes } from '../../../web/js/trace-axes.js';
+import { ringLabel } from '../../../web/js/polar-plot.js';
 
 test('nice ticks of an ordinary range', () => {
   assert.deepEqual(niceTicks(0, 1, 5), [0, 0.2, 0.4, 0.6, 0.8, 1]);
@@ -38,4 +39,12 @@ test('logTicks labels a range of about a decade with at least four ticks (issue 
 test('a trace converging to 0.159 has a y tick below 0.2 on the log axis (issue 34)', () => {
   const a = traceAxes([0.01, 0.1, 1, 6], [0.45, 0.25, 0.17, 0.159], 'log');
   assert.ok(a.y.ticks.some((v) => v >= a.y.range[0] && v < 0.2), `y ticks ${a.y.ticks} in ${a.y.range}`);
+});
+
+test('polar ring labels are plain numbers: 200, not 2.0e+2 (issue 34 defect 7)', () => {
+  assert.equal(ringLabel(200), '200');
+  assert.equal(ringLabel(0.05), '0.05');
+  assert.equal(ringLabel(0.30000000000000004), '0.3');
+  assert.equal(ringLabel(1500), '1500');
+  assert.equal(ringLabel(2e-5), '2.0e-5');
 });

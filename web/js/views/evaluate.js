@@ -6,7 +6,7 @@ import { normEvaluation, jobPattern, fmt, acuityLabel } from '../model.js';
 import { loadPresets, findPreset, loadFilters, loadAcuity, loadJob } from '../store.js';
 import { PatternView } from '../pattern-view.js';
 import { drawableOf, kernelsOf, clonePattern } from '../pattern-geometry.js';
-import { drawPolar, polarLegend } from '../polar-plot.js';
+import { drawPolar, polarLegend, polarKernelPicker } from '../polar-plot.js';
 import { setEvaluatePatternGetter } from './evaluate-bridge.js';
 import { initAnalysisPanel, cancelAnalysis, analysisAfterEvaluate, analysisEvaluateFailed } from './analysis-panel.js';
 
@@ -329,7 +329,10 @@ function showEvaluation(ev) {
     $('ev-polar-e1').textContent = '';
     return;
   }
+  // The kernel picker redraws the plots with the one kernel chosen (or all).
+  const only = polarKernelPicker($('ev-polar-kernel'), kernels.length, () => showEvaluation(ev));
   drawPolar($('ev-polar-weighted'), {
+    only,
     title: 'W(θ)·E1(θ)',
     series: kernels.map((rows) => ({ points: rows.map((r) => ({ angle: r.angle, r: r.weighted })) })),
     argmax: ev.argmaxAngle == null ? null : { kernel: ev.argmaxKernel, angle: ev.argmaxAngle, value: ev.e2 },
@@ -339,6 +342,7 @@ function showEvaluation(ev) {
     if (r.e1 != null && (!best || r.e1 > best.value)) best = { kernel: k, angle: r.angle, value: r.e1 };
   }));
   drawPolar($('ev-polar-e1'), {
+    only,
     title: 'E1(θ)',
     series: kernels.map((rows) => ({ points: rows.map((r) => ({ angle: r.angle, r: r.e1 })) })),
     argmax: best,

@@ -5,6 +5,7 @@ import { apiPost } from '../api.js';
 import { normEvaluation, familySeries, fmt } from '../model.js';
 import { loadPresets, loadFinishedWithBest } from '../store.js';
 import { drawScatter, scatterLegend } from '../scatter-plot.js';
+import { PUBLISHED_BESTS } from '../published-bests.js';
 
 const $ = (id) => document.getElementById(id);
 // Job kinds whose results are optimized patterns.
@@ -77,8 +78,14 @@ async function doLoad() {
     rows.push({ series, family, label: it.label, href: it.href, cost, e2: ev.e2, published });
   });
   const names = [...bySeries.keys()].sort();
+  // The published bests as reference marks (published-bests.js: values with their sources).
+  const reference = {
+    label: 'published best',
+    reference: true,
+    points: PUBLISHED_BESTS.map((b) => ({ x: b.cost, y: b.e2, title: `published best of ${b.family}: E2 ${b.e2} (${b.source})` })),
+  };
   drawScatter($('fam-plot'), {
-    series: names.map((n) => ({ label: n, points: bySeries.get(n), envelope: true })),
+    series: [...names.map((n) => ({ label: n, points: bySeries.get(n), envelope: true })), reference],
     xLog: true,
     xLabel: 'samples per pixel',
     yLabel: 'E2',
@@ -86,6 +93,18 @@ async function doLoad() {
     height: 420,
   });
   scatterLegend($('fam-legend'), names);
+  $('fam-published').tBodies[0].replaceChildren(
+    ...PUBLISHED_BESTS.map((b) => {
+      const tr = document.createElement('tr');
+      for (const [i, c] of [b.family, String(b.cost), b.e2.toFixed(3), b.source].entries()) {
+        const td = document.createElement('td');
+        td.textContent = c;
+        if (i === 1 || i === 2) td.className = 'num';
+        tr.append(td);
+      }
+      return tr;
+    }),
+  );
   rows.sort((a, b) => a.series.localeCompare(b.series) || a.cost - b.cost || a.e2 - b.e2);
   $('fam-table').tBodies[0].replaceChildren(
     ...rows.map((r) => {

@@ -4,11 +4,13 @@
 
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
 import { apiPost, apiDelete, apiGetText } from '../api.js';
-import { ACTIVE_STATES, fmt, traceCurve } from '../model.js';
+import { ACTIVE_STATES, fmt, traceCurve, traceXLabel, jobSettings, jobTimings, timingsText } from '../model.js';
 import { loadJobs, loadJob, jobKinds } from '../store.js';
 import { PatternView } from '../pattern-view.js';
 import { drawableOf } from '../pattern-geometry.js';
-import { traceAxes, tickLabels } from '../trace-axes.js';
+import { traceAxes, tickLabels, axisFor } from '../trace-axes.js';
+import { drawScatter, scatterLegend } from '../scatter-plot.js';
+import { csvText, standaloneSvg, fileStem } from '../plot-tools.js';
 import { renderKindDetail } from './kind-details.js';
 import { currentEvaluatePattern } from './evaluate-bridge.js';
 
@@ -24,6 +26,8 @@ let chart = null;
 let lastJob = null;
 let bestView = null;
 let lastJobs = [];
+const overlay = new Set(); // ids of the jobs whose traces the overlay plot draws
+let overlayKey = '';
 
 export async function init(context) {
   ctx = context;
@@ -56,6 +60,15 @@ export async function init(context) {
       $('job-submit').disabled = false;
     }
   });
+  $('jobs-table').addEventListener('change', (e) => {
+    const box = e.target.closest('input.overlay-pick');
+    if (!box) return;
+    const id = box.closest('tr').dataset.jobId;
+    if (box.checked) overlay.add(id);
+    else overlay.delete(id);
+    drawOverlay(true);
+  });
+  $('jobs-overlay-axes').addEventListener('change', () => drawOverlay(true));
   $('jobs-table').addEventListener('click', async (e) => {
     const btn = e.target.closest('button');
     if (!btn) return;
@@ -79,7 +92,16 @@ export async function init(context) {
   $('jd-axes').addEventListener('change', () => {
     if (chart) chart.destroy();
     chart = null;
+    zoom = null;
     if (lastJob) drawTrace(lastJob);
+  });
+  $('jd-trace-tools').addEventListener('click', (e) => {
+    const action = e.target.closest('button')?.dataset.action;
+    if (!action || !lastJob) return;
+    if (action === 'reset') {
+      zoom = null;
+      drawTrace(lastJob);
+    } else traceDownload(lastJob, action);
   });
   window.addEventListener('resize', () => chart && chart.setSize(chartSize()));
 }
@@ -116,9 +138,10 @@ function clearDetail() {
   if (chart) chart.destroy();
   chart = null;
   chartKey = '';
+  zoom = null;
   $('jd-trace').replaceChildren();
   delete $('jd-trace').dataset.points;
-  for (const id of ['jd-state', 'jd-label', 'jd-e2', 'jd-family', 'jd-points', 'jd-executor']) $(id).textContent = '—';
+  for (const id of ['jd-state', 'jd-label', 'jd-e2', 'jd-family', 'jd-points', 'jd-executor', 'jd-settings', 'jd-timings']) $(id).textContent = '—';
   $('jd-error').textContent = '';
   $('jd-kind').replaceChildren();
   delete $('jd-kind').dataset.kind;
@@ -142,6 +165,7 @@ async function refresh() {
     lastJobs = await loadJobs();
     renderTable(lastJobs);
     if (selected) await renderDetail(selected);
+    await drawOverlay(false);
   } catch (e) {
     $('job-form-status').textContent = `jobs: ${e.message}`;
   }
@@ -157,7 +181,7 @@ function renderTable(jobs) {
     if (String(j.id) === String(selected)) tr.classList.add('selected');
     const pct = Math.round(j.progress * 100);
     tr.innerHTML = `
-        <td>#${esc(j.id)}</td>
+        <td class="nowrap"><input type="checkbox" class="overlay-pick" ${overlay.has(String(j.id)) ? 'checked' : ''} aria-label="overlay the trace of job ${esc(j.id)}" title="overlay this job's trace"> #${esc(j.id)}</td>
         <td>${esc(j.kind)}${j.family ? ` <span class="hint">${esc(j.family)}</span>` : ''}</td>
         <td class="label">${esc(j.label)}</td>
         <td class="state state-${esc(j.state)}">${STATE_MARK[j.state] || ''}${esc(j.state)}</td>
@@ -187,7 +211,15 @@ async function renderDetail(id) {
   $('jd-e2').textContent = fmt(j.bestE2, 6);
   $('jd-family').textContent = j.family || '—';
   $('jd-points').textContent = String(j.trace.length);
-  $('jd-executor').textContent = j.execution || 'local';
+  $('jd-executor').textContent = j.execution || j.executor || 'local';
+  // The submitted settings (what the spec left out took the daemon's defaults) and timings.
+  const settings = jobSettings(j.spec);
+  const sd = $('jd-settings');
+  sd.replaceChildren(...settings.flatMap(([k, v], i) => [...(i ? [' · '] : []), Object.assign(document.createElement('span'), { className: 'setting', textContent: `${k} ${v}` })]));
+  if (!settings.length) sd.textContent = 'defaults';
+  const t = jobTimings(j);
+  $('jd-timings').textContent = timingsText(t);
+  $('jd-timings').title = t.created == null ? '' : `submitted ${new Date(t.created * 1000).toISOString()}`;
   $('jd-error').textContent = j.error ? `error: ${j.error}` : '';
   $('jd-trace-figure').hidden = !j.trace.length;
   drawTrace(j);
@@ -204,6 +236,31 @@ async function renderDetail(id) {
   for (const b of $('jd-export').querySelectorAll('button')) b.disabled = !j.best;
 }
 
+/* The traces of the ticked jobs in one plot (best E2 against each job's seconds). Redrawn
+ * when the choice or the axes change, or while a ticked job runs (force: redraw anyway). */
+async function drawOverlay(force) {
+  const ids = [...overlay].filter((id) => lastJobs.some((j) => String(j.id) === id));
+  $('jobs-overlay-figure').hidden = !ids.length;
+  if (!ids.length) {
+    overlayKey = '';
+    $('jobs-overlay').replaceChildren();
+    return;
+  }
+  const active = lastJobs.some((j) => ids.includes(String(j.id)) && ACTIVE_STATES.has(j.state));
+  const key = `${ids.join()}|${$('jobs-overlay-axes').value}`;
+  if (!force && !active && key === overlayKey) return;
+  overlayKey = key;
+  const jobs = await Promise.all(ids.map((id) => loadJob(id).catch(() => null)));
+  const log = $('jobs-overlay-axes').value === 'log';
+  const series = jobs.filter(Boolean).map((j) => {
+    const c = traceCurve(j);
+    const label = `#${j.id} ${j.kind}${j.family ? ` ${j.family}` : ''}${j.spec.method ? ` ${j.spec.method}` : ''}${j.spec.rng_seed != null ? ` seed ${j.spec.rng_seed}` : ''}`;
+    return { label, step: true, points: c.xs.map((x, i) => ({ x, y: c.ys[i], title: `${label}: E2 ${fmt(c.ys[i], 6)} at ${+x.toPrecision(4)} s` })).filter((p) => !log || (p.x > 0 && p.y > 0)) };
+  });
+  drawScatter($('jobs-overlay'), { series, xLabel: 'seconds', yLabel: 'best E2', xLog: log, yLog: log, width: 640, height: 340, title: 'Best E2 against run time' });
+  scatterLegend($('jobs-overlay-legend'), series.map((s) => s.label));
+}
+
 function chartSize() {
   const w = Math.max(280, $('jd-trace').clientWidth || 560);
   return { width: w, height: Math.round(Math.min(320, w * 0.55)) };
@@ -212,22 +269,75 @@ function chartSize() {
 let axes = null; // the trace chart's ranges and ticks, read by its scale and axis callbacks
 let chartKey = '';
 let marked = 0; // points of the curve drawn with a marker (the trace's own, not the end)
+let zoom = null; // {x: [lo, hi], y: [lo, hi]} chosen by dragging over the chart; null: all
+
+/* The trace as a file: CSV of its points, PNG of the chart's canvas, or SVG drawn from the same
+ * points (scatter-plot.js, off screen so the page's styles can be read and inlined). */
+function traceDownload(j, what) {
+  const stem = `aalab-job-${j.id}-trace`;
+  const save = (blob, ext) => {
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = `${stem}.${ext}`;
+    document.body.append(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+  };
+  if (what === 'csv') {
+    const rows = j.trace.map((p) => [p.seconds, p.iterations, p.evaluations, p.best_e2]);
+    save(new Blob([csvText(['seconds', 'iterations', 'evaluations', 'best_e2'], rows)], { type: 'text/csv' }), 'csv');
+  } else if (what === 'png') {
+    const canvas = $('jd-trace').querySelector('canvas');
+    if (canvas) canvas.toBlob((b) => b && save(b, 'png'), 'image/png');
+  } else if (what === 'svg') {
+    const c = traceCurve(j);
+    const log = $('jd-axes').value === 'log';
+    const off = document.createElement('div');
+    off.style.cssText = 'position:absolute;left:-10000px;top:0;width:720px';
+    document.body.append(off);
+    const svg = drawScatter(off, {
+      series: [{ label: `job ${j.id}`, line: true, points: c.xs.map((x, i) => ({ x, y: c.ys[i] })) }],
+      xLabel: traceXLabel(j.kind),
+      yLabel: 'best E2',
+      xLog: log,
+      yLog: log,
+      width: 720,
+      height: 400,
+      title: `Job ${j.id} (${j.kind}): best E2 against ${traceXLabel(j.kind)}`,
+      tools: false,
+    });
+    const text = standaloneSvg(svg);
+    off.remove();
+    save(new Blob([text], { type: 'image/svg+xml' }), 'svg');
+  }
+}
 
 function drawTrace(j) {
   const curve = traceCurve(j);
+  // The header shows the E2 the curve ends at (a running job's best may be newer than its trace).
+  $('jd-e2').textContent = fmt(curve.best ?? j.bestE2, 6);
   const mode = $('jd-axes').value;
   axes = traceAxes(curve.xs, curve.ys, mode);
+  // A zoom keeps its ranges (ticks inside them) until reset, another job or other axes.
+  if (zoom) axes = { ...axes, x: axisFor(zoom.x, mode), y: axisFor(zoom.y, mode) };
+  $('jd-trace-tools').querySelector('[data-action="reset"]').disabled = !zoom;
+  $('jd-trace').dataset.zoomed = zoom ? 'true' : '';
   const holder = $('jd-trace');
   holder.dataset.points = String(curve.points);
   holder.dataset.end = curve.endSeconds == null ? '' : String(curve.endSeconds);
   holder.dataset.yTicks = String(axes.y.ticks.length);
+  holder.dataset.xLabel = traceXLabel(j.kind);
+  $('jd-trace-caption').textContent = curve.endSeconds == null && j.kind === 'table3'
+    ? 'Best Opt W+P E2 so far against the Opt W+P work (seconds summed over the cells), to its last point'
+    : "Best E2 so far against run time (seconds), up to the job's end";
   holder.setAttribute('aria-label', `Best E2 against run time, ${mode} axes`);
   // The curve's last point is the job's end (no marker there) when it runs past the last
   // improvement.
   const endPoint = curve.xs.length > curve.points;
   marked = axes.xs.length - (endPoint ? 1 : 0);
   const data = [axes.xs, axes.ys];
-  const key = `${j.id}:${mode}`;
+  const key = `${j.id}:${mode}:${zoom ? zoom.x.join() + zoom.y.join() : ''}`;
   if (!axes.xs.length) {
     if (chart) chart.destroy();
     chart = null;
@@ -253,9 +363,24 @@ function drawTrace(j) {
     {
       ...chartSize(),
       scales: { x: scale('x'), y: scale('y') },
+      // Dragging a rectangle zooms to it (the chart is rebuilt with those ranges); the toolbar's
+      // Reset zoom goes back.
+      cursor: { drag: { x: true, y: true, uni: 20, setScale: false } },
+      hooks: {
+        setSelect: [
+          (u) => {
+            const s = u.select;
+            if (s.width < 6 && s.height < 6) return;
+            const x = [u.posToVal(s.left, 'x'), u.posToVal(s.left + Math.max(s.width, 1), 'x')];
+            const y = [u.posToVal(s.top + Math.max(s.height, 1), 'y'), u.posToVal(s.top, 'y')];
+            zoom = { x: s.width < 6 ? axes.x.range : x, y: s.height < 6 ? axes.y.range : y };
+            setTimeout(() => lastJob && drawTrace(lastJob));
+          },
+        ],
+      },
       axes: [
         // uPlot labels only some ticks of a log axis by default: label every one of ours.
-        { label: 'seconds', splits: ticks('x'), filter: (u, splits) => splits, values: labels('x') },
+        { label: traceXLabel(j.kind), splits: ticks('x'), filter: (u, splits) => splits, values: labels('x') },
         { label: 'best E2', size: 70, splits: ticks('y'), filter: (u, splits) => splits, values: labels('y') },
       ],
       // Without the cursor over the plot, the legend shows the job's end and its best E2.

@@ -3,7 +3,8 @@
 // an animation's frames and a reference's convergence. Each renders a finished job's result
 // into an empty container.
 
-import { sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, comparisonPrediction, predictionRatio, animationTable, convergenceTable, fmt, fmtSeconds } from '../model.js';
+import { sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, comparisonPrediction, predictionRatio, animationTable, convergenceTable, optimizeSeeds, comparisonImages, animationImages, fmt, fmtSeconds } from '../model.js';
+import { apiImageUrl } from '../api.js';
 import { drawScatter, scatterLegend } from '../scatter-plot.js';
 
 function node(tag, attrs = {}, children = []) {
@@ -23,8 +24,8 @@ function evaluateLink(href, text) {
 
 /* A table with a caption, a header row and body rows; cells are strings or nodes; columns from
  * numeric onwards are right-aligned numbers. */
-export function table({ id, caption, head, rows, numericFrom = 1 }) {
-  const t = node('table', { className: 'data', ...(id ? { id } : {}) });
+export function table({ id, caption, head, rows, numericFrom = 1, compact = false }) {
+  const t = node('table', { className: compact ? 'data compact' : 'data', ...(id ? { id } : {}) });
   if (caption) t.append(node('caption', { text: caption }));
   t.append(node('thead', {}, [node('tr', {}, head.map((h) => node('th', { scope: 'col', text: h })))]));
   const body = node('tbody');
@@ -108,7 +109,7 @@ function table3(holder, job) {
   const gens = x.rows.map((r) => `${r.distribution}: ${r.generator}${r.radius != null ? ` (radius ${fmt(r.radius, 3)} px)` : ''}`).join('; ');
   holder.append(
     node('p', { className: 'hint', text: `Laine & Aila Table 3 for ${x.family} over ${x.seeds.length} rng_seeds (${x.seeds.join(', ')}), ${x.count} random patterns each: mean ± sample standard deviation over the seeds, the paper's values below. Generators: ${gens}. Acuity ${x.acuity}.` }),
-    table({ id: 'jd-table3', caption: 'Table 3: E2 mean ± sd over seeds, beside the paper', head, rows }),
+    table({ id: 'jd-table3', caption: 'Table 3: E2 mean ± sd over seeds, beside the paper', head, rows, compact: true }),
   );
   pointMetrics(holder, (job.result.rows || []).map((r) => [r.distribution, r.point_metrics]));
 }
@@ -129,11 +130,46 @@ export function drawComparison({ plot, plotE2, legend, tableHolder, tableId, row
     : null;
   const t = table({
     id: tableId,
+    compact: true,
     caption,
     head: ['Pattern', 'Samples/pixel', 'E2', 'RMSE', 'Max dev.', 'Render time', 'Predicted RMSE', 'Measured/predicted'],
     rows: rows.map((r) => [r.label, r.spp == null ? '—' : String(r.spp), fmt(r.e2, 4), fmt(r.rmse, 3), fmt(r.maxDev, 1), fmtSeconds(r.seconds), fmt(r.predicted, 3), fmt(predictionRatio(r.rmse, r.predicted), 3)]),
   });
   tableHolder.replaceChildren(t);
+}
+
+/* A row of small images (tiles of the job's renders), fetched with the token as blob URLs. */
+function thumbs(id, items) {
+  const box = node('div', { className: 'thumbs', id });
+  for (const it of items) {
+    if (!it.image) continue;
+    const img = node('img', { alt: it.caption, width: 96, height: 96 });
+    img.dataset.tile = it.image.url;
+    apiImageUrl(it.image.url)
+      .then((u) => {
+        img.src = u;
+      })
+      .catch(() => {
+        img.alt = `${it.caption} (image no longer stored)`;
+      });
+    box.append(node('figure', {}, [img, node('figcaption', { text: it.caption })]));
+  }
+  return box;
+}
+
+function optimize(holder, job) {
+  const x = optimizeSeeds(job.result);
+  if (!x.rows.length) return;
+  holder.append(
+    node('p', { className: 'hint', text: `Each seed starts from its own random pattern; the job's best (E2 ${fmt(job.result.e2, 6)}, after any final refinement) comes from the seed marked best.` }),
+    table({
+      id: 'jd-seeds-table',
+      caption: 'Per seed: E2 before and after optimization',
+      head: ['Seed', 'Distribution', 'Initial E2', 'E2', 'Iterations'],
+      numericFrom: 2,
+      rows: x.rows.map((r, i) => [`${r.seed}${i === x.best ? ' (best)' : ''}`, r.distribution, fmt(r.initial, 6), fmt(r.e2, 6), r.iterations == null ? '—' : String(r.iterations)]),
+    }),
+  );
 }
 
 function compare(holder, job) {
@@ -144,6 +180,11 @@ function compare(holder, job) {
   const s = job.result.scene;
   holder.append(node('p', { className: 'hint', text: `${s.name}, ${s.width}×${s.height}, reference ${job.result.reference.spp} spp.` }), node('div', { className: 'plots-2' }, [plot, plotE2]), legend, tableHolder);
   drawComparison({ plot, plotE2, legend, tableHolder, tableId: 'jd-cmp-table', rows: comparisonRows(job.result), prediction: comparisonPrediction(job.result) });
+  const im = comparisonImages(job.result);
+  holder.append(
+    node('h3', { text: 'Renders: the reference, then each pattern and its difference to the reference' }),
+    thumbs('jd-cmp-images', [{ image: im.reference, caption: 'reference' }, ...im.rows.flatMap((r) => [{ image: r.pattern, caption: r.label }, { image: r.difference, caption: `${r.label} difference` }])]),
+  );
 }
 
 function animation(holder, job) {
@@ -154,10 +195,29 @@ function animation(holder, job) {
     node('p', { className: 'hint', text: `${job.result.scene.name}, ${a.frames.length} frames, pattern ${a.family} (${a.spp} samples/pixel, E2 ${fmt(a.e2, 4)}); only pixels the moving content touches are recomputed.` }),
     table({ id: 'jd-anim-table', caption: 'Error per frame (0..255)', head: ['Frame', 'RMSE', 'Max dev.', 'Pixels recomputed', 'Pattern time', 'Reference time'], rows }),
   );
+  // The first frames' renders (a long animation shows 8).
+  const frames = animationImages(job.result).slice(0, 8);
+  holder.append(
+    node('h3', { text: 'Frames: pattern, reference and difference' }),
+    thumbs('jd-anim-images', frames.flatMap((f) => [{ image: f.pattern, caption: `frame ${f.frame}` }, { image: f.reference, caption: `frame ${f.frame} reference` }, { image: f.difference, caption: `frame ${f.frame} difference` }])),
+  );
 }
 
 function convergence(holder, job) {
   const c = convergenceTable(job.result);
+  const plot = node('div', { id: 'jd-conv-plot', className: 'plot-holder' });
+  holder.append(plot);
+  const pts = c.rows.filter((r) => r.rmse != null && r.rmse > 0 && r.spp > 0);
+  drawScatter(plot, {
+    series: [{ label: 'RMSE', line: true, points: pts.map((r) => ({ x: r.spp, y: r.rmse, title: `${r.spp} spp: RMSE ${fmt(r.rmse, 3)}` })) }],
+    xLabel: 'reference samples per pixel',
+    yLabel: 'RMSE (0..255)',
+    xLog: true,
+    yLog: true,
+    width: 560,
+    height: 300,
+    title: `Reference RMSE against samples per pixel (baseline ${c.baselineSpp} spp)`,
+  });
   holder.append(
     node('p', { className: 'hint', text: `Each reference against one at ${c.baselineSpp} spp (rendered in ${fmtSeconds(c.baselineSeconds)}, independent seed).` }),
     table({
@@ -169,7 +229,7 @@ function convergence(holder, job) {
   );
 }
 
-const BY_KIND = { 'family-sweep': sweep, 'random-stats': randomStats, table3, compare, animation, 'reference-convergence': convergence };
+const BY_KIND = { optimize, 'family-sweep': sweep, 'random-stats': randomStats, table3, compare, animation, 'reference-convergence': convergence };
 
 /* Fills holder with the kind's view of a done job's result; false when the kind has none. */
 export function renderKindDetail(holder, job) {

@@ -3,6 +3,7 @@
 // (tile-prediction.js); and the comparison job as RMSE and E2 against samples per pixel.
 
 import uPlot from '../../vendor/uplot/uPlot.esm.js';
+import { addCanvasPlotTools } from '../plot-tools.js';
 import { apiPost, apiImageUrl } from '../api.js';
 import { renderImages, renderStats, comparisonRows, comparisonPrediction, fmt, fmtSeconds, ACTIVE_STATES } from '../model.js';
 import { drawComparison } from './kind-details.js';
@@ -203,6 +204,14 @@ function showStats(s) {
     [xs, s.histogram],
     holder,
   );
+  // Drag over it to zoom (uPlot); the toolbar resets, and downloads the chart and its counts.
+  const h = s.histogram;
+  addCanvasPlotTools(holder, {
+    title: 'penalised histogram',
+    canvas: () => holder.querySelector('canvas'),
+    reset: () => hist && hist.setScale('x', { min: 0, max: xs.length - 1 }),
+    csv: () => ({ header: ['abs_error', 'penalised_count'], rows: h.map((v, i) => [i, v]) }),
+  });
 }
 
 function histSize() {
