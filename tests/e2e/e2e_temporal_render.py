@@ -123,6 +123,11 @@ def render_check(d):
                 one = post(d, "/v1/render", {"scene": scene, "pattern": pattern, "phase": p,
                                              "reference": REFERENCE})
                 check(one["temporal"] == {"phase": p, "phase_count": N}, one["temporal"])
+                # The render request's body predicts that phase as is.
+                body = {"scene": scene, "pattern": pattern, "phase": p, "reference": REFERENCE}
+                alone = post(d, "/v1/predict", body)["predictions"]
+                check(len(alone) == 1 and alone[0]["temporal"]["phase"] == p and
+                      alone[0]["predicted_rmse"] == pred[p]["predicted_rmse"], alone)
                 check(abs(one["stats"]["rmse"] - res["phases"][p]["rmse"]) <=
                       1e-5 * res["phases"][p]["rmse"] and one["e2"] == res["phases"][p]["e2"],
                       (label, name, p, one["stats"]["rmse"], res["phases"][p]["rmse"]))
