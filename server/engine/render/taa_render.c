@@ -155,8 +155,8 @@ double aa_taa_rmse(const aa_taa_stats *s, double sum_sq)
     return s->pixels ? sqrt(sum_sq / (double)s->pixels) : 0;
 }
 
-/* The errors of one pixel: v[] are its frames (N), steady states (N) and after-cut values are
- * made on the fly; ref its reference value. */
+/* Adds one pixel's errors: frames[N] its frames, steady[N] scratch for its steady states (the
+ * after-cut histories are made on the fly), ref its reference value. */
 static void add_pixel(const aa_temporal *t, const double *frames, double *steady, double ref,
                       aa_taa_stats *st)
 {
