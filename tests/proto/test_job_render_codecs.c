@@ -416,6 +416,7 @@ static void test_temporal_render(void **state)
     r.phase_predicted[1] = NAN; /* no prediction: no ratio, none in steady either */
     r.flicker_mean_rmse = 0.5;
     r.flicker_predicted = 0.55;
+    r.flicker_step_predicted = NAN;
     r.frames_to_5pct = -1;
     json_t *out = proto_encode_temporal_render_result(&r);
     assert_non_null(out);
