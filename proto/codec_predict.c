@@ -9,8 +9,8 @@
 #include "codec_temporal.h"
 #include "job_temporal_render.h"
 
-static const char *const predict_keys[] = {"scene",     "size",        "pattern", "patterns",
-                                           "reference", "e1_by_angle", "model",   NULL};
+static const char *const predict_keys[] = {
+    "scene", "size", "pattern", "patterns", "reference", "e1_by_angle", "model", "phase", NULL};
 
 static const struct {
     const char *name;
@@ -198,6 +198,31 @@ static int decode_patterns(const json_t *body, proto_predict_request *out, aa_er
     return AA_OK;
 }
 
+/* "phase" (as in POST /v1/render): only that phase of the one temporal "pattern". */
+static int keep_phase(const json_t *ph, proto_predict_request *out, aa_error *err)
+{
+    if (!ph)
+        return AA_OK;
+    size_t n = out->pattern_count;
+    if (!out->single || out->phase[0] < 0)
+        return aa_error_set(err, AA_EINVAL, "phase",
+                            "phase is for one temporal pattern (\"pattern\") only");
+    if (!json_is_integer(ph) || json_integer_value(ph) < 0 ||
+        json_integer_value(ph) >= (json_int_t)n)
+        return aa_error_set(err, AA_EINVAL, "phase", "phase must be an integer in [0, %zu]", n - 1);
+    size_t keep = (size_t)json_integer_value(ph);
+    for (size_t i = 0; i < n; i++)
+        if (i != keep)
+            aa_pattern_free(&out->patterns[i]);
+    out->patterns[0] = out->patterns[keep];
+    memcpy(out->names[0], out->names[keep], sizeof out->names[0]);
+    out->source[0] = out->source[keep];
+    out->phase[0] = out->phase[keep];
+    out->phase_count[0] = out->phase_count[keep];
+    out->pattern_count = 1;
+    return AA_OK;
+}
+
 int proto_decode_predict_request(const json_t *body, proto_predict_request *out, aa_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -208,6 +233,8 @@ int proto_decode_predict_request(const json_t *body, proto_predict_request *out,
         rc = proto_decode_scene_request(body, &out->scene, err);
     if (!rc)
         rc = decode_patterns(body, out, err);
+    if (!rc)
+        rc = keep_phase(json_object_get(body, "phase"), out, err);
     if (!rc)
         rc = proto_decode_reference(json_object_get(body, "reference"), &out->reference,
                                     "reference", err);

@@ -165,6 +165,12 @@ json_t *proto_encode_temporal_render_result(const proto_temporal_render_result *
             json_object_set_new(flicker, "ratio",
                                 proto_real(r->flicker_predicted / r->flicker_mean_rmse));
     }
+    if (flicker && isfinite(r->flicker_step_predicted)) {
+        json_object_set_new(flicker, "predicted_step_rmse", proto_real(r->flicker_step_predicted));
+        if (r->flicker_step_rmse > 0)
+            json_object_set_new(flicker, "step_ratio",
+                                proto_real(r->flicker_step_predicted / r->flicker_step_rmse));
+    }
     if (out && r->tiles)
         json_object_set(out, "tiles", r->tiles);
     if (out && !proto_acuity_ref_encode(out, r->acuity_name, r->acuity_version)) {

@@ -48,7 +48,7 @@ typedef struct proto_temporal_render_result {
     double *cut_rmse; /* [K] */
     long frames_to_5pct;
     double flicker_step_rmse, flicker_mean_rmse;
-    double flicker_predicted; /* aa_taa_predict_flicker's mean_rmse; NaN: none */
+    double flicker_predicted, flicker_step_predicted; /* aa_taa_predict_flicker's; NaN: none */
     double reference_seconds, taa_seconds, predict_seconds;
     long long pixels_sampled, samples_evaluated;
     json_t *tiles; /* {"reference", "pattern", "difference"} of the worst phase, or NULL */

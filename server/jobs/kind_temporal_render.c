@@ -51,8 +51,9 @@ static int predict_phases(const proto_temporal_render_spec *sp, const aa_scene *
     if (!hist)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
     int rc = aa_edge_histogram_of_scene(scene, hist, err);
-    out->flicker_predicted = NAN;
-    if (!rc && aa_taa_predict_flicker(t, hist, &out->flicker_predicted, err))
+    out->flicker_predicted = out->flicker_step_predicted = NAN;
+    if (!rc &&
+        aa_taa_predict_flicker(t, hist, &out->flicker_predicted, &out->flicker_step_predicted, err))
         rc = AA_ENOMEM;
     for (size_t p = 0; p < N && !rc; p++) {
         aa_pattern pat;
@@ -109,7 +110,7 @@ static int temporal_render_run(void *params, job_ctx *ctx, proto_temporal_render
     proto_acuity_ref_set(&sp->common.acuity, out->acuity_name, sizeof out->acuity_name,
                          &out->acuity_version);
     out->phase_count = N;
-    out->flicker_predicted = NAN;
+    out->flicker_predicted = out->flicker_step_predicted = NAN;
     out->group_count = t->group_count;
     out->cut_count = K;
     out->samples_per_pixel = t->cost_spp;

@@ -622,6 +622,10 @@ case("predict_temporal_bad_alpha", 400, "pattern.temporal.blend.alpha", path=PR,
 case("predict_temporal_in_list_bad", 400, "patterns[1].temporal.jitter[1]", path=PR, body_json={"patterns": ["rgss", {"temporal": {"jitter": [[0, 0], [0.7, 0]]}}]})
 case("predict_temporal_phase_samples", 400, "pattern.temporal", path=PR, body_json={"pattern": {"temporal": {"jitter": {"generator": "halton", "count": 1024}, "resolve": {"filter": {"name": "gaussian"}, "radius": 4}}}})
 case("predict_temporal_kernel_samples", 400, "pattern.temporal.jitter", path=PR, body_json={"pattern": {"temporal": {"jitter": {"generator": "halton", "count": 512}, "resolve": {"filter": {"name": "gaussian"}}}}})
+case("predict_temporal_phase_ok", 200, None, path=PR, body_json={"pattern": {"temporal": {"preset": "halton23-8"}}, "phase": 7})
+case("predict_temporal_phase_past_n", 400, "phase", path=PR, body_json={"pattern": {"temporal": {"preset": "halton23-8"}}, "phase": 8})
+case("predict_phase_spatial", 400, "phase", path=PR, body_json={"pattern": "rgss", "phase": 0})
+case("predict_phase_patterns", 400, "phase", path=PR, body_json={"patterns": [{"temporal": {"preset": "halton23-8"}}], "phase": 0})
 case("predict_temporal_work", 400, "pattern", path=PR, body_json={"scene": "rings", "pattern": {"temporal": {"jitter": {"generator": "halton", "count": 256}}}})
 with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "cases.jsonl"), "w") as f:
     for c in C:

@@ -5,8 +5,8 @@ point 5, docs/temporal.md section 9), through the daemon.
   scenes (the three half-planes of the spatial predictor's check in e2e_predict.py: 27, 63 and the
   pixel-locked 0 degrees; rings, Siemens star, spiral, sliver): the optimized sequence renders a
   lower steady-state RMSE (RMS over phases) on every one, the edge model's prediction of every
-  phase is within 0.9-1.1 of the render, and so is its prediction of the flicker about the mean
-  (from F1) but on the locked edge.
+  phase is within 0.9-1.1 of the render, and so are its predictions of the flicker (about the
+  mean, from F1; frame to frame, from the phases' differences) but on the locked edge.
 - The job's predictions are POST /v1/predict's for the same body, its per-phase E2 POST
   /v1/evaluate's, its phases' RMSE POST /v1/render's of the phase (the spatial renderer on the
   phase's kernels) and a compare job's rows (one per phase) within 1e-5; the after-cut curve over 20 periods ends at its phase's steady state (1e-5).
@@ -123,6 +123,11 @@ def render_check(d):
                 one = post(d, "/v1/render", {"scene": scene, "pattern": pattern, "phase": p,
                                              "reference": REFERENCE})
                 check(one["temporal"] == {"phase": p, "phase_count": N}, one["temporal"])
+                # The render request's body predicts that phase as is.
+                body = {"scene": scene, "pattern": pattern, "phase": p, "reference": REFERENCE}
+                alone = post(d, "/v1/predict", body)["predictions"]
+                check(len(alone) == 1 and alone[0]["temporal"]["phase"] == p and
+                      alone[0]["predicted_rmse"] == pred[p]["predicted_rmse"], alone)
                 check(abs(one["stats"]["rmse"] - res["phases"][p]["rmse"]) <=
                       1e-5 * res["phases"][p]["rmse"] and one["e2"] == res["phases"][p]["e2"],
                       (label, name, p, one["stats"]["rmse"], res["phases"][p]["rmse"]))
@@ -130,8 +135,12 @@ def render_check(d):
             check(fl["mean_rmse"] == 0 or
                   abs(fl["ratio"] - fl["predicted_mean_rmse"] / fl["mean_rmse"]) <= 1e-12, fl)
             if "locked" not in label:  # a locked edge's offsets are not spread (temporal.md 9)
-                check(0.9 <= fl["ratio"] <= 1.1, "%s %s: flicker predicted/rendered %.3f" %
-                      (label, name, fl["ratio"]))
+                check(0.9 <= fl["ratio"] <= 1.1 and 0.9 <= fl["step_ratio"] <= 1.1,
+                      "%s %s: flicker predicted/rendered %.3f, frame to frame %.3f" %
+                      (label, name, fl["ratio"], fl["step_ratio"]))
+            print("# figure: %s %s: flicker predicted/rendered about the mean %s, frame to frame "
+                  "%s" % (label, name, "%.3f" % fl["ratio"] if "ratio" in fl else "-",
+                          "%.3f" % fl["step_ratio"] if "step_ratio" in fl else "-"))
             print("# figure: %s %s: E2 %.4f steady RMSE worst %.4f (phase %d) mean %.4f, "
                   "predicted mean %.4f (ratio %.3f, per phase %.3f-%.3f), flicker step %.3f "
                   "about mean %.3f (predicted %.3f), after cut k=1 %.3f, frames to 5%% %s" %

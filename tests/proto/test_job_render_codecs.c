@@ -416,6 +416,7 @@ static void test_temporal_render(void **state)
     r.phase_predicted[1] = NAN; /* no prediction: no ratio, none in steady either */
     r.flicker_mean_rmse = 0.5;
     r.flicker_predicted = 0.55;
+    r.flicker_step_predicted = NAN;
     r.frames_to_5pct = -1;
     json_t *out = proto_encode_temporal_render_result(&r);
     assert_non_null(out);
@@ -474,6 +475,32 @@ static void test_predict_temporal(void **state)
                  "patterns[1].temporal.jitter[0]");
 }
 
+/* A compare job's temporal pattern: one row per phase, named after its preset. */
+static void test_compare_temporal(void **state)
+{
+    (void)state;
+    json_t *j = parse("{\"patterns\":[\"rgss\",{\"temporal\":{\"preset\":\"halton23-8\"}},"
+                      "{\"temporal\":{\"jitter\":[[0,0],[0.25,0]]}}]}");
+    proto_compare_spec s;
+    aa_error err = {0};
+    assert_int_equal(proto_decode_compare_spec(j, &s, &err), AA_OK);
+    assert_int_equal(s.count, 1 + 8 + 2);
+    assert_string_equal(s.names[0], "rgss");
+    assert_string_equal(s.names[1], "halton23-8 phase 0");
+    assert_string_equal(s.names[8], "halton23-8 phase 7");
+    assert_string_equal(s.names[10], "temporal phase 1");
+    /* Phase 1 of two offsets at alpha 0.1: the newest frame (offset 1) weighs 0.1 / (1 - 0.81). */
+    const aa_kernel *k = &s.patterns[10].kernels[0];
+    assert_int_equal(k->count, 2);
+    assert_true(fabs(k->samples[1].w - 0.1 / 0.19) < 1e-15);
+    proto_compare_spec_free(&s);
+    json_decref(j);
+    DECODE_FAILS(proto_compare_spec, proto_decode_compare_spec,
+                 "{\"patterns\":[{\"temporal\":{\"jitter\":{\"generator\":\"halton\",\"count\":"
+                 "1024}}},{\"temporal\":{\"jitter\":{\"generator\":\"halton\",\"count\":8}}}]}",
+                 AA_ERANGE, "patterns[1].temporal");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -484,6 +511,7 @@ int main(void)
         cmocka_unit_test(test_sleep),
         cmocka_unit_test(test_temporal_render),
         cmocka_unit_test(test_predict_temporal),
+        cmocka_unit_test(test_compare_temporal),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

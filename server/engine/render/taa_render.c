@@ -155,8 +155,8 @@ double aa_taa_rmse(const aa_taa_stats *s, double sum_sq)
     return s->pixels ? sqrt(sum_sq / (double)s->pixels) : 0;
 }
 
-/* The errors of one pixel: v[] are its frames (N), steady states (N) and after-cut values are
- * made on the fly; ref its reference value. */
+/* Adds one pixel's errors: frames[N] its frames, steady[N] scratch for its steady states (the
+ * after-cut histories are made on the fly), ref its reference value. */
 static void add_pixel(const aa_temporal *t, const double *frames, double *steady, double ref,
                       aa_taa_stats *st)
 {
@@ -286,27 +286,32 @@ int aa_taa_phase_pattern(const aa_temporal *t, size_t p, aa_pattern *out, aa_err
     return rc;
 }
 
-int aa_taa_predict_flicker(const aa_temporal *t, const aa_edge_histogram *h, double *rmse,
-                           aa_error *err)
+int aa_taa_predict_flicker(const aa_temporal *t, const aa_edge_histogram *h, double *mean_rmse,
+                           double *step_rmse, aa_error *err)
 {
     double length[AA_EDGE_BINS];
     memcpy(length, h->length, sizeof length);
     for (size_t k = 0; k < h->locked_count; k++)
         length[aa_locked_edge_bin(&h->locked[k])] += h->locked[k].length;
-    double sum = 0;
+    double mean = 0, step = 0;
     for (int d = 0; d < AA_EDGE_BINS; d++) {
         if (!(length[d] > 0))
             continue;
-        double c, s, mean_sq = 0;
+        double c, s, mean_sq = 0, step_sq = 0;
         aa_metric_direction(d * 3.14159265358979323846 / 180.0, &c, &s);
         for (size_t g = 0; g < t->group_count; g++) {
-            double f1;
-            if (aa_temporal_flicker_at_direction(t, g, c, s, &f1, NULL))
+            double f1, fs;
+            if (aa_temporal_flicker_at_direction(t, g, c, s, &f1, NULL) ||
+                aa_temporal_flicker_step_at_direction(t, g, c, s, &fs))
                 return aa_error_set(err, AA_ENOMEM, "", "out of memory");
             mean_sq += f1 * f1;
+            step_sq += fs * fs;
         }
-        sum += length[d] * mean_sq / (double)t->group_count;
+        mean += length[d] * mean_sq / (double)t->group_count;
+        step += length[d] * step_sq / (double)t->group_count;
     }
-    *rmse = 255.0 * sqrt(sum / ((double)h->width * (double)h->height));
+    double pixels = (double)h->width * (double)h->height;
+    *mean_rmse = 255.0 * sqrt(mean / pixels);
+    *step_rmse = 255.0 * sqrt(step / pixels);
     return AA_OK;
 }

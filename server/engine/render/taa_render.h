@@ -80,13 +80,14 @@ int aa_taa_phase_image(const aa_taa *r, size_t p, aa_image *out, aa_error *err);
  * of aa_pattern_from_kernels (more than AA_MAX_KERNEL_SAMPLES samples per group: AA_ERANGE). */
 int aa_taa_phase_pattern(const aa_temporal *t, size_t p, aa_pattern *out, aa_error *err);
 
-/* The flicker about the mean over phases predicted by the edge model (docs/temporal.md §9): along
- * an edge the squared deviation of phase p from the mean over phases, summed over phases / N, is
- * F1(theta)^2 per unit length (§3) as E1^2 is for the error (docs/predict.md), so
- *   flicker_mean_rmse ~ 255 sqrt( sum_d L(d) mean_g F1_g(theta_d)^2 / (width height) ),
- * L(d) the histogram's length in bin d with its locked edges (taken as evenly spread: a locked
- * edge whose offsets never move a sample across it flickers less). Errors: AA_ENOMEM. */
-int aa_taa_predict_flicker(const aa_temporal *t, const aa_edge_histogram *h, double *rmse,
-                           aa_error *err);
+/* The flicker predicted by the edge model (docs/temporal.md §9): along an edge the squared
+ * deviation of phase p from the mean over phases, summed over phases / N, is F1(theta)^2 per unit
+ * length (§3) as E1^2 is for the error (docs/predict.md), so
+ *   mean_rmse ~ 255 sqrt( sum_d L(d) mean_g F1_g(theta_d)^2 / (width height) ),
+ * and step_rmse the same with the frame-to-frame F1 (aa_temporal_flicker_step_at_direction).
+ * L(d) is the histogram's length in bin d with its locked edges (taken as evenly spread: a
+ * locked edge whose offsets never move a sample across it flickers less). Errors: AA_ENOMEM. */
+int aa_taa_predict_flicker(const aa_temporal *t, const aa_edge_histogram *h, double *mean_rmse,
+                           double *step_rmse, aa_error *err);
 
 #endif

@@ -51,4 +51,10 @@ void aa_temporal_evaluation_free(aa_temporal_evaluation *e);
 int aa_temporal_flicker_at_direction(const aa_temporal *t, size_t g, double ct, double st,
                                      double *f1, double *dp);
 
+/* The frame-to-frame counterpart of F1 at one direction: sqrt( integral (1/N) sum_p
+ * (ghat_p(a) - ghat_{p-1}(a))^2 da ), the step responses of consecutive phases (exact as F1 is:
+ * the jumps are the age weights' differences). Errors: AA_ENOMEM. */
+int aa_temporal_flicker_step_at_direction(const aa_temporal *t, size_t g, double ct, double st,
+                                          double *f1);
+
 #endif

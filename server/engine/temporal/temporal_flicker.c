@@ -99,3 +99,19 @@ int aa_temporal_flicker_at_direction(const aa_temporal *t, size_t g, double ct, 
     aa_flicker_scratch_free(&sc);
     return rc;
 }
+
+int aa_temporal_flicker_step_at_direction(const aa_temporal *t, size_t g, double ct, double st,
+                                          double *f1)
+{
+    aa_flicker_scratch sc = {0};
+    int rc = aa_flicker_scratch_init(&sc, t, t->groups[g].count);
+    if (!rc) {
+        /* Phase p against phase p - 1: a sample j frames old in p was j - 1 old in p - 1. */
+        size_t N = t->phase_count;
+        for (size_t j = 0; j < N; j++)
+            sc.dev[j] = t->age_weight[j] - t->age_weight[(j + N - 1) % N];
+        *f1 = aa_flicker_sorted(t, g, ct, st, &sc, NULL);
+    }
+    aa_flicker_scratch_free(&sc);
+    return rc;
+}
