@@ -8,6 +8,7 @@
 
 #include "codec.h"
 #include "codec_internal.h"
+#include "codec_temporal.h"
 
 static const char *const metric_names[] = {"discrepancy", "star_discrepancy", "spacing", "spectrum",
                                            "pcf"};
@@ -113,6 +114,55 @@ static int decode_all_sets(const json_t *pat, const aa_filter *filter, proto_ana
     return rc;
 }
 
+/* A temporal pattern as a point set: every frame's samples shifted by its jitter offset, over
+ * the N frames of a period, on the frame pattern's tile (one pixel by default) as the torus:
+ * the positions a static pixel accumulates in its history, whatever their blend weights (which
+ * the point-set figures do not read). Offsets are in pixels, so on a tile of T pixels a shift
+ * is o / T of the torus; positions outside the tile wrap (the pixel grid repeats). Built as a
+ * tile pattern of kernel size 1 so the rest of the analysis is the spatial one. */
+static int decode_temporal_points(const json_t *pat, const aa_filter *filter, aa_pattern *out,
+                                  aa_error *err)
+{
+    proto_temporal t;
+    int rc = proto_decode_temporal(pat, &t, "pattern", err);
+    if (rc)
+        return rc;
+    aa_point *frame = NULL, *pts = NULL;
+    size_t per_frame = 1;
+    int tile = 1;
+    if (t.has_frame) {
+        rc = aa_pattern_unit_points(&t.frame, &frame, &per_frame, err);
+        if (rc)
+            snprintf(err->field, sizeof err->field, "pattern.temporal.frame_pattern");
+        tile = t.frame.tile;
+    }
+    size_t n = t.count * per_frame;
+    if (!rc && (per_frame > AA_POINT_SET_MAX || n > AA_POINT_SET_MAX))
+        rc = aa_error_set(err, AA_ERANGE, "pattern.temporal",
+                          "%zu frames of %zu samples: the analysis takes at most %d points", t.count,
+                          per_frame, AA_POINT_SET_MAX);
+    if (!rc && !(pts = malloc(n * sizeof *pts)))
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
+    for (size_t f = 0; !rc && f < t.count; f++)
+        for (size_t i = 0; i < per_frame; i++) {
+            double u = frame ? frame[i].x : 0.5, v = frame ? frame[i].y : 0.5;
+            u += t.jitter[f].x / tile;
+            v += t.jitter[f].y / tile;
+            pts[f * per_frame + i] = (aa_point){(u - floor(u)) * tile, (v - floor(v)) * tile};
+        }
+    if (!rc) {
+        aa_tile_spec spec = {
+            .tile = tile, .kernel_size = 1, .count = n, .samples = pts, .weight_filter = filter};
+        rc = aa_pattern_from_tile(out, &spec, 0, err);
+        if (rc)
+            snprintf(err->field, sizeof err->field, "pattern.temporal");
+    }
+    free(pts);
+    free(frame);
+    proto_temporal_free(&t);
+    return rc;
+}
+
 int proto_decode_analyze_request(const json_t *body, proto_analyze_request *out, aa_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -152,6 +202,8 @@ int proto_decode_analyze_request(const json_t *body, proto_analyze_request *out,
     const json_t *set = json_is_object(form) ? json_object_get(form, "set") : NULL;
     if (!rc && json_is_string(set) && !strcmp(json_string_value(set), "all"))
         rc = decode_all_sets(pat, &filter, out, err);
+    else if (!rc && json_is_object(pat) && json_object_get(pat, "temporal"))
+        rc = decode_temporal_points(pat, &filter, &out->pattern, err);
     else if (!rc)
         rc = proto_decode_pattern_filtered(pat, 0, &filter, &out->pattern, "pattern", err);
     if (rc)

@@ -2,7 +2,9 @@
  * pattern/point_set.h, docs/analysis.md).
  *
  * Request: {"pattern": name | {...} (any pattern form; its tile samples are the point set; a
- *            points form with "set": "all" analyses every set of its file, spectra averaged),
+ *            points form with "set": "all" analyses every set of its file, spectra averaged;
+ *            a temporal pattern: its frames' samples shifted by the N jitter offsets, on the
+ *            frame pattern's tile),
  *           "metrics": ["discrepancy", "star_discrepancy", "spacing", "spectrum", "pcf"]
  *                      (default: all),
  *           "spectrum": {"radius": 1..128 (default 32)},

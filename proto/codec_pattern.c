@@ -268,13 +268,14 @@ int proto_decode_pattern_filtered(const json_t *j, unsigned flags, const aa_filt
     if (rc)
         return rc;
     /* A temporal pattern is a set of phase kernels, not one pattern: POST /v1/evaluate,
-     * POST /v1/predict, POST /v1/render, the exports and the compare, temporal-optimize and
-     * temporal-render kinds decode it themselves (codec_temporal.h); elsewhere it is refused. */
+     * POST /v1/predict, POST /v1/render, POST /v1/analyze, the exports and the compare,
+     * temporal-optimize and temporal-render kinds decode it themselves (codec_temporal.h);
+     * elsewhere it is refused. */
     if (json_object_get(j, "temporal"))
         return proto_fail(err, AA_EINVAL, prefix, "temporal",
                           "a temporal pattern is accepted by POST /v1/evaluate, POST "
-                          "/v1/predict, POST /v1/render, the exports and the compare, "
-                          "temporal-optimize and temporal-render job kinds only");
+                          "/v1/predict, POST /v1/render, POST /v1/analyze, the exports and the "
+                          "compare, temporal-optimize and temporal-render job kinds only");
     const json_t *norm = json_object_get(j, "normalize");
     if (norm) {
         if (!json_is_boolean(norm))

@@ -396,6 +396,10 @@ pts("set_second_bad_line", 400, "pattern.points.text", {"format": "utk", "text":
 pts("sets_without_set", 400, "pattern.points.text", {"format": "utk", "text": '# aalab-pattern {"tile":1,"weights":[[1]]}\n0.5 0.5\n# aalab-pattern {"tile":1,"weights":[[1]]}\n0.5 0.5\n'})
 AN = "/v1/analyze"
 _two = "0.1 0.2\n0.6 0.7\n#\n0.3 0.3\n0.8 0.9\n"
+case("analyze_temporal_ok", 200, None, path=AN, body_json={"pattern": {"temporal": {"preset": "halton23-8"}}, "spectrum": {"radius": 4}})
+case("analyze_temporal_too_many_points", 400, "pattern.temporal", path=AN, body_json={"pattern": {"temporal": {"jitter": {"generator": "halton", "count": 1024}, "frame_pattern": {"preset": "d3d-8x"}}}})
+case("analyze_temporal_bad_offset", 400, "pattern.temporal.jitter[1]", path=AN, body_json={"pattern": {"temporal": {"jitter": [[0, 0], [0.9, 0]]}}})
+case("analyze_temporal_bad_frame", 400, "pattern.temporal.frame_pattern.preset", path=AN, body_json={"pattern": {"temporal": {"jitter": [[0, 0], [0.1, 0]], "frame_pattern": {"preset": "nope"}}}})
 case("analyze_set_all_ok", 200, None, path=AN, body_json={"pattern": {"points": {"format": "utk", "text": _two, "set": "all", "weights": "equal"}}, "spectrum": {"radius": 4}})
 case("analyze_set_all_sizes_differ", 400, "pattern.points.set", path=AN, body_json={"pattern": {"points": {"format": "utk", "text": _two + "0.5 0.5\n", "set": "all", "weights": "equal"}}})
 case("analyze_set_all_bad_set", 400, "pattern.points.text", path=AN, body_json={"pattern": {"points": {"format": "utk", "text": _two + "#\n0.5 z\n", "set": "all", "weights": "equal"}}})

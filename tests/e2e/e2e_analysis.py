@@ -154,6 +154,43 @@ def main():
         check(j["state"] == "done", j["state"])
         got = analyze(d, {"pattern": {"job": jid}, "metrics": ["star_discrepancy"]})
         check(0 < got["discrepancy"]["star_linf"] < 1, got)
+        # A temporal pattern: the N jitter offsets around the pixel centre, as points of the
+        # pixel; the same figures as the points form of those positions (computed here).
+        def radical_inverse(i, b):
+            f, r = 1.0, 0.0
+            while i:
+                f /= b
+                r += f * (i % b)
+                i //= b
+            return r
+        h8 = [[radical_inverse(i, 2), radical_inverse(i, 3)] for i in range(1, 9)]
+        got = analyze(d, {"pattern": {"temporal": {"preset": "halton23-8"}}, "spectrum": {"radius": 8}})
+        ref = analyze(d, {"pattern": {"points": {"format": "json", "data": h8, "weights": "equal"}},
+                          "spectrum": {"radius": 8}})
+        check(got["points"] == 8 and got["tile"] == 1, got)
+
+        def close(a, b):  # (h - 1/2) + 1/2 may differ from h in the last bit
+            if isinstance(a, dict):
+                return a.keys() == b.keys() and all(close(a[k], b[k]) for k in a)
+            if isinstance(a, list):
+                return len(a) == len(b) and all(close(x, y) for x, y in zip(a, b))
+            if isinstance(a, float) or isinstance(b, float):
+                return abs(a - b) <= 1e-12 * max(1.0, abs(b))
+            return a == b
+        for key in ("discrepancy", "spacing", "spectrum", "pcf"):
+            check(close(got[key], ref[key]), (key, got[key], ref[key]))
+        # With an MSAA 2x frame pattern: 2 N points; range 2 wraps the offsets around the pixel.
+        got = analyze(d, {"pattern": {"temporal": {"jitter": [[0.4, 0.4], [-0.7, 0.1]],
+                                                   "jitter_range": 2,
+                                                   "frame_pattern": {"preset": "d3d-2x"}}},
+                          "metrics": ["spacing"]})
+        check(got["points"] == 4, got)
+        r = d.request("POST", "/v1/analyze", {"pattern": {"temporal": {"jitter": {
+            "generator": "halton", "count": 1024}, "frame_pattern": {"preset": "d3d-8x"}}}})
+        check(r.status == 400 and r.json()["error"]["field"] == "pattern.temporal", r.body[:300])
+        r = d.request("POST", "/v1/analyze", {"pattern": {"temporal": {"jitter": [[0, 0], [0.9, 0]]}}})
+        check(r.status == 400 and r.json()["error"]["field"].startswith("pattern.temporal.jitter"),
+              r.body[:300])
         check(not d.sanitizer_reports(), d.log_text())
     finally:
         d.stop()
