@@ -67,7 +67,7 @@ int main(int argc, char **argv)
         return EXIT_OK;
     }
     if (args.command == CMD_VERSION) {
-        printf("aalab %s\n", AALAB_VERSION);
+        printf("aalab %s\n", AALAB_VERSION_FULL);
         return EXIT_OK;
     }
     char socket_path[4096];
