@@ -1,5 +1,6 @@
 #define _GNU_SOURCE
 #include "config.h"
+#include "aalab_version.h"
 #include "install_paths.h"
 
 #include <errno.h>
@@ -205,7 +206,7 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
             return 1;
         }
         if (!strcmp(a, "--version")) {
-            fprintf(out, "aalabd %s\n", AALAB_VERSION_FULL);
+            fprintf(out, "aalabd %s\n", aalab_version_full);
             return 1;
         }
         if (!strcmp(a, "--enable-test-kinds")) {
