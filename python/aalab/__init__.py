@@ -24,7 +24,14 @@ from .job import ENDED, Job
 from .patterns import as_pattern
 from .results import Analysis, Argmax, Enumeration, Evaluation, Render, Trace
 
-__version__ = "0.1.0"
+# The version is aalab's one version, CMakeLists.txt project(VERSION), which setup.py gives the
+# package's metadata; "unknown" when the package is imported from a source tree, uninstalled.
+try:
+    from importlib.metadata import PackageNotFoundError, version as _version
+
+    __version__ = _version("aalab")
+except PackageNotFoundError:
+    __version__ = "unknown"
 
 pattern = as_pattern
 
