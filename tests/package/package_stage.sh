@@ -165,4 +165,5 @@ left=$(while read -r f; do
 [ -z "$left" ] || fail "left after purge: $left"
 say "removed (state kept), purged ($(wc -l <"$out/files.txt") paths of dpkg -L gone, state gone)"
 cleanup
-echo "package: CPU time of the stage (user, system): $(times | tail -1)"
+{ times; } >"$out/times.txt"
+echo "package: CPU time of the stage's commands (user, system): $(tail -1 "$out/times.txt")"
