@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "aalab_version.h"
 #include "args.h"
 #include "cli.h"
 #include "commands/commands.h"
@@ -67,7 +68,7 @@ int main(int argc, char **argv)
         return EXIT_OK;
     }
     if (args.command == CMD_VERSION) {
-        printf("aalab %s\n", AALAB_VERSION);
+        printf("aalab %s\n", aalab_version_full);
         return EXIT_OK;
     }
     char socket_path[4096];

@@ -1,8 +1,10 @@
-"""Build hook: the package ships the daemon's JSON Schemas (proto/schemas, the one source) as
+"""Build hook: the version is CMakeLists.txt's project(VERSION), aalab's one version; the
+package ships the daemon's JSON Schemas (proto/schemas, the one source) as
 package data, copied at build time so that no second copy is committed. Everything else is in
 pyproject.toml."""
 
 import os
+import re
 import shutil
 
 from setuptools import setup
@@ -10,6 +12,20 @@ from setuptools.command.build_py import build_py
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCHEMAS = os.path.join(HERE, "..", "proto", "schemas")
+CMAKELISTS = os.path.join(HERE, "..", "CMakeLists.txt")
+
+
+def aalab_version() -> str:
+    """aalab's one version: project(aalab VERSION x.y.z) of the repository's CMakeLists.txt. An
+    sdist built from the repository carries it in PKG-INFO."""
+    pkg_info = os.path.join(HERE, "PKG-INFO")
+    for path, pattern in ((CMAKELISTS, r"^project\(aalab VERSION ([0-9.]+)"),
+                          (pkg_info, r"^Version: (\S+)")):
+        if os.path.isfile(path):
+            m = re.search(pattern, open(path, encoding="utf-8").read(), re.M)
+            if m:
+                return m.group(1)
+    raise RuntimeError("no aalab version: build from the repository (../CMakeLists.txt)")
 
 
 class build_py_with_schemas(build_py):
@@ -24,4 +40,4 @@ class build_py_with_schemas(build_py):
         shutil.copytree(SCHEMAS, target)
 
 
-setup(cmdclass={"build_py": build_py_with_schemas})
+setup(version=aalab_version(), cmdclass={"build_py": build_py_with_schemas})

@@ -5,9 +5,11 @@
 # munge: tests/slurm starts a real one-node Slurm cluster; python3-venv ... python3-tqdm: the
 # Python package's venv, offline build and pytest stage, tests/python; python3-scipy: the
 # point-set analysis is checked against scipy.stats.qmc.discrepancy; python3-pandas: Job.to_frame()
-# is tested with it), then the dashboard test
-# dependencies (npm ci in tests/web). Idempotent and quiet: when everything is present it only
-# checks and returns. Needs root (or sudo) only when something is missing.
+# is tested with it; debhelper ... bash-completion: the man pages (help2man) and the Debian
+# packages of scripts/build-deb.sh, linted and installed by the package stage, ccache so that its
+# second package build reuses the first one's objects), then the dashboard test dependencies (npm
+# ci in tests/web). Idempotent and quiet: when everything is present it only checks and returns.
+# Needs root (or sudo) only when something is missing.
 set -eu
 
 cd "$(dirname "$0")/.."
@@ -18,7 +20,8 @@ PACKAGES="build-essential cmake pkg-config git ca-certificates
   curl jq python3 python3-jsonschema sqlite3 wrk chromium systemd
   passwd procps slurm-wlm munge
   python3-venv python3-setuptools python3-wheel python3-pytest python3-numpy python3-matplotlib
-  python3-pil python3-tqdm python3-scipy python3-pandas"
+  python3-pil python3-tqdm python3-scipy python3-pandas
+  debhelper dh-python python3-all help2man lintian ccache bash-completion"
 
 missing=""
 for p in $PACKAGES; do

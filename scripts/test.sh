@@ -12,6 +12,9 @@
 #      build                                                          build/ci-fuzz
 #   5. systemd-analyze verify of systemd/*.socket|service (any output fails) and sysusers.d
 #   6. systemd-analyze security --offline=yes aalabd.service, exposure <= 2.0
+#   7. "package": the Debian packages built (scripts/build-deb.sh), linted, installed with
+#      apt-get, the installed daemon run as the units run it, upgraded, removed and purged
+#      (tests/package/package_stage.sh; root only, else SKIP)
 # and prints a summary with the time of each stage. Exit status 0 only if every stage passed.
 # Environment: AALAB_TEST_JOBS (default: nproc), AALAB_SKIP="tsan fuzz ..." to skip stages,
 # AALAB_FUZZ_SECONDS (default 30).
@@ -183,6 +186,7 @@ stage tsan tsan
 stage fuzz fuzz
 stage systemd-verify systemd_verify
 stage systemd-security systemd_security
+stage package tests/package/package_stage.sh
 [ -n "$units_dir" ] && rm -rf "$units_dir"
 
 echo

@@ -1,14 +1,12 @@
 #define _GNU_SOURCE
 #include "config.h"
+#include "aalab_version.h"
+#include "install_paths.h"
 
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-
-#ifndef AALAB_DEFAULT_WEB_DIR
-#define AALAB_DEFAULT_WEB_DIR "/usr/share/aalab/web"
-#endif
 
 static void set_path(char *dst, size_t cap, const char *a, const char *b)
 {
@@ -45,7 +43,7 @@ void config_defaults(aalab_config *cfg)
     else
         snprintf(cfg->state_dir, sizeof cfg->state_dir, "/tmp/aalab-%u/state", (unsigned)geteuid());
 
-    snprintf(cfg->web_dir, sizeof cfg->web_dir, "%s", AALAB_DEFAULT_WEB_DIR);
+    snprintf(cfg->web_dir, sizeof cfg->web_dir, "%s", install_default_web_dir());
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     cfg->workers = cores > 0 ? (int)(cores > 64 ? 64 : cores) : 2;
     cfg->http_threads = cfg->workers < 2 ? 2 : cfg->workers > 8 ? 8 : cfg->workers;
@@ -208,7 +206,7 @@ int config_parse_args(aalab_config *cfg, int argc, char **argv, FILE *out, FILE 
             return 1;
         }
         if (!strcmp(a, "--version")) {
-            fprintf(out, "aalabd %s\n", AALAB_VERSION);
+            fprintf(out, "aalabd %s\n", aalab_version_full);
             return 1;
         }
         if (!strcmp(a, "--enable-test-kinds")) {

@@ -17,6 +17,7 @@
 
 #include <systemd/sd-daemon.h>
 
+#include "aalab_version.h"
 #include "api_context.h"
 #include "config.h"
 #include "fallback_dir.h"
@@ -209,7 +210,7 @@ int main(int argc, char **argv)
             have_tcp |= !is_unix;
             nl++;
         }
-        printf("aalabd %s: socket-activated with %d listening socket(s)\n", AALAB_VERSION,
+        printf("aalabd %s: socket-activated with %d listening socket(s)\n", aalab_version,
                activated);
     } else {
         int fd = unix_fd;
@@ -221,7 +222,7 @@ int main(int argc, char **argv)
             goto fail;
         }
         nl++;
-        printf("aalabd %s listening on unix:%s\n", AALAB_VERSION, cfg.socket_path);
+        printf("aalabd %s listening on unix:%s\n", aalab_version, cfg.socket_path);
     }
     if (cfg.tcp_port && !have_tcp) {
         int fd = http_tcp_socket_open(cfg.tcp_host, cfg.tcp_port, msg, sizeof msg);

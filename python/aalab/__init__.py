@@ -28,7 +28,14 @@ from . import temporal  # the module: aalab.temporal.temporal(...), .halton(...)
 from .temporal import TemporalArgmax, TemporalEvaluation
 from .tables import ResultTable, result_table
 
-__version__ = "0.1.0"
+# The version is aalab's one version, CMakeLists.txt project(VERSION), which setup.py gives the
+# package's metadata; "unknown" when the package is imported from a source tree, uninstalled.
+try:
+    from importlib.metadata import PackageNotFoundError, version as _version
+
+    __version__ = _version("aalab")
+except PackageNotFoundError:
+    __version__ = "unknown"
 
 pattern = as_pattern
 

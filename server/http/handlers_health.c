@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "aalab_version.h"
 #include "handlers.h"
 
 #include "eval_cache.h"
@@ -28,7 +29,7 @@ void handle_health(api_context *ctx, const api_request *req, api_response *resp)
             json_array_append_new(kinds, json_string(table[k].name));
     json_t *o = json_pack(
         "{s:s,s:s,s:f,s:{s:i,s:i},s:{s:i,s:i,s:i},s:o,s:o,s:{s:I,s:I,s:I,s:I,s:I},s:b,s:b}",
-        "status", "ok", "version", AALAB_VERSION, "uptime_seconds", api_context_uptime(ctx),
+        "status", "ok", "version", aalab_version, "uptime_seconds", api_context_uptime(ctx),
         "workers", "count", st.workers, "busy", st.busy, "queue", "length", st.queued, "capacity",
         st.queue_size, "running", st.running, "jobs", by_state, "job_kinds", kinds, "eval_cache",
         "entries", (json_int_t)cs.entries, "capacity", (json_int_t)cs.capacity, "bytes",

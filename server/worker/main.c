@@ -9,6 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "aalab_version.h"
 #include "cluster_layout.h"
 #include "job_split.h"
 #include "worker_report.h"
@@ -35,6 +36,7 @@ static void on_stop_signal(int sig)
 static void usage(FILE *f)
 {
     fputs("usage: aalab-worker TASK.json\n"
+          "       aalab-worker --help | --version\n"
           "Runs one shard of an aalab job (optimize, family-sweep, random-stats, table3) described "
           "by\n"
           "TASK.json (format aalab-task/1) and writes the shard's output and trace files named\n"
@@ -141,6 +143,10 @@ int main(int argc, char **argv)
 {
     if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
         usage(stdout);
+        return EXIT_DONE;
+    }
+    if (argc == 2 && !strcmp(argv[1], "--version")) {
+        printf("aalab-worker %s\n", aalab_version_full);
         return EXIT_DONE;
     }
     if (argc != 2 || argv[1][0] == '-') {
