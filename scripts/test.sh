@@ -7,8 +7,9 @@
 #   1c. "python": the Python package (python/) installed in a venv over Debian's python3-*
 #      packages, its pytest suite (tests/python) against build/ci's aalabd, docs/examples
 #   2. the whole ctest suite with AddressSanitizer + UBSan            build/ci-sanitize
-#   3. ThreadSanitizer: tests/tsan.sh's selection, then the end-to-end tests  build/ci-tsan
-#   4. tests labelled "fuzz" (AALAB_FUZZ_SECONDS per target, default 30) in a clang libFuzzer
+#   3. ThreadSanitizer: tests/tsan.sh's selection, then the end-to-end tests that drive
+#      concurrency (tsan() names the others)                            build/ci-tsan
+#   4. tests labelled "fuzz" (AALAB_FUZZ_SECONDS per target, default 20) in a clang libFuzzer
 #      build                                                          build/ci-fuzz
 #   5. systemd-analyze verify of systemd/*.socket|service (any output fails) and sysusers.d
 #   6. systemd-analyze security --offline=yes aalabd.service, exposure <= 2.0
@@ -17,7 +18,7 @@
 #      (tests/package/package_stage.sh; root only, else SKIP)
 # and prints a summary with the time of each stage. Exit status 0 only if every stage passed.
 # Environment: AALAB_TEST_JOBS (default: nproc), AALAB_SKIP="tsan fuzz ..." to skip stages,
-# AALAB_FUZZ_SECONDS (default 30).
+# AALAB_FUZZ_SECONDS (default 20).
 set -u
 
 cd "$(dirname "$0")/.."
@@ -109,17 +110,22 @@ tsan() {
   export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1}
   export AALAB_SHARE_SLICE=${AALAB_SHARE_SLICE:-5}
   sh tests/tsan.sh "$repo/$dir" || return 1
-  suite $dir -R e2e -LE slurm
+  # The end-to-end tests that drive concurrency: several users, connections, workers, restarts.
+  # Those that check one request's decoding or computation (documentation examples, formats,
+  # temporal jobs and renders, analysis, predict, the client) run the same code under ASan in
+  # the sanitize stage; under TSan they cost 3 minutes and exercise no other thread interplay.
+  suite $dir -R e2e -LE slurm \
+    -E '^(client_e2e|e2e_api_doc|e2e_temporal.*|e2e_points|e2e_formats|e2e_analysis|e2e_predict|e2e_schemas|e2e_optimize_scene|e2e_point_metrics|e2e_users_diskfull|e2e_users_fs|e2e_systemd)$'
 }
 
 fuzz() {
   # libFuzzer needs clang, and the fuzz build needs ASan+UBSan (tests/fuzz/CMakeLists.txt). It
   # builds the fuzz targets and the three programs, so clang's warnings still cover the code that
   # ships, without a fourth build of every test and benchmark.
-  targets="fuzz_pattern_decoder fuzz_request_handler fuzz_pointset_parser aalabd aalab
+  targets="fuzz_pattern_decoder fuzz_request_handler fuzz_pointset_parser fuzz_pointset_binary aalabd aalab
            aalab-worker" \
     build build/ci-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=Debug -DAALAB_FUZZ=ON \
-    -DAALAB_SANITIZE=ON -DAALAB_WEB_TESTS=OFF -DAALAB_FUZZ_SECONDS="${AALAB_FUZZ_SECONDS:-30}" ||
+    -DAALAB_SANITIZE=ON -DAALAB_WEB_TESTS=OFF -DAALAB_FUZZ_SECONDS="${AALAB_FUZZ_SECONDS:-20}" ||
     return 1
   suite build/ci-fuzz -L fuzz
 }

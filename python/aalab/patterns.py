@@ -29,7 +29,7 @@ from typing import Any, Dict, Optional
 from . import formats
 from .errors import AalabError
 
-WIRE_KEYS = ("preset", "kernels", "mirrored", "tile", "points", "job")
+WIRE_KEYS = ("preset", "kernels", "mirrored", "tile", "points", "temporal", "job")
 
 
 def _looks_like_path(s: str) -> bool:
