@@ -251,11 +251,11 @@ export default async function analysisSuite({ page, base, api, step, shot, conso
     const before = analyzeSent().length;
     await resetState(page);
     await page.fill('#an-radius', '16');
-    await page.dispatchEvent('#an-radius', 'change');
+    await page.$eval('#an-radius', (e) => e.blur()); // the native change, once (a dispatched one plus a later blur made two)
     await waitState(page, 'done');
     await resetState(page);
     await page.fill('#an-bins', '32');
-    await page.dispatchEvent('#an-bins', 'change');
+    await page.$eval('#an-bins', (e) => e.blur());
     await waitState(page, 'done');
     const sent = analyzeSent().slice(before);
     assert(sent.length === 2 && sent[0].body.spectrum.radius === 16 && sent[1].body.pcf.bins === 32, `requests ${JSON.stringify(sent.map((s) => [s.body.spectrum, s.body.pcf]))}`);
@@ -271,7 +271,7 @@ export default async function analysisSuite({ page, base, api, step, shot, conso
     const before = consoleProblems.length;
     await resetState(page);
     await page.fill('#an-radius', '200');
-    await page.dispatchEvent('#an-radius', 'change');
+    await page.$eval('#an-radius', (e) => e.blur()); // the native change, once (a dispatched one plus a later blur made two)
     await waitState(page, 'error');
     const msg = await page.textContent('#an-radius-error');
     assert(/spectrum\.radius/.test(msg) && /1 to 128/.test(msg), `radius error "${msg}"`);
@@ -290,7 +290,7 @@ export default async function analysisSuite({ page, base, api, step, shot, conso
     const before = analyzeSent().length;
     await resetState(page);
     await page.fill('#an-radius', '1.5');
-    await page.dispatchEvent('#an-radius', 'change');
+    await page.$eval('#an-radius', (e) => e.blur()); // the native change, once (a dispatched one plus a later blur made two)
     await waitState(page, 'error');
     const msg = await page.textContent('#an-radius-error');
     assert(/spectrum\.radius/.test(msg) && /whole number/.test(msg), `radius error "${msg}"`);
@@ -311,7 +311,7 @@ export default async function analysisSuite({ page, base, api, step, shot, conso
     // The new radius first, answered, so that its change event (on blur) cannot come later.
     await resetState(page);
     await page.fill('#an-radius', '20');
-    await page.dispatchEvent('#an-radius', 'change');
+    await page.$eval('#an-radius', (e) => e.blur()); // the native change, once (a dispatched one plus a later blur made two)
     await waitState(page, 'done');
     await resetState(page);
     await page.click('#ev-paste summary');
@@ -351,7 +351,7 @@ export default async function analysisSuite({ page, base, api, step, shot, conso
     const before = consoleProblems.length;
     await resetState(page);
     await page.fill('#an-radius', '32');
-    await page.dispatchEvent('#an-radius', 'change');
+    await page.$eval('#an-radius', (e) => e.blur()); // the native change, once (a dispatched one plus a later blur made two)
     await waitState(page, 'done');
     await resetState(page);
     await page.goto(`${base}/#/evaluate?preset=centroid`);
