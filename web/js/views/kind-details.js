@@ -310,6 +310,7 @@ function temporalRender(holder, job) {
       ],
     }),
     plot,
+    node('p', { className: 'hint', text: `The history k frames after a cut (history = the first frame) against the steady state; within 5 % of it from frame ${r.frames_to_5pct ?? '— (never)'} on.` }),
   );
   const cut = r.after_cut || [];
   drawScatter(plot, {
@@ -321,7 +322,7 @@ function temporalRender(holder, job) {
     yLabel: 'RMSE (0..255)',
     width: 560,
     height: 300,
-    title: `RMSE after a cut (history = the first frame); within 5 % from frame ${r.frames_to_5pct ?? '—'}`,
+    title: 'RMSE after a cut',
   });
   const tiles = r.tiles || {};
   holder.append(
