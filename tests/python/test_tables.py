@@ -136,3 +136,27 @@ def test_live_job_to_frame_and_html(client, opt_job):
         return
     f = job.to_frame()
     assert list(f["seed"]) == [0, 1]
+
+
+def test_live_temporal_jobs_to_frame_and_html(client):
+    """The two temporal kinds (issue 30), small, through Job.table/_repr_html_/to_frame."""
+    opt = client.submit({"kind": "temporal-optimize", "family": "T(4)", "seeds": 1,
+                         "max_iterations": 3}).wait(progress=False, timeout=120)
+    t = opt.table()
+    assert t.columns == ["seed", "start", "initial_score", "score", "e2", "f2"]
+    assert len(t) == 1 and t.records()[0]["e2"] == opt.result["e2"]
+    assert '<table class="aalab-result" data-kind="temporal-optimize">' in opt._repr_html_()
+    ren = client.submit({"kind": "temporal-render",
+                         "scene": {"name": "siemens-star", "width": 32, "height": 32},
+                         "pattern": {"temporal": {"preset": "halton23-8"}},
+                         "reference": {"spp": 16}}).wait(progress=False, timeout=120)
+    t = ren.table()
+    assert [r["phase"] for r in t.records()] == list(range(8))
+    assert max(r["e2"] for r in t.records()) == ren.result["e2"]
+    assert '<table class="aalab-result" data-kind="temporal-render">' in ren._repr_html_()
+    try:
+        import pandas  # noqa: F401
+    except ImportError:
+        return
+    f = ren.to_frame()
+    assert list(f["ratio"]) == [p["ratio"] for p in ren.result["phases"]]
