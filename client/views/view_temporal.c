@@ -19,7 +19,7 @@ const char *view_blend_text(char *buf, size_t cap, const json_t *blend)
     return buf;
 }
 
-void view_number_lines(FILE *out, const char *label, const json_t *values, int decimals)
+void view_number_lines(FILE *out, const char *label, const json_t *values, int first, int decimals)
 {
     /* At most 4 lines of 10: a longer list is shown every stride-th value, which the heading
      * says, so `aalab job ID` stays short (issue 34: at most 60 lines). */
@@ -29,9 +29,9 @@ void view_number_lines(FILE *out, const char *label, const json_t *values, int d
     if (stride < 1)
         stride = 1;
     if (stride == 1)
-        fprintf(out, "%s (%zu values, from 1)\n", label, n);
+        fprintf(out, "%s (%zu values, from %d)\n", label, n, first);
     else
-        fprintf(out, "%s (%zu values, one every %zu from 1)\n", label, n, stride);
+        fprintf(out, "%s (%zu values, one every %zu from %d)\n", label, n, stride, first);
     size_t shown = 0;
     for (size_t i = 0; i < n; i += stride) {
         char v[32];

@@ -56,7 +56,7 @@ void view_temporal_optimize(FILE *out, const json_t *result, bool csv)
     }
     view_kv_print(out, &kv);
     fputc('\n', out);
-    view_number_lines(out, "E2 per phase", json_object_get(result, "phase_e2"), 4);
+    view_number_lines(out, "E2 per phase", json_object_get(result, "phase_e2"), 0, 4);
     if (json_array_size(per_seed) > 0) {
         fputs("\nper seed\n", out);
         per_seed_table(out, per_seed, false);

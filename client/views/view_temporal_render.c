@@ -95,7 +95,7 @@ void view_temporal_render(FILE *out, const json_t *result, bool csv)
         json_decref(some);
     }
     fputc('\n', out);
-    view_number_lines(out, "rmse k frames after a cut", json_object_get(result, "after_cut"), 2);
+    view_number_lines(out, "rmse k frames after a cut", json_object_get(result, "after_cut"), 1, 2);
     const json_t *tiles = json_object_get(result, "tiles");
     if (json_is_object(tiles)) {
         char label[48];

@@ -676,7 +676,7 @@ static void temporal_optimize_view(void **state)
     contains(text, "timings     queued ");
     /* E2 of each phase, 4 decimals, in phase order */
     const json_t *phase_e2 = json_object_get(r, "phase_e2");
-    contains(text, "E2 per phase (4 values, from 1)\n");
+    contains(text, "E2 per phase (4 values, from 0)\n");
     int n = snprintf(want, sizeof want, " ");
     for (size_t i = 0; i < json_array_size(phase_e2); i++)
         n += snprintf(want + n, sizeof want - (size_t)n, " %8s",
