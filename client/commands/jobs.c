@@ -9,6 +9,7 @@
 #include "../table.h"
 #include "../views/job_views.h"
 #include "../views/view_kv.h"
+#include "../views/view_temporal.h"
 #include "view_util.h"
 
 void jobs_print(FILE *out, const json_t *resp, bool csv)
@@ -209,6 +210,11 @@ void job_print_with(FILE *out, const json_t *job, bool csv, bool full_pattern)
             view_pattern(out, pattern, false);
         else
             best_summary(out, best);
+    }
+    /* temporal-optimize's best is a sequence: its offsets, the first 8 or all with --pattern. */
+    if (json_is_object(json_object_get(pattern, "temporal"))) {
+        fputc('\n', out);
+        view_sequence(out, json_object_get(pattern, "temporal"), full_pattern);
     }
     const json_t *trace = json_object_get(job, "trace");
     if (json_array_size(trace) > 0) {

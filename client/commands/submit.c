@@ -24,11 +24,12 @@ int submit_request(const cli_args *a, json_t **req, char *err, size_t errcap)
         json_decref(spec);
         return -1;
     }
-    /* A pattern in the spec is checked like a pattern file ({"job":ID} is the daemon's). */
+    /* A pattern in the spec is checked like a pattern file ({"job":ID} is the daemon's, and so
+     * is a temporal one: the codec decodes it only for the kinds that take it). */
     const json_t *pattern = json_object_get(spec, "pattern");
     char why[400];
     if (json_is_object(pattern) && !json_object_get(pattern, "job") &&
-        pattern_check(pattern, why, sizeof why)) {
+        !json_object_get(pattern, "temporal") && pattern_check(pattern, why, sizeof why)) {
         snprintf(err, errcap, "%s: %s", name, why);
         json_decref(spec);
         return -1;

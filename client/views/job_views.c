@@ -12,6 +12,8 @@ static const job_view VIEWS[] = {
     {"compare", view_compare},
     {"animation", view_animation},
     {"reference-convergence", view_reference_convergence},
+    {"temporal-optimize", view_temporal_optimize},
+    {"temporal-render", view_temporal_render},
 };
 
 static const job_view GENERIC = {"", view_generic};

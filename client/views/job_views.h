@@ -26,6 +26,8 @@ void view_table3(FILE *out, const json_t *result, bool csv);
 void view_compare(FILE *out, const json_t *result, bool csv);
 void view_animation(FILE *out, const json_t *result, bool csv);
 void view_reference_convergence(FILE *out, const json_t *result, bool csv);
+void view_temporal_optimize(FILE *out, const json_t *result, bool csv);
+void view_temporal_render(FILE *out, const json_t *result, bool csv);
 void view_generic(FILE *out, const json_t *result, bool csv);
 
 /* A pattern in wire form (pattern.json) as one row per sample of kernels_expanded: kernel

@@ -62,7 +62,8 @@ class Job:
         """The kind's result as a ``pandas.DataFrame`` (python3-pandas): optimize a row per
         seed, family-sweep per configuration, random-stats one Table 3 row, table3 per
         distribution (mean, sd and paper per column), compare per pattern, animation per frame,
-        reference-convergence per level."""
+        reference-convergence per level, temporal-optimize per seed, temporal-render per phase
+        (rendered RMSE beside the edge model's prediction)."""
         return self.table().to_frame()
 
     def _repr_html_(self) -> str:

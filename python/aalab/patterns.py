@@ -29,7 +29,9 @@ from typing import Any, Dict, Optional
 from . import formats
 from .errors import AalabError
 
-WIRE_KEYS = ("preset", "kernels", "mirrored", "tile", "points", "temporal", "job")
+# "temporal" passes through as the daemon's (a jitter sequence: the evaluate, predict, render and
+# analyze routes, the exports, compare and the temporal job kinds take it; docs/temporal.md).
+WIRE_KEYS = ("preset", "kernels", "mirrored", "tile", "points", "job", "temporal")
 
 
 def _looks_like_path(s: str) -> bool:

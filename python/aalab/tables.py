@@ -30,6 +30,12 @@ _ROWS: Dict[str, Tuple[str, Sequence[Tuple[str, str]]]] = {
                                        ("max_dev", "max_dev"), ("seconds", "seconds"),
                                        ("supersampled", "supersampled"),
                                        ("samples", "samples"))),
+    "temporal-optimize": ("per_seed", (("seed", "seed"), ("start", "start"),
+                                       ("initial_score", "initial_score"), ("score", "score"),
+                                       ("e2", "e2"), ("f2", "f2"))),
+    "temporal-render": ("phases", (("phase", "phase"), ("e2", "e2"), ("rmse", "rmse"),
+                                   ("max_dev", "max_dev"), ("predicted_rmse", "predicted_rmse"),
+                                   ("ratio", "ratio"))),
 }
 
 _TABLE3_COLUMNS = ("min", "avg", "max", "opt_w", "opt_wp")
@@ -98,7 +104,13 @@ def result_table(kind: str, result: Optional[Dict[str, Any]]) -> ResultTable:
         caption = {"optimize": "E2 per seed (job E2 %s)" % _cell(r.get("e2")),
                    "compare": "error against samples per pixel",
                    "animation": "error per frame (0..255)",
-                   "reference-convergence": "reference error against samples per pixel"}[kind]
+                   "reference-convergence": "reference error against samples per pixel",
+                   "temporal-optimize": "score per seed (best sequence %s: E2 %s, F2 %s)"
+                   % (r.get("family", "?"), _cell(r.get("e2")), _cell(r.get("f2"))),
+                   "temporal-render": "steady-state error per phase against the edge model's "
+                   "prediction (worst phase %s; %s frames to 5 %%)"
+                   % (_cell((r.get("steady") or {}).get("worst_phase")),
+                      _cell(r.get("frames_to_5pct")))}[kind]
         return ResultTable(kind, [c for c, _ in cols], rows, caption)
     if kind == "family-sweep":
         cols = ["rank", "configuration", "corners", "edges", "interior", "family", "e2"]

@@ -406,6 +406,18 @@ if jq -e '.kinds | length > 0' <<<"$kinds" >/dev/null 2>&1; then
   expect 0 "table3: wait" -- A wait "$t3" --poll 0.1
   A job "$t3" --csv >"$tmp/t3.csv" &&
     csv_ok "$tmp/t3.csv" "table3 view --csv" "distribution,min,min_sd,avg,avg_sd,max,max_sd,opt_w,opt_w_sd,opt_wp,opt_wp_sd"
+  # The temporal kinds, small (issue 30): their tables and CSV headers.
+  to=$(A submit -q - <<<'{"kind":"temporal-optimize","family":"T(4)","seeds":1,"max_iterations":3}')
+  expect 0 "temporal-optimize: wait" -- A wait "$to" --poll 0.1
+  has "seed  start   initial_score     score        e2        f2" "temporal-optimize view: per seed"
+  has "best sequence  T(4)" "temporal-optimize view: the best sequence"
+  A job "$to" --csv >"$tmp/to.csv" &&
+    csv_ok "$tmp/to.csv" "temporal-optimize view --csv" "seed,start,initial_score,score,e2,f2"
+  tr=$(A submit -q - <<<'{"kind":"temporal-render","scene":{"name":"siemens-star","width":32,"height":32},"pattern":{"temporal":{"preset":"halton23-8"}},"reference":{"spp":16}}')
+  expect 0 "temporal-render: wait" -- A wait "$tr" --poll 0.1
+  has "phase        e2     rmse  max_dev  predicted_rmse   ratio" "temporal-render view: per phase"
+  A job "$tr" --csv >"$tmp/tr.csv" &&
+    csv_ok "$tmp/tr.csv" "temporal-render view --csv" "phase,e2,rmse,max_dev,predicted_rmse,ratio"
 else echo "skip kind views: the daemon has no GET /v1/kinds"; fi
 
 A --json enumerate --family 'P(4,1+,n)' --cost 1.25 >"$tmp/out" 2>"$tmp/err"

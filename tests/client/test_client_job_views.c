@@ -643,11 +643,196 @@ static void table3_metrics_view(void **state)
     json_decref(job);
 }
 
+/* temporal-optimize (issue 30): the summary (family, blend, worst-phase and mean E2, F2, frames
+ * to settle, start E2, seeds run, executor), E2 per phase, the per-seed table, the best sequence
+ * compactly and every offset with --pattern; CSV the per-seed rows with every digit. */
+static void temporal_optimize_view(void **state)
+{
+    json_t *job = fixture("job_temporal-optimize.json");
+    const json_t *r = result_of(job), *per_seed = json_object_get(r, "per_seed");
+    const json_t *jitter =
+        json_object_get(json_object_get(json_object_get(r, "best"), "temporal"), "jitter");
+    char want[160], v[32];
+    capture c;
+    job_print(capture_begin(&c), job, false);
+    const char *text = capture_end(&c);
+    contains(text, "family            T(4)\n");
+    contains(text, "blend             exponential, alpha 0.1\n");
+    snprintf(want, sizeof want, "E2 (worst phase)  %s\n",
+             fixed(v, sizeof v, json_object_get(r, "e2"), 6));
+    contains(text, want);
+    snprintf(want, sizeof want, "mean phase E2     %s\n",
+             fixed(v, sizeof v, json_object_get(r, "mean_phase_e2"), 6));
+    contains(text, want);
+    snprintf(want, sizeof want, "F2                %s\n",
+             fixed(v, sizeof v, json_object_get(r, "f2"), 6));
+    contains(text, want);
+    assert_true(json_is_null(json_object_get(r, "frames_to_settle")));
+    contains(text, "frames to settle  not within 4N frames\n");
+    contains(text, "start E2          -\n"); /* a family: no given sequence */
+    contains(text, "seeds_run         2\n");
+    contains(text, "executor          local, 1 shard, reproducible\n");
+    contains(text, "settings    family T(4), seeds 2, max_iterations 3, rng_seed 5\n");
+    contains(text, "timings     queued ");
+    /* E2 of each phase, 4 decimals, in phase order */
+    const json_t *phase_e2 = json_object_get(r, "phase_e2");
+    contains(text, "E2 per phase (4 values, from 0)\n");
+    int n = snprintf(want, sizeof want, " ");
+    for (size_t i = 0; i < json_array_size(phase_e2); i++)
+        n += snprintf(want + n, sizeof want - (size_t)n, " %8s",
+                      fixed(v, sizeof v, json_array_get(phase_e2, i), 4));
+    snprintf(want + n, sizeof want - (size_t)n, "\n");
+    contains(text, want);
+    contains(text, "seed  start   initial_score     score        e2        f2\n");
+    for (size_t i = 0; i < json_array_size(per_seed); i++) {
+        const json_t *row = json_array_get(per_seed, i);
+        char sc[32];
+        snprintf(want, sizeof want, "%4zu  %-6s  %13s  %s", i,
+                 json_string_value(json_object_get(row, "start")),
+                 fixed(v, sizeof v, json_object_get(row, "initial_score"), 6),
+                 fixed(sc, sizeof sc, json_object_get(row, "score"), 6));
+        contains(text, want);
+    }
+    contains(text, "best sequence  T(4), blend exponential, alpha 0.1, jitter_range 1.0000\n");
+    const json_t *o1 = json_array_get(jitter, 1);
+    snprintf(want, sizeof want, " 1 (%+.4f, %+.4f)", json_number_value(json_array_get(o1, 0)),
+             json_number_value(json_array_get(o1, 1)));
+    contains(text, want);
+    assert_null(strstr(text, "best pattern"));
+    assert_true(count_lines(text) <= 60);
+    capture_free(&c);
+
+    job_print_with(capture_begin(&c), job, false, true);
+    text = capture_end(&c);
+    contains(text, "frame           x           y\n");
+    for (size_t i = 0; i < json_array_size(jitter); i++) {
+        const json_t *o = json_array_get(jitter, i);
+        snprintf(want, sizeof want, "\n%5zu  %10.6f  %10.6f\n", i,
+                 json_number_value(json_array_get(o, 0)), json_number_value(json_array_get(o, 1)));
+        contains(text, want);
+    }
+    capture_free(&c);
+
+    csv_doc d;
+    view_csv(&d, job_print, job, json_array_size(per_seed));
+    csv_headers_unique_ascii(&d);
+    csv_strings_are(&d, "start", per_seed, "start");
+    const char *columns[] = {"initial_score", "score", "e2", "f2"};
+    for (size_t i = 0; i < 4; i++)
+        csv_numbers_are(&d, columns[i], per_seed, columns[i]);
+    csv_free(&d);
+    json_decref(job);
+}
+
+/* temporal-render (issue 30): the phases with the prediction beside the rendered RMSE, the
+ * steady state, frames to 5 %, the flicker and its prediction, the after-cut curve and the
+ * worst phase's images; CSV the phase rows with every digit. */
+static void temporal_render_view(void **state)
+{
+    json_t *job = fixture("job_temporal-render.json");
+    const json_t *r = result_of(job), *phases = json_object_get(r, "phases");
+    const json_t *steady = json_object_get(r, "steady"), *flicker = json_object_get(r, "flicker");
+    char want[256], v[32], p[32], q[32];
+    capture c;
+    job_print(capture_begin(&c), job, false);
+    const char *text = capture_end(&c);
+    contains(text, "scene              siemens-star 32x32\n");
+    contains(text, "pattern            T(8) halton23-8, 1.00 spp a frame, blend exponential, "
+                   "alpha 0.1\n");
+    contains(text, "reference          16 spp, mitchell filter, output offset 0.50\n");
+    snprintf(want, sizeof want, "E2 (worst phase)   %s\n",
+             fixed(v, sizeof v, json_object_get(r, "e2"), 6));
+    contains(text, want);
+    snprintf(want, sizeof want, "steady mean rmse   %s (predicted %s, ratio %s)\n",
+             fixed(v, sizeof v, json_object_get(steady, "mean_rmse"), 4),
+             fixed(p, sizeof p, json_object_get(steady, "predicted_rmse"), 4),
+             fixed(q, sizeof q, json_object_get(steady, "ratio"), 3));
+    contains(text, want);
+    snprintf(want, sizeof want, "frames to 5%%       %lld\n",
+             (long long)json_integer_value(json_object_get(r, "frames_to_5pct")));
+    contains(text, want);
+    snprintf(want, sizeof want, "flicker step rmse  %s (predicted %s, ratio %s)\n",
+             fixed(v, sizeof v, json_object_get(flicker, "step_rmse"), 4),
+             fixed(p, sizeof p, json_object_get(flicker, "predicted_step_rmse"), 4),
+             fixed(q, sizeof q, json_object_get(flicker, "step_ratio"), 3));
+    contains(text, want);
+    contains(text, "phase        e2     rmse  max_dev  predicted_rmse   ratio\n");
+    for (size_t i = 0; i < json_array_size(phases); i++) {
+        const json_t *row = json_array_get(phases, i);
+        snprintf(want, sizeof want, "\n%5zu  %s  %s  ", i,
+                 fixed(v, sizeof v, json_object_get(row, "e2"), 6),
+                 fixed(p, sizeof p, json_object_get(row, "rmse"), 4));
+        contains(text, want);
+        snprintf(want, sizeof want, "  %s\n", fixed(q, sizeof q, json_object_get(row, "ratio"), 4));
+        contains(text, want);
+    }
+    const json_t *cut = json_object_get(r, "after_cut");
+    snprintf(want, sizeof want, "rmse k frames after a cut (%zu values, from 1)\n",
+             json_array_size(cut));
+    contains(text, want);
+    snprintf(want, sizeof want, "\n  %8s %8s", fixed(v, sizeof v, json_array_get(cut, 0), 2),
+             fixed(p, sizeof p, json_array_get(cut, 1), 2));
+    contains(text, want);
+    const json_t *tiles = json_object_get(r, "tiles");
+    snprintf(want, sizeof want,
+             "  worst phase %lld       pattern %s  reference %s  difference %s\n",
+             (long long)json_integer_value(json_object_get(steady, "worst_phase")),
+             json_string_value(json_object_get(json_object_get(tiles, "pattern"), "url")),
+             json_string_value(json_object_get(json_object_get(tiles, "reference"), "url")),
+             json_string_value(json_object_get(json_object_get(tiles, "difference"), "url")));
+    contains(text, want);
+    assert_true(count_lines(text) <= 60);
+    capture_free(&c);
+
+    csv_doc d;
+    view_csv(&d, job_print, job, json_array_size(phases));
+    csv_headers_unique_ascii(&d);
+    const char *columns[] = {"phase", "e2", "rmse", "max_dev", "predicted_rmse", "ratio"};
+    for (size_t i = 0; i < 6; i++)
+        csv_numbers_are(&d, columns[i], phases, columns[i]);
+    csv_free(&d);
+    json_decref(job);
+}
+
+/* A long sequence keeps the view within 60 lines: 8 phase rows (one every s, and the worst), 40
+ * after-cut values; --csv keeps every phase. */
+static void temporal_render_long(void **state)
+{
+    json_t *job = fixture("job_temporal-render.json");
+    json_t *r = json_object_get(job, "result"), *phases = json_array(), *cut = json_array();
+    for (size_t i = 0; i < 64; i++) {
+        json_t *row = json_deep_copy(json_array_get(json_object_get(r, "phases"), i % 8));
+        json_object_set_new(row, "phase", json_integer((json_int_t)i));
+        json_array_append_new(phases, row);
+    }
+    for (size_t k = 0; k < 256; k++)
+        json_array_append_new(cut, json_real(100.0 - (double)k / 4));
+    json_object_set_new(r, "phases", phases);
+    json_object_set_new(r, "after_cut", cut);
+    json_object_set_new(json_object_get(r, "steady"), "worst_phase", json_integer(13));
+    capture c;
+    job_print(capture_begin(&c), job, false);
+    const char *text = capture_end(&c);
+    contains(text, "one phase every 8 of 64 and the worst ('--csv' lists all)\n");
+    contains(text, "\n   13  ");
+    contains(text, "\n   56  ");
+    assert_null(strstr(text, "\n   14  "));
+    contains(text, "rmse k frames after a cut (256 values, one every 7 from 1)\n");
+    contains(text, "\n    100.00    98.25 ");
+    assert_true(count_lines(text) <= 60);
+    capture_free(&c);
+    csv_doc d;
+    view_csv(&d, job_print, job, 64);
+    csv_free(&d);
+    json_decref(job);
+}
+
 static void every_kind_has_a_view(void **state)
 {
-    const char *kinds[] = {"optimize", "family-sweep", "random-stats",         "table3",
-                           "compare",  "animation",    "reference-convergence"};
-    for (size_t i = 0; i < 7; i++) {
+    const char *kinds[] = {
+        "optimize",  "family-sweep",          "random-stats",      "table3",         "compare",
+        "animation", "reference-convergence", "temporal-optimize", "temporal-render"};
+    for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++) {
         const job_view *v = job_view_find(kinds[i]);
         assert_string_equal(v->kind, kinds[i]);
         assert_true(v->print != view_generic);
@@ -759,7 +944,8 @@ int main(void)
         cmocka_unit_test(animation_view),        cmocka_unit_test(reference_convergence_view),
         cmocka_unit_test(every_kind_has_a_view), cmocka_unit_test(trace_points),
         cmocka_unit_test(pattern_csv),           cmocka_unit_test(job_list),
-        cmocka_unit_test(cancel_line),
+        cmocka_unit_test(cancel_line),           cmocka_unit_test(temporal_optimize_view),
+        cmocka_unit_test(temporal_render_view),  cmocka_unit_test(temporal_render_long),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

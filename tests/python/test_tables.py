@@ -14,7 +14,7 @@ import aalab
 
 FIXTURES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "client", "fixtures")
 KINDS = ["optimize", "family-sweep", "random-stats", "table3", "compare", "animation",
-         "reference-convergence"]
+         "reference-convergence", "temporal-optimize", "temporal-render"]
 
 
 def fixture(kind):
@@ -46,7 +46,8 @@ class _Cells(html.parser.HTMLParser):
 def expected_rows(kind, result):
     """How many rows each kind's table has, from its result."""
     key = {"optimize": "per_seed", "family-sweep": "ranked", "table3": "rows",
-           "compare": "rows", "animation": "frames", "reference-convergence": "rows"}
+           "compare": "rows", "animation": "frames", "reference-convergence": "rows",
+           "temporal-optimize": "per_seed", "temporal-render": "phases"}
     return 1 if kind == "random-stats" else len(result[key[kind]])
 
 
@@ -80,6 +81,19 @@ def test_table_values_are_the_results():
     rec = aalab.result_table("random-stats", r).records()[0]
     assert (rec["min"], rec["opt_w"], rec["opt_wp"]) == (r["random"]["min"], r["opt_w"]["e2"],
                                                          r["opt_wp"]["e2"])
+    r = fixture("temporal-optimize")["result"]
+    t = aalab.result_table("temporal-optimize", r)
+    assert t.columns == ["seed", "start", "initial_score", "score", "e2", "f2"]
+    assert [(x["start"], x["score"], x["f2"]) for x in t.records()] == \
+        [(s["start"], s["score"], s["f2"]) for s in r["per_seed"]]
+    assert min(x["e2"] for x in t.records()) == r["e2"]
+    r = fixture("temporal-render")["result"]
+    t = aalab.result_table("temporal-render", r)
+    assert t.columns == ["phase", "e2", "rmse", "max_dev", "predicted_rmse", "ratio"]
+    assert [(x["rmse"], x["predicted_rmse"], x["ratio"]) for x in t.records()] == \
+        [(p["rmse"], p["predicted_rmse"], p["ratio"]) for p in r["phases"]]
+    assert max(x["e2"] for x in t.records()) == r["e2"]
+    assert "worst phase %d" % r["steady"]["worst_phase"] in t.caption
     # A kind without a table of its own: key,value rows; no result: no rows.
     assert aalab.result_table("sleep", {"elapsed": 1.5}).rows == [["elapsed", 1.5]]
     assert len(aalab.result_table("compare", None)) == 0
@@ -122,3 +136,27 @@ def test_live_job_to_frame_and_html(client, opt_job):
         return
     f = job.to_frame()
     assert list(f["seed"]) == [0, 1]
+
+
+def test_live_temporal_jobs_to_frame_and_html(client):
+    """The two temporal kinds (issue 30), small, through Job.table/_repr_html_/to_frame."""
+    opt = client.submit({"kind": "temporal-optimize", "family": "T(4)", "seeds": 1,
+                         "max_iterations": 3}).wait(progress=False, timeout=120)
+    t = opt.table()
+    assert t.columns == ["seed", "start", "initial_score", "score", "e2", "f2"]
+    assert len(t) == 1 and t.records()[0]["e2"] == opt.result["e2"]
+    assert '<table class="aalab-result" data-kind="temporal-optimize">' in opt._repr_html_()
+    ren = client.submit({"kind": "temporal-render",
+                         "scene": {"name": "siemens-star", "width": 32, "height": 32},
+                         "pattern": {"temporal": {"preset": "halton23-8"}},
+                         "reference": {"spp": 16}}).wait(progress=False, timeout=120)
+    t = ren.table()
+    assert [r["phase"] for r in t.records()] == list(range(8))
+    assert max(r["e2"] for r in t.records()) == ren.result["e2"]
+    assert '<table class="aalab-result" data-kind="temporal-render">' in ren._repr_html_()
+    try:
+        import pandas  # noqa: F401
+    except ImportError:
+        return
+    f = ren.to_frame()
+    assert list(f["ratio"]) == [p["ratio"] for p in ren.result["phases"]]

@@ -124,7 +124,9 @@ export function normJob(j) {
   const best = j.best && typeof j.best === 'object' ? j.best : null;
   const r = j.result && typeof j.result === 'object' ? j.result : null;
   let bestPattern = null;
-  if (r && r.best) bestPattern = r.best;
+  // A temporal-optimize job's best is a sequence, not a kernel set: its kind's detail shows it
+  // and opens it in Temporal (the pattern exports and Evaluate take kernels).
+  if (r && r.best && !r.best.temporal) bestPattern = r.best;
   else if (best && best.pattern && best.pattern.form) bestPattern = best.pattern;
   const e2 = r && num(r.e2) != null ? r.e2 : best ? num(best.e2) : null;
   return {

@@ -1,6 +1,7 @@
 // Jobs view, one detail view per job kind (small budgets): family-sweep's ranked table whose
 // rows open in Evaluate, random-stats' Table 3 row, table3's table with ± columns, compare's error against samples per pixel,
-// animation's frames, reference-convergence's levels; the trace's axes and legend; and showing
+// animation's frames, reference-convergence's levels, temporal-optimize's seeds and sequence
+// (opened in Temporal), temporal-render's phases against the edge model; the trace's axes and legend; and showing
 // another job leaves nothing of the previous one on screen.
 
 import { assert, eventually } from '../lib/check.mjs';
@@ -13,6 +14,8 @@ const SPECS = {
   compare: { kind: 'compare', scene: { name: 'siemens-star', width: 32, height: 32 }, reference: { spp: 64 }, patterns: [{ preset: 'centroid' }, { preset: 'quincunx' }, { preset: 'rgss' }] },
   animation: { kind: 'animation', scene: { name: 'rotating-triangle', frames: 3, width: 32, height: 32 }, reference: { spp: 64 }, pattern: { preset: 'rgss' } },
   'reference-convergence': { kind: 'reference-convergence', scene: { name: 'siemens-star', width: 32, height: 32 }, levels: [16, 64], baseline_spp: 256 },
+  'temporal-optimize': { kind: 'temporal-optimize', family: 'T(4)', seeds: 1, max_iterations: 3 },
+  'temporal-render': { kind: 'temporal-render', scene: { name: 'siemens-star', width: 32, height: 32 }, pattern: { temporal: { preset: 'halton23-8' } }, reference: { spp: 16 } },
 };
 
 async function cells(page, selector) {
@@ -246,6 +249,66 @@ export default async function kindsSuite({ page, base, api, step, shot }) {
     const text = await page.$eval('#jd-conv-plot', (p) => p.textContent);
     assert(text.includes('(log scale)'), 'the convergence plot does not say its axes are logarithmic');
     await shot('jobs-reference-convergence');
+  });
+
+  // The kind's detail fits the panel at both layouts (issue 34, as web_layout checks).
+  const fits = async (what) => {
+    for (const size of [{ width: 1400, height: 1000 }, { width: 1000, height: 800 }]) {
+      await page.setViewportSize(size);
+      await page.waitForTimeout(150);
+      const k = await page.$eval('#jd-kind', (x) => ({ scroll: x.scrollWidth, client: x.clientWidth }));
+      assert(k.scroll <= k.client, `${size.width}x${size.height}: ${what} is wider than the panel ${JSON.stringify(k)}`);
+    }
+    await page.setViewportSize({ width: 1366, height: 900 });
+  };
+
+  await step('temporal-optimize: figures, E2 per phase and seeds as the API, the sequence drawn, Open in Temporal', async () => {
+    const r = jobs['temporal-optimize'].result;
+    await open('temporal-optimize');
+    const fig = await cells(page, '#jd-topt-figures');
+    const value = (name) => (fig.find((x) => x[0] === name) || [])[1];
+    assert(value('E2, worst phase') === r.e2.toFixed(6) && value('E2, mean over phases') === r.mean_phase_e2.toFixed(6) && value('Flicker F2') === r.f2.toFixed(6), `figures ${JSON.stringify(fig)}, API ${r.e2} ${r.mean_phase_e2} ${r.f2}`);
+    assert(value('Seeds run') === String(r.seeds_run), `seeds run ${value('Seeds run')}`);
+    const phases = await cells(page, '#jd-topt-phases');
+    assert(phases.length === r.phase_e2.length, `${phases.length} phase rows, API ${r.phase_e2.length}`);
+    r.phase_e2.forEach((v, i) => assert(phases[i][1] === v.toFixed(6), `phase ${i}: ${phases[i][1]}, API ${v}`));
+    assert(phases.filter((x) => x[0].includes('(worst)')).length === 1, 'one phase marked worst');
+    const seeds = await cells(page, '#jd-topt-seeds');
+    assert(seeds.length === r.per_seed.length, `${seeds.length} seed rows`);
+    r.per_seed.forEach((x, i) => assert(seeds[i][1] === x.start && seeds[i][3] === x.score.toFixed(6) && seeds[i][5] === x.f2.toFixed(6), `seed ${i}: ${JSON.stringify(seeds[i])}`));
+    // The sequence with a numbered mark per frame at the API's offsets.
+    const marks = await page.$$eval('#jd-tseq .tp-frame title', (t) => t.map((x) => x.textContent));
+    const jitter = r.best.temporal.jitter;
+    assert(marks.length === jitter.length, `${marks.length} frames drawn, ${jitter.length} offsets`);
+    jitter.forEach(([x, y], f) => assert(marks[f] === `frame ${f}: (${x.toFixed(4)}, ${y.toFixed(4)})`, `frame ${f}: ${marks[f]}`));
+    assert(await page.$eval('#jd-best', (e) => e.hidden), 'a sequence is not shown as a one-kernel-set best pattern');
+    await fits('the temporal-optimize detail');
+    await shot('jobs-temporal-optimize');
+    await page.click('#jd-open-temporal');
+    await page.waitForFunction((e2) => {
+      const o = document.getElementById('tp-e2');
+      return o && !document.getElementById('view-temporal').hidden && Math.abs(Number(o.dataset.e2) - e2) <= 1e-9 * Math.max(1, e2);
+    }, r.e2, { timeout: 10000 });
+    const src = await page.$eval('#tp-source', (e) => e.textContent);
+    assert(src.includes(`job ${ids['temporal-optimize']}`), `Temporal says its sequence is "${src}"`);
+  });
+
+  await step('temporal-render: a row per phase with predicted and ratio, after-cut plot, the images', async () => {
+    const r = jobs['temporal-render'].result;
+    await open('temporal-render');
+    const rows = await cells(page, '#jd-trender-phases');
+    assert(rows.length === r.phases.length, `${rows.length} rows, API ${r.phases.length} phases`);
+    r.phases.forEach((x, i) => assert(rows[i][1] === x.e2.toFixed(4) && rows[i][2] === x.rmse.toFixed(3) && rows[i][4] === x.predicted_rmse.toFixed(3) && rows[i][5] === x.ratio.toFixed(3), `phase ${x.phase}: ${JSON.stringify(rows[i])}`));
+    assert(rows[r.steady.worst_phase][0].includes('(worst)'), `worst phase ${r.steady.worst_phase} not marked`);
+    const sum = await cells(page, '#jd-trender-summary');
+    assert(sum[2][1] === r.flicker.step_rmse.toFixed(3) && sum[2][2] === r.flicker.predicted_step_rmse.toFixed(3) && sum[4][1] === String(r.frames_to_5pct ?? 'none'), `summary ${JSON.stringify(sum)}`);
+    const titles = await page.$$eval('#jd-trender-plot title', (t) => t.map((x) => x.textContent));
+    r.after_cut.forEach((v, k) => assert(titles.includes(`frame ${k + 1}: RMSE ${v.toFixed(3)}`), `no point for frame ${k + 1} in the after-cut plot`));
+    await page.waitForFunction(() => [...document.querySelectorAll('#jd-trender-images img')].filter((i) => i.complete && i.naturalWidth > 0).length === 3, null, { timeout: 10000 });
+    const tiles = await page.$$eval('#jd-trender-images img', (i) => i.map((x) => x.dataset.tile));
+    assert(JSON.stringify(tiles) === JSON.stringify([r.tiles.pattern.url, r.tiles.reference.url, r.tiles.difference.url]), `images ${JSON.stringify(tiles)}`);
+    await fits('the temporal-render detail');
+    await shot('jobs-temporal-render');
   });
 
   await step("showing job B after job A's export leaves nothing of A", async () => {

@@ -1,11 +1,13 @@
 // The part of a job's detail that depends on its kind: a family sweep's ranked table, the
 // random-stats row of Laine & Aila's Table 3, a comparison's error against samples per pixel,
-// an animation's frames and a reference's convergence. Each renders a finished job's result
+// an animation's frames, a reference's convergence, a temporal-optimize job's seeds and best
+// sequence and a temporal-render job's phases against the edge model. Each renders a finished job's result
 // into an empty container.
 
 import { sweepRows, randomStatsRow, table3Rows, TABLE3_COLUMNS, comparisonRows, comparisonPrediction, predictionRatio, animationTable, convergenceTable, optimizeSeeds, comparisonImages, animationImages, fmt, fmtSeconds } from '../model.js';
 import { apiImageUrl } from '../api.js';
 import { drawScatter, scatterLegend } from '../scatter-plot.js';
+import { drawSequence } from './temporal.js';
 
 function node(tag, attrs = {}, children = []) {
   const n = document.createElement(tag);
@@ -229,7 +231,107 @@ function convergence(holder, job) {
   );
 }
 
-const BY_KIND = { optimize, 'family-sweep': sweep, 'random-stats': randomStats, table3, compare, animation, 'reference-convergence': convergence };
+function blendText(b) {
+  if (!b || !b.kind) return '—';
+  return b.kind === 'exponential' ? `exponential, α ${b.alpha}` : b.kind;
+}
+
+/* temporal-optimize (issue 30): the best sequence drawn with its frame numbers (the worst phase
+ * marked), its figures, E2 per phase and a row per seed; "Open in Temporal" loads it there. */
+function temporalOptimize(holder, job) {
+  const r = job.result;
+  const t = (r.best && r.best.temporal) || {};
+  const phaseE2 = r.phase_e2 || [];
+  const worst = phaseE2.reduce((w, v, i) => (v != null && (w < 0 || v > phaseE2[w]) ? i : w), -1);
+  const seq = node('div', { id: 'jd-tseq', className: 'pattern-holder small' });
+  const figures = table({
+    id: 'jd-topt-figures',
+    caption: `Best sequence ${r.family}: ${blendText(t.blend)}`,
+    head: ['Figure', 'Value'],
+    rows: [
+      ['E2, worst phase', fmt(r.e2, 6)],
+      ['E2, mean over phases', fmt(r.mean_phase_e2, 6)],
+      ['Flicker F2', fmt(r.f2, 6)],
+      ['Frames to settle (5 %)', r.frames_to_settle == null ? 'not within 4N' : String(r.frames_to_settle)],
+      ['Objective', r.objective || '—'],
+      ['Start E2', fmt(r.start_e2, 6)],
+      ['Seeds run', String(r.seeds_run)],
+      ['Evaluations', String(r.evaluations)],
+    ],
+  });
+  const open = node('a', { id: 'jd-open-temporal', href: `#/temporal?job=${encodeURIComponent(job.id)}`, text: 'Open in Temporal' });
+  holder.append(
+    node('p', { className: 'hint', text: `The best jitter sequence over ${r.seeds_run} seeds (frame numbers beside its offsets, the worst phase larger); ${open.textContent} evaluates it there with its polars and after-cut curve.` }),
+    node('div', { className: 'plots-2' }, [node('figure', {}, [seq, node('figcaption', { text: `${(t.jitter || []).length} offsets in frame order` })]), node('div', {}, [figures, open])]),
+    table({
+      id: 'jd-topt-phases',
+      caption: 'E2 per phase (the newest frame uses offset p)',
+      head: ['Phase', 'E2'],
+      compact: true,
+      rows: phaseE2.map((v, i) => [`${i}${i === worst ? ' (worst)' : ''}`, fmt(v, 6)]),
+    }),
+    table({
+      id: 'jd-topt-seeds',
+      caption: 'Per seed: the objective before and after the search',
+      head: ['Seed', 'Start', 'Initial score', 'Score', 'E2', 'F2'],
+      numericFrom: 2,
+      rows: (r.per_seed || []).map((x) => [String(x.seed), x.start, fmt(x.initial_score, 6), fmt(x.score, 6), fmt(x.e2, 6), fmt(x.f2, 6)]),
+    }),
+  );
+  drawSequence(seq, { jitter: t.jitter || [], argmax: { phase: worst } });
+}
+
+/* temporal-render (issue 30): a row per phase with the edge model's prediction and the ratio,
+ * the RMSE after a cut against the steady state, the flicker, and the worst phase's images. */
+function temporalRender(holder, job) {
+  const r = job.result;
+  const st = r.steady || {};
+  const fl = r.flicker || {};
+  const p = r.pattern || {};
+  const plot = node('div', { id: 'jd-trender-plot', className: 'plot-holder' });
+  holder.append(
+    node('p', { className: 'hint', text: `${r.scene.name}, ${r.scene.width}×${r.scene.height}, ${p.family}${p.preset ? ` (${p.preset})` : ''}, ${p.samples_per_pixel} spp a frame, blend ${blendText(p.blend)}; reference ${r.reference.spp} spp. E2 ${fmt(r.e2, 4)} (mean ${fmt(r.mean_phase_e2, 4)}), F2 ${fmt(r.f2, 4)}.` }),
+    table({
+      id: 'jd-trender-phases',
+      caption: 'Steady-state error per phase (0..255): rendered against the edge model',
+      head: ['Phase', 'E2', 'RMSE', 'Max dev.', 'Predicted RMSE', 'Predicted / rendered'],
+      rows: (r.phases || []).map((x) => [`${x.phase}${x.phase === st.worst_phase ? ' (worst)' : ''}`, fmt(x.e2, 4), fmt(x.rmse, 3), fmt(x.max_dev, 1), fmt(x.predicted_rmse, 3), fmt(x.ratio, 3)]),
+    }),
+    table({
+      id: 'jd-trender-summary',
+      caption: 'Steady state and flicker (0..255)',
+      head: ['Figure', 'Rendered', 'Predicted', 'Ratio'],
+      rows: [
+        ['RMSE, worst phase', fmt(st.rmse, 3), '', ''],
+        ['RMSE, RMS over phases', fmt(st.mean_rmse, 3), fmt(st.predicted_rmse, 3), fmt(st.ratio, 3)],
+        ['Flicker, frame to frame', fmt(fl.step_rmse, 3), fmt(fl.predicted_step_rmse, 3), fmt(fl.step_ratio, 3)],
+        ['Flicker, about the mean', fmt(fl.mean_rmse, 3), fmt(fl.predicted_mean_rmse, 3), fmt(fl.ratio, 3)],
+        ['Frames to 5 % after a cut', r.frames_to_5pct == null ? 'none' : String(r.frames_to_5pct), '', ''],
+      ],
+    }),
+    plot,
+    node('p', { className: 'hint', text: `The history k frames after a cut (history = the first frame) against the steady state; within 5 % of it from frame ${r.frames_to_5pct ?? '— (never)'} on.` }),
+  );
+  const cut = r.after_cut || [];
+  drawScatter(plot, {
+    series: [
+      { label: 'after a cut', line: true, points: cut.map((v, k) => ({ x: k + 1, y: v, title: `frame ${k + 1}: RMSE ${fmt(v, 3)}` })) },
+      { label: 'steady state (RMS over phases)', line: true, points: cut.length ? [{ x: 1, y: st.mean_rmse }, { x: cut.length, y: st.mean_rmse }] : [] },
+    ],
+    xLabel: 'frames after the cut',
+    yLabel: 'RMSE (0..255)',
+    width: 560,
+    height: 300,
+    title: 'RMSE after a cut',
+  });
+  const tiles = r.tiles || {};
+  holder.append(
+    node('h3', { text: `Worst phase (${st.worst_phase}) in the steady state: render, reference and difference` }),
+    thumbs('jd-trender-images', [{ image: tiles.pattern, caption: `phase ${st.worst_phase}` }, { image: tiles.reference, caption: 'reference' }, { image: tiles.difference, caption: 'difference' }]),
+  );
+}
+
+const BY_KIND = { optimize, 'family-sweep': sweep, 'random-stats': randomStats, table3, compare, animation, 'reference-convergence': convergence, 'temporal-optimize': temporalOptimize, 'temporal-render': temporalRender };
 
 /* Fills holder with the kind's view of a done job's result; false when the kind has none. */
 export function renderKindDetail(holder, job) {

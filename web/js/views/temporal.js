@@ -4,7 +4,7 @@
 // the E2 after a cut; the α slider re-evaluates live (debounced; a newer request aborts the one
 // in flight, so an old answer never overwrites a newer one).
 
-import { apiPost } from '../api.js';
+import { apiGet, apiPost } from '../api.js';
 import { el, text, clear, COLOURS, niceTicks, enlargeSmallText } from '../svg.js';
 import { drawPolar } from '../polar-plot.js';
 
@@ -25,6 +25,7 @@ const state = {
   seq: 0,
   result: null,
   built: false,
+  job: null, // the job whose best sequence was last opened (?job=ID)
 };
 let ctx = null;
 
@@ -34,6 +35,19 @@ export async function init(context) {
 }
 
 export async function show(params) {
+  // ?job=ID: a temporal-optimize job's best sequence (its detail's "Open in Temporal").
+  if (params.job && params.job !== state.job) {
+    state.job = params.job;
+    try {
+      const j = await apiGet(`/v1/jobs/${encodeURIComponent(params.job)}`);
+      const t = j.result && j.result.best && j.result.best.temporal;
+      if (!t) throw new Error(`job ${params.job} has no best sequence`);
+      loadCustom(t, `best sequence of job ${params.job}`);
+    } catch (e) {
+      ctx.toast(`cannot open job ${params.job}: ${e.message}`);
+    }
+    return;
+  }
   const wanted = params.preset && TEMPORAL_PRESETS.includes(params.preset) ? params.preset : null;
   if (params.preset && !wanted) ctx.toast(`no temporal preset named ${params.preset}`);
   if (wanted && (wanted !== state.preset || state.custom)) selectPreset(wanted);
@@ -214,11 +228,16 @@ function applyJson() {
     setStatus('the temporal pattern is a JSON object: {"jitter": …} or {"preset": …}', true);
     return;
   }
+  loadCustom(doc, 'pasted JSON');
+}
+
+function loadCustom(doc, source) {
   state.custom = doc;
   state.preset = null;
   state.blendTouched = false;
+  $('tp-json').value = JSON.stringify(doc, null, 1);
   $('tp-preset').value = '__custom';
-  $('tp-source').textContent = 'pasted JSON';
+  $('tp-source').textContent = source;
   evaluateNow();
 }
 
@@ -290,7 +309,9 @@ function labelPlacer() {
   };
 }
 
-function drawSequence(holder, r) {
+/* The sequence r.jitter drawn in its pixel with frame numbers (r.argmax.phase larger); also the
+ * temporal-optimize job detail's. */
+export function drawSequence(holder, r) {
   clear(holder);
   const S = 320;
   const M = 26;
