@@ -7,6 +7,7 @@
  * one prediction per phase (progress and cancel per phase). Spec and result:
  * proto/job_temporal_render.h. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -154,6 +155,14 @@ static int temporal_render_run(void *params, job_ctx *ctx, proto_temporal_render
             out->f2 = ev.f2;
             memcpy(out->phase_e2, ev.phase_e2, N * sizeof *out->phase_e2);
             aa_temporal_evaluation_free(&ev);
+            /* The sequence's E2 is the job's best, as animation's, so the job list shows it
+             * as the detail does (issue 34's "best E2 — in the lists"). */
+            char family[32];
+            snprintf(family, sizeof family, "T(%zu)", N);
+            json_t *best = json_pack("{s:{s:s},s:f}", "pattern", "family", family, "e2", out->e2);
+            if (job_ctx_progress(ctx, SHARE_REFERENCE, best))
+                rc = aa_error_set(err, AA_ECANCELED, "", "cancelled");
+            json_decref(best);
         }
     }
     if (!rc) {
