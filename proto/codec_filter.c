@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "codec_internal.h"
 
+#include <assert.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -227,6 +228,7 @@ int proto_decode_angles(const json_t *j, double **out, size_t *count, const char
 
 json_t *proto_encode_filter(const aa_filter *f)
 {
+    assert(f);
     json_t *o = json_pack("{s:s,s:o}", "name", f->name, "radius", proto_real(f->radius));
     if (!o)
         return NULL;

@@ -2,6 +2,7 @@
 #include "codec_internal.h"
 #include "preset_suggest.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -361,6 +362,7 @@ static const char *form_name(aa_pattern_form f)
 
 json_t *proto_encode_pattern(const aa_pattern *p)
 {
+    assert(p);
     json_t *o = json_pack("{s:s,s:o,s:s}", "family", p->family, "cost_spp", proto_real(p->cost_spp),
                           "form", form_name(p->form));
     if (!o)

@@ -33,6 +33,19 @@ proto_wire_error proto_wire_error_of_aa(int aa_code)
     }
 }
 
+const char *proto_http_reason(int status)
+{
+    switch (status) {
+#define REASON_CASE(s, phrase)                                                                     \
+    case s:                                                                                        \
+        return phrase;
+        PROTO_HTTP_STATUSES(REASON_CASE)
+#undef REASON_CASE
+    default:
+        return "Error";
+    }
+}
+
 const proto_wire_row *proto_wire_row_find(int status, const char *code)
 {
     for (size_t i = 0; code && i < WIRE_ERROR_COUNT; i++)

@@ -45,6 +45,23 @@
     X(WIRE_SLURM_UNAVAILABLE, 503, "slurm_unavailable", 30)                                        \
     X(WIRE_HTTP_VERSION, 505, "http_version_not_supported", 0)
 
+/* X(HTTP status, reason phrase): every status of the rows above (RFC 9110). */
+#define PROTO_HTTP_STATUSES(X)                                                                     \
+    X(400, "Bad Request")                                                                          \
+    X(401, "Unauthorized")                                                                         \
+    X(403, "Forbidden")                                                                            \
+    X(404, "Not Found")                                                                            \
+    X(405, "Method Not Allowed")                                                                   \
+    X(409, "Conflict")                                                                             \
+    X(413, "Content Too Large")                                                                    \
+    X(415, "Unsupported Media Type")                                                               \
+    X(422, "Unprocessable Content")                                                                \
+    X(429, "Too Many Requests")                                                                    \
+    X(500, "Internal Server Error")                                                                \
+    X(501, "Not Implemented")                                                                      \
+    X(503, "Service Unavailable")                                                                  \
+    X(505, "HTTP Version Not Supported")
+
 /* X(engine code of aa_error.h, row): every AA_E* code has one. */
 #define PROTO_WIRE_ENGINE_ERRORS(X)                                                                \
     X(AA_EINVAL, WIRE_INVALID_FIELD)                                                               \
@@ -69,6 +86,8 @@ typedef struct proto_wire_row {
 const proto_wire_row *proto_wire_row_of(proto_wire_error e);
 /* The row for an engine code; WIRE_INTERNAL for a code the engine does not define. */
 proto_wire_error proto_wire_error_of_aa(int aa_code);
+/* The reason phrase of a status in PROTO_HTTP_STATUSES; "Error" for any other. */
+const char *proto_http_reason(int status);
 /* The first row with this status and wire code, for a client reading an answer; NULL if none. */
 const proto_wire_row *proto_wire_row_find(int status, const char *code);
 

@@ -300,8 +300,10 @@ static void refresh_traces(driver *d, stage_run *r)
 
 static void report(driver *d, stage_run *r, size_t done)
 {
-    int stages = d->split->stages;
-    double progress = ((double)d->done_before + (r->n ? (double)done / (double)r->n : 0)) / stages;
+    /* The same per-stage shares as the local executor (job_split.h). */
+    double base, span;
+    job_split_stage_span(d->split, (int)d->done_before, &base, &span);
+    double progress = base + span * (r->n ? (double)done / (double)r->n : 0);
     refresh_traces(d, r);
     size_t n = json_array_size(d->traces);
     json_t **list = calloc(n ? n : 1, sizeof *list);

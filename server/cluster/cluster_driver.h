@@ -22,11 +22,11 @@
 
 #include "aa_core.h"
 #include "cluster_config.h"
+#include "service_error.h"
 #include "job_kind.h"
 
-#define CLUSTER_EDETACHED (-3001) /* stopped for a daemon shutdown; the arrays keep running */
-#define CLUSTER_ESHARD (-3002)    /* a shard failed twice (the job's error: "internal") */
-#define CLUSTER_ESLURM (-3003)    /* sbatch failed */
+/* CLUSTER_EDETACHED, _ESHARD, _ESLURM (proto/service_error.h) */
+enum { PROTO_SERVICE_CLUSTER_ERRORS(PROTO_SERVICE_AS_ENUM) };
 
 typedef enum cluster_stop {
     CLUSTER_GO,     /* keep going */

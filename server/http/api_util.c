@@ -99,43 +99,15 @@ void api_reply_aa_error(api_response *resp, const aa_error *err)
                    err->message[0] ? err->message : aa_strerror(err->code));
 }
 
-void api_reply_job_error(api_response *resp, int rc, const aa_error *err)
+void api_reply_service_error(api_response *resp, int rc, const aa_error *err)
 {
-    proto_wire_error e;
-    switch (rc) {
-    case JM_ENOENT:
-        e = WIRE_NOT_FOUND;
-        break;
-    case JM_EQUEUE_FULL:
-        e = WIRE_QUEUE_FULL;
-        break;
-    case JM_EQUOTA:
-        e = WIRE_JOB_QUOTA;
-        break;
-    case JM_EFORBIDDEN:
-        e = WIRE_FORBIDDEN;
-        break;
-    case JM_EFINISHED:
-    case JM_EACTIVE:
-        e = WIRE_CONFLICT;
-        break;
-    case JM_ESTORE:
-        e = WIRE_STORE_UNAVAILABLE;
-        break;
-    case JM_ESTORE_QUOTA:
-        e = WIRE_QUOTA_EXCEEDED;
-        break;
-    case JM_ESLURM:
-        /* Names the envelope field that asked for Slurm. */
-        api_reply_wire(resp, WIRE_SLURM_UNAVAILABLE, "executor", "%s",
-                       err->message[0] ? err->message : "Slurm is unavailable");
-        return;
-    default:
+    const proto_service_row *row = proto_service_row_of(rc);
+    if (!row) {
         api_reply_aa_error(resp, err);
         return;
     }
-    /* A job manager refusal names no input field: it is about the daemon's state. */
-    api_reply_wire(resp, e, "", "%s", err->message[0] ? err->message : "the job was refused");
+    api_reply_wire(resp, row->error, row->field, "%s",
+                   err->message[0] ? err->message : row->message);
 }
 
 long long api_parse_job_id(const char *s)

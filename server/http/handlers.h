@@ -16,9 +16,10 @@ int api_reject_unknown(const json_t *obj, const char *const *allowed, const char
                        api_response *resp);
 /* An engine error (AA_E*) answered from the error table with err's field and message. */
 void api_reply_aa_error(api_response *resp, const aa_error *err);
-/* A job manager result (JM_E*, job_manager.h) answered from the error table with err's message;
- * any other code is an engine error (api_reply_aa_error). */
-void api_reply_job_error(api_response *resp, int rc, const aa_error *err);
+/* A service code (JM_E*, TOKEN_E*, ... proto/service_error.h) answered from its row: the row's
+ * wire error and field, err's message or else the row's; any other code is an engine error
+ * (api_reply_aa_error). */
+void api_reply_service_error(api_response *resp, int rc, const aa_error *err);
 /* Job id from a path segment: positive decimal without sign or leading zeros, else -1. */
 long long api_parse_job_id(const char *s);
 /* Value of key in a raw query string (percent-decoding not needed for our keys); NULL if

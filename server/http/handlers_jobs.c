@@ -62,7 +62,7 @@ void handle_jobs_post(api_context *ctx, const api_request *req, api_response *re
         rc = job_manager_submit(api_context_jobs(ctx), body, req->caller.uid, &id, &err);
     json_decref(body);
     if (rc) {
-        api_reply_job_error(resp, rc, &err);
+        api_reply_service_error(resp, rc, &err);
     } else {
         json_t *job = job_manager_get(api_context_jobs(ctx), id);
         if (!job)

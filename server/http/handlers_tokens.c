@@ -41,12 +41,9 @@ void handle_tokens_post(api_context *ctx, const api_request *req, api_response *
                                lj ? json_string_value(lj) : NULL,
                                api_context_config(ctx)->user_tokens, &out, &err);
     json_decref(body);
-    if (rc == TOKEN_EQUOTA) {
-        api_reply_wire(resp, WIRE_QUOTA_EXCEEDED, "", "%s", err.message);
-        return;
-    }
     if (rc) {
-        api_reply_wire(resp, WIRE_STORE_UNAVAILABLE, "", "%s", err.message);
+        /* TOKEN_EQUOTA answers as itself; any other failure (AA_ENOMEM too) is the store's. */
+        api_reply_service_error(resp, proto_service_row_of(rc) ? rc : TOKEN_ESTORE, &err);
         return;
     }
     api_reply_json(resp, 201, out);
@@ -72,12 +69,13 @@ void handle_token_delete(api_context *ctx, const api_request *req, api_response 
     int rc =
         id > 0 ? token_store_revoke(api_context_tokens(ctx), id, req->caller.uid, req->caller.admin)
                : TOKEN_ENOENT;
-    if (rc == TOKEN_ENOENT)
-        api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no token %.40s", id_text);
-    else if (rc == TOKEN_EFORBIDDEN)
-        api_reply_wire(resp, WIRE_FORBIDDEN, "id", "only the token's owner or root may revoke it");
-    else if (rc)
-        api_reply_wire(resp, WIRE_STORE_UNAVAILABLE, "", "the token store failed");
-    else
+    if (!rc) {
         api_reply_json(resp, 200, json_pack("{s:I,s:b}", "id", (json_int_t)id, "revoked", 1));
+        return;
+    }
+    aa_error err = {0};
+    if (rc == TOKEN_ENOENT)
+        aa_error_set(&err, rc, "id", "no token %.40s", id_text);
+    /* ENOENT and EFORBIDDEN answer as themselves; any other failure is the store's. */
+    api_reply_service_error(resp, proto_service_row_of(rc) ? rc : TOKEN_ESTORE, &err);
 }

@@ -4,22 +4,6 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-static const char *reason(int status)
-{
-    switch (status) {
-    case 400:
-        return "Bad Request";
-    case 429:
-        return "Too Many Requests";
-    case 503:
-        return "Service Unavailable";
-    case 505:
-        return "HTTP Version Not Supported";
-    default:
-        return "Error";
-    }
-}
-
 void http_refuse(int fd, proto_wire_error e, const char *message)
 {
     const proto_wire_row *row = proto_wire_row_of(e);
@@ -36,7 +20,7 @@ void http_refuse(int fd, proto_wire_error e, const char *message)
     int hl = snprintf(head, sizeof head,
                       "HTTP/1.1 %d %s\r\nContent-Type: application/json\r\nContent-Length: %d\r\n"
                       "%sConnection: close\r\n\r\n",
-                      status, reason(status), bl, ra);
+                      status, proto_http_reason(status), bl, ra);
     char out[768];
     int n = snprintf(out, sizeof out, "%.*s%.*s", hl, head, bl, body);
     if (n > 0)

@@ -11,9 +11,11 @@
 #include <jansson.h>
 
 #include "aa_core.h"
+#include "service_error.h"
 
 #define TOKEN_LABEL_MAX 100
-enum { TOKEN_ENOENT = -2001, TOKEN_EFORBIDDEN = -2002, TOKEN_ESTORE = -2003, TOKEN_EQUOTA = -2004 };
+/* TOKEN_ENOENT, _EFORBIDDEN, _ESTORE, _EQUOTA (proto/service_error.h) */
+enum { PROTO_SERVICE_TOKEN_ERRORS(PROTO_SERVICE_AS_ENUM) };
 
 typedef struct token_store token_store;
 

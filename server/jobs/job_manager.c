@@ -1,6 +1,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "job_manager.h"
 
+#include <assert.h>
 #include <errno.h>
 #include <math.h>
 #include <pthread.h>
@@ -55,6 +56,10 @@ typedef struct job {
     job_live live;         /* progress, best, trace: guarded by jm->lock */
     struct job *next;      /* active list */
 } job;
+
+/* Documents a _locked function's precondition: jm->lock is held (by some thread; a default
+ * mutex cannot tell by whom). Debug and sanitizer builds only (NDEBUG compiles it out). */
+#define JM_ASSERT_LOCKED(jm) assert(pthread_mutex_trylock(&(jm)->lock) == EBUSY)
 
 struct job_manager {
     job_manager_config cfg;
@@ -172,6 +177,7 @@ static int owner_load(job_manager *jm, long long owner)
 /* The fair-share view of the active jobs (fair_share.h); NULL when out of memory. */
 static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
 {
+    JM_ASSERT_LOCKED(jm);
     size_t count = 0;
     /* Admitted jobs not yet in the store are not schedulable, nor are Slurm jobs (their
      * threads need no worker). */
@@ -211,6 +217,7 @@ static void *job_thread(void *arg);
  * waiting job. */
 static void schedule_locked(job_manager *jm)
 {
+    JM_ASSERT_LOCKED(jm);
     while (!jm->stopping && jm->busy < jm->cfg.workers) {
         size_t n;
         job **jobs;
@@ -231,6 +238,7 @@ static void schedule_locked(job_manager *jm)
             continue;
         }
         queue_remove(jm, j);
+        assert(j->state == JOB_QUEUED && !j->slurm); /* edge queued -> running (a worker) */
         j->state = JOB_RUNNING;
         j->started = jm_now();
         jm->running++;
@@ -245,6 +253,7 @@ static void schedule_locked(job_manager *jm)
         if (rc) {
             /* No thread now: back to the queue; the next finish or submit tries again. */
             j->holds_worker = false;
+            assert(j->state == JOB_RUNNING); /* edge running -> queued: no thread started */
             j->state = JOB_QUEUED;
             jm->busy--;
             jm->running--;
@@ -260,6 +269,7 @@ void jm_yield_point_locked(job_ctx *ctx)
 {
     job_manager *jm = ctx->jm;
     job *j = ctx->job;
+    JM_ASSERT_LOCKED(jm);
     double now = aa_monotonic_seconds();
     double ran = now - ctx->started_mono - (double)atomic_load(&j->paused_ns) * 1e-9;
     if (!j->over_time && ran > jm->cfg.max_job_seconds) {
@@ -299,6 +309,7 @@ void jm_yield_point_locked(job_ctx *ctx)
 bool jm_job_stop_locked(const job_ctx *ctx)
 {
     const job *j = ctx->job;
+    JM_ASSERT_LOCKED((job_manager *)ctx->jm);
     return j->cancel_requested || j->over_time || ((job_manager *)ctx->jm)->stopping;
 }
 
@@ -350,6 +361,7 @@ static int final_write(job_manager *jm, long long id, job_state st, double progr
  * next start runs the job again). Lock held; released while writing. */
 static void store_unavailable_end_locked(job_manager *jm, job *j)
 {
+    JM_ASSERT_LOCKED(jm);
     char msg[sizeof j->reason];
     snprintf(msg, sizeof msg, "%s", j->reason);
     json_t *error =
@@ -608,6 +620,8 @@ static void *slurm_thread(void *arg)
 /* Starts a Slurm job's thread (lock held). false when no thread could start. */
 static bool slurm_start_locked(job_manager *jm, job *j)
 {
+    JM_ASSERT_LOCKED(jm);
+    assert(j->slurm && j->state == JOB_QUEUED); /* edge queued -> running (a Slurm thread) */
     j->state = JOB_RUNNING;
     j->started = jm_now();
     pthread_attr_t attr;

@@ -33,6 +33,7 @@
 #include <jansson.h>
 
 #include "aa_core.h"
+#include "service_error.h"
 #include "cluster_config.h"
 #include "cluster_probe.h"
 #include "job_kind.h"
@@ -58,18 +59,8 @@ typedef struct job_manager_config {
 /* Slurm jobs running at once (each has a thread that polls Slurm; none holds a worker). */
 #define JM_SLURM_JOBS_MAX 64
 
-enum {
-    JM_OK = 0,
-    JM_ENOENT = -1001,
-    JM_EQUEUE_FULL = -1002,
-    JM_EQUOTA = -1003,
-    JM_EFORBIDDEN = -1004,
-    JM_EFINISHED = -1005,
-    JM_ESTORE = -1006,
-    JM_EACTIVE = -1007,      /* purge of a running job */
-    JM_ESTORE_QUOTA = -1008, /* the owner's stored jobs would exceed user_store_bytes */
-    JM_ESLURM = -1009        /* executor slurm: Slurm not configured or not answering */
-};
+/* JM_ENOENT .. JM_ESLURM and their answers: proto/service_error.h */
+enum { JM_OK = 0, PROTO_SERVICE_JM_ERRORS(PROTO_SERVICE_AS_ENUM) };
 
 /* Opens the store in state_dir, re-queues unfinished jobs (or marks them interrupted with a
  * reason) and starts the workers. */

@@ -36,19 +36,6 @@ static void local_trace(void *user, const job_trace_point *p)
     job_ctx_trace(l->ctx, &tp); /* keeps improvements only */
 }
 
-/* The share of the job's progress of a stage: a two-stage kind's first stage (random-stats'
- * random patterns) is its first 20 %, as it was before the split. */
-static void stage_span(const job_split *split, int stage, double *base, double *span)
-{
-    if (split->stages == 2) {
-        *base = stage == 0 ? 0 : 0.2;
-        *span = stage == 0 ? 0.2 : 0.8;
-    } else {
-        *base = (double)stage / split->stages;
-        *span = 1.0 / split->stages;
-    }
-}
-
 static int run_stage(const job_split *split, void *params, int stage, const json_t *prior,
                      local_shard *l, json_t **merged, aa_error *err)
 {
@@ -62,7 +49,7 @@ static int run_stage(const job_split *split, void *params, int stage, const json
         rc = outputs ? aa_error_set(err, AA_EINVAL, "", "the plan has no shards")
                      : aa_error_set(err, AA_ENOMEM, "", "out of memory");
     double base, span;
-    stage_span(split, stage, &base, &span);
+    job_split_stage_span(split, stage, &base, &span);
     int w = job_ctx_workers(l->ctx);
     shard_ctx sc = {local_progress, local_trace, l, job_ctx_clock(l->ctx),
                     w < 1    ? 1

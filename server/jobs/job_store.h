@@ -20,6 +20,7 @@
 #include <jansson.h>
 
 #include "aa_core.h"
+#include "service_error.h"
 
 typedef struct job_store job_store;
 
@@ -33,12 +34,10 @@ typedef enum job_state {
 } job_state;
 #define JOB_STATE_COUNT 6
 
-#define JOB_STORE_EQUOTA (-2001)  /* the owner's stored bytes would exceed the quota */
-#define JOB_STORE_ENOENT (-2002)  /* no such job */
-#define JOB_STORE_EACTIVE (-2003) /* the job is queued or running */
-/* The database cannot be written now (disk full, I/O error, locked): worth a retry, and an
+/* JOB_STORE_EQUOTA, _ENOENT, _EACTIVE and _EUNAVAILABLE (proto/service_error.h). EUNAVAILABLE:
+ * the database cannot be written now (disk full, I/O error, locked): worth a retry, and an
  * HTTP 503, never a 404. Any write below may return it. */
-#define JOB_STORE_EUNAVAILABLE (-2004)
+enum { PROTO_SERVICE_JOB_STORE_ERRORS(PROTO_SERVICE_AS_ENUM) };
 
 /* Bytes reserved at insert for what a job will store besides its spec: about twice the spec
  * (best and result usually carry the spec's pattern) plus this much for trace and result. */

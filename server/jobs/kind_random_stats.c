@@ -369,7 +369,9 @@ static json_t *best_of_output(const void *params, int stage, const json_t *outpu
     return json_pack("{s:O,s:O}", "pattern", best, "e2", e2);
 }
 
+/* The random patterns are the first 20 % of the progress, as they were before the split. */
 const job_split kind_random_stats_split = {.stages = 2,
+                                           .stage_weight = {0.2, 0.8},
                                            .plan = plan,
                                            .run_shard = run_shard,
                                            .merge = merge,

@@ -16,9 +16,11 @@
 #include <stddef.h>
 
 #include "aa_core.h"
+#include "service_error.h"
 
 #define TILE_ID_LEN 32
-#define TILE_ENOENT (-2) /* no such tile */
+/* TILE_ENOENT: no such tile (proto/service_error.h) */
+enum { PROTO_SERVICE_TILE_ERRORS(PROTO_SERVICE_AS_ENUM) };
 
 typedef struct tile_store tile_store;
 

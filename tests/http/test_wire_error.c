@@ -12,6 +12,7 @@
 
 #include "handlers.h"
 #include "job_manager.h"
+#include "service_error.h"
 #include "wire_error.h"
 
 static const proto_wire_engine_row *engine_row(const char *aa_name)
@@ -151,16 +152,129 @@ static void test_http_answers_come_from_the_table(void **state)
     };
     for (size_t i = 0; i < sizeof jobs / sizeof jobs[0]; i++) {
         aa_error_set(&err, AA_EINVAL, "kind", "refused");
-        api_reply_job_error(&resp, jobs[i].rc, &err);
+        api_reply_service_error(&resp, jobs[i].rc, &err);
         expect_answer(&resp, jobs[i].status, jobs[i].code, "", jobs[i].retry_after);
     }
     /* Not a job manager code: an engine error with its field. */
     aa_error_set(&err, AA_EINVAL, "seconds", "must be a number");
-    api_reply_job_error(&resp, AA_EINVAL, &err);
+    api_reply_service_error(&resp, AA_EINVAL, &err);
     expect_answer(&resp, 400, "invalid_field", "seconds", 0);
 
     api_reply_wire(&resp, WIRE_NOT_FOUND, "id", "no job %d", 7);
     expect_answer(&resp, 404, "not_found", "id", 0);
+}
+
+/* The subsystem ranges of proto/service_error.h, by name prefix. */
+static const struct {
+    const char *prefix;
+    int hi, lo;
+} service_ranges[] = {{"JM_E", -1001, -1999},
+                      {"JOB_STORE_E", -2001, -2999},
+                      {"CLUSTER_E", -3001, -3999},
+                      {"TOKEN_E", -4001, -4999},
+                      {"TILE_E", -5001, -5999}};
+
+/* Every service code walked through the HTTP answer: its row's status, wire code, field and
+ * default message; ranges disjoint and no value shared, with each other or the engine's. */
+static void test_every_service_code_answers_from_its_row(void **state)
+{
+    (void)state;
+    assert_true(proto_service_row_count >= 20);
+    for (size_t i = 0; i < proto_service_row_count; i++) {
+        const proto_service_row *r = &proto_service_rows[i];
+        assert_ptr_equal(proto_service_row_of(r->value), r);
+        int in = 0;
+        for (size_t k = 0; k < sizeof service_ranges / sizeof service_ranges[0]; k++)
+            if (!strncmp(r->name, service_ranges[k].prefix, strlen(service_ranges[k].prefix)) &&
+                !(k == 0 && !strncmp(r->name, "JOB_", 4))) {
+                if (r->value > service_ranges[k].hi || r->value < service_ranges[k].lo)
+                    fail_msg("%s = %d is outside %s's range", r->name, r->value,
+                             service_ranges[k].prefix);
+                in++;
+            }
+        if (in != 1)
+            fail_msg("%s is in %d subsystem ranges", r->name, in);
+        for (size_t j = 0; j < i; j++)
+            if (proto_service_rows[j].value == r->value)
+                fail_msg("%s and %s share %d", r->name, proto_service_rows[j].name, r->value);
+        for (size_t j = 0; j < proto_wire_engine_row_count; j++)
+            assert_int_not_equal(proto_wire_engine_rows[j].aa_code, r->value);
+        assert_true(r->error != WIRE_ERROR_COUNT);
+        assert_non_null(r->field);
+        assert_true(r->message && r->message[0]);
+
+        const proto_wire_row *w = proto_wire_row_of(r->error);
+        api_response resp = {0};
+        aa_error err = {.code = r->value}; /* no message: the row's */
+        api_reply_service_error(&resp, r->value, &err);
+        assert_int_equal(resp.status, w->status);
+        assert_int_equal(resp.retry_after, w->retry_after);
+        json_t *j = json_loadb(resp.body, resp.body_len, 0, NULL);
+        json_t *e = json_object_get(j, "error");
+        assert_string_equal(json_string_value(json_object_get(e, "code")), w->code);
+        assert_string_equal(json_string_value(json_object_get(e, "field")), r->field);
+        assert_string_equal(json_string_value(json_object_get(e, "message")), r->message);
+        json_decref(j);
+        api_response_free(&resp);
+        /* The HTTP status line has a phrase for every status a row answers. */
+        assert_string_not_equal(proto_http_reason(w->status), "Error");
+    }
+    assert_null(proto_service_row_of(0));
+    assert_null(proto_service_row_of(AA_EINVAL));
+    assert_string_equal(proto_http_reason(503), "Service Unavailable");
+    assert_string_equal(proto_http_reason(299), "Error");
+}
+
+/* Every code a subsystem header names has a row, and none defines one itself. */
+static void test_every_subsystem_code_has_a_row(void **state)
+{
+    (void)state;
+    static const char *const headers[] = {"jobs/job_manager.h", "jobs/job_store.h",
+                                          "http/token_store.h", "cluster/cluster_driver.h",
+                                          "tiles/tile_store.h"};
+    int found = 0;
+    for (size_t h = 0; h < sizeof headers / sizeof headers[0]; h++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/%s", SERVER_SOURCE_DIR, headers[h]);
+        FILE *f = fopen(path, "r");
+        assert_non_null(f);
+        char line[512];
+        while (fgets(line, sizeof line, f)) {
+            for (const char *p = line; *p; p++) {
+                if (p > line && (isalnum((unsigned char)p[-1]) || p[-1] == '_'))
+                    continue;
+                size_t k = 0;
+                for (; k < sizeof service_ranges / sizeof service_ranges[0]; k++)
+                    if (!strncmp(p, service_ranges[k].prefix, strlen(service_ranges[k].prefix)))
+                        break;
+                if (k == sizeof service_ranges / sizeof service_ranges[0])
+                    continue;
+                char name[64];
+                size_t n = 0;
+                while (n + 1 < sizeof name && (isalnum((unsigned char)p[n]) || p[n] == '_')) {
+                    name[n] = p[n];
+                    n++;
+                }
+                name[n] = 0;
+                if (n && name[n - 1] == '_') /* "JOB_STORE_E*"-style prose */
+                    continue;
+                int has = 0;
+                for (size_t i = 0; i < proto_service_row_count; i++)
+                    has |= !strcmp(proto_service_rows[i].name, name);
+                if (!has)
+                    fail_msg("%s (%s) has no row in PROTO_SERVICE_ERRORS", name, headers[h]);
+                const char *rest = p + n;
+                while (*rest == ' ')
+                    rest++;
+                if (*rest == '=' || (p - line >= 8 && !strncmp(p - 8, "#define ", 8)))
+                    fail_msg("%s is defined in %s, not taken from the table", name, headers[h]);
+                found++;
+                p += n - 1;
+            }
+        }
+        fclose(f);
+    }
+    assert_true(found >= 10);
 }
 
 static void test_unknown_keys_through_the_one_check(void **state)
@@ -186,6 +300,8 @@ int main(void)
         cmocka_unit_test(test_rows_are_errors_with_sensible_retry_after),
         cmocka_unit_test(test_decisions),
         cmocka_unit_test(test_http_answers_come_from_the_table),
+        cmocka_unit_test(test_every_service_code_answers_from_its_row),
+        cmocka_unit_test(test_every_subsystem_code_has_a_row),
         cmocka_unit_test(test_unknown_keys_through_the_one_check),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

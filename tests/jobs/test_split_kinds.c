@@ -346,9 +346,37 @@ static void plans_cover_the_range(void **state)
     kinds[2].free_params(params);
 }
 
+/* Each stage's share of progress comes from the split's stage_weight: random-stats' random
+ * patterns are the first 20 %, a one-stage kind is all of it, and the shares tile [0, 1]. */
+static void stage_spans_tile_the_progress(void **state)
+{
+    (void)state;
+    double base, span;
+    job_split_stage_span(&kind_random_stats_split, 0, &base, &span);
+    assert_float_equal(base, 0, 1e-15);
+    assert_float_equal(span, 0.2, 1e-15);
+    job_split_stage_span(&kind_random_stats_split, 1, &base, &span);
+    assert_float_equal(base, 0.2, 1e-15);
+    assert_float_equal(span, 0.8, 1e-15);
+    const job_split *splits[] = {&kind_optimize_split, &kind_family_sweep_split,
+                                 &kind_random_stats_split, &kind_table3_split};
+    for (size_t k = 0; k < sizeof splits / sizeof splits[0]; k++) {
+        assert_in_range(splits[k]->stages, 1, JOB_SPLIT_STAGES_MAX);
+        double end = 0;
+        for (int st = 0; st < splits[k]->stages; st++) {
+            job_split_stage_span(splits[k], st, &base, &span);
+            assert_float_equal(base, end, 1e-12);
+            assert_true(span > 0);
+            end = base + span;
+        }
+        assert_float_equal(end, 1, 1e-12);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(stage_spans_tile_the_progress),
         cmocka_unit_test(plans_cover_the_range),
         cmocka_unit_test(optimize_mirrored_splits_alike),
         cmocka_unit_test(optimize_tiled_splits_alike),

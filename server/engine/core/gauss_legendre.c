@@ -1,9 +1,11 @@
 #include "gauss_legendre.h"
 
+#include <assert.h>
 #include <math.h>
 
 void aa_gauss_legendre(int m, double *node, double *weight)
 {
+    assert(m >= 1 && node && weight);
     const long double pi = 3.141592653589793238462643383279502884L;
     for (int i = 0; i < m; i++) {
         /* Tricomi's initial guess, then Newton on P_m. */

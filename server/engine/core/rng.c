@@ -1,5 +1,7 @@
 #include "rng.h"
 
+#include <assert.h>
+
 void aa_rng_seed(aa_rng *r, uint64_t seed, uint64_t stream)
 {
     r->state = 0;
@@ -26,6 +28,7 @@ double aa_rng_uniform(aa_rng *r)
 
 uint32_t aa_rng_below(aa_rng *r, uint32_t n)
 {
+    assert(n > 0); /* [0, 0) is empty: the caller checks its count first */
     uint32_t threshold = (uint32_t)(-n) % n;
     for (;;) {
         uint32_t v = aa_rng_u32(r);

@@ -39,8 +39,13 @@ typedef struct shard_ctx {
     int workers;    /* threads the shard may use (1..64) */
 } shard_ctx;
 
+#define JOB_SPLIT_STAGES_MAX 4
+
 typedef struct job_split {
     int stages; /* 1 (optimize, family-sweep, table3) or 2 (random-stats) */
+    /* Each stage's share of the job's progress, summing to 1; all 0 = equal shares. The local
+     * executor and the Slurm driver both report progress by these (job_split_stage_span). */
+    double stage_weight[JOB_SPLIT_STAGES_MAX];
     /* The shards of stage `stage` as a new JSON array of descriptors (at least one, at most
      * max_shards unless the stage has a fixed number of parts), given the previous stage's
      * merged state (NULL for stage 0). */
@@ -61,5 +66,24 @@ typedef struct job_split {
      * executors show the best finished shard's as the job's best so far. */
     json_t *(*best_of_output)(const void *params, int stage, const json_t *output);
 } job_split;
+
+/* The part [*base, *base + *span] of the job's progress that stage `stage` fills. */
+static inline void job_split_stage_span(const job_split *split, int stage, double *base,
+                                        double *span)
+{
+    double total = 0, before = 0;
+    for (int s = 0; s < split->stages && s < JOB_SPLIT_STAGES_MAX; s++) {
+        total += split->stage_weight[s];
+        if (s < stage)
+            before += split->stage_weight[s];
+    }
+    if (total <= 0) {
+        *base = (double)stage / split->stages;
+        *span = 1.0 / split->stages;
+    } else {
+        *base = before / total;
+        *span = split->stage_weight[stage] / total;
+    }
+}
 
 #endif
