@@ -11,6 +11,7 @@ LAYERS = [
     "engine",       # the library: no I/O, nothing above it
     "owned_path",   # small helpers of server/ with no server includes
     "fallback_dir",
+    "install_paths",  # where the installed web directory is (config.c's default)
     "kinds",        # the job kind and split contracts, shared by jobs/, cluster/ and worker/
     "tiles",
     "cluster",      # the Slurm executor: runs a kind's split, knows nothing of the job manager
