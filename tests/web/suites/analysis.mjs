@@ -6,6 +6,7 @@
 // at 1400x1000 and 1000x800 the page fits the window and no plot labels overlap.
 
 import { assert, eventually } from '../lib/check.mjs';
+import { overlappingLabels } from '../lib/labels.mjs';
 
 const SIZES = [
   { width: 1400, height: 1000, preset: 'd3d-8x' },
@@ -114,29 +115,6 @@ function imageAgainst(page, spectrum) {
 /* Vertices of a line plot's series path. */
 function pathVertices(page, id) {
   return page.$eval(`#${id} path.series-line`, (p) => (p.getAttribute('d').match(/[ML]/g) || []).length).catch(() => 0);
-}
-
-/* Pairs of text labels of one SVG whose boxes overlap by more than 2 px each way. */
-function overlappingLabels(page) {
-  return page.evaluate(() => {
-    const out = [];
-    for (const svg of document.querySelectorAll('main svg')) {
-      if (!svg.getClientRects().length) continue;
-      const boxes = [...svg.querySelectorAll('text')]
-        .filter((t) => t.textContent.trim() && t.getClientRects().length)
-        .map((t) => ({ t: t.textContent.trim(), r: t.getBoundingClientRect() }))
-        .filter((b) => b.r.width > 0 && b.r.height > 0);
-      for (let i = 0; i < boxes.length; i++)
-        for (let j = i + 1; j < boxes.length; j++) {
-          const a = boxes[i].r;
-          const b = boxes[j].r;
-          const ox = Math.min(a.right, b.right) - Math.max(a.left, b.left);
-          const oy = Math.min(a.bottom, b.bottom) - Math.max(a.top, b.top);
-          if (ox > 2 && oy > 2) out.push(`${svg.parentElement.id || svg.parentElement.parentElement.id}: "${boxes[i].t}" / "${boxes[j].t}"`);
-        }
-    }
-    return out;
-  });
 }
 
 /* The panel's own geometry: its SVG text at least 11 px on screen, its figures side by side

@@ -3,6 +3,7 @@
 // and no two text labels of a plot (any SVG of the page) overlap.
 
 import { assert } from '../lib/check.mjs';
+import { overlappingLabels } from '../lib/labels.mjs';
 
 const SIZES = [
   { width: 1400, height: 1000 },
@@ -18,29 +19,6 @@ function bigPattern() {
     kernels.push(kernel);
   }
   return { kernels };
-}
-
-/* Pairs of text labels of one SVG whose boxes overlap by more than 2 px each way. */
-function overlappingLabels(page) {
-  return page.evaluate(() => {
-    const out = [];
-    for (const svg of document.querySelectorAll('main svg')) {
-      if (!svg.getClientRects().length) continue;
-      const boxes = [...svg.querySelectorAll('text')]
-        .filter((t) => t.textContent.trim() && t.getClientRects().length)
-        .map((t) => ({ t: t.textContent.trim(), r: t.getBoundingClientRect() }))
-        .filter((b) => b.r.width > 0 && b.r.height > 0);
-      for (let i = 0; i < boxes.length; i++)
-        for (let j = i + 1; j < boxes.length; j++) {
-          const a = boxes[i].r;
-          const b = boxes[j].r;
-          const ox = Math.min(a.right, b.right) - Math.max(a.left, b.left);
-          const oy = Math.min(a.bottom, b.bottom) - Math.max(a.top, b.top);
-          if (ox > 2 && oy > 2) out.push(`${svg.id || svg.parentElement.id}: "${boxes[i].t}" / "${boxes[j].t}"`);
-        }
-    }
-    return out;
-  });
 }
 
 /* Plot text drawn smaller than 11 px on screen (font size times the SVG's scale). */

@@ -6,6 +6,7 @@
 // at least 11 px.
 
 import { assert, eventually } from '../lib/check.mjs';
+import { overlappingLabels } from '../lib/labels.mjs';
 
 const SIZES = [
   { width: 1400, height: 1000 },
@@ -50,29 +51,6 @@ function sameAsApi(s, ref, what) {
   assert(JSON.stringify(s.bars) === JSON.stringify(phases), `${what}: bars ${JSON.stringify(s.bars)}, API ${JSON.stringify(phases)}`);
   const curve = ref.after_cut.map((v, i) => [i + 1, v]);
   assert(JSON.stringify(s.curve) === JSON.stringify(curve), `${what}: after-cut points differ from the API's (${s.curve.length} against ${curve.length})`);
-}
-
-/* Pairs of text labels of one SVG whose boxes overlap by more than 2 px each way (layout.mjs). */
-function overlappingLabels(page) {
-  return page.evaluate(() => {
-    const out = [];
-    for (const svg of document.querySelectorAll('main svg')) {
-      if (!svg.getClientRects().length) continue;
-      const boxes = [...svg.querySelectorAll('text')]
-        .filter((t) => t.textContent.trim() && t.getClientRects().length)
-        .map((t) => ({ t: t.textContent.trim(), r: t.getBoundingClientRect() }))
-        .filter((b) => b.r.width > 0 && b.r.height > 0);
-      for (let i = 0; i < boxes.length; i++)
-        for (let j = i + 1; j < boxes.length; j++) {
-          const a = boxes[i].r;
-          const b = boxes[j].r;
-          const ox = Math.min(a.right, b.right) - Math.max(a.left, b.left);
-          const oy = Math.min(a.bottom, b.bottom) - Math.max(a.top, b.top);
-          if (ox > 2 && oy > 2) out.push(`${svg.parentElement.id}: "${boxes[i].t}" / "${boxes[j].t}"`);
-        }
-    }
-    return out;
-  });
 }
 
 /* Plot text under 11 px on screen, and any text of the view under 11 px. */
