@@ -19,7 +19,7 @@ const HERE = path.dirname(fileURLToPath(import.meta.url));
 const SUITES = ['evaluate', 'families', 'jobs', 'optimize', 'tiles', 'kinds', 'recovery', 'layout', 'temporal', 'analysis', 'plots'];
 
 function parseArgs(argv) {
-  const o = { suites: SUITES, daemonArgs: [], widths: [1366, 1920], schemas: path.resolve(HERE, '../../proto/schemas') };
+  const o = { suites: SUITES, daemonArgs: [], widths: [1400, 1000], schemas: path.resolve(HERE, '../../proto/schemas') };
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i];
     const next = () => argv[++i];
@@ -91,7 +91,7 @@ async function main() {
       await page.waitForFunction(() => localStorage.getItem('aalab.token'));
       const shot = async (name) => {
         for (const w of opts.widths) {
-          await page.setViewportSize({ width: w, height: w > 1600 ? 1080 : 900 });
+          await page.setViewportSize({ width: w, height: w >= 1400 ? 1000 : 800 }); // the sizes issue 34 checks
           await page.waitForTimeout(150);
           await page.screenshot({ path: path.join(opts.artifacts, `${name}-${w}.png`), fullPage: true });
         }
