@@ -238,9 +238,7 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
                          .priority = env.priority,
                          .label = env.label,
                          .family = kind->spec_family ? kind->spec_family(params) : NULL};
-    rc = job_store_insert(jm->store, &rec, &new_id, err);
-    if (rc)
-        rc = rc == JOB_STORE_EQUOTA ? JM_ESTORE_QUOTA : JM_ESTORE;
+    rc = job_store_insert(jm->store, &rec, &new_id, err); /* its codes are answered as they are */
     /* A restart must know a Slurm job as one even before its first array is submitted. */
     json_t *marker = j->slurm ? json_pack("{s:s,s:[]}", "executor", "slurm", "stages") : NULL;
     if (!rc && j->slurm && (!marker || job_store_set_cluster(jm->store, new_id, marker)))
@@ -341,24 +339,26 @@ json_t *job_manager_list(job_manager *jm, const job_store_filter *filter)
     return a;
 }
 
-int job_manager_cancel(job_manager *jm, long long id, long long caller, const char **state_out)
+int job_manager_cancel(job_manager *jm, long long id, long long caller, const char **state_out,
+                       aa_error *err)
 {
     pthread_mutex_lock(&jm->lock);
     job *j = jm_active_find(jm, id);
     if (!j) {
         pthread_mutex_unlock(&jm->lock);
         json_t *o = job_store_get(jm->store, id, false);
-        int rc = o ? JM_EFINISHED : JM_ENOENT;
+        int rc = o ? aa_error_set(err, JM_EFINISHED, "", "job %lld has already finished", id)
+                   : aa_error_set(err, JM_ENOENT, "id", JOB_MSG_NOT_FOUND, id);
         json_decref(o);
         return rc;
     }
     if (caller != 0 && !(j->owner < 0 || (caller >= 0 && caller == j->owner))) {
         pthread_mutex_unlock(&jm->lock);
-        return JM_EFORBIDDEN;
+        return aa_error_set(err, JM_EFORBIDDEN, "", "only the job's owner or root may cancel it");
     }
     if (j->unstored || j->cancelling) {
         pthread_mutex_unlock(&jm->lock);
-        return JM_EFINISHED;
+        return aa_error_set(err, JM_EFINISHED, "", "job %lld has already finished", id);
     }
     if (j->state == JOB_QUEUED) {
         /* Out of the queue while the store is written outside the lock; back in it if the
@@ -379,7 +379,7 @@ int job_manager_cancel(job_manager *jm, long long id, long long caller, const ch
             pthread_mutex_unlock(&jm->lock);
             if (rc != AA_OK)
                 jm_job_free(j);
-            return JM_ESTORE;
+            return aa_error_set(err, JM_ESTORE, "", JOB_MSG_UNWRITABLE, id);
         }
         jm_active_remove(jm, j);
         pthread_mutex_unlock(&jm->lock);
@@ -462,7 +462,7 @@ job_store *job_manager_store(job_manager *jm)
     return jm->store;
 }
 
-int job_manager_purge(job_manager *jm, long long id, long long caller)
+int job_manager_purge(job_manager *jm, long long id, long long caller, aa_error *err)
 {
     pthread_mutex_lock(&jm->lock);
     job *j = jm_active_find(jm, id);
@@ -475,27 +475,29 @@ int job_manager_purge(job_manager *jm, long long id, long long caller)
     }
     pthread_mutex_unlock(&jm->lock);
     if (!found && !job_store_owner(jm->store, id, &owner, &state, NULL))
-        return JM_ENOENT;
+        return aa_error_set(err, JM_ENOENT, "id", JOB_MSG_NOT_FOUND, id);
     if (caller != 0 && !(owner < 0 || (caller >= 0 && caller == owner)))
-        return JM_EFORBIDDEN;
+        return aa_error_set(err, JM_EFORBIDDEN, "", "only the job's owner or root may purge it");
     if (unstored) /* its end is not in the store yet: the store cannot be written */
-        return JM_ESTORE;
+        return aa_error_set(err, JM_ESTORE, "", JOB_MSG_UNWRITABLE, id);
+    if (found && state != JOB_QUEUED)
+        return aa_error_set(err, JM_EACTIVE, "", JOB_MSG_RUNNING, id);
     if (found) {
+        /* Cancelled first. Its owner was checked above, so the refusals left are JM_ENOENT and
+         * JM_ESTORE, and JM_EFINISHED, after which the record is deleted all the same. */
         const char *ignored;
-        int rc = state == JOB_QUEUED ? job_manager_cancel(jm, id, caller, &ignored) : JM_EACTIVE;
+        int rc = job_manager_cancel(jm, id, caller, &ignored, err);
         if (rc != JM_OK && rc != JM_EFINISHED)
-            return rc == JM_ENOENT || rc == JM_ESTORE ? rc : JM_EACTIVE;
+            return rc;
     }
-    /* A queued job that started meanwhile is still "running" in the store: refused. */
-    int rc = job_store_delete(jm->store, id);
+    /* A queued job that started meanwhile is still "running" in the store: refused. The store's
+     * codes (JOB_STORE_ENOENT, _EACTIVE, a failed write) are answered from their rows. */
+    int rc = job_store_delete(jm->store, id, err);
     /* Its shared files (possibly many, on a network file system) go in the probe thread's sweep,
      * not in this HTTP handler. */
     if (rc == AA_OK)
         cluster_probe_housekeep_soon(jm->probe);
-    return rc == AA_OK               ? JM_OK
-           : rc == JOB_STORE_ENOENT  ? JM_ENOENT
-           : rc == JOB_STORE_EACTIVE ? JM_EACTIVE
-                                     : JM_ESTORE;
+    return rc;
 }
 
 void job_manager_slurm_status(job_manager *jm, cluster_status *out)

@@ -16,6 +16,7 @@ static void recover_one(void *user, long long id, const char *kind_name, json_t 
                         double created)
 {
     job_manager *jm = user;
+    assert(state == JOB_QUEUED || state == JOB_RUNNING); /* job_store_unfinished's rows */
     const job_kind *kind = kind_name ? job_manager_kind(jm, kind_name) : NULL;
     char reason[400];
     if (!kind) {

@@ -259,6 +259,7 @@ void jm_finish_job(job_manager *jm, job *j, int rc, json_t *result, const aa_err
                    const char *failure)
 {
     pthread_mutex_lock(&jm->lock);
+    assert(j->state == JOB_RUNNING); /* only a started job's thread ends it */
     bool detached = rc == CLUSTER_EDETACHED;
     bool shutdown_stop =
         detached || (rc == AA_ECANCELED && jm->stopping && !j->cancel_requested && !j->over_time);
