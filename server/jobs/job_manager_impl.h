@@ -92,6 +92,8 @@ int jm_queue_push(job_manager *jm, job *j);
 void jm_queue_remove(job_manager *jm, job *j);
 void jm_active_remove(job_manager *jm, job *j);
 job *jm_active_find(job_manager *jm, long long id);
+/* Starts fn(arg) on a detached thread: 0, or pthread_create's error. */
+int jm_start_detached(void *(*fn)(void *), void *arg);
 /* Hands free workers to waiting jobs, by fair share (lock held). */
 void jm_schedule_locked(job_manager *jm);
 /* Ends job j's run (rc, its result and error): writes its final record, frees its worker and j.

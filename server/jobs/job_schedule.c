@@ -23,6 +23,19 @@
 
 static void *job_thread(void *arg);
 
+int jm_start_detached(void *(*fn)(void *), void *arg)
+{
+    pthread_attr_t attr;
+    pthread_t t;
+    int rc = pthread_attr_init(&attr);
+    if (!rc) {
+        pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+        rc = pthread_create(&t, &attr, fn, arg);
+        pthread_attr_destroy(&attr);
+    }
+    return rc;
+}
+
 int jm_queue_push(job_manager *jm, job *j)
 {
     if (jm->q_len == jm->q_cap) {
@@ -135,14 +148,7 @@ void jm_schedule_locked(job_manager *jm)
         j->state = JOB_RUNNING;
         j->started = jm_now();
         jm->running++;
-        pthread_attr_t attr;
-        pthread_t t;
-        int rc = pthread_attr_init(&attr);
-        if (!rc) {
-            pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
-            rc = pthread_create(&t, &attr, job_thread, j);
-            pthread_attr_destroy(&attr);
-        }
+        int rc = jm_start_detached(job_thread, j);
         if (rc) {
             /* No thread now: back to the queue; the next finish or submit tries again. */
             j->holds_worker = false;

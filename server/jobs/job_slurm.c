@@ -93,15 +93,7 @@ bool jm_slurm_start_locked(job_manager *jm, job *j)
     assert(j->slurm && j->state == JOB_QUEUED); /* edge queued -> running (a Slurm thread) */
     j->state = JOB_RUNNING;
     j->started = jm_now();
-    pthread_attr_t attr;
-    pthread_t t;
-    int rc = pthread_attr_init(&attr);
-    if (!rc) {
-        pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
-        rc = pthread_create(&t, &attr, slurm_thread, j);
-        pthread_attr_destroy(&attr);
-    }
-    if (rc)
+    if (jm_start_detached(slurm_thread, j))
         return false;
     jm->running++;
     jm->threads++;

@@ -148,13 +148,11 @@ static void test_http_answers_come_from_the_table(void **state)
         {JOB_STORE_EQUOTA, 403, "quota_exceeded", "", 0},
         {JM_ESTORE, 503, "unavailable", "", 30},
         {JOB_STORE_EUNAVAILABLE, 503, "unavailable", "", 30},
-        {JOB_STORE_EWRITE, 503, "unavailable", "", 30},
         {JM_ENOENT, 404, "not_found", "id", 0},
         {JOB_STORE_ENOENT, 404, "not_found", "id", 0},
         {JM_EFORBIDDEN, 403, "forbidden", "", 0},
         {JM_EFINISHED, 409, "conflict", "", 0},
         {JM_EACTIVE, 409, "conflict", "", 0},
-        {JOB_STORE_EACTIVE, 409, "conflict", "", 0},
     };
     for (size_t i = 0; i < sizeof jobs / sizeof jobs[0]; i++) {
         aa_error_set(&err, AA_EINVAL, "kind", "refused");
