@@ -16,7 +16,7 @@
 /* Ranges: job manager -1001..-1999, job store -2001..-2999, cluster -3001..-3999,
  * tokens -4001..-4999, tiles -5001..-5999. */
 #define PROTO_SERVICE_JM_ERRORS(X)                                                                 \
-    X(JM_ENOENT, -1001, WIRE_NOT_FOUND, "", "the job was refused")                                 \
+    X(JM_ENOENT, -1001, WIRE_NOT_FOUND, "id", "the job was refused")                               \
     X(JM_EQUEUE_FULL, -1002, WIRE_QUEUE_FULL, "", "the job was refused")                           \
     X(JM_EQUOTA, -1003, WIRE_JOB_QUOTA, "", "the job was refused")                                 \
     X(JM_EFORBIDDEN, -1004, WIRE_FORBIDDEN, "", "the job was refused")                             \
@@ -24,18 +24,18 @@
     X(JM_ESTORE, -1006, WIRE_STORE_UNAVAILABLE, "", "the job was refused")                         \
     /* purge of a running job */                                                                   \
     X(JM_EACTIVE, -1007, WIRE_CONFLICT, "", "the job was refused")                                 \
-    /* the owner's stored jobs would exceed user_store_bytes */                                    \
-    X(JM_ESTORE_QUOTA, -1008, WIRE_QUOTA_EXCEEDED, "", "the job was refused")                      \
     /* executor slurm: Slurm not configured or not answering; names the envelope field */          \
     X(JM_ESLURM, -1009, WIRE_SLURM_UNAVAILABLE, "executor", "Slurm is unavailable")
 
 #define PROTO_SERVICE_JOB_STORE_ERRORS(X)                                                          \
     /* the owner's stored bytes would exceed the quota */                                          \
     X(JOB_STORE_EQUOTA, -2001, WIRE_QUOTA_EXCEEDED, "", "the job store quota is exceeded")         \
-    X(JOB_STORE_ENOENT, -2002, WIRE_NOT_FOUND, "", "no such job")                                  \
+    X(JOB_STORE_ENOENT, -2002, WIRE_NOT_FOUND, "id", "no such job")                                \
     X(JOB_STORE_EACTIVE, -2003, WIRE_CONFLICT, "", "the job is queued or running")                 \
     /* a write failed for lack of space or an I/O error: the store may recover */                  \
-    X(JOB_STORE_EUNAVAILABLE, -2004, WIRE_STORE_UNAVAILABLE, "", "the job store is unavailable")
+    X(JOB_STORE_EUNAVAILABLE, -2004, WIRE_STORE_UNAVAILABLE, "", "the job store is unavailable")   \
+    /* any other failed write (a constraint, a corrupt page): the answer is the same 503 */        \
+    X(JOB_STORE_EWRITE, -2005, WIRE_STORE_UNAVAILABLE, "", "the job store write failed")
 
 #define PROTO_SERVICE_CLUSTER_ERRORS(X)                                                            \
     /* stopped for a daemon shutdown; the arrays keep running */                                   \

@@ -31,16 +31,6 @@ static int caller_owns(api_context *ctx, const api_request *req, api_response *r
     return owns;
 }
 
-/* 503 for a change the job store cannot take now (disk full, I/O error): never a 404, which
- * would say the job is gone. */
-static void reply_store_unwritable(api_response *resp, long long id)
-{
-    api_reply_wire(resp, WIRE_STORE_UNAVAILABLE, "",
-                   "the job store cannot be written now (disk full or I/O error); job %lld is "
-                   "unchanged: try again later",
-                   id);
-}
-
 void handle_jobs_post(api_context *ctx, const api_request *req, api_response *resp)
 {
     /* Refused before parsing: a big spec costs its parse and, stored, its bytes. */
@@ -144,27 +134,15 @@ static void handle_job_purge(api_context *ctx, const api_request *req, api_respo
     int owned = caller_owns(ctx, req, resp, id);
     if (owned < 0)
         return;
-    switch (owned ? job_manager_purge(api_context_jobs(ctx), id, manager_caller(req))
-                  : JM_EFORBIDDEN) {
-    case JM_OK:
+    /* Refusals come with their message and are answered from their rows. */
+    aa_error err = {0};
+    int rc =
+        owned ? job_manager_purge(api_context_jobs(ctx), id, manager_caller(req), &err)
+              : aa_error_set(&err, JM_EFORBIDDEN, "", "only the job's owner or root may purge it");
+    if (rc)
+        api_reply_service_error(resp, rc, &err);
+    else
         api_reply_json(resp, 200, json_pack("{s:I,s:b}", "id", (json_int_t)id, "purged", 1));
-        break;
-    case JM_ENOENT:
-        api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id);
-        break;
-    case JM_EFORBIDDEN:
-        api_reply_wire(resp, WIRE_FORBIDDEN, "", "only the job's owner or root may purge it");
-        break;
-    case JM_ESTORE:
-        reply_store_unwritable(resp, id);
-        break;
-    default:
-        api_reply_wire(resp, WIRE_CONFLICT, "",
-                       "job %lld is running: cancel it (DELETE without purge) and purge it "
-                       "when it has ended",
-                       id);
-        break;
-    }
 }
 
 /* PATCH /v1/jobs/{id} {"pinned": bool}: a pinned job is exempt from retention. */
@@ -185,15 +163,13 @@ void handle_job_patch(api_context *ctx, const api_request *req, api_response *re
         return;
     static const char *const allowed[] = {"pinned", NULL};
     int rc;
+    aa_error err = {0};
     json_t *pinned = json_object_get(body, "pinned");
     if (!api_reject_unknown(body, allowed, "", resp)) {
         if (!json_is_boolean(pinned)) {
             api_reply_wire(resp, WIRE_INVALID_FIELD, "pinned", "pinned must be true or false");
-        } else if ((rc = job_store_set_pinned(st, id, json_is_true(pinned))) != AA_OK) {
-            if (rc == JOB_STORE_ENOENT)
-                api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id);
-            else
-                reply_store_unwritable(resp, id);
+        } else if ((rc = job_store_set_pinned(st, id, json_is_true(pinned), &err)) != AA_OK) {
+            api_reply_service_error(resp, rc, &err);
         } else {
             json_t *changed = job_manager_get(api_context_jobs(ctx), id);
             if (changed)
@@ -223,27 +199,16 @@ void handle_job_delete(api_context *ctx, const api_request *req, api_response *r
     if (owned < 0)
         return;
     const char *state = NULL;
-    int rc = owned ? job_manager_cancel(api_context_jobs(ctx), id, manager_caller(req), &state)
-                   : JM_EFORBIDDEN;
-    switch (rc) {
-    case JM_OK:
+    aa_error err = {0};
+    int rc =
+        owned ? job_manager_cancel(api_context_jobs(ctx), id, manager_caller(req), &state, &err)
+              : aa_error_set(&err, JM_EFORBIDDEN, "", "only the job's owner or root may cancel it");
+    if (rc)
+        api_reply_service_error(resp, rc, &err);
+    else
         api_reply_json(resp, 202,
                        json_pack("{s:I,s:s,s:b}", "id", (json_int_t)id, "state", state,
                                  "cancel_requested", 1));
-        break;
-    case JM_ENOENT:
-        api_reply_wire(resp, WIRE_NOT_FOUND, "id", "no job %lld", id);
-        break;
-    case JM_EFORBIDDEN:
-        api_reply_wire(resp, WIRE_FORBIDDEN, "", "only the job's owner or root may cancel it");
-        break;
-    case JM_ESTORE:
-        reply_store_unwritable(resp, id);
-        break;
-    default:
-        api_reply_wire(resp, WIRE_CONFLICT, "", "job %lld has already finished", id);
-        break;
-    }
 }
 
 /* GET /v1/usage: the caller's stored job bytes against the quota; root also sees every user. */

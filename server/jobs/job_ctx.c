@@ -2,12 +2,16 @@
  * once and to the store at most once every STORE_FLUSH_INTERVAL seconds, and only what changed
  * (a best pattern can be megabytes; the store writes a row per flush); the trace keeps every
  * improvement of best_e2 but at most 10 points a second (an improvement inside the 0.1 s window is
- * held back and written when the window opens or the job ends, so the last best is never lost). */
+ * held back and written when the window opens or the job ends, so the last best is never lost).
+ * The job's own fields (owner, visibility, clock, stop flags) are read here too, so that the
+ * manager's files call into job_ctx.c and never the other way round, except for the scheduler's
+ * yield point (jm_yield_point_locked, job_schedule.c). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdlib.h>
+#include <time.h>
 
-#include "job_ctx_impl.h"
+#include "job_manager_impl.h"
 
 #define TRACE_MIN_INTERVAL 0.1
 #define STORE_FLUSH_INTERVAL 5.0
@@ -50,6 +54,7 @@ void job_live_flush_pending(job_live *l)
 
 void job_ctx_flush_locked(job_ctx *ctx)
 {
+    JM_ASSERT_LOCKED(ctx->jm);
     job_live *l = ctx->live;
     l->last_flush = jm_now();
     double progress = l->progress;
@@ -149,4 +154,51 @@ int job_ctx_workers(const job_ctx *ctx)
 tile_store *job_ctx_tiles(job_ctx *ctx)
 {
     return ctx->tiles;
+}
+
+double jm_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+bool jm_job_stop_locked(const job_ctx *ctx)
+{
+    const job *j = ctx->job;
+    JM_ASSERT_LOCKED((job_manager *)ctx->jm);
+    return j->cancel_requested || j->over_time || ((job_manager *)ctx->jm)->stopping;
+}
+
+long long job_ctx_owner(const job_ctx *ctx)
+{
+    return ctx->job->owner;
+}
+
+bool job_ctx_private(const job_ctx *ctx)
+{
+    return ctx->job->private_job;
+}
+
+double jm_job_clock(void *ctx_)
+{
+    const job_ctx *ctx = ctx_;
+    const job *j = ctx->job;
+    return aa_monotonic_seconds() - (double)atomic_load(&j->paused_ns) * 1e-9;
+}
+
+/* The context a job's thread hands its kind (or the Slurm driver). */
+struct job_ctx job_ctx_of(job_manager *jm, job *j)
+{
+    return (struct job_ctx){.jm = jm,
+                            .job = j,
+                            .lock = &jm->lock,
+                            .live = &j->live,
+                            .store = jm->store,
+                            .id = j->id,
+                            .tiles = jm->cfg.tiles,
+                            .workers = jm->cfg.workers,
+                            .busy = &jm->busy,
+                            .started = j->started,
+                            .started_mono = aa_monotonic_seconds()};
 }

@@ -1,4 +1,5 @@
-/* The job_ctx behind job_kind.h, shared by job_manager.c and job_ctx.c. */
+/* The job_ctx behind job_kind.h: made by job_ctx_of (job_ctx.c) for the manager's job threads
+ * (job_schedule.c, job_slurm.c) and read through the job_ctx_* functions of job_ctx.c. */
 #ifndef AALAB_JOB_CTX_IMPL_H
 #define AALAB_JOB_CTX_IMPL_H
 

@@ -73,7 +73,9 @@ void job_manager_destroy(job_manager *jm); /* shuts down first if needed */
 /* Validates spec with the kind named spec.kind and queues the job. owner < 0 = unknown.
  * The envelope keys (job_envelope.h) are taken out of spec before the kind sees it.
  * AA_E* with err (field relative to the body) for bad specs, JM_EQUEUE_FULL, JM_EQUOTA,
- * JM_ESTORE_QUOTA, JM_ESLURM (field "executor").
+ * JM_ESLURM (field "executor"), and the store's JOB_STORE_EQUOTA, _EUNAVAILABLE and _EWRITE as
+ * it gives them: every code with its message in err, answered from its row
+ * (proto/service_error.h).
  * A job with executor "slurm" is not queued: it starts at once on a thread of its own that
  * drives its Slurm arrays (cluster_driver.h) and holds no worker; at most JM_SLURM_JOBS_MAX
  * run at once (JM_EQUEUE_FULL beyond). At shutdown such a job is written back with its array
@@ -87,9 +89,11 @@ json_t *job_manager_get(job_manager *jm, long long id);
 json_t *job_manager_list(job_manager *jm, const job_store_filter *filter);
 /* caller < 0 = unknown (refused unless the job has no owner). JM_ENOENT, JM_EFORBIDDEN,
  * JM_EFINISHED, JM_ESTORE (a queued job that the store cannot record as cancelled now stays
- * queued). On success *state_out names the state after the call ("cancelled" for a queued
- * job, "running" with cancel requested for a running one). */
-int job_manager_cancel(job_manager *jm, long long id, long long caller, const char **state_out);
+ * queued), each with its message in err (may be NULL). On success *state_out names the state
+ * after the call ("cancelled" for a queued job, "running" with cancel requested for a running
+ * one). */
+int job_manager_cancel(job_manager *jm, long long id, long long caller, const char **state_out,
+                       aa_error *err);
 /* The best pattern JSON of a job (new reference), or NULL (*why: "no such job" /
  * "no pattern yet"). */
 json_t *job_manager_best_pattern(job_manager *jm, long long id, const char **why);
@@ -101,12 +105,13 @@ void job_manager_kind_names(const job_manager *jm, char *buf, size_t cap);
 
 /* Deletes a job's record (DELETE /v1/jobs/{id}?purge=1): owner or root, as for cancel. A
  * queued job is cancelled and deleted; a running one is JM_EACTIVE (cancel it first); JM_ESTORE
- * when the store cannot be written (disk full), also for a job whose end is not stored yet.
+ * for a job whose end is not stored yet; the store's codes of job_store_delete as it gives them.
+ * Each refusal with its message in err (may be NULL).
  *
  * A job's end is written with retries; if the store still cannot take it after about 6 s, the
  * outcome is dropped and the job ends failed with error code "unavailable" as soon as the store
  * can be written (GET shows it so meanwhile), so it never stays "running" in the store. */
-int job_manager_purge(job_manager *jm, long long id, long long caller);
+int job_manager_purge(job_manager *jm, long long id, long long caller, aa_error *err);
 
 typedef struct job_manager_stats {
     int workers, busy;

@@ -7,9 +7,9 @@
 #include "job_kind.h"
 #include "job_split.h"
 
-/* job_kind.run for a kind with a split: progress mapped onto the job (a two-stage kind's first
- * stage is its first 20 %), trace points continued from shard to shard, best so far forwarded
- * when it improves, cancel through job_ctx. The result says executor "local", 1 shard. */
+/* job_kind.run for a kind with a split: progress mapped onto the job (each stage fills the share
+ * its split.stage_weight gives it), trace points continued from shard to shard, best so far
+ * forwarded when it improves, cancel through job_ctx. The result says executor "local", 1 shard. */
 int job_split_run_local(const job_split *split, void *params, job_ctx *ctx, void **result,
                         aa_error *err);
 

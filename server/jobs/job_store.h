@@ -24,6 +24,15 @@
 
 typedef struct job_store job_store;
 
+/* Messages of a refused change of job %lld, the same whether the store or the job manager
+ * refuses (the code's row in proto/service_error.h gives the status and the field). */
+#define JOB_MSG_NOT_FOUND "no job %lld"
+#define JOB_MSG_UNWRITABLE                                                                         \
+    "the job store cannot be written now (disk full or I/O error); job %lld is unchanged: try "    \
+    "again later"
+#define JOB_MSG_RUNNING                                                                            \
+    "job %lld is running: cancel it (DELETE without purge) and purge it when it has ended"
+
 typedef enum job_state {
     JOB_QUEUED,
     JOB_RUNNING,
@@ -66,7 +75,8 @@ typedef struct job_store_new {
     const char *family; /* the spec's family, NULL: none (the best pattern's replaces it) */
 } job_store_new;
 
-/* A new queued job. JOB_STORE_EQUOTA (err names usage and limit) or AA_EINVAL. */
+/* A new queued job. JOB_STORE_EQUOTA (err names usage and limit), JOB_STORE_EUNAVAILABLE or
+ * JOB_STORE_EWRITE (err says why). A failed write of any function below is one of these two. */
 int job_store_insert(job_store *st, const job_store_new *job, long long *id, aa_error *err);
 int job_store_set_state(job_store *st, long long id, job_state state, double when,
                         const char *reason);
@@ -82,9 +92,11 @@ int job_store_update_progress(job_store *st, long long id, double progress, cons
 int job_store_finish(job_store *st, long long id, job_state state, double progress,
                      const json_t *best, const json_t *trace, const json_t *result,
                      const json_t *error, const char *reason, double finished);
-/* Deletes a finished job's row: JOB_STORE_ENOENT, JOB_STORE_EACTIVE (queued or running). */
-int job_store_delete(job_store *st, long long id);
-int job_store_set_pinned(job_store *st, long long id, bool pinned); /* JOB_STORE_ENOENT */
+/* Deletes a finished job's row: JOB_STORE_ENOENT, JOB_STORE_EACTIVE (queued or running), a
+ * failed write; err (may be NULL) gets the JOB_MSG_* message. */
+int job_store_delete(job_store *st, long long id, aa_error *err);
+/* JOB_STORE_ENOENT or a failed write, with the JOB_MSG_* message in err (may be NULL). */
+int job_store_set_pinned(job_store *st, long long id, bool pinned, aa_error *err);
 /* Deletes finished, unpinned jobs that finished before `before` (Unix seconds). */
 int job_store_sweep(job_store *st, double before, long long *deleted);
 

@@ -46,7 +46,7 @@ static void bind_text_or_null(sqlite3_stmt *q, int i, const char *s)
 }
 
 /* A failed write: JOB_STORE_EUNAVAILABLE when the database could not be written now (disk
- * full, I/O, locked), which passes, else AA_EINVAL. */
+ * full, I/O, locked), which passes, else JOB_STORE_EWRITE. */
 static int write_error(int rc)
 {
     switch (rc & 0xff) {
@@ -59,7 +59,7 @@ static int write_error(int rc)
     case SQLITE_NOMEM:
         return JOB_STORE_EUNAVAILABLE;
     default:
-        return AA_EINVAL;
+        return JOB_STORE_EWRITE;
     }
 }
 
@@ -109,7 +109,7 @@ int job_store_insert(job_store *st, const job_store_new *job, long long *id, aa_
 {
     encoded spec = encode(job->spec, false);
     if (!spec.text)
-        return aa_error_set(err, AA_ENOMEM, "", "out of memory");
+        return aa_error_set(err, JOB_STORE_EUNAVAILABLE, "", "out of memory");
     long long reserve = 2 * spec.len + JOB_STORE_RESERVE_EXTRA;
     pthread_mutex_lock(&st->lock);
     job_store_sync(st, true);
@@ -163,8 +163,8 @@ int job_store_insert(job_store *st, const job_store_new *job, long long *id, aa_
     if (ok) {
         *id = new_id;
     } else if (!out) {
-        out =
-            aa_error_set(err, AA_EINVAL, "", "job store write failed: %s", sqlite3_errmsg(st->db));
+        out = aa_error_set(err, JOB_STORE_EWRITE, "", "job store write failed: %s",
+                           sqlite3_errmsg(st->db));
         if (began)
             sqlite3_exec(st->db, "ROLLBACK", NULL, NULL, NULL);
     }
@@ -185,7 +185,7 @@ int job_store_set_state(job_store *st, long long id, job_state state, double whe
                           : "UPDATE jobs SET state=?, finished=CASE WHEN ?2 > 0 AND ?1 NOT IN "
                             "('queued','running') THEN ?2 ELSE finished END, "
                             "reason=coalesce(?, reason) WHERE id=?";
-    int rc = AA_EINVAL;
+    int rc = JOB_STORE_EWRITE;
     if (sqlite3_prepare_v2(st->db, sql, -1, &q, NULL) == SQLITE_OK) {
         sqlite3_bind_text(q, 1, job_state_name(state), -1, SQLITE_STATIC);
         sqlite3_bind_double(q, 2, when);
@@ -273,7 +273,7 @@ int job_store_update_progress(job_store *st, long long id, double progress, cons
     encoded b = encode(best, true), t = encode(trace, false);
     pthread_mutex_lock(&st->lock);
     job_store_sync(st, false);
-    int rc = AA_EINVAL;
+    int rc = JOB_STORE_EWRITE;
     row_sizes s;
     if (read_sizes(st, id, &s)) {
         long long bytes =
@@ -319,7 +319,7 @@ int job_store_finish(job_store *st, long long id, job_state state, double progre
     char quota_reason[256] = "";
     pthread_mutex_lock(&st->lock);
     job_store_sync(st, true);
-    int rc = AA_EINVAL;
+    int rc = JOB_STORE_EWRITE;
     row_sizes s;
     if (read_sizes(st, id, &s)) {
         long long reserve = job_state_final(state) ? 0 : s.reserve;
@@ -386,12 +386,12 @@ int job_store_finish(job_store *st, long long id, job_state state, double progre
     return rc;
 }
 
-int job_store_delete(job_store *st, long long id)
+int job_store_delete(job_store *st, long long id, aa_error *err)
 {
     pthread_mutex_lock(&st->lock);
     job_store_sync(st, true);
     sqlite3_stmt *q;
-    int rc = AA_EINVAL;
+    int rc = JOB_STORE_EWRITE;
     if (sqlite3_prepare_v2(st->db,
                            "DELETE FROM jobs WHERE id = ? AND state NOT IN ('queued', 'running')",
                            -1, &q, NULL) == SQLITE_OK) {
@@ -399,29 +399,35 @@ int job_store_delete(job_store *st, long long id)
         rc = step_done(q);
         if (!rc && sqlite3_changes(st->db) == 0) {
             row_sizes s;
-            rc = read_sizes(st, id, &s) ? JOB_STORE_EACTIVE : JOB_STORE_ENOENT;
+            rc = read_sizes(st, id, &s)
+                     ? aa_error_set(err, JOB_STORE_EACTIVE, "", JOB_MSG_RUNNING, id)
+                     : aa_error_set(err, JOB_STORE_ENOENT, "id", JOB_MSG_NOT_FOUND, id);
         }
     }
     trim(st);
     pthread_mutex_unlock(&st->lock);
+    if (rc == JOB_STORE_EUNAVAILABLE || rc == JOB_STORE_EWRITE)
+        aa_error_set(err, rc, "", JOB_MSG_UNWRITABLE, id);
     return rc;
 }
 
-int job_store_set_pinned(job_store *st, long long id, bool pinned)
+int job_store_set_pinned(job_store *st, long long id, bool pinned, aa_error *err)
 {
     pthread_mutex_lock(&st->lock);
     job_store_sync(st, true);
     sqlite3_stmt *q;
-    int rc = AA_EINVAL;
+    int rc = JOB_STORE_EWRITE;
     if (sqlite3_prepare_v2(st->db, "UPDATE jobs SET pinned = ? WHERE id = ?", -1, &q, NULL) ==
         SQLITE_OK) {
         sqlite3_bind_int(q, 1, pinned);
         sqlite3_bind_int64(q, 2, id);
         rc = step_done(q);
         if (!rc && sqlite3_changes(st->db) == 0)
-            rc = JOB_STORE_ENOENT;
+            rc = aa_error_set(err, JOB_STORE_ENOENT, "id", JOB_MSG_NOT_FOUND, id);
     }
     pthread_mutex_unlock(&st->lock);
+    if (rc == JOB_STORE_EUNAVAILABLE || rc == JOB_STORE_EWRITE)
+        aa_error_set(err, rc, "", JOB_MSG_UNWRITABLE, id);
     return rc;
 }
 
@@ -430,7 +436,7 @@ int job_store_sweep(job_store *st, double before, long long *deleted)
     pthread_mutex_lock(&st->lock);
     job_store_sync(st, true);
     sqlite3_stmt *q;
-    int rc = AA_EINVAL;
+    int rc = JOB_STORE_EWRITE;
     *deleted = 0;
     if (sqlite3_prepare_v2(st->db,
                            "DELETE FROM jobs WHERE pinned = 0 AND finished < ? AND state NOT IN "
@@ -457,7 +463,7 @@ int job_store_set_cluster(job_store *st, long long id, const json_t *cluster)
     /* The array ids must survive a crash: a lost write would resubmit running arrays. */
     job_store_sync(st, true);
     sqlite3_stmt *q;
-    int rc = AA_EINVAL;
+    int rc = JOB_STORE_EWRITE;
     if (sqlite3_prepare_v2(st->db, "UPDATE jobs SET cluster=? WHERE id=?", -1, &q, NULL) ==
         SQLITE_OK) {
         bind_text_or_null(q, 1, text);

@@ -11,6 +11,7 @@
 
 #include "aalab_version.h"
 #include "cluster_layout.h"
+#include "job_kind_names.h"
 #include "job_split.h"
 #include "worker_report.h"
 #include "worker_task.h"
@@ -35,11 +36,14 @@ static void on_stop_signal(int sig)
 
 static void usage(FILE *f)
 {
-    fputs("usage: aalab-worker TASK.json\n"
-          "       aalab-worker --help | --version\n"
-          "Runs one shard of an aalab job (optimize, family-sweep, random-stats, table3) described "
-          "by\n"
-          "TASK.json (format aalab-task/1) and writes the shard's output and trace files named\n"
+    char kinds[160]; /* from the kind table: the kinds that split */
+    job_kind_names_join(kinds, sizeof kinds, false, true, ", ");
+    fprintf(f,
+            "usage: aalab-worker TASK.json\n"
+            "       aalab-worker --help | --version\n"
+            "Runs one shard of an aalab job (%s) described by\n",
+            kinds);
+    fputs("TASK.json (format aalab-task/1) and writes the shard's output and trace files named\n"
           "in it atomically (temporary file in the same directory, fsync, rename). Threads:\n"
           "$SLURM_CPUS_PER_TASK, or 1.\n"
           "\n"

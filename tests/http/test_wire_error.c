@@ -136,24 +136,28 @@ static void test_http_answers_come_from_the_table(void **state)
     api_reply_aa_error(&resp, &err);
     expect_answer(&resp, 400, "invalid_field", "", 0);
 
+    /* The job manager's codes and the store's that reach HTTP as they are (submit, cancel,
+     * purge, pin): a missing job names the field "id". */
     const struct {
         int rc, status;
-        const char *code;
+        const char *code, *field;
         int retry_after;
     } jobs[] = {
-        {JM_EQUEUE_FULL, 429, "queue_full", 5},
-        {JM_EQUOTA, 429, "too_many_requests", 10},
-        {JM_ESTORE_QUOTA, 403, "quota_exceeded", 0},
-        {JM_ESTORE, 503, "unavailable", 30},
-        {JM_ENOENT, 404, "not_found", 0},
-        {JM_EFORBIDDEN, 403, "forbidden", 0},
-        {JM_EFINISHED, 409, "conflict", 0},
-        {JM_EACTIVE, 409, "conflict", 0},
+        {JM_EQUEUE_FULL, 429, "queue_full", "", 5},
+        {JM_EQUOTA, 429, "too_many_requests", "", 10},
+        {JOB_STORE_EQUOTA, 403, "quota_exceeded", "", 0},
+        {JM_ESTORE, 503, "unavailable", "", 30},
+        {JOB_STORE_EUNAVAILABLE, 503, "unavailable", "", 30},
+        {JM_ENOENT, 404, "not_found", "id", 0},
+        {JOB_STORE_ENOENT, 404, "not_found", "id", 0},
+        {JM_EFORBIDDEN, 403, "forbidden", "", 0},
+        {JM_EFINISHED, 409, "conflict", "", 0},
+        {JM_EACTIVE, 409, "conflict", "", 0},
     };
     for (size_t i = 0; i < sizeof jobs / sizeof jobs[0]; i++) {
         aa_error_set(&err, AA_EINVAL, "kind", "refused");
         api_reply_service_error(&resp, jobs[i].rc, &err);
-        expect_answer(&resp, jobs[i].status, jobs[i].code, "", jobs[i].retry_after);
+        expect_answer(&resp, jobs[i].status, jobs[i].code, jobs[i].field, jobs[i].retry_after);
     }
     /* Not a job manager code: an engine error with its field. */
     aa_error_set(&err, AA_EINVAL, "seconds", "must be a number");

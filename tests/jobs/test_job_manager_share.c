@@ -206,12 +206,33 @@ static void test_max_job_seconds(void **state)
     close_manager(jm, dir);
 }
 
+/* The kinds that can run on Slurm are named from the kind table (job_kind_names.h): the kinds
+ * with a split, test-only ones left out; the sleep kind splits but is a test kind. */
+static void test_slurm_refusal_names_the_split_kinds(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/aalab-share-XXXXXX";
+    job_manager *jm = open_manager(dir, 1, 60, 60);
+    json_error_t je;
+    json_t *spec = json_loads("{\"kind\":\"compare\",\"executor\":\"slurm\"}", 0, &je);
+    assert_non_null(spec);
+    long long id = 0;
+    aa_error err = {0};
+    assert_int_equal(job_manager_submit(jm, spec, ALICE, &id, &err), AA_EINVAL);
+    assert_string_equal(err.field, "executor");
+    assert_string_equal(err.message, "kind compare cannot run on Slurm (optimize, family-sweep, "
+                                     "random-stats and table3 can)");
+    json_decref(spec);
+    close_manager(jm, dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pause_keeps_the_result),
         cmocka_unit_test(test_short_job_within_a_slice),
         cmocka_unit_test(test_max_job_seconds),
+        cmocka_unit_test(test_slurm_refusal_names_the_split_kinds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -64,12 +64,12 @@ static void *client_main(void *arg)
         c->ids[c->submitted++] = id;
         if (i % 3 == 0) {
             const char *st = NULL;
-            rc = job_manager_cancel(c->jm, id, 1000 + c->index, &st);
+            rc = job_manager_cancel(c->jm, id, 1000 + c->index, &st, NULL);
             assert_true(rc == JM_OK || rc == JM_EFINISHED);
         }
         if (i % 5 == 0) { /* another user may not cancel it */
             const char *st = NULL;
-            rc = job_manager_cancel(c->jm, id, 5, &st);
+            rc = job_manager_cancel(c->jm, id, 5, &st, NULL);
             assert_true(rc == JM_EFORBIDDEN || rc == JM_EFINISHED);
         }
         char buf[32];
@@ -179,7 +179,7 @@ static void test_shutdown_under_load(void **state)
         const char *st = state_of(jm, ids[i], buf, sizeof buf);
         assert_true(!strcmp(st, "queued") || !strcmp(st, "running") || !strcmp(st, "interrupted"));
         const char *after = NULL;
-        job_manager_cancel(jm, ids[i], 1000, &after);
+        job_manager_cancel(jm, ids[i], 1000, &after, NULL);
     }
     job_manager_destroy(jm);
     char cmd[128];

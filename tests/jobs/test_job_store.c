@@ -266,9 +266,16 @@ static void test_quota_accounting(void **state)
 
     /* Deleting gives the bytes back. */
     long long before = usage(st, 1000);
-    assert_int_equal(job_store_delete(st, c), JOB_STORE_EACTIVE);
-    assert_int_equal(job_store_delete(st, a), AA_OK);
-    assert_int_equal(job_store_delete(st, a), JOB_STORE_ENOENT);
+    aa_error derr = {0};
+    assert_int_equal(job_store_delete(st, c, &derr), JOB_STORE_EACTIVE);
+    char want[160];
+    snprintf(want, sizeof want, JOB_MSG_RUNNING, c); /* the answer to a purge, as it was */
+    assert_string_equal(derr.message, want);
+    assert_int_equal(job_store_delete(st, a, NULL), AA_OK);
+    assert_int_equal(job_store_delete(st, a, &derr), JOB_STORE_ENOENT);
+    snprintf(want, sizeof want, "no job %lld", a);
+    assert_string_equal(derr.message, want);
+    assert_string_equal(derr.field, "id");
     char sql[96];
     snprintf(sql, sizeof sql, "SELECT count(*) FROM job_specs WHERE job_id = %lld", a);
     assert_int_equal(count_rows(dir, sql), 0); /* the spec went with the row */
@@ -310,8 +317,8 @@ static void test_retention_keeps_pinned(void **state)
     assert_true(job_store_owner(st, queued, NULL, NULL, NULL));
 
     /* Unpinned, the old job goes at the next sweep; the thread sweeps at start. */
-    assert_int_equal(job_store_set_pinned(st, old_pinned, false), AA_OK);
-    assert_int_equal(job_store_set_pinned(st, 99999, true), JOB_STORE_ENOENT);
+    assert_int_equal(job_store_set_pinned(st, old_pinned, false, NULL), AA_OK);
+    assert_int_equal(job_store_set_pinned(st, 99999, true, NULL), JOB_STORE_ENOENT);
     assert_true(job_retention_period(90) == 3600.0);
     assert_true(job_retention_period(0.0001) > 2.15 && job_retention_period(0.0001) < 2.17);
     job_retention *r = job_retention_start(st, 1.0, &err); /* 1 day: only the 1970 jobs */

@@ -72,7 +72,7 @@ static void test_full_store(void **state)
     char buf[32];
     assert_string_equal(state_of(st, id, buf, sizeof buf), "running");
     /* A missing job stays a 404, not a 503. */
-    assert_int_equal(job_store_set_pinned(st, id + 100, true), JOB_STORE_ENOENT);
+    assert_int_equal(job_store_set_pinned(st, id + 100, true, NULL), JOB_STORE_ENOENT);
     /* A big new job is refused with a message, and takes no id. */
     json_t *big_spec = json_pack("{s:s,s:s}", "kind", "sleep", "note", big);
     job_store_new big_rec = {.kind = "sleep", .spec = big_spec, .owner = 1000, .created = 4};
@@ -87,7 +87,7 @@ static void test_full_store(void **state)
     assert_int_equal(job_store_finish(st, id, JOB_DONE, 1, NULL, NULL, result, NULL, NULL, 3),
                      AA_OK);
     assert_string_equal(state_of(st, id, buf, sizeof buf), "done");
-    assert_int_equal(job_store_delete(st, id), AA_OK);
+    assert_int_equal(job_store_delete(st, id, NULL), AA_OK);
     assert_true(job_store_integrity_ok(st));
 
     json_decref(big_spec);
