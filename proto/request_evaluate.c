@@ -16,6 +16,16 @@ bool proto_evaluate_is_temporal(const json_t *body)
     return json_is_object(pj) && json_object_get(pj, "temporal");
 }
 
+/* The acuity table and the angles, which both pattern forms take. */
+static int decode_acuity_angles(const json_t *body, proto_evaluate_request *out, aa_error *err)
+{
+    int rc = proto_decode_acuity(json_object_get(body, "acuity"), &out->acuity, "acuity", err);
+    if (!rc)
+        rc = proto_decode_angles(json_object_get(body, "angles"), &out->angles, &out->angle_count,
+                                 "angles", err);
+    return rc;
+}
+
 /* filter, acuity and angles, and a temporal pattern (which takes no lp). */
 static int decode_temporal(const json_t *body, proto_evaluate_request *out, aa_error *err)
 {
@@ -26,10 +36,7 @@ static int decode_temporal(const json_t *body, proto_evaluate_request *out, aa_e
     if (!rc)
         rc = proto_decode_filter(json_object_get(body, "filter"), &out->filter, "filter", err);
     if (!rc)
-        rc = proto_decode_acuity(json_object_get(body, "acuity"), &out->acuity, "acuity", err);
-    if (!rc)
-        rc = proto_decode_angles(json_object_get(body, "angles"), &out->angles, &out->angle_count,
-                                 "angles", err);
+        rc = decode_acuity_angles(body, out, err);
     if (!rc)
         rc = proto_decode_temporal(json_object_get(body, "pattern"), &out->spec, "pattern", err);
     return rc;
@@ -67,10 +74,7 @@ int proto_decode_evaluate_request(const json_t *body, const aa_error *refs,
     if (!rc)
         rc = proto_decode_pattern_filtered(pj, 0, &out->filter, &out->pattern, "pattern", err);
     if (!rc)
-        rc = proto_decode_acuity(json_object_get(body, "acuity"), &out->acuity, "acuity", err);
-    if (!rc)
-        rc = proto_decode_angles(json_object_get(body, "angles"), &out->angles, &out->angle_count,
-                                 "angles", err);
+        rc = decode_acuity_angles(body, out, err);
     return rc;
 }
 

@@ -13,47 +13,59 @@
 #include "request_export.h"
 #include "request_token.h"
 
-/* text decodes with decode to code, err naming field with message. */
-#define REFUSED(decode, T, text, code, want_field, want_message)                                   \
-    do {                                                                                           \
-        json_t *j_ = parse(text);                                                                  \
-        T r_;                                                                                      \
-        aa_error e_ = {0};                                                                         \
-        assert_int_equal(decode(j_, &r_, &e_), code);                                              \
-        assert_string_equal(e_.field, want_field);                                                 \
-        assert_string_equal(e_.message, want_message);                                             \
-        json_decref(j_);                                                                           \
-    } while (0)
+typedef int (*decode_fn)(const json_t *j, aa_error *err);
 
-static int evaluate(const json_t *j, proto_evaluate_request *r, aa_error *e)
+/* text decodes with decode to code, err naming field with message. */
+static void refused(decode_fn decode, const char *text, int code, const char *field,
+                    const char *message)
 {
-    int rc = proto_decode_evaluate_request(j, NULL, r, e);
-    proto_evaluate_request_free(r);
+    json_t *j = parse(text);
+    aa_error e = {0};
+    assert_int_equal(decode(j, &e), code);
+    assert_string_equal(e.field, field);
+    assert_string_equal(e.message, message);
+    json_decref(j);
+}
+
+static int enumerate(const json_t *j, aa_error *e)
+{
+    proto_enumerate_request r;
+    return proto_decode_enumerate_request(j, &r, e);
+}
+
+static int token(const json_t *j, aa_error *e)
+{
+    proto_token_request r;
+    return proto_decode_token_request(j, &r, e);
+}
+
+static int evaluate(const json_t *j, aa_error *e)
+{
+    proto_evaluate_request r;
+    int rc = proto_decode_evaluate_request(j, NULL, &r, e);
+    proto_evaluate_request_free(&r);
     return rc;
 }
 
-static int export_post(const json_t *j, proto_export_request *r, aa_error *e)
+static int export_post(const json_t *j, aa_error *e)
 {
-    int rc = proto_decode_export_request(j, NULL, r, e);
-    if (!rc && !r->temporal)
-        aa_pattern_free(&r->decoded);
+    proto_export_request r;
+    int rc = proto_decode_export_request(j, NULL, &r, e);
+    if (!rc && !r.temporal)
+        aa_pattern_free(&r.decoded);
     return rc;
 }
 
 static void enumerate_request(void **state)
 {
     (void)state;
-    REFUSED(proto_decode_enumerate_request, proto_enumerate_request, "{\"x\":1}", AA_EINVAL, "x",
-            "unknown field");
-    REFUSED(proto_decode_enumerate_request, proto_enumerate_request, "{}", AA_EINVAL, "family",
-            "family is required");
-    REFUSED(proto_decode_enumerate_request, proto_enumerate_request, "{\"family\":\"P(4,1+,n)\"}",
-            AA_EINVAL, "cost", "cost is required with P(4,1+,n)");
-    REFUSED(proto_decode_enumerate_request, proto_enumerate_request,
-            "{\"family\":\"P(4,1+,n)\",\"cost\":17}", AA_ERANGE, "cost",
+    refused(enumerate, "{\"x\":1}", AA_EINVAL, "x", "unknown field");
+    refused(enumerate, "{}", AA_EINVAL, "family", "family is required");
+    refused(enumerate, "{\"family\":\"P(4,1+,n)\"}", AA_EINVAL, "cost",
+            "cost is required with P(4,1+,n)");
+    refused(enumerate, "{\"family\":\"P(4,1+,n)\",\"cost\":17}", AA_ERANGE, "cost",
             "cost must be in (0, 16] samples per pixel");
-    REFUSED(proto_decode_enumerate_request, proto_enumerate_request,
-            "{\"family\":\"P(4,1+,2)\",\"cost\":1.25}", AA_EINVAL, "cost",
+    refused(enumerate, "{\"family\":\"P(4,1+,2)\",\"cost\":1.25}", AA_EINVAL, "cost",
             "cost disagrees with the family's n");
     json_t *j = parse("{\"family\":\"P(4,1+,1.25)\"}");
     proto_enumerate_request r;
@@ -66,10 +78,9 @@ static void enumerate_request(void **state)
 static void token_request(void **state)
 {
     (void)state;
-    REFUSED(proto_decode_token_request, proto_token_request, "{\"label\":1}", AA_EINVAL, "label",
+    refused(token, "{\"label\":1}", AA_EINVAL, "label",
             "label must be a string of at most 100 bytes");
-    REFUSED(proto_decode_token_request, proto_token_request, "{\"label\":\"a\",\"b\":1}", AA_EINVAL,
-            "b", "unknown field");
+    refused(token, "{\"label\":\"a\",\"b\":1}", AA_EINVAL, "b", "unknown field");
     json_t *j = parse("{\"label\":\"ci\"}");
     proto_token_request r;
     aa_error e = {0};
@@ -81,14 +92,13 @@ static void token_request(void **state)
 static void evaluate_request(void **state)
 {
     (void)state;
-    REFUSED(evaluate, proto_evaluate_request, "{}", AA_EINVAL, "pattern", "pattern is required");
-    REFUSED(evaluate, proto_evaluate_request, "{\"pattern\":\"rgss\",\"detail\":1}", AA_EINVAL,
-            "detail", "must be true or false");
-    REFUSED(evaluate, proto_evaluate_request, "{\"pattern\":\"rgss\",\"lp\":0.5}", AA_EINVAL, "lp",
+    refused(evaluate, "{}", AA_EINVAL, "pattern", "pattern is required");
+    refused(evaluate, "{\"pattern\":\"rgss\",\"detail\":1}", AA_EINVAL, "detail",
+            "must be true or false");
+    refused(evaluate, "{\"pattern\":\"rgss\",\"lp\":0.5}", AA_EINVAL, "lp",
             "must be a number >= 1");
-    REFUSED(evaluate, proto_evaluate_request,
-            "{\"pattern\":{\"temporal\":{\"preset\":\"halton23-8\"}},\"lp\":2}", AA_EINVAL, "lp",
-            "lp is not computed for temporal patterns");
+    refused(evaluate, "{\"pattern\":{\"temporal\":{\"preset\":\"halton23-8\"}},\"lp\":2}",
+            AA_EINVAL, "lp", "lp is not computed for temporal patterns");
     /* Unknown keys come before a reference that did not resolve; that before the rest. */
     json_t *j = parse("{\"pattern\":{\"job\":\"x\"},\"bogus\":1}");
     aa_error refs = {0}, e = {0};
@@ -116,12 +126,11 @@ static void evaluate_request(void **state)
 static void export_request(void **state)
 {
     (void)state;
-    REFUSED(export_post, proto_export_request, "{\"pattern\":\"rgss\"}", AA_EINVAL, "format",
+    refused(export_post, "{\"pattern\":\"rgss\"}", AA_EINVAL, "format",
             "is required: " PROTO_EXPORT_FORMATS);
-    REFUSED(export_post, proto_export_request, "{\"format\":\"csv\"}", AA_EINVAL, "pattern",
-            "pattern is required");
-    REFUSED(export_post, proto_export_request, "{\"pattern\":\"rgss\",\"format\":\"bmp\"}",
-            AA_EINVAL, "format", "must be " PROTO_EXPORT_FORMATS ", jitter-c or jitter-hlsl");
+    refused(export_post, "{\"format\":\"csv\"}", AA_EINVAL, "pattern", "pattern is required");
+    refused(export_post, "{\"pattern\":\"rgss\",\"format\":\"bmp\"}", AA_EINVAL, "format",
+            "must be " PROTO_EXPORT_FORMATS ", jitter-c or jitter-hlsl");
     proto_export_kind kind;
     proto_points_format points;
     aa_error e = {0};
