@@ -3,8 +3,8 @@
  * bodies are answered from an LRU cache. Cache hits and evaluates of at most --inline-work
  * kernel samples x angles run on the HTTP thread (a 4-sample pattern over the 36 default angles
  * costs microseconds, less than the hand-off); larger ones, and job references, on the compute
- * pool (http/compute_pool.c; docs/http.md gives the threshold's measurement). The size limits of
- * the codec bound the worst case. */
+ * pool (http/compute_pool.c; docs/http.md gives the threshold's measurement). The request is
+ * decoded by proto/request_evaluate.c; the size limits of the codec bound the worst case. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
