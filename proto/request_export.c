@@ -1,23 +1,35 @@
 /* The pattern exports' request decoders (request_export.h). */
 #include "request_export.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "export_temporal.h"
 
 static const char *const export_keys[] = {"pattern", "format", "filter", "phase", NULL};
 
-int proto_decode_export_query(const char *format, proto_export_kind *kind,
-                              proto_points_format *points, aa_error *err)
+int proto_decode_export_query(const char *format, const char *phase, proto_export_query *out,
+                              aa_error *err)
 {
     bool hlsl;
-    *kind = PROTO_EXPORT_PATTERN;
-    *points = PROTO_POINTS_UTK;
-    if (format && !proto_export_format_parse(format, kind, points) &&
+    *out = (proto_export_query){
+        .format = format, .kind = PROTO_EXPORT_PATTERN, .points = PROTO_POINTS_UTK};
+    if (format && !proto_export_format_parse(format, &out->kind, &out->points) &&
         !proto_jitter_format_parse(format, &hlsl))
         return aa_error_set(err, AA_EINVAL, "format", "format must be %s, %s", PROTO_EXPORT_FORMATS,
                             PROTO_JITTER_FORMATS);
+    if (phase) {
+        char *end = NULL;
+        long long pv = strtoll(phase, &end, 10);
+        out->phase = end != phase && !*end ? json_integer((json_int_t)pv) : json_string(phase);
+    }
     return AA_OK;
+}
+
+void proto_export_query_free(proto_export_query *q)
+{
+    json_decref(q->phase);
+    q->phase = NULL;
 }
 
 int proto_decode_export_request(const json_t *body, const aa_error *refs, proto_export_request *out,

@@ -26,10 +26,19 @@ typedef struct proto_export_request {
     aa_pattern decoded; /* the pattern, decoded with the filter's weights */
 } proto_export_request;
 
-/* GET's query: format NULL is json; any other name not in either list is AA_EINVAL on
- * "format". */
-int proto_decode_export_query(const char *format, proto_export_kind *kind,
-                              proto_points_format *points, aa_error *err);
+/* GET's query, its values as given (NULL: absent). */
+typedef struct proto_export_query {
+    const char *format; /* borrowed; NULL: json */
+    proto_export_kind kind;
+    proto_points_format points;
+    json_t *phase; /* owned: an integer when the text is one, else the text; NULL: none */
+} proto_export_query;
+
+/* A format that is in neither list is AA_EINVAL on "format"; the phase is checked by the
+ * temporal half. Free with proto_export_query_free (also after an error). */
+int proto_decode_export_query(const char *format, const char *phase, proto_export_query *out,
+                              aa_error *err);
+void proto_export_query_free(proto_export_query *q);
 
 /* POST's body, strict, in the wire's order: unknown keys, format present and a string, pattern
  * present, then refs (the outcome of resolving the body's pattern references: code != 0 is

@@ -59,12 +59,11 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
 {
     char fmt[16], ph[24];
     const char *format = api_query_get(req->query, "format", fmt, sizeof fmt);
-    proto_export_kind kind;
-    proto_points_format points;
-    /* A temporal job's best and the jitter formats are export_temporal_answer's. */
     const char *phase_text = api_query_get(req->query, "phase", ph, sizeof ph);
     aa_error err = {0};
-    if (proto_decode_export_query(format, &kind, &points, &err)) {
+    proto_export_query q;
+    if (proto_decode_export_query(format, phase_text, &q, &err)) {
+        proto_export_query_free(&q);
         api_reply_aa_error(resp, &err);
         return;
     }
@@ -75,17 +74,14 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
                      ? job_manager_best_pattern(api_context_jobs(ctx), id, &why)
                      : NULL;
     if (!pj) {
+        proto_export_query_free(&q);
         api_reply_wire(resp, strcmp(why, "no such job") ? WIRE_CONFLICT : WIRE_NOT_FOUND, "id",
                        "job %.40s: %s", id_text, why);
         return;
     }
-    char *end = NULL;
-    long long pv = phase_text ? strtoll(phase_text, &end, 10) : 0;
-    json_t *phase = !phase_text                  ? NULL
-                    : end != phase_text && !*end ? json_integer((json_int_t)pv)
-                                                 : json_string(phase_text);
-    bool answered = export_temporal_answer(resp, pj, format, phase, id);
-    json_decref(phase);
+    /* A temporal job's best and the jitter formats are export_temporal_answer's. */
+    bool answered = export_temporal_answer(resp, pj, format, q.phase, id);
+    proto_export_query_free(&q);
     if (answered) {
         json_decref(pj);
         return;
@@ -101,7 +97,7 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
                        err.message);
         return;
     }
-    reply_export(resp, &p, kind, points, id);
+    reply_export(resp, &p, q.kind, q.points, id);
     aa_pattern_free(&p);
 }
 

@@ -131,13 +131,19 @@ static void export_request(void **state)
     refused(export_post, "{\"format\":\"csv\"}", AA_EINVAL, "pattern", "pattern is required");
     refused(export_post, "{\"pattern\":\"rgss\",\"format\":\"bmp\"}", AA_EINVAL, "format",
             "must be " PROTO_EXPORT_FORMATS ", jitter-c or jitter-hlsl");
-    proto_export_kind kind;
-    proto_points_format points;
+    proto_export_query q;
     aa_error e = {0};
-    assert_int_equal(proto_decode_export_query("bmp", &kind, &points, &e), AA_EINVAL);
+    assert_int_equal(proto_decode_export_query("bmp", NULL, &q, &e), AA_EINVAL);
     assert_string_equal(e.field, "format");
-    assert_int_equal(proto_decode_export_query(NULL, &kind, &points, &e), AA_OK);
-    assert_int_equal(kind, PROTO_EXPORT_PATTERN);
+    proto_export_query_free(&q);
+    assert_int_equal(proto_decode_export_query(NULL, "3", &q, &e), AA_OK);
+    assert_int_equal(q.kind, PROTO_EXPORT_PATTERN);
+    assert_int_equal(json_integer_value(q.phase), 3);
+    proto_export_query_free(&q);
+    assert_int_equal(proto_decode_export_query("csv", "x1", &q, &e), AA_OK);
+    assert_int_equal(q.kind, PROTO_EXPORT_POINTS);
+    assert_string_equal(json_string_value(q.phase), "x1");
+    proto_export_query_free(&q);
     json_t *j = parse("{\"pattern\":\"rgss\",\"format\":\"jitter-c\"}");
     proto_export_request r;
     assert_int_equal(proto_decode_export_request(j, NULL, &r, &e), AA_OK);
