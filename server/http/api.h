@@ -25,6 +25,16 @@ typedef struct api_caller {
     long long token_id; /* that token, 0 on the Unix socket */
 } api_caller;
 
+/* Where a route's body may hold pattern references {"job": ID}, a column of the route table:
+ * the router copies it into api_request.refs and api_request_body (pattern_refs.h) resolves
+ * them. A reference is a "pattern" value or an element of "patterns", at any depth. */
+typedef enum {
+    API_REFS_NONE,       /* the route takes no references */
+    API_REFS_ANYWHERE,   /* every reference in the body */
+    API_REFS_IF_PATTERN, /* the same, when the top-level "pattern" is one (a plain body is not
+                          * walked) */
+} api_refs;
+
 typedef struct api_request {
     const char *method;        /* "GET", "POST", ... */
     const char *path;          /* URL path without query, e.g. "/v1/jobs/12" */
@@ -47,6 +57,7 @@ typedef struct api_request {
      * samples x angles for evaluate) is larger, or that would read the job store, answers
      * nothing and sets api_response.needs_pool, and the caller hands the request to the pool. */
     size_t inline_work_limit;
+    api_refs refs; /* set by api_handle() from the route table; callers leave it zero */
 } api_request;
 
 /* The rest of a handler's work, decoded on an HTTP thread and found too large to finish there
@@ -69,8 +80,9 @@ struct api_response {
     api_deferred *deferred;    /* with needs_pool: the work left, or NULL to run it all again */
 };
 
-/* Requests the HTTP layer runs on the compute pool rather than on an HTTP thread. */
-/* API_CLASS_PREDICT runs in the evaluate share but is never answered from the evaluate cache. */
+/* Requests the HTTP layer runs on the compute pool rather than on an HTTP thread: a column of
+ * the route table, which api_classify reads. API_CLASS_PREDICT runs in the evaluate share but
+ * is never answered from the evaluate cache. */
 typedef enum {
     API_CLASS_OTHER,
     API_CLASS_EVALUATE,

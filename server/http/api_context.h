@@ -45,11 +45,4 @@ void api_context_tie_socket_access(api_context *ctx, uid_t owner, mode_t mode);
 bool api_context_socket_peer_ok(api_context *ctx, long long uid);
 double api_context_uptime(const api_context *ctx);
 
-/* Replaces every pattern reference {"job": ID} under the keys "pattern" and the elements of
- * "patterns" (at any depth of body) by that job's best pattern JSON. Errors: AA_EINVAL with the
- * field naming the reference ("pattern.job", "patterns[1].job") for a bad or unknown id, a job
- * the caller may not read (reported as unknown), or a job without a pattern. */
-int api_resolve_pattern_refs(api_context *ctx, const api_caller *caller, json_t *body,
-                             aa_error *err);
-
 #endif

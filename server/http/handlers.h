@@ -7,6 +7,7 @@
 #include "aa_core.h"
 #include "api.h"
 #include "api_context.h"
+#include "pattern_refs.h"
 
 /* Parses the body as one JSON object (duplicate keys rejected); on failure replies 400 and
  * returns NULL. */
@@ -53,9 +54,5 @@ void handle_tokens_list(api_context *ctx, const api_request *req, api_response *
 void handle_token_delete(api_context *ctx, const api_request *req, api_response *resp,
                          const char *id);
 void handle_static(api_context *ctx, const api_request *req, api_response *resp);
-/* POST /v1/render and GET /v1/tiles/{id}.png: resolve pattern refs, then the renderer's
- * handlers. */
-void route_render(api_context *ctx, const api_request *req, api_response *resp);
-void route_tile(api_context *ctx, const api_request *req, api_response *resp, const char *id);
 
 #endif

@@ -102,16 +102,13 @@ static int run_sets(const proto_analyze_request *r, proto_analysis *a, aa_error 
 
 void handle_analyze(api_context *ctx, const api_request *req, api_response *resp)
 {
-    json_t *body = api_parse_body(req, resp);
+    aa_error err = {0};
+    json_t *body = api_request_body(ctx, req, resp, &err, NULL);
     if (!body)
         return;
-    aa_error err = {0};
     proto_analyze_request r;
     proto_analysis a;
-    int rc = AA_OK;
-    json_t *pj = json_object_get(body, "pattern");
-    if (pj && json_is_object(pj) && json_object_get(pj, "job"))
-        rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
+    int rc = err.code;
     if (!rc)
         rc = proto_decode_analyze_request(body, &r, &err);
     json_decref(body);

@@ -3,8 +3,8 @@
  * bodies are answered from an LRU cache. Cache hits and evaluates of at most --inline-work
  * kernel samples x angles run on the HTTP thread (a 4-sample pattern over the 36 default angles
  * costs microseconds, less than the hand-off); larger ones, and job references, on the compute
- * pool (http/compute_pool.c; docs/http.md gives the threshold's measurement). The size limits of
- * the codec bound the worst case. */
+ * pool (http/compute_pool.c; docs/http.md gives the threshold's measurement). The request is
+ * decoded by proto/request_evaluate.c; the size limits of the codec bound the worst case. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,9 +14,7 @@
 #include "codec_temporal.h"
 #include "eval_cache.h"
 #include "handlers.h"
-
-static const char *const evaluate_keys[] = {"pattern", "filter", "acuity", "angles",
-                                            "lp",      "detail", NULL};
+#include "request_evaluate.h"
 
 /* Weights like [1e308, -1e308, 1] sum to 1 but overflow the integral: a 400 naming the kernel
  * rather than a 200 with a null E2. */
@@ -80,59 +78,41 @@ static int check_work(const aa_pattern *p, double work, size_t angle_count, aa_e
  * for the cut curve (N = 256 one-sample frames, K = 1024, 36 angles: 1.2e7). */
 #define EVALUATE_MAX_TEMPORAL_WORK (1L << 25)
 
-static int evaluate_temporal(const json_t *body, const json_t *pj, json_t **answer, aa_error *err)
+static int evaluate_temporal(proto_evaluate_request *rq, json_t **answer, aa_error *err)
 {
-    aa_filter filter;
-    aa_acuity acuity;
-    double *angles = NULL;
-    size_t angle_count = 0;
-    proto_temporal spec;
     aa_temporal t = {0};
     aa_temporal_evaluation ev = {0};
     bool have_ev = false;
-    int rc = AA_OK;
-    if (json_object_get(body, "lp"))
-        rc = aa_error_set(err, AA_EINVAL, "lp", "lp is not computed for temporal patterns");
-    if (!rc)
-        rc = proto_decode_filter(json_object_get(body, "filter"), &filter, "filter", err);
-    if (!rc)
-        rc = proto_decode_acuity(json_object_get(body, "acuity"), &acuity, "acuity", err);
-    if (!rc)
-        rc = proto_decode_angles(json_object_get(body, "angles"), &angles, &angle_count, "angles",
-                                 err);
-    memset(&spec, 0, sizeof spec);
-    if (!rc)
-        rc = proto_decode_temporal(pj, &spec, "pattern", err);
-    if (!rc) {
-        aa_temporal_spec ts = proto_temporal_spec(&spec);
-        rc = aa_temporal_build(&t, &ts, err);
-        if (rc) {
-            char f[sizeof err->field];
-            proto_join_field(f, sizeof f, "pattern.temporal", err->field);
-            memcpy(err->field, f, sizeof f);
-        }
+    aa_temporal_spec ts = proto_temporal_spec(&rq->spec);
+    int rc = aa_temporal_build(&t, &ts, err);
+    if (rc) {
+        char f[sizeof err->field];
+        proto_join_field(f, sizeof f, "pattern.temporal", err->field);
+        memcpy(err->field, f, sizeof f);
     }
     if (!rc) {
-        size_t na = angle_count;
+        size_t na = rq->angle_count;
         if (!na) {
             static _Thread_local double buf[AA_MAX_ANGLES];
-            na = aa_acuity_default_angles(&acuity, buf, AA_MAX_ANGLES);
+            na = aa_acuity_default_angles(&rq->acuity, buf, AA_MAX_ANGLES);
         }
-        size_t K = spec.cut_frames ? spec.cut_frames : 4 * t.phase_count;
+        size_t K = rq->spec.cut_frames ? rq->spec.cut_frames : 4 * t.phase_count;
         double samples = 0;
         for (size_t g = 0; g < t.group_count; g++)
             samples += (double)t.groups[g].count;
         double work = samples * (double)(2 * t.phase_count + K) * (double)na;
         if (work > (double)EVALUATE_MAX_TEMPORAL_WORK)
-            rc = aa_error_set(err, AA_ERANGE, angle_count ? "angles" : "pattern.temporal",
+            rc = aa_error_set(err, AA_ERANGE, rq->angle_count ? "angles" : "pattern.temporal",
                               "%.3g sample-angle evaluations is more than a synchronous evaluate "
                               "does (%ld); use fewer phases, frame samples, cut frames or angles",
                               work, EVALUATE_MAX_TEMPORAL_WORK);
     }
     if (!rc) {
-        aa_metric_params mp = {
-            .filter = &filter, .acuity = &acuity, .angles_deg = angles, .angle_count = angle_count};
-        rc = aa_temporal_evaluate(&t, &mp, spec.cut_frames, &ev, err);
+        aa_metric_params mp = {.filter = &rq->filter,
+                               .acuity = &rq->acuity,
+                               .angles_deg = rq->angles,
+                               .angle_count = rq->angle_count};
+        rc = aa_temporal_evaluate(&t, &mp, rq->spec.cut_frames, &ev, err);
         have_ev = rc == AA_OK;
         if (rc && strncmp(err->field, "angles", 6)) {
             char f[sizeof err->field];
@@ -141,15 +121,13 @@ static int evaluate_temporal(const json_t *body, const json_t *pj, json_t **answ
         }
     }
     if (!rc) {
-        *answer = proto_encode_temporal_evaluation(&ev, &t, &spec);
+        *answer = proto_encode_temporal_evaluation(&ev, &t, &rq->spec);
         if (*answer)
-            json_object_set_new(*answer, "acuity", proto_encode_acuity_ref(&acuity));
+            json_object_set_new(*answer, "acuity", proto_encode_acuity_ref(&rq->acuity));
     }
     if (have_ev)
         aa_temporal_evaluation_free(&ev);
     aa_temporal_free(&t);
-    proto_temporal_free(&spec);
-    free(angles);
     return rc;
 }
 
@@ -160,21 +138,15 @@ typedef struct evaluate_call {
     eval_cache *cache;
     char *key; /* the cache key (eval_cache_user_key), owned */
     size_t key_len;
-    bool cacheable, detail;
+    bool cacheable;
     json_t *body;
-    aa_pattern pattern;
-    aa_filter filter;
-    aa_acuity acuity;
-    double *angles;
-    size_t angle_count;
-    double lp;
+    proto_evaluate_request rq;
 } evaluate_call;
 
 static void evaluate_call_free(api_deferred *d)
 {
     evaluate_call *c = (evaluate_call *)d;
-    aa_pattern_free(&c->pattern);
-    free(c->angles);
+    proto_evaluate_request_free(&c->rq);
     free(c->key);
     json_decref(c->body);
     free(c);
@@ -185,15 +157,16 @@ static void evaluate_call_run(api_deferred *d, api_response *resp)
     evaluate_call *c = (evaluate_call *)d;
     aa_error err = {0};
     aa_evaluation ev;
-    aa_metric_params mp = {.filter = &c->filter,
-                           .acuity = &c->acuity,
-                           .angles_deg = c->angles,
-                           .angle_count = c->angle_count,
-                           .lp = c->lp};
-    int rc = aa_evaluate(&c->pattern, &mp, &ev, &err);
+    const proto_evaluate_request *rq = &c->rq;
+    aa_metric_params mp = {.filter = &rq->filter,
+                           .acuity = &rq->acuity,
+                           .angles_deg = rq->angles,
+                           .angle_count = rq->angle_count,
+                           .lp = rq->lp};
+    int rc = aa_evaluate(&rq->pattern, &mp, &ev, &err);
     bool have_ev = rc == AA_OK;
     if (rc == AA_OK) {
-        rc = check_finite(&c->pattern, &ev, &err);
+        rc = check_finite(&rq->pattern, &ev, &err);
     } else if (err.field[0] && strncmp(err.field, "angles", 6) && strcmp(err.field, "lp") &&
                strncmp(err.field, "pattern", 7)) {
         char f[sizeof err.field];
@@ -203,9 +176,9 @@ static void evaluate_call_run(api_deferred *d, api_response *resp)
     if (rc) {
         api_reply_aa_error(resp, &err);
     } else {
-        json_t *o = proto_encode_evaluation(&ev, &c->pattern, c->detail);
+        json_t *o = proto_encode_evaluation(&ev, &rq->pattern, rq->detail);
         if (o)
-            json_object_set_new(o, "acuity", proto_encode_acuity_ref(&c->acuity));
+            json_object_set_new(o, "acuity", proto_encode_acuity_ref(&rq->acuity));
         api_reply_json(resp, 200, o);
         if (resp->status == 200 && c->cacheable && c->key)
             eval_cache_put(c->cache, c->key, c->key_len, resp->body, resp->body_len);
@@ -214,27 +187,42 @@ static void evaluate_call_run(api_deferred *d, api_response *resp)
         aa_evaluation_free(&ev);
 }
 
-/* Parses and decodes: 0 with *out set, or an error already answered in resp (or needs_pool
- * without a deferred call: a job reference on an HTTP thread). */
+/* Answers or keeps a request whose decoded form is in c: a temporal pattern is evaluated whole
+ * here (its work, up to EVALUATE_MAX_TEMPORAL_WORK, is far above --inline-work: it never comes
+ * here on an HTTP thread). True when resp holds the answer (c is then freed). */
+static bool evaluate_answer_temporal(evaluate_call *c, api_response *resp)
+{
+    if (!c->rq.temporal)
+        return false;
+    aa_error err = {0};
+    json_t *answer = NULL;
+    if (evaluate_temporal(&c->rq, &answer, &err)) {
+        api_reply_aa_error(resp, &err);
+    } else {
+        api_reply_json(resp, 200, answer);
+        if (resp->status == 200 && c->cacheable && c->key)
+            eval_cache_put(c->cache, c->key, c->key_len, resp->body, resp->body_len);
+    }
+    evaluate_call_free(&c->deferred);
+    return true;
+}
+
+/* Parses, resolves references and decodes: 0 with *out set, or an error already answered in
+ * resp (or needs_pool without a deferred call: a job reference or a temporal pattern on an HTTP
+ * thread). */
 static int evaluate_decode(api_context *ctx, const api_request *req, api_response *resp, char *key,
                            size_t key_len, evaluate_call **out)
 {
     /* key is ours from here: freed on every early return, else owned by the call. */
-    json_t *body = api_parse_body(req, resp);
+    aa_error refs = {0};
+    bool had_refs = false;
+    json_t *body = api_request_body(ctx, req, resp, &refs, &had_refs);
     if (!body) {
         free(key);
         return -1;
     }
-    if (api_reject_unknown(body, evaluate_keys, "", resp)) {
-        json_decref(body);
-        free(key);
-        return -1;
-    }
-    json_t *pj = json_object_get(body, "pattern");
-    /* A job's best pattern changes while it runs: such answers are not cached. */
-    bool has_ref = pj && json_is_object(pj) && json_object_get(pj, "job");
-    /* A job reference reads the job store: never on an HTTP thread. */
-    if (has_ref && req->inline_work_limit) {
+    /* A temporal pattern goes to the pool undecoded. */
+    if (req->inline_work_limit && proto_evaluate_is_temporal(body)) {
         resp->needs_pool = true;
         json_decref(body);
         free(key);
@@ -247,66 +235,21 @@ static int evaluate_decode(api_context *ctx, const api_request *req, api_respons
         api_reply_wire(resp, WIRE_INTERNAL, "", "out of memory");
         return -1;
     }
+    /* A job's best pattern changes while it runs: such answers are not cached. */
     *c = (evaluate_call){.deferred = {.run = evaluate_call_run, .free = evaluate_call_free},
                          .cache = api_context_eval_cache(ctx),
                          .key = key,
                          .key_len = key_len,
-                         .cacheable = !has_ref,
+                         .cacheable = !had_refs,
                          .body = body};
     aa_error err = {0};
-    int rc = AA_OK;
-    if (has_ref)
-        rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
-    pj = json_object_get(body, "pattern");
-    json_t *dj = json_object_get(body, "detail");
-    json_t *lj = json_object_get(body, "lp");
-    if (!rc && !pj)
-        rc = aa_error_set(&err, AA_EINVAL, "pattern", "pattern is required");
-    if (!rc && dj && !json_is_boolean(dj))
-        rc = aa_error_set(&err, AA_EINVAL, "detail", "must be true or false");
-    c->detail = dj && json_is_true(dj);
-    if (!rc && lj) {
-        if (!json_is_number(lj) || !(json_number_value(lj) >= 1) ||
-            !isfinite(json_number_value(lj)))
-            rc = aa_error_set(&err, AA_EINVAL, "lp", "must be a number >= 1");
-        else
-            c->lp = json_number_value(lj);
-    }
-    /* A temporal pattern (docs/temporal.md) is evaluated whole here: never on an HTTP thread
-     * (its work, up to EVALUATE_MAX_TEMPORAL_WORK, is far above --inline-work), so there the
-     * request goes to the pool undecoded. */
-    if (!rc && json_is_object(pj) && json_object_get(pj, "temporal")) {
-        if (req->inline_work_limit) {
-            resp->needs_pool = true;
-        } else {
-            json_t *answer = NULL;
-            rc = evaluate_temporal(body, pj, &answer, &err);
-            if (rc) {
-                api_reply_aa_error(resp, &err);
-            } else {
-                api_reply_json(resp, 200, answer);
-                if (resp->status == 200 && c->cacheable && c->key)
-                    eval_cache_put(c->cache, c->key, c->key_len, resp->body, resp->body_len);
-            }
-        }
-        evaluate_call_free(&c->deferred);
-        return -1;
-    }
-    /* The filter first: a "points" pattern may take its weights from it. */
-    if (!rc)
-        rc = proto_decode_filter(json_object_get(body, "filter"), &c->filter, "filter", &err);
-    if (!rc)
-        rc = proto_decode_pattern_filtered(pj, 0, &c->filter, &c->pattern, "pattern", &err);
-    if (!rc)
-        rc = proto_decode_acuity(json_object_get(body, "acuity"), &c->acuity, "acuity", &err);
-    if (!rc)
-        rc = proto_decode_angles(json_object_get(body, "angles"), &c->angles, &c->angle_count,
-                                 "angles", &err);
-    if (rc) {
+    if (proto_decode_evaluate_request(body, &refs, &c->rq, &err)) {
         api_reply_aa_error(resp, &err);
         evaluate_call_free(&c->deferred);
         return -1;
     }
+    if (evaluate_answer_temporal(c, resp))
+        return -1;
     *out = c;
     return 0;
 }
@@ -342,10 +285,11 @@ void handle_evaluate(api_context *ctx, const api_request *req, api_response *res
     if (evaluate_decode(ctx, req, resp, key, key_len, &c))
         return;
     aa_error err = {0};
-    size_t angles = evaluate_angle_count(&c->acuity, c->angle_count);
-    double work = evaluate_work(&c->pattern, angles);
-    if (check_work(&c->pattern, work, c->angle_count, &err) ||
-        check_detail(&c->pattern, angles, c->detail, &err)) {
+    const proto_evaluate_request *rq = &c->rq;
+    size_t angles = evaluate_angle_count(&rq->acuity, rq->angle_count);
+    double work = evaluate_work(&rq->pattern, angles);
+    if (check_work(&rq->pattern, work, rq->angle_count, &err) ||
+        check_detail(&rq->pattern, angles, rq->detail, &err)) {
         api_reply_aa_error(resp, &err);
         evaluate_call_free(&c->deferred);
         return;

@@ -20,8 +20,7 @@
 #include "job_access.h"
 #include "job_manager.h"
 #include "pointset.h"
-
-static const char *const export_keys[] = {"pattern", "format", "filter", "phase", NULL};
+#include "request_export.h"
 
 /* Answers p in format (already validated); job > 0 is named in the json answer. */
 static void reply_export(api_response *resp, const aa_pattern *p, proto_export_kind kind,
@@ -60,15 +59,12 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
 {
     char fmt[16], ph[24];
     const char *format = api_query_get(req->query, "format", fmt, sizeof fmt);
-    proto_export_kind kind = PROTO_EXPORT_PATTERN;
-    proto_points_format points = PROTO_POINTS_UTK;
-    /* A temporal job's best and the jitter formats are export_temporal_answer's. */
     const char *phase_text = api_query_get(req->query, "phase", ph, sizeof ph);
-    bool jitter_format = false;
-    if (format && !proto_export_format_parse(format, &kind, &points) &&
-        !proto_jitter_format_parse(format, &jitter_format)) {
-        api_reply_wire(resp, WIRE_INVALID_FIELD, "format", "format must be %s, %s",
-                       PROTO_EXPORT_FORMATS, PROTO_JITTER_FORMATS);
+    aa_error err = {0};
+    proto_export_query q;
+    if (proto_decode_export_query(format, phase_text, &q, &err)) {
+        proto_export_query_free(&q);
+        api_reply_aa_error(resp, &err);
         return;
     }
     long long id = api_parse_job_id(id_text);
@@ -78,23 +74,19 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
                      ? job_manager_best_pattern(api_context_jobs(ctx), id, &why)
                      : NULL;
     if (!pj) {
+        proto_export_query_free(&q);
         api_reply_wire(resp, strcmp(why, "no such job") ? WIRE_CONFLICT : WIRE_NOT_FOUND, "id",
                        "job %.40s: %s", id_text, why);
         return;
     }
-    char *end = NULL;
-    long long pv = phase_text ? strtoll(phase_text, &end, 10) : 0;
-    json_t *phase = !phase_text                  ? NULL
-                    : end != phase_text && !*end ? json_integer((json_int_t)pv)
-                                                 : json_string(phase_text);
-    bool answered = export_temporal_answer(resp, pj, format, phase, id);
-    json_decref(phase);
+    /* A temporal job's best and the jitter formats are export_temporal_answer's. */
+    bool answered = export_temporal_answer(resp, pj, format, q.phase, id);
+    proto_export_query_free(&q);
     if (answered) {
         json_decref(pj);
         return;
     }
     aa_pattern p;
-    aa_error err = {0};
     /* Exactly as stored; normalised only if its weights drifted off a sum of 1. */
     int rc = proto_decode_pattern(pj, 0, &p, "pattern", &err);
     if (rc)
@@ -105,53 +97,30 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
                        err.message);
         return;
     }
-    reply_export(resp, &p, kind, points, id);
+    reply_export(resp, &p, q.kind, q.points, id);
     aa_pattern_free(&p);
 }
 
 void handle_export_post(api_context *ctx, const api_request *req, api_response *resp)
 {
-    json_t *body = api_parse_body(req, resp);
+    aa_error refs = {0};
+    json_t *body = api_request_body(ctx, req, resp, &refs, NULL);
     if (!body)
         return;
-    if (api_reject_unknown(body, export_keys, "", resp)) {
-        json_decref(body);
-        return;
-    }
     aa_error err = {0};
-    proto_export_kind kind = PROTO_EXPORT_PATTERN;
-    proto_points_format points = PROTO_POINTS_UTK;
-    const json_t *fj = json_object_get(body, "format");
-    int rc = AA_OK;
-    if (!fj)
-        rc = aa_error_set(&err, AA_EINVAL, "format", "is required: %s", PROTO_EXPORT_FORMATS);
-    else if (!json_is_string(fj))
-        rc = aa_error_set(&err, AA_EINVAL, "format", "must be %s", PROTO_EXPORT_FORMATS);
-    if (!rc && !json_object_get(body, "pattern"))
-        rc = aa_error_set(&err, AA_EINVAL, "pattern", "pattern is required");
-    if (!rc)
-        rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
+    proto_export_request rq;
+    int rc = proto_decode_export_request(body, &refs, &rq, &err);
     /* A temporal pattern, a jitter format or a phase: export_temporal_answer's. */
-    if (!rc && export_temporal_answer(resp, json_object_get(body, "pattern"), json_string_value(fj),
-                                      json_object_get(body, "phase"), 0)) {
+    if (!rc && rq.temporal) {
+        export_temporal_answer(resp, rq.pattern, rq.format, rq.phase, 0);
         json_decref(body);
         return;
     }
-    if (!rc && !proto_export_format_parse(json_string_value(fj), &kind, &points))
-        rc = aa_error_set(&err, AA_EINVAL, "format", "must be %s, %s", PROTO_EXPORT_FORMATS,
-                          PROTO_JITTER_FORMATS);
-    aa_filter filter;
-    if (!rc)
-        rc = proto_decode_filter(json_object_get(body, "filter"), &filter, "filter", &err);
-    aa_pattern p;
-    if (!rc)
-        rc = proto_decode_pattern_filtered(json_object_get(body, "pattern"), 0, &filter, &p,
-                                           "pattern", &err);
     json_decref(body);
     if (rc) {
         api_reply_aa_error(resp, &err);
         return;
     }
-    reply_export(resp, &p, kind, points, 0);
-    aa_pattern_free(&p);
+    reply_export(resp, &rq.decoded, rq.kind, rq.points, 0);
+    aa_pattern_free(&rq.decoded);
 }

@@ -42,12 +42,12 @@ void handle_jobs_post(api_context *ctx, const api_request *req, api_response *re
                        max_spec, req->body_len);
         return;
     }
-    json_t *body = api_parse_body(req, resp);
+    aa_error err = {0};
+    json_t *body = api_request_body(ctx, req, resp, &err, NULL);
     if (!body)
         return;
-    aa_error err = {0};
     long long id = 0;
-    int rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
+    int rc = err.code;
     if (!rc)
         rc = job_manager_submit(api_context_jobs(ctx), body, req->caller.uid, &id, &err);
     json_decref(body);

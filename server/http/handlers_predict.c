@@ -65,11 +65,11 @@ static int check_work(const proto_predict_request *rq, const aa_edge_histogram *
 
 void handle_predict(api_context *ctx, const api_request *req, api_response *resp)
 {
-    json_t *body = api_parse_body(req, resp);
+    aa_error err = {0};
+    json_t *body = api_request_body(ctx, req, resp, &err, NULL);
     if (!body)
         return;
-    aa_error err = {0};
-    int rc = api_resolve_pattern_refs(ctx, &req->caller, body, &err);
+    int rc = err.code;
     proto_predict_request rq;
     memset(&rq, 0, sizeof rq);
     if (!rc)

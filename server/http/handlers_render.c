@@ -27,12 +27,13 @@ void handle_render(api_context *ctx, const api_request *req, api_response *resp)
         api_reply_wire(resp, WIRE_INTERNAL, "", "the tile store is not configured");
         return;
     }
-    json_t *root = api_parse_body(req, resp); /* the one body parser: its errors are UTF-8 */
+    aa_error err = {0};
+    /* the one body parser (its errors are UTF-8), references resolved */
+    json_t *root = api_request_body(ctx, req, resp, &err, NULL);
     if (!root)
         return;
-    aa_error err = {0};
     proto_render_request rq;
-    int rc = proto_decode_render_request(root, &rq, &err);
+    int rc = err.code ? err.code : proto_decode_render_request(root, &rq, &err);
     json_decref(root);
     if (rc) {
         api_reply_aa_error(resp, &err);

@@ -1,11 +1,11 @@
 /* POST /v1/tokens (issue, Unix socket only), GET /v1/tokens (the caller's; root sees all),
- * DELETE /v1/tokens/{id} (revoke: the owner or root). Tokens admit TCP requests as their uid. */
+ * DELETE /v1/tokens/{id} (revoke: the owner or root). Tokens admit TCP requests as their uid.
+ * The POST body is decoded by proto/request_token.c. */
 #include <string.h>
 
 #include "handlers.h"
+#include "request_token.h"
 #include "token_store.h"
-
-static const char *const token_keys[] = {"label", NULL};
 
 void handle_tokens_post(api_context *ctx, const api_request *req, api_response *resp)
 {
@@ -23,22 +23,16 @@ void handle_tokens_post(api_context *ctx, const api_request *req, api_response *
     json_t *body = req->body_len ? api_parse_body(req, resp) : json_object();
     if (!body)
         return;
-    if (api_reject_unknown(body, token_keys, "", resp)) {
-        json_decref(body);
-        return;
-    }
-    json_t *lj = json_object_get(body, "label");
-    if (lj && (!json_is_string(lj) || json_string_length(lj) > TOKEN_LABEL_MAX ||
-               strlen(json_string_value(lj)) != json_string_length(lj))) {
-        json_decref(body);
-        api_reply_wire(resp, WIRE_INVALID_FIELD, "label",
-                       "label must be a string of at most %d bytes", TOKEN_LABEL_MAX);
-        return;
-    }
-    json_t *out = NULL;
     aa_error err = {0};
-    int rc = token_store_issue(api_context_tokens(ctx), req->caller.uid,
-                               lj ? json_string_value(lj) : NULL,
+    proto_token_request rq;
+    if (proto_decode_token_request(body, &rq, &err)) {
+        json_decref(body);
+        api_reply_aa_error(resp, &err);
+        return;
+    }
+    err = (aa_error){0};
+    json_t *out = NULL;
+    int rc = token_store_issue(api_context_tokens(ctx), req->caller.uid, rq.label,
                                api_context_config(ctx)->user_tokens, &out, &err);
     json_decref(body);
     if (rc) {

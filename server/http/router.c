@@ -7,6 +7,7 @@
 #include <strings.h>
 
 #include "handlers.h"
+#include "handlers_render.h"
 #include "token_store.h"
 
 /* Host header names a loopback host: localhost, 127.x.y.z, [::1], with an optional port. */
@@ -92,39 +93,55 @@ typedef enum { ARG_NONE, ARG_TAIL, ARG_JOB_EXPORT, ARG_TILE } arg_kind;
  * body). The HTTP layer answers 413 past the limit before buffering the rest (api_body_limit). */
 typedef enum { BODY_SMALL, BODY_LARGE } body_kind;
 
+/* One row per endpoint: its shape, its body limit, its compute class (api_classify: which
+ * requests the HTTP layer runs on the compute pool), where its body may hold pattern references
+ * (api_request_body resolves them) and its handler. */
 typedef struct route {
     const char *method;
     const char *path; /* exact, or a prefix ending in '/' for ARG_* routes */
     arg_kind arg;
     body_kind body;
+    api_request_class compute;
+    api_refs refs;
     void (*plain)(api_context *, const api_request *, api_response *);
     void (*with_arg)(api_context *, const api_request *, api_response *, const char *);
 } route;
 
+/* An export decodes and writes a posted pattern of up to --max-body, an analysis sums over pairs
+ * of up to 4,096 points: evaluate's class. */
+#define OTHER API_CLASS_OTHER
+#define EVALUATE API_CLASS_EVALUATE
+#define PREDICT API_CLASS_PREDICT
+#define RENDER API_CLASS_RENDER
+#define NO_REFS API_REFS_NONE
+#define REFS API_REFS_ANYWHERE
+#define PATTERN_REF API_REFS_IF_PATTERN
+
 static const route routes[] = {
-    {"GET", "/v1/health", ARG_NONE, BODY_SMALL, handle_health, NULL},
-    {"GET", "/v1/kinds", ARG_NONE, BODY_SMALL, handle_kinds, NULL},
-    {"GET", "/v1/presets", ARG_NONE, BODY_SMALL, handle_presets_list, NULL},
-    {"GET", "/v1/presets/", ARG_TAIL, BODY_SMALL, NULL, handle_preset_get},
-    {"GET", "/v1/filters", ARG_NONE, BODY_SMALL, handle_filters, NULL},
-    {"GET", "/v1/acuity", ARG_NONE, BODY_SMALL, handle_acuity, NULL},
-    {"POST", "/v1/evaluate", ARG_NONE, BODY_LARGE, handle_evaluate, NULL},
-    {"POST", "/v1/analyze", ARG_NONE, BODY_LARGE, handle_analyze, NULL},
-    {"POST", "/v1/jobs", ARG_NONE, BODY_LARGE, handle_jobs_post, NULL},
-    {"GET", "/v1/jobs", ARG_NONE, BODY_SMALL, handle_jobs_list, NULL},
-    {"GET", "/v1/jobs/", ARG_TAIL, BODY_SMALL, NULL, handle_job_get},
-    {"DELETE", "/v1/jobs/", ARG_TAIL, BODY_SMALL, NULL, handle_job_delete},
-    {"PATCH", "/v1/jobs/", ARG_TAIL, BODY_SMALL, NULL, handle_job_patch},
-    {"GET", "/v1/usage", ARG_NONE, BODY_SMALL, handle_usage, NULL},
-    {"POST", "/v1/families/enumerate", ARG_NONE, BODY_SMALL, handle_enumerate, NULL},
-    {"GET", "/v1/patterns/", ARG_JOB_EXPORT, BODY_SMALL, NULL, handle_export},
-    {"POST", "/v1/patterns/export", ARG_NONE, BODY_LARGE, handle_export_post, NULL},
-    {"POST", "/v1/render", ARG_NONE, BODY_LARGE, route_render, NULL},
-    {"POST", "/v1/predict", ARG_NONE, BODY_LARGE, handle_predict, NULL},
-    {"GET", "/v1/tiles/", ARG_TILE, BODY_SMALL, NULL, route_tile},
-    {"POST", "/v1/tokens", ARG_NONE, BODY_SMALL, handle_tokens_post, NULL},
-    {"GET", "/v1/tokens", ARG_NONE, BODY_SMALL, handle_tokens_list, NULL},
-    {"DELETE", "/v1/tokens/", ARG_TAIL, BODY_SMALL, NULL, handle_token_delete},
+    {"GET", "/v1/health", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_health, NULL},
+    {"GET", "/v1/kinds", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_kinds, NULL},
+    {"GET", "/v1/presets", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_presets_list, NULL},
+    {"GET", "/v1/presets/", ARG_TAIL, BODY_SMALL, OTHER, NO_REFS, NULL, handle_preset_get},
+    {"GET", "/v1/filters", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_filters, NULL},
+    {"GET", "/v1/acuity", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_acuity, NULL},
+    {"POST", "/v1/evaluate", ARG_NONE, BODY_LARGE, EVALUATE, PATTERN_REF, handle_evaluate, NULL},
+    {"POST", "/v1/analyze", ARG_NONE, BODY_LARGE, EVALUATE, PATTERN_REF, handle_analyze, NULL},
+    {"POST", "/v1/jobs", ARG_NONE, BODY_LARGE, OTHER, REFS, handle_jobs_post, NULL},
+    {"GET", "/v1/jobs", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_jobs_list, NULL},
+    {"GET", "/v1/jobs/", ARG_TAIL, BODY_SMALL, OTHER, NO_REFS, NULL, handle_job_get},
+    {"DELETE", "/v1/jobs/", ARG_TAIL, BODY_SMALL, OTHER, NO_REFS, NULL, handle_job_delete},
+    {"PATCH", "/v1/jobs/", ARG_TAIL, BODY_SMALL, OTHER, NO_REFS, NULL, handle_job_patch},
+    {"GET", "/v1/usage", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_usage, NULL},
+    {"POST", "/v1/families/enumerate", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_enumerate,
+     NULL},
+    {"GET", "/v1/patterns/", ARG_JOB_EXPORT, BODY_SMALL, OTHER, NO_REFS, NULL, handle_export},
+    {"POST", "/v1/patterns/export", ARG_NONE, BODY_LARGE, EVALUATE, REFS, handle_export_post, NULL},
+    {"POST", "/v1/render", ARG_NONE, BODY_LARGE, RENDER, REFS, handle_render, NULL},
+    {"POST", "/v1/predict", ARG_NONE, BODY_LARGE, PREDICT, REFS, handle_predict, NULL},
+    {"GET", "/v1/tiles/", ARG_TILE, BODY_SMALL, OTHER, NO_REFS, NULL, handle_tile},
+    {"POST", "/v1/tokens", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_tokens_post, NULL},
+    {"GET", "/v1/tokens", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_tokens_list, NULL},
+    {"DELETE", "/v1/tokens/", ARG_TAIL, BODY_SMALL, OTHER, NO_REFS, NULL, handle_token_delete},
 };
 
 /* Does path match the route's shape? Fills arg (a segment without '/'). */
@@ -152,31 +169,28 @@ static bool route_matches(const route *r, const char *path, char *arg, size_t ca
     return true;
 }
 
-size_t api_body_limit(const char *method, const char *path, size_t max_body)
+/* The route for (method, path) exactly (HEAD is not GET here), or NULL. */
+static const route *find_route(const char *method, const char *path)
 {
     char arg[256];
     for (size_t i = 0; method && path && i < sizeof routes / sizeof routes[0]; i++)
         if (!strcmp(routes[i].method, method) && route_matches(&routes[i], path, arg, sizeof arg))
-            return routes[i].body == BODY_LARGE ? max_body
-                   : API_SMALL_BODY < max_body  ? API_SMALL_BODY
-                                                : max_body;
+            return &routes[i];
+    return NULL;
+}
+
+size_t api_body_limit(const char *method, const char *path, size_t max_body)
+{
+    const route *r = find_route(method, path);
+    if (r && r->body == BODY_LARGE)
+        return max_body;
     return API_SMALL_BODY < max_body ? API_SMALL_BODY : max_body;
 }
 
 api_request_class api_classify(const char *method, const char *path)
 {
-    if (!method || !path || strcmp(method, "POST"))
-        return API_CLASS_OTHER;
-    /* An export decodes and writes a posted pattern of up to --max-body, an analysis sums over
-     * pairs of up to 4,096 points: evaluate's share. */
-    if (!strcmp(path, "/v1/evaluate") || !strcmp(path, "/v1/patterns/export") ||
-        !strcmp(path, "/v1/analyze"))
-        return API_CLASS_EVALUATE;
-    if (!strcmp(path, "/v1/predict"))
-        return API_CLASS_PREDICT;
-    if (!strcmp(path, "/v1/render"))
-        return API_CLASS_RENDER;
-    return API_CLASS_OTHER;
+    const route *r = find_route(method, path);
+    return r ? r->compute : API_CLASS_OTHER;
 }
 
 void api_handle(api_context *ctx, const api_request *in, api_response *resp)
@@ -230,6 +244,7 @@ void api_handle(api_context *ctx, const api_request *in, api_response *resp)
                            "send the body as Content-Type: application/json");
             return;
         }
+        caller_req.refs = r->refs;
         if (r->arg == ARG_NONE)
             r->plain(ctx, req, resp);
         else

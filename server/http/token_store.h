@@ -11,9 +11,10 @@
 #include <jansson.h>
 
 #include "aa_core.h"
+#include "request_token.h"
 #include "service_error.h"
 
-#define TOKEN_LABEL_MAX 100
+#define TOKEN_LABEL_MAX PROTO_TOKEN_LABEL_MAX
 /* TOKEN_ENOENT, _EFORBIDDEN, _ESTORE, _EQUOTA (proto/service_error.h) */
 enum { PROTO_SERVICE_TOKEN_ERRORS(PROTO_SERVICE_AS_ENUM) };
 

@@ -14,6 +14,7 @@
 
 #include "api.h"
 #include "api_fixture.h"
+#include "pattern_refs.h"
 
 typedef api_fixture fixture;
 

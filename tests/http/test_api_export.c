@@ -145,6 +145,15 @@ static void test_post_errors(void **state)
      * thread's. */
     assert_int_equal(api_classify("POST", "/v1/patterns/export"), API_CLASS_EVALUATE);
     assert_int_equal(api_classify("GET", "/v1/patterns/3/export"), API_CLASS_OTHER);
+    /* The route table's compute column, for every class. */
+    assert_int_equal(api_classify("POST", "/v1/evaluate"), API_CLASS_EVALUATE);
+    assert_int_equal(api_classify("POST", "/v1/analyze"), API_CLASS_EVALUATE);
+    assert_int_equal(api_classify("POST", "/v1/predict"), API_CLASS_PREDICT);
+    assert_int_equal(api_classify("POST", "/v1/render"), API_CLASS_RENDER);
+    assert_int_equal(api_classify("POST", "/v1/jobs"), API_CLASS_OTHER);
+    assert_int_equal(api_classify("GET", "/v1/evaluate"), API_CLASS_OTHER);
+    assert_int_equal(api_classify("POST", "/v1/evaluate/x"), API_CLASS_OTHER);
+    assert_int_equal(api_classify(NULL, "/v1/evaluate"), API_CLASS_OTHER);
 }
 
 static json_t *wait_done(fixture *f, long long id)
