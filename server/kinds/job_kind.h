@@ -1,7 +1,7 @@
 /* A job kind is what the worker pool can run; the kinds are the rows jobs/kind_list.h lists (GET
- * /v1/kinds lists them with their schemas). Each kind validates its spec when the job is submitted (so a
- * bad spec is a 400 naming the field, never a failed job) and runs on a worker thread, where it
- * reports progress and its error-against-run-time trace through job_ctx and stops promptly when
+ * /v1/kinds lists them with their schemas). Each kind validates its spec when the job is submitted
+ * (so a bad spec is a 400 naming the field, never a failed job) and runs on a worker thread, where
+ * it reports progress and its error-against-run-time trace through job_ctx and stops promptly when
  * job_ctx_cancelled() becomes true. Kinds live in one file each (jobs/kind_<id>.c, which defines
  * the kind's row) and are listed in jobs/kind_list.h. */
 #ifndef AALAB_JOB_KIND_H

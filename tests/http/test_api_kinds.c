@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "api_fixture.h"
+#include "kinds.h"
 #include "schemas_embedded.h"
 
 typedef api_fixture fixture;
@@ -105,6 +106,28 @@ static size_t kind_schema_count(void)
         n += !strncmp(embedded_schemas[i].path, "kinds/", 6) &&
              ends_with(embedded_schemas[i].path, ".spec.json");
     return n;
+}
+
+/* kind_list.h's ids, in order, are the table's kinds with '_' for '-' (kind_<id>.c defines
+ * job_kind_<id>, the row of the kind named <id> with dashes). */
+static void test_kind_list_ids(void **state)
+{
+    static const char *const ids[] = {
+#define KIND(id) #id,
+#include "kind_list.h"
+#undef KIND
+    };
+    size_t count;
+    const job_kind *table = job_kinds_table(&count);
+    assert_int_equal(count, sizeof ids / sizeof ids[0]);
+    for (size_t k = 0; k < count; k++) {
+        char name[64];
+        snprintf(name, sizeof name, "%s", ids[k]);
+        for (char *c = name; *c; c++)
+            *c = *c == '_' ? '-' : *c;
+        assert_string_equal(table[k].name, name);
+        assert_ptr_equal(job_kind_find(name), &table[k]);
+    }
 }
 
 static void test_kinds_listing(void **state)
@@ -312,6 +335,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_animation_best, setup, teardown),
         cmocka_unit_test_setup_teardown(test_kinds_listing, setup, teardown),
+        cmocka_unit_test(test_kind_list_ids),
         cmocka_unit_test_setup_teardown(test_unknown_kind_and_preset, setup, teardown),
         cmocka_unit_test_setup_teardown(test_invalid_at_submit, setup, teardown),
         cmocka_unit_test_setup_teardown(test_list_fields_and_references, setup, teardown),
