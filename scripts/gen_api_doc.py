@@ -9,7 +9,10 @@ docs/api.md is prose with generated blocks between
     <!-- generated:begin table SCHEMA -->  ...  <!-- generated:end -->
     <!-- generated:begin example KIND -->  ...  <!-- generated:end -->
 where SCHEMA is a path under proto/schemas, optionally with #/$defs/NAME. Only the inside of
-those blocks is rewritten."""
+those blocks is rewritten. A job kind with schemas in proto/schemas/kinds but no section yet gets
+one (heading, the spec schema's description, both tables and the example) above the marker
+    <!-- kind sections end -->
+so adding a kind needs no hand edit here; its prose can be written afterwards."""
 
 import json
 import os
@@ -23,7 +26,9 @@ DOC = os.path.join(ROOT, "docs", "api.md")
 BLOCK = re.compile(
     r"(<!-- generated:begin (table|example) (\S+) -->\n)(.*?)(<!-- generated:end -->)", re.S)
 
-# What each kind's curl example prints of the finished job (jq 1.6: keys as .["key"]).
+KINDS_END = "<!-- kind sections end -->"
+# What each kind's curl example prints of the finished job (jq 1.6: keys as .["key"]); a kind
+# not listed prints its whole result (DEFAULT_SUMMARY).
 SUMMARY = {
     "optimize": '.["result"] | [.["e2"], .["family"], .["method"], .["seeds_run"]] | @tsv',
     "family-sweep": ('.["result"]["ranked"][] | [.["rank"], .["e2"], .["config"]["interior"]]'
@@ -42,6 +47,7 @@ SUMMARY = {
                         ' .["predicted_rmse"]] | @tsv'),
     "sleep": '.["result"]["slept_seconds"]',
 }
+DEFAULT_SUMMARY = '.["result"] | tojson'
 
 
 def load(rel):
@@ -213,10 +219,43 @@ def example(kind):
             "aalab_wait \"$ID\"   # prints done\n"
             "curl -sS --unix-socket \"$SOCK\" \"http://aalab/v1/jobs/$ID\" |\n"
             "  jq -r '%s'\n"
-            "```\n") % (body, SUMMARY[kind])
+            "```\n") % (body, SUMMARY.get(kind, DEFAULT_SUMMARY))
+
+
+def kind_names():
+    """Every kind with a spec schema in proto/schemas/kinds, sorted."""
+    tail = ".spec.json"
+    return sorted(f[:-len(tail)] for f in os.listdir(os.path.join(SCHEMA_DIR, "kinds"))
+                  if f.endswith(tail))
+
+
+def kind_section(kind):
+    """A new kind's section: its blocks are filled in by render()."""
+    spec = load("kinds/%s.spec.json" % kind)
+    lines = ["### %s" % kind, ""]
+    if spec.get("description"):
+        lines += [spec["description"], ""]
+    for what in ("spec", "result"):
+        lines += ["<!-- generated:begin table kinds/%s.%s.json -->" % (kind, what),
+                  "<!-- generated:end -->", ""]
+    lines += ["<!-- generated:begin example %s -->" % kind, "<!-- generated:end -->", "", ""]
+    return "\n".join(lines)
+
+
+def add_kind_sections(text):
+    """text with a section for every kind whose example block it lacks, above KINDS_END."""
+    missing = [k for k in kind_names()
+               if "<!-- generated:begin example %s -->" % k not in text]
+    if not missing:
+        return text
+    if KINDS_END not in text:
+        raise SystemExit("docs/api.md lacks the marker %s" % KINDS_END)
+    return text.replace(KINDS_END, "".join(kind_section(k) for k in missing) + KINDS_END, 1)
 
 
 def render(text):
+    text = add_kind_sections(text)
+
     def sub(m):
         what, key = m.group(2), m.group(3)
         inner = table(key) if what == "table" else example(key)

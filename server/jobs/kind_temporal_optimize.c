@@ -283,3 +283,17 @@ static int temporal_optimize_run(void *params, job_ctx *ctx, proto_temporal_opti
 
 JOB_KIND_RESULT(kind_temporal_optimize, proto_temporal_optimize_result, temporal_optimize_run,
                 proto_encode_temporal_optimize_result, proto_temporal_optimize_result_free)
+
+/* The kind's row of the table of kinds (kind_list.h). */
+const job_kind job_kind_temporal_optimize = {
+    .name = "temporal-optimize",
+    .summary = "Multi-start optimisation of a TAA jitter sequence (a family T(N), or a given "
+               "temporal pattern) for the smallest worst-phase E2, optionally plus lambda F2.",
+    .decode = kind_temporal_optimize_decode,
+    .free_params = kind_temporal_optimize_free,
+    .spec_family = kind_temporal_optimize_family,
+    .max_seconds = kind_temporal_optimize_max_seconds,
+    .run = kind_temporal_optimize_run,
+    .encode_result = kind_temporal_optimize_encode_result,
+    .free_result = kind_temporal_optimize_free_result,
+    .best_of = kind_temporal_optimize_best_of};

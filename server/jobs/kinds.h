@@ -1,5 +1,6 @@
-/* The functions of every job kind, one group per kind file (kind_<name>.c); job_kinds.c lists
- * them in the table of kinds. See job_kind.h for what each function does. */
+/* The rows of the table of kinds (one per kind file, kind_<id>.c, listed in kind_list.h), the
+ * macros the kind files build their functions with, and the functions of the kinds that tests
+ * and other kind files use. See job_kind.h for what each function does. */
 #ifndef AALAB_KINDS_H
 #define AALAB_KINDS_H
 
@@ -7,6 +8,14 @@
 
 #include "job_kind.h"
 
+/* The row of each kind, defined in its kind file. */
+#define KIND(id) extern const job_kind job_kind_##id;
+#include "kind_list.h"
+#undef KIND
+
+/* The five functions of a kind's row. A new kind's file declares its own
+ * (JOB_KIND_FUNCTIONS(kind_<id>); above their definitions); the list below is of the kinds whose
+ * functions the tests call directly (tests/jobs). */
 #define JOB_KIND_FUNCTIONS(prefix)                                                                 \
     int prefix##_decode(const json_t *spec, void **params, aa_error *err);                         \
     void prefix##_free(void *params);                                                              \

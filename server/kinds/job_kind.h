@@ -1,9 +1,9 @@
-/* A job kind is what the worker pool can run; the kinds are the rows of jobs/job_kinds.c (GET
- * /v1/kinds lists them with their schemas). Each kind validates its spec when the job is submitted (so a
- * bad spec is a 400 naming the field, never a failed job) and runs on a worker thread, where it
- * reports progress and its error-against-run-time trace through job_ctx and stops promptly when
- * job_ctx_cancelled() becomes true. Kinds live in one file each (jobs/kind_*.c) and are listed
- * in jobs/job_kinds.c. */
+/* A job kind is what the worker pool can run; the kinds are the rows jobs/kind_list.h lists (GET
+ * /v1/kinds lists them with their schemas). Each kind validates its spec when the job is submitted
+ * (so a bad spec is a 400 naming the field, never a failed job) and runs on a worker thread, where
+ * it reports progress and its error-against-run-time trace through job_ctx and stops promptly when
+ * job_ctx_cancelled() becomes true. Kinds live in one file each (jobs/kind_<id>.c, which defines
+ * the kind's row) and are listed in jobs/kind_list.h. */
 #ifndef AALAB_JOB_KIND_H
 #define AALAB_JOB_KIND_H
 
@@ -54,8 +54,8 @@ int job_progress_span_report(void *user, double fraction);
 typedef struct tile_store tile_store;
 tile_store *job_ctx_tiles(job_ctx *ctx);
 
-/* One row of the table of kinds (job_kinds.c). The envelope (kind, label, priority, visibility,
- * pinned) is the job manager's: a kind's decode never sees those keys. */
+/* One row of the table of kinds (job_kind_<id> in kind_<id>.c). The envelope (kind, label,
+ * priority, visibility, pinned) is the job manager's: a kind's decode never sees those keys. */
 typedef struct job_kind {
     const char *name;
     const char *summary; /* one sentence, served by GET /v1/kinds */

@@ -13,11 +13,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, HERE)
 
-from schema_check import schemas  # noqa: E402
+from schema_check import kind_names, schemas  # noqa: E402
 from e2e_lib import Daemon, check  # noqa: E402
 
-KINDS = ["optimize", "family-sweep", "random-stats", "table3", "temporal-optimize", "compare",
-         "animation", "reference-convergence", "temporal-render", "sleep"]
+KINDS = kind_names()  # every kind with a spec schema in proto/schemas/kinds
 DOC = os.path.join(ROOT, "docs", "api.md")
 FENCE = re.compile(r"(<!-- generated:begin example (\S+) -->\n)?```sh\n(.*?)```", re.S)
 

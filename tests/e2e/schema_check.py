@@ -30,6 +30,13 @@ def schema_files():
     return sorted(out)
 
 
+def kind_names():
+    """The job kinds: one kinds/<kind>.spec.json each, sorted by name."""
+    tail = ".spec.json"
+    return [rel[len("kinds/"):-len(tail)] for rel in schema_files()
+            if rel.startswith("kinds/") and rel.endswith(tail)]
+
+
 def load_raw():
     """{relative path: schema as written}; every one checked against the 2020-12 meta-schema."""
     raw = {}

@@ -16,12 +16,11 @@ ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
 
-from schema_check import schemas  # noqa: E402
+from schema_check import kind_names, schemas  # noqa: E402
 import gen_api_doc  # noqa: E402
 import response_check  # noqa: E402
 
-KINDS = ["optimize", "family-sweep", "random-stats", "table3", "temporal-optimize", "compare",
-         "animation", "reference-convergence", "temporal-render", "sleep"]
+KINDS = kind_names()  # every kind with a spec schema in proto/schemas/kinds
 DOC = os.path.join(ROOT, "docs", "api.md")
 BLOCK = re.compile(r"<!-- generated:begin table (\S+) -->\n(.*?)<!-- generated:end -->", re.S)
 

@@ -17,25 +17,7 @@
 #include "kinds.h"
 #include "tile_store.h"
 
-static const job_kind job_kind_compare = {.name = "compare",
-                                          .decode = kind_compare_decode,
-                                          .free_params = kind_compare_free,
-                                          .run = kind_compare_run,
-                                          .encode_result = kind_compare_encode_result,
-                                          .free_result = kind_compare_free_result};
-static const job_kind job_kind_animation = {.name = "animation",
-                                            .decode = kind_animation_decode,
-                                            .free_params = kind_animation_free,
-                                            .run = kind_animation_run,
-                                            .encode_result = kind_animation_encode_result,
-                                            .free_result = kind_animation_free_result};
-static const job_kind job_kind_reference_convergence = {
-    .name = "reference-convergence",
-    .decode = kind_reference_convergence_decode,
-    .free_params = kind_reference_convergence_free,
-    .run = kind_reference_convergence_run,
-    .encode_result = kind_reference_convergence_encode_result,
-    .free_result = kind_reference_convergence_free_result};
+/* The kinds' own rows (job_kind_compare, ... in their kind files) are run. */
 
 /* Stub context: the worker pool is not part of this test. */
 struct job_ctx {
