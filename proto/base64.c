@@ -2,6 +2,7 @@
  * (pointset.h: the points form's "base64"). */
 #include "pointset.h"
 
+#include <assert.h>
 #include <stdint.h>
 #include <stdlib.h>
 
@@ -29,6 +30,7 @@ unsigned char *proto_base64_decode(const char *s, size_t n, size_t *len, size_t 
         *bad_at = (size_t)-1;
         return NULL;
     }
+    assert(s || !n);
     size_t o = 0;
     for (size_t i = 0; i < n; i += 4) {
         int v[4];
@@ -56,12 +58,14 @@ unsigned char *proto_base64_decode(const char *s, size_t n, size_t *len, size_t 
         if (pad < 1)
             out[o++] = (unsigned char)t;
     }
+    assert(o <= n / 4 * 3); /* three bytes at most per four characters: the buffer's size */
     *len = o;
     return out;
 }
 
 char *proto_base64_encode(const unsigned char *b, size_t n)
 {
+    assert(b || !n);
     char *out = malloc((n + 2) / 3 * 4 + 1);
     if (!out)
         return NULL;
@@ -77,6 +81,7 @@ char *proto_base64_encode(const unsigned char *b, size_t n)
         out[o++] = i + 1 < n ? B64[t >> 6 & 63] : '=';
         out[o++] = i + 2 < n ? B64[t & 63] : '=';
     }
+    assert(o == (n + 2) / 3 * 4); /* padded: whole groups of four, what was allocated */
     out[o] = 0;
     return out;
 }

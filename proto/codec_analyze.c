@@ -1,6 +1,7 @@
 /* POST /v1/analyze: decoding the request and encoding the figures (codec_analyze.h). */
 #include "codec_analyze.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -139,8 +140,8 @@ static int decode_temporal_points(const json_t *pat, const aa_filter *filter, aa
     size_t n = t.count * per_frame;
     if (!rc && (per_frame > AA_POINT_SET_MAX || n > AA_POINT_SET_MAX))
         rc = aa_error_set(err, AA_ERANGE, "pattern.temporal",
-                          "%zu frames of %zu samples: the analysis takes at most %d points", t.count,
-                          per_frame, AA_POINT_SET_MAX);
+                          "%zu frames of %zu samples: the analysis takes at most %d points",
+                          t.count, per_frame, AA_POINT_SET_MAX);
     if (!rc && !(pts = malloc(n * sizeof *pts)))
         rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     for (size_t f = 0; !rc && f < t.count; f++)
@@ -240,6 +241,7 @@ static json_t *real_or_null(double x)
 
 static json_t *real_array(const double *v, size_t n)
 {
+    assert(v || !n);
     json_t *a = json_array();
     for (size_t i = 0; a && i < n; i++)
         if (json_array_append_new(a, real_or_null(v[i]))) {

@@ -325,6 +325,7 @@ int proto_decode_pattern_filtered(const json_t *j, unsigned flags, const aa_filt
 
 static json_t *encode_samples(const aa_sample *s, size_t n)
 {
+    assert(s || !n);
     json_t *a = json_array();
     for (size_t i = 0; a && i < n; i++)
         json_array_append_new(a, json_pack("[fff]", s[i].x, s[i].y, s[i].w));
@@ -362,7 +363,13 @@ static const char *form_name(aa_pattern_form f)
 
 json_t *proto_encode_pattern(const aa_pattern *p)
 {
+    /* A pattern from the engine's constructors (or the decoder): every count has its array, a
+     * mirrored pattern keeps its source pixel and a tile pattern its tile. */
     assert(p);
+    assert(p->kernels || !p->kernel_count);
+    assert(p->form != AA_FORM_MIRRORED || p->source || !p->source_count);
+    assert(p->form != AA_FORM_TILE ||
+           (p->tile >= 1 && p->kernel_size >= 1 && (p->tile_samples || !p->tile_count)));
     json_t *o = json_pack("{s:s,s:o,s:s}", "family", p->family, "cost_spp", proto_real(p->cost_spp),
                           "form", form_name(p->form));
     if (!o)

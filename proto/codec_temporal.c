@@ -2,6 +2,7 @@
 #include "codec_temporal.h"
 #include "codec_internal.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -371,6 +372,7 @@ int proto_decode_temporal(const json_t *j, proto_temporal *out, const char *fiel
 
 static json_t *real_array(const double *v, size_t n)
 {
+    assert(v || !n);
     json_t *a = json_array();
     for (size_t i = 0; a && i < n; i++)
         json_array_append_new(a, proto_real(v[i]));

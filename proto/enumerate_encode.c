@@ -1,5 +1,6 @@
 #include "enumerate_encode.h"
 
+#include <assert.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
@@ -36,6 +37,7 @@ static void describe(const aa_mirrored_config *c, char *out, size_t cap)
 
 json_t *enumerate_encode(double cost, const aa_mirrored_config *configs, size_t count)
 {
+    assert(configs || !count);
     json_t *list = json_array();
     if (!list)
         return NULL;

@@ -11,6 +11,7 @@
  * else; the point count is the file's size / 8. */
 #include "pointset.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -241,6 +242,7 @@ char *proto_pointset_write_binary(const proto_pointset *ps, proto_points_format 
         put_u32(b + 16, 2);
     }
     unsigned char *q = b + head;
+    assert(ps->points || !ps->count);
     for (size_t i = 0; i < ps->count; i++) {
         double v[2] = {ps->points[i].x, ps->points[i].y};
         for (int k = 0; k < 2; k++, q += size) {
@@ -257,6 +259,7 @@ char *proto_pointset_write_binary(const proto_pointset *ps, proto_points_format 
             }
         }
     }
+    assert((size_t)(q - b) + tn == n); /* the points filled what was sized for them */
     if (tn)
         memcpy(q, trailer, tn);
     free(trailer);

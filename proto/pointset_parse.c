@@ -3,6 +3,7 @@
  * pointset_binary.c. */
 #include "pointset.h"
 
+#include <assert.h>
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
@@ -64,6 +65,7 @@ void proto_pointset_free(proto_pointset *ps)
 
 int proto_pointset_push(proto_pointset *ps, size_t *cap, proto_point p, size_t where)
 {
+    assert(ps->count <= *cap); /* *cap is the size of both points and where */
     if (ps->count == *cap) {
         size_t n = *cap ? *cap * 2 : 64;
         proto_point *pts = realloc(ps->points, n * sizeof *pts);

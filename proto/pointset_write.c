@@ -1,6 +1,7 @@
 /* Point sets -> text (pointset.h), and the export format names. */
 #include "pointset.h"
 
+#include <assert.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -97,6 +98,7 @@ static char *write_json(const proto_pointset *ps, size_t *len)
 
 char *proto_pointset_write(const proto_pointset *ps, proto_points_format fmt, size_t *len)
 {
+    assert(ps->points || !ps->count); /* a set from the parser or proto_export_points */
     if (fmt == PROTO_POINTS_JSON)
         return write_json(ps, len);
     if (proto_points_format_is_binary(fmt))

@@ -9,6 +9,7 @@ import sys
 # Lowest first. A folder, or a file of server/ itself (by name without extension).
 LAYERS = [
     "engine",       # the library: no I/O, nothing above it
+    "lock_held",    # ASSERT_LOCK_HELD, the _locked functions' precondition (header only)
     "owned_path",   # small helpers of server/ with no server includes
     "fallback_dir",
     "install_paths",  # where the installed web directory is (config.c's default)

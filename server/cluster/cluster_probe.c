@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "lock_held.h"
 #include "slurm_commands.h"
 
 struct cluster_probe {
@@ -25,6 +26,7 @@ struct cluster_probe {
 /* Waits (p->lock held) up to seconds, or until stopped or housekeeping is due. */
 static void wait_for_next_round(cluster_probe *p, double seconds)
 {
+    ASSERT_LOCK_HELD(&p->lock);
     struct timespec until;
     clock_gettime(CLOCK_REALTIME, &until);
     long long ns = (long long)until.tv_nsec + (long long)(seconds * 1e9);

@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "key_counts.h"
+#include "lock_held.h"
 #include "peer_identity.h"
 
 typedef struct slot {
@@ -119,6 +120,7 @@ conn_admit_result conn_admission_admit(conn_admission *ca, int fd, const struct 
 /* The admitted connection on fd, or NULL. Lock held. */
 static const slot *slot_of_locked(const conn_admission *ca, int fd)
 {
+    ASSERT_LOCK_HELD(&ca->lock);
     return fd >= 0 && (size_t)fd < ca->cap && ca->by_fd[fd].used ? &ca->by_fd[fd] : NULL;
 }
 

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lock_held.h"
+
 #define EVAL_CACHE_MAX_KEY (64u << 10)   /* larger requests are not cached */
 #define EVAL_CACHE_MAX_BYTES (64u << 20) /* keys + values held at most */
 #define EVAL_CACHE_MAX_VALUE (8u << 20)  /* larger answers are not cached */
@@ -70,8 +72,10 @@ void eval_cache_destroy(eval_cache *c)
     free(c);
 }
 
+/* The list and the buckets below are guarded by c->lock. */
 static void lru_unlink(eval_cache *c, entry *e)
 {
+    ASSERT_LOCK_HELD(&c->lock);
     if (e->prev)
         e->prev->next = e->next;
     else
@@ -85,6 +89,7 @@ static void lru_unlink(eval_cache *c, entry *e)
 
 static void lru_push_front(eval_cache *c, entry *e)
 {
+    ASSERT_LOCK_HELD(&c->lock);
     e->next = c->head;
     e->prev = NULL;
     if (c->head)
@@ -96,6 +101,7 @@ static void lru_push_front(eval_cache *c, entry *e)
 
 static entry *find(eval_cache *c, uint64_t h, const char *key, size_t n)
 {
+    ASSERT_LOCK_HELD(&c->lock);
     for (entry *e = c->buckets[h % c->nbuckets]; e; e = e->chain)
         if (e->hash == h && e->key_len == n && !memcmp(e->key, key, n))
             return e;
@@ -143,6 +149,7 @@ bool eval_cache_contains(eval_cache *c, const char *key, size_t key_len)
 
 static void bucket_remove(eval_cache *c, entry *e)
 {
+    ASSERT_LOCK_HELD(&c->lock);
     for (entry **p = &c->buckets[e->hash % c->nbuckets]; *p; p = &(*p)->chain) {
         if (*p == e) {
             *p = e->chain;

@@ -17,6 +17,7 @@
 #include <openssl/evp.h>
 #include <sqlite3.h>
 
+#include "lock_held.h"
 #include "owned_path.h"
 
 #define SECRET_BYTES 32
@@ -40,9 +41,9 @@ struct token_store {
     size_t n_live, cap_live;
 };
 
-/* Under the lock. */
 static int remember(token_store *ts, long long id, long long uid, const unsigned char *hash)
 {
+    ASSERT_LOCK_HELD(&ts->lock);
     if (ts->n_live == ts->cap_live) {
         size_t cap = ts->cap_live ? 2 * ts->cap_live : 16;
         token_entry *grown = realloc(ts->live, cap * sizeof *grown);
@@ -58,16 +59,19 @@ static int remember(token_store *ts, long long id, long long uid, const unsigned
     return AA_OK;
 }
 
+/* At open, before the store is shared: the lock is only remember's precondition. */
 static int load_live(token_store *ts)
 {
     sqlite3_stmt *q;
     if (sqlite3_prepare_v2(ts->db, "SELECT id, uid, hash FROM tokens", -1, &q, NULL) != SQLITE_OK)
         return TOKEN_ESTORE;
     int rc = AA_OK;
+    pthread_mutex_lock(&ts->lock);
     while (rc == AA_OK && sqlite3_step(q) == SQLITE_ROW)
         if (sqlite3_column_bytes(q, 2) == HASH_BYTES)
             rc = remember(ts, sqlite3_column_int64(q, 0), sqlite3_column_int64(q, 1),
                           sqlite3_column_blob(q, 2));
+    pthread_mutex_unlock(&ts->lock);
     sqlite3_finalize(q);
     return rc;
 }

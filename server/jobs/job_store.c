@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "lock_held.h"
 #include "owned_path.h"
 
 static const char *const state_names[JOB_STATE_COUNT] = {"queued", "running",   "done",
@@ -22,6 +23,13 @@ const char *job_state_name(job_state s)
 bool job_state_final(job_state s)
 {
     return s == JOB_DONE || s == JOB_FAILED || s == JOB_CANCELLED || s == JOB_INTERRUPTED;
+}
+
+bool job_state_edge_legal(job_state from, job_state to)
+{
+    if ((unsigned)to >= JOB_STATE_COUNT)
+        return false;
+    return from == JOB_QUEUED || from == JOB_RUNNING;
 }
 
 job_state job_state_from_name(const char *n)
@@ -50,6 +58,7 @@ void job_store_reader_release(job_store_reader *r)
 
 void job_store_sync(job_store *st, bool full)
 {
+    ASSERT_LOCK_HELD(&st->lock);
     if (st->sync_full == full)
         return;
     if (sqlite3_exec(st->db, full ? "PRAGMA synchronous=FULL" : "PRAGMA synchronous=NORMAL", NULL,

@@ -54,6 +54,11 @@ enum { PROTO_SERVICE_JOB_STORE_ERRORS(PROTO_SERVICE_AS_ENUM) };
 
 const char *job_state_name(job_state s);
 bool job_state_final(job_state s);
+/* The state machine's edges, as the store writes them: a job leaves only queued or running.
+ * queued -> running when it starts; queued or running -> done, failed, cancelled or interrupted
+ * when it ends; queued or running -> queued when a restart re-queues it, running -> running
+ * when a restart re-attaches it to its Slurm arrays. A final state never changes. */
+bool job_state_edge_legal(job_state from, job_state to);
 
 /* Opens or creates dir/jobs.db (migrating a database of an older schema); runs PRAGMA
  * integrity_check (AA_EINVAL if it fails). */

@@ -2,6 +2,7 @@
  * the row's bytes column (spec + best + trace + result + error) up to date and refuses to take
  * an owner over the user quota (job_store.h). JSON is encoded before the mutex is taken. */
 #define _POSIX_C_SOURCE 200809L
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,6 +10,7 @@
 
 #include "job_derived.h"
 #include "job_store_impl.h"
+#include "lock_held.h"
 #include "wire_error.h"
 
 /* A JSON value encoded for a column, derived keys stripped; text NULL = SQL NULL. */
@@ -76,6 +78,7 @@ static int step_done(sqlite3_stmt *q)
  * Caller holds st->lock. */
 static void trim(job_store *st)
 {
+    ASSERT_LOCK_HELD(&st->lock);
     sqlite3_stmt *q;
     long long free_pages = 0;
     if (sqlite3_prepare_v2(st->db, "PRAGMA freelist_count", -1, &q, NULL) == SQLITE_OK) {
@@ -90,6 +93,7 @@ static void trim(job_store *st)
 /* Stored bytes plus reserves of owner's jobs other than `except`. Caller holds st->lock. */
 static long long usage_except(job_store *st, long long owner, long long except)
 {
+    ASSERT_LOCK_HELD(&st->lock);
     sqlite3_stmt *q;
     long long sum = 0;
     if (sqlite3_prepare_v2(st->db,
@@ -173,10 +177,31 @@ int job_store_insert(job_store *st, const job_store_new *job, long long *id, aa_
     return out;
 }
 
+#ifndef NDEBUG
+/* May the row go to `to` from its stored state (job_state_edge_legal)? No row: the write
+ * changes nothing. Debug builds only (asserts): one more query per state change. */
+static bool stored_edge_legal(job_store *st, long long id, job_state to)
+{
+    ASSERT_LOCK_HELD(&st->lock);
+    sqlite3_stmt *q;
+    bool legal = true;
+    if (sqlite3_prepare_v2(st->db, "SELECT state FROM jobs WHERE id = ?", -1, &q, NULL) ==
+        SQLITE_OK) {
+        sqlite3_bind_int64(q, 1, id);
+        if (sqlite3_step(q) == SQLITE_ROW)
+            legal = job_state_edge_legal(
+                job_state_from_name((const char *)sqlite3_column_text(q, 0)), to);
+        sqlite3_finalize(q);
+    }
+    return legal;
+}
+#endif
+
 int job_store_set_state(job_store *st, long long id, job_state state, double when,
                         const char *reason)
 {
     pthread_mutex_lock(&st->lock);
+    assert(stored_edge_legal(st, id, state));
     job_store_sync(st, true);
     sqlite3_stmt *q;
     const char *sql = state == JOB_RUNNING
@@ -223,6 +248,7 @@ typedef struct row_sizes {
 
 static bool read_sizes(job_store *st, long long id, row_sizes *s)
 {
+    ASSERT_LOCK_HELD(&st->lock);
     sqlite3_stmt *q;
     bool found = false;
     if (sqlite3_prepare_v2(st->db,
@@ -318,6 +344,7 @@ int job_store_finish(job_store *st, long long id, job_state state, double progre
             e = encode(error, false);
     char quota_reason[256] = "";
     pthread_mutex_lock(&st->lock);
+    assert(stored_edge_legal(st, id, state));
     job_store_sync(st, true);
     int rc = JOB_STORE_EWRITE;
     row_sizes s;

@@ -26,6 +26,7 @@
 #include "job_split_local.h"
 #include "job_table3.h"
 #include "kinds.h"
+#include "lock_held.h"
 #include "optimizer_bridge.h"
 #include "split_ranges.h"
 
@@ -152,6 +153,7 @@ static bool hub_progress(void *user, double fraction, json_t *best_so_far)
 /* The cells' summed work and best E2 (h->lock held). */
 static job_trace_point hub_total_locked(const cell_hub *h)
 {
+    ASSERT_LOCK_HELD(&h->lock);
     job_trace_point t = {0, 0, 0, INFINITY};
     for (size_t k = 0; k < h->count; k++) {
         t.seconds += h->work[k].seconds;
@@ -302,7 +304,10 @@ static int run_shard(const void *params, int stage, const json_t *shard, const j
             *err = slots[k].err;
         }
     if (!rc) {
-        job_trace_point total = hub_total_locked(&hub); /* the threads have joined */
+        /* The threads have joined: the lock is uncontended, taken for hub_total_locked. */
+        pthread_mutex_lock(&hub.lock);
+        job_trace_point total = hub_total_locked(&hub);
+        pthread_mutex_unlock(&hub.lock);
         if (ctx->trace)
             ctx->trace(ctx->user, &total); /* the shard's last point: its whole work */
         rc = shard_output(sp, seed, slots, output, err);

@@ -8,6 +8,7 @@
 
 #include "aa_core.h"
 #include "cluster_layout.h"
+#include "lock_held.h"
 
 #define TRACE_WRITE_INTERVAL 2.0 /* seconds between rewrites of the trace file */
 #define POINT_MIN_INTERVAL 0.1   /* as the daemon's job trace: at most 10 points a second */
@@ -46,6 +47,7 @@ static json_t *real_or_null(double v)
 /* Under lock. */
 static int write_locked(worker_report *r, aa_error *err)
 {
+    ASSERT_LOCK_HELD(&r->lock);
     json_t *j = json_pack("{s:s,s:o,s:o,s:O}", "format", "aalab-shard-trace/1", "started_unix",
                           json_real(r->started_unix), "progress", json_real(r->progress), "points",
                           r->points ? r->points : json_array());
@@ -68,6 +70,7 @@ int worker_report_write(worker_report *r, aa_error *err)
 /* Rewrites the trace when its interval has passed; a failure stops the shard. */
 static void maybe_write_locked(worker_report *r)
 {
+    ASSERT_LOCK_HELD(&r->lock);
     if (r->write_failed || aa_monotonic_seconds() - r->last_write < TRACE_WRITE_INTERVAL)
         return;
     if (write_locked(r, &r->err))

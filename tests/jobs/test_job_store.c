@@ -1,13 +1,16 @@
 /* SQLite job store: insert, state changes, persistence across close/reopen, recovery visitor,
  * integrity check; the per-user byte quota, retention, migration of a first-schema database,
- * the list's viewer filter and derived pattern keys kept out of the database. */
+ * the list's viewer filter and derived pattern keys kept out of the database; the state
+ * machine's edges (asserted where the store writes a state in Debug builds). */
 #define _GNU_SOURCE
 #include <setjmp.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -550,6 +553,61 @@ static void test_corrupt_file_refused(void **state)
     remove_dir(dir);
 }
 
+/* The state machine's edges (job_store.h): only queued and running jobs change state. */
+static void test_state_edges(void **state)
+{
+    (void)state;
+    for (int from = 0; from < JOB_STATE_COUNT; from++)
+        for (int to = 0; to < JOB_STATE_COUNT; to++)
+            assert_int_equal(job_state_edge_legal((job_state)from, (job_state)to),
+                             from == JOB_QUEUED || from == JOB_RUNNING);
+    assert_false(job_state_edge_legal(JOB_QUEUED, (job_state)JOB_STATE_COUNT));
+}
+
+#ifndef NDEBUG
+/* In a child: rewrites a finished job's state, which must die on the store's edge assert. */
+static bool rewrite_aborts(job_store *st, long long id, bool finish)
+{
+    fflush(NULL);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        freopen("/dev/null", "w", stderr); /* the assert's message is expected */
+        if (finish)
+            job_store_finish(st, id, JOB_FAILED, 1, NULL, NULL, NULL, NULL, NULL, 9.0);
+        else
+            job_store_set_state(st, id, JOB_RUNNING, 9.0, NULL);
+        _exit(0);
+    }
+    int status = 0;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    return WIFSIGNALED(status) && WTERMSIG(status) == SIGABRT;
+}
+
+/* Debug builds assert the edge where the store writes a state (Release compiles the check out:
+ * the job manager never writes a finished job's state again). */
+static void test_final_state_rewrite_aborts(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/aalab-test-store-XXXXXX";
+    job_store *st = open_new_store(dir);
+    json_t *spec = json_pack("{s:s,s:f}", "kind", "sleep", "seconds", 1.0);
+    long long id;
+    assert_int_equal(insert(st, spec, 1000, 1.0, &id), AA_OK);
+    assert_int_equal(job_store_set_state(st, id, JOB_RUNNING, 2.0, NULL), AA_OK);
+    assert_int_equal(job_store_finish(st, id, JOB_DONE, 1, NULL, NULL, NULL, NULL, NULL, 3.0),
+                     AA_OK);
+    assert_true(rewrite_aborts(st, id, true));
+    assert_true(rewrite_aborts(st, id, false));
+    long long counts[JOB_STATE_COUNT];
+    job_store_counts(st, counts);
+    assert_int_equal(counts[JOB_DONE], 1); /* the children changed nothing */
+    json_decref(spec);
+    job_store_close(st);
+    remove_dir(dir);
+}
+#endif
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -560,6 +618,10 @@ int main(void)
         cmocka_unit_test(test_list_filter_by_viewer),
         cmocka_unit_test(test_derived_keys_not_stored),
         cmocka_unit_test(test_corrupt_file_refused),
+        cmocka_unit_test(test_state_edges),
+#ifndef NDEBUG
+        cmocka_unit_test(test_final_state_rewrite_aborts),
+#endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

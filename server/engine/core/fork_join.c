@@ -1,6 +1,7 @@
 #define _POSIX_C_SOURCE 200809L /* pthreads */
 #include "fork_join.h"
 
+#include <assert.h>
 #include <pthread.h>
 #include <stdbool.h>
 #include <stdlib.h>
@@ -23,6 +24,7 @@ void aa_fork_join(void *items, size_t item_size, int count, void (*task)(void *i
 {
     if (count <= 0)
         return;
+    assert(items && task && (count == 1 || item_size > 0));
     char *base = items;
     /* Without memory for the thread handles every item runs here, one after another. */
     fork_item *f = count > 1 ? calloc((size_t)count, sizeof *f) : NULL;

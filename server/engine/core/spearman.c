@@ -1,5 +1,6 @@
 #include "spearman.h"
 
+#include <assert.h>
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -22,6 +23,7 @@ static int cmp_ranked(const void *a, const void *b)
 
 int aa_rank_average(const double *v, size_t n, double *ranks)
 {
+    assert((v && ranks) || !n);
     ranked *r = malloc((n ? n : 1) * sizeof *r);
     if (!r)
         return AA_ENOMEM;

@@ -1,5 +1,6 @@
 #include "optimizer_state.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -7,6 +8,7 @@
 
 void opt_point_clamp(opt_point *p)
 {
+    assert(p->lo_x <= p->hi_x && p->lo_y <= p->hi_y); /* set_box: never an empty box */
     p->x = fmin(fmax(p->x, p->lo_x), p->hi_x);
     p->y = fmin(fmax(p->y, p->lo_y), p->hi_y);
 }
@@ -149,6 +151,7 @@ void opt_state_apply(opt_state *st)
         aa_kernel *ker = &st->work.kernels[k];
         for (size_t i = 0; i < ker->count; i++) {
             const opt_ref *r = &st->refs[k][i];
+            assert(r->point < st->point_count && r->weight < st->weight_count);
             const opt_point *p = &st->points[r->point];
             ker->samples[i].x = r->sx * p->x + r->ox;
             ker->samples[i].y = r->sy * p->y + r->oy;
@@ -160,8 +163,11 @@ void opt_state_apply(opt_state *st)
 void opt_state_normalize_weights(opt_state *st)
 {
     double sums[AA_MAX_KERNELS] = {0};
-    for (size_t s = 0; s < st->weight_count; s++)
+    assert(st->group_count <= AA_MAX_KERNELS); /* a group is a kernel, or the one mirrored */
+    for (size_t s = 0; s < st->weight_count; s++) {
+        assert(st->weight_group[s] < st->group_count);
         sums[st->weight_group[s]] += st->weights[s];
+    }
     for (size_t s = 0; s < st->weight_count; s++) {
         double sum = sums[st->weight_group[s]];
         if (fabs(sum) > 1e-12)

@@ -1,6 +1,7 @@
 /* Float grey images, error statistics and 8-bit conversions (image.h). */
 #include "image.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -113,6 +114,7 @@ void aa_image_to_gray8(const aa_image *img, uint8_t *out)
 void aa_image_difference_gray8(const aa_image *a, const aa_image *r, double full_scale,
                                uint8_t *out)
 {
+    assert(a->width == r->width && a->height == r->height && full_scale > 0);
     size_t n = (size_t)a->width * (size_t)a->height;
     for (size_t k = 0; k < n; k++)
         out[k] = to_byte(1.0 - fabs((double)a->px[k] - (double)r->px[k]) / full_scale);
@@ -120,6 +122,9 @@ void aa_image_difference_gray8(const aa_image *a, const aa_image *r, double full
 
 void aa_gray8_crop_magnify(const uint8_t *in, int width, aa_rect crop, int scale, uint8_t *out)
 {
+    /* The crop lies inside the image: proto_decode_crop refuses one that does not. */
+    assert(scale >= 1 && crop.x0 >= 0 && crop.y0 >= 0 && crop.x0 <= crop.x1 && crop.y0 <= crop.y1 &&
+           crop.x1 <= width);
     int cw = crop.x1 - crop.x0, ch = crop.y1 - crop.y0;
     size_t ow = (size_t)cw * (size_t)scale;
     for (int y = 0; y < ch * scale; y++) {

@@ -1,6 +1,7 @@
 /* Pattern rasterisation with shared global samples (raster.h). */
 #include "raster.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -27,6 +28,7 @@ static double kernel_extent(const aa_pattern *p)
 
 static int floor_div(int a, int b)
 {
+    assert(b > 0); /* a tile size */
     return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
 
@@ -47,11 +49,15 @@ static double shared_pixel(shared_render *r, int i, int j)
 {
     int T = r->T, ci = floor_div(i, T), cj = floor_div(j, T);
     size_t k = (size_t)(j - cj * T) * T + (size_t)(i - ci * T);
+    assert(k < r->p->kernel_count); /* a tile pattern has T*T kernels, one per tile pixel */
     const aa_kernel *ker = &r->p->kernels[k];
     double sum = 0;
     for (size_t n = 0; n < ker->count; n++) {
         size_t t = ker->tile_index[n];
         int a = ci + r->da[r->first[k] + n], b = cj + r->db[r->first[k] + n];
+        /* render_shared sized the cache to the cells every pixel of the region reads */
+        assert(!r->cache ||
+               (a >= r->cx0 && a < r->cx0 + r->ncx && b >= r->cy0 && b < r->cy0 + r->ncy));
         size_t idx = ((size_t)(b - r->cy0) * r->ncx + (size_t)(a - r->cx0)) * r->p->tile_count + t;
         float v = r->cache ? r->cache[idx] : NAN;
         if (isnan(v)) {
