@@ -252,7 +252,7 @@ static void test_optimize_scene_objective(void **state)
     aa_error err = {0};
     assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
     assert_true(s.objective.enabled);
-    assert_int_equal(s.objective.scene.kind, AA_SCENE_HALF_PLANE);
+    assert_int_equal(s.objective.scene.shape, AA_SCENE_HALF_PLANE);
     assert_int_equal(s.objective.scene.width, 64);
     assert_int_equal(s.objective.scene.height, 32);
     assert_true(s.objective.scene.angle_deg == 2 && s.objective.scene.offset == 0.37);
@@ -262,7 +262,7 @@ static void test_optimize_scene_objective(void **state)
     j = parse("{\"family\":\"P(1,1,4)\",\"objective\":{\"scene\":\"siemens-star\"}}");
     assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
     assert_true(s.objective.enabled && s.objective.blend == 0);
-    assert_int_equal(s.objective.scene.kind, AA_SCENE_SIEMENS_STAR);
+    assert_int_equal(s.objective.scene.shape, AA_SCENE_SIEMENS_STAR);
     proto_optimize_spec_free(&s);
     json_decref(j);
     j = parse("{\"family\":\"P(1,1,4)\"}");
