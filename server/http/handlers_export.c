@@ -24,22 +24,22 @@
 static const char *const export_keys[] = {"pattern", "format", "filter", "phase", NULL};
 
 /* Answers p in format (already validated); job > 0 is named in the json answer. */
-static void reply_export(api_response *resp, const aa_pattern *p, proto_export_kind kind,
+static void reply_export(api_response *resp, const aa_pattern *p, proto_export_writer writer,
                          proto_points_format points, long long job)
 {
-    if (kind == PROTO_EXPORT_PATTERN) {
+    if (writer == PROTO_EXPORT_PATTERN) {
         json_t *o = job > 0 ? json_pack("{s:I}", "job", (json_int_t)job) : json_object();
         if (o)
             json_object_set_new(o, "pattern", proto_encode_pattern(p));
         api_reply_json(resp, 200, o);
         return;
     }
-    if (kind == PROTO_EXPORT_METAL) {
+    if (writer == PROTO_EXPORT_METAL) {
         api_reply_json(resp, 200, proto_export_metal(p));
         return;
     }
-    if (kind != PROTO_EXPORT_POINTS) {
-        api_reply_json(resp, 200, proto_export_gpu(p, kind == PROTO_EXPORT_D3D12));
+    if (writer != PROTO_EXPORT_POINTS) {
+        api_reply_json(resp, 200, proto_export_gpu(p, writer == PROTO_EXPORT_D3D12));
         return;
     }
     size_t len = 0;
@@ -60,12 +60,12 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
 {
     char fmt[16], ph[24];
     const char *format = api_query_get(req->query, "format", fmt, sizeof fmt);
-    proto_export_kind kind = PROTO_EXPORT_PATTERN;
+    proto_export_writer writer = PROTO_EXPORT_PATTERN;
     proto_points_format points = PROTO_POINTS_UTK;
     /* A temporal job's best and the jitter formats are export_temporal_answer's. */
     const char *phase_text = api_query_get(req->query, "phase", ph, sizeof ph);
     bool jitter_format = false;
-    if (format && !proto_export_format_parse(format, &kind, &points) &&
+    if (format && !proto_export_format_parse(format, &writer, &points) &&
         !proto_jitter_format_parse(format, &jitter_format)) {
         api_reply_wire(resp, WIRE_INVALID_FIELD, "format", "format must be %s, %s",
                        PROTO_EXPORT_FORMATS, PROTO_JITTER_FORMATS);
@@ -105,7 +105,7 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
                        err.message);
         return;
     }
-    reply_export(resp, &p, kind, points, id);
+    reply_export(resp, &p, writer, points, id);
     aa_pattern_free(&p);
 }
 
@@ -119,7 +119,7 @@ void handle_export_post(api_context *ctx, const api_request *req, api_response *
         return;
     }
     aa_error err = {0};
-    proto_export_kind kind = PROTO_EXPORT_PATTERN;
+    proto_export_writer writer = PROTO_EXPORT_PATTERN;
     proto_points_format points = PROTO_POINTS_UTK;
     const json_t *fj = json_object_get(body, "format");
     int rc = AA_OK;
@@ -137,7 +137,7 @@ void handle_export_post(api_context *ctx, const api_request *req, api_response *
         json_decref(body);
         return;
     }
-    if (!rc && !proto_export_format_parse(json_string_value(fj), &kind, &points))
+    if (!rc && !proto_export_format_parse(json_string_value(fj), &writer, &points))
         rc = aa_error_set(&err, AA_EINVAL, "format", "must be %s, %s", PROTO_EXPORT_FORMATS,
                           PROTO_JITTER_FORMATS);
     aa_filter filter;
@@ -152,6 +152,6 @@ void handle_export_post(api_context *ctx, const api_request *req, api_response *
         api_reply_aa_error(resp, &err);
         return;
     }
-    reply_export(resp, &p, kind, points, 0);
+    reply_export(resp, &p, writer, points, 0);
     aa_pattern_free(&p);
 }
