@@ -25,7 +25,7 @@
 #include "aa_core.h"
 
 /* What a test scene draws, as pbrt calls its geometry a shape; the animations are shapes that
- * move. ("kind" is the job kind only.) */
+ * move. */
 typedef enum aa_scene_shape {
     AA_SCENE_HALF_PLANE,
     /* Checkerboard: a ground plane seen from a pinhole camera at height 1 looking along the
