@@ -187,10 +187,10 @@ int main(int argc, char **argv)
             mp.perturb.redraw = perturb_redraw;
         mp.perturb.keep_pixels = perturb_keep_pixels;
         mp.local.kink_width = kink_width;
-        static const aa_seed_kind poisson[1] = {AA_SEED_POISSON};
+        static const aa_seed_distribution poisson[1] = {AA_SEED_POISSON};
         if (poisson_only) {
-            mp.kinds = poisson;
-            mp.kind_count = 1;
+            mp.distributions = poisson;
+            mp.distribution_count = 1;
         }
         mp.first_seed = (size_t)first_seed;
         if (seed_pool >= 0)
@@ -215,7 +215,7 @@ int main(int argc, char **argv)
             for (size_t s = 0; s < r.seed_count; s++)
                 if (!isnan(r.per_seed[s].e2))
                     printf("  seed %zu: %s %.4f -> %.4f (%ld steps)\n", s,
-                           r.per_seed[s].kind == AA_SEED_POISSON ? "poisson" : "other",
+                           r.per_seed[s].distribution == AA_SEED_POISSON ? "poisson" : "other",
                            r.per_seed[s].initial_e2, r.per_seed[s].e2, r.per_seed[s].iterations);
         aa_pattern_free(&best);
         aa_multistart_result_free(&r);

@@ -93,7 +93,7 @@ static int run_scene(const bench_scene *bs, int spp, double *worst_rho, double *
     static const unsigned models[2] = {AA_PREDICT_REFERENCE_PROFILE, AA_PREDICT_EXACT_REFERENCE};
     double predicted_m[2][MAX_PRESETS] = {{0}}, ratio_m[2][MAX_PRESETS] = {{0}}, t_model[2] = {0};
     double exact[MAX_PRESETS] = {0}, ratio_exact[MAX_PRESETS] = {0}, ref_noise = NAN;
-    bool half_plane = bs->params.kind == AA_SCENE_HALF_PLANE;
+    bool half_plane = bs->params.shape == AA_SCENE_HALF_PLANE;
     double t_pattern = 0, t_predict = 0, t_reference = 0, locked = 0, subpixel = 0;
     double subpixel_err[MAX_PRESETS] = {0};
     aa_image img;
@@ -235,11 +235,11 @@ int main(void)
 {
     const char *env = getenv("AALAB_BENCH_SPP");
     int spp = env ? atoi(env) : 1024;
-    bench_scene scenes[AA_SCENE_KIND_COUNT + 5];
+    bench_scene scenes[AA_SCENE_SHAPE_COUNT + 5];
     size_t count = 0;
-    for (int k = 0; k < AA_SCENE_KIND_COUNT; k++) {
+    for (int k = 0; k < AA_SCENE_SHAPE_COUNT; k++) {
         bench_scene *b = &scenes[count++];
-        snprintf(b->label, sizeof b->label, "%s", aa_scene_kind_name(k));
+        snprintf(b->label, sizeof b->label, "%s", aa_scene_shape_name(k));
         b->params = aa_scene_params_default(k);
         /* Long straight or smooth edges only; not the locked default half-plane, not the
          * checkerboard's sub-pixel band, not the star's converging rays. */

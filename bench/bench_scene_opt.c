@@ -155,7 +155,8 @@ static int scene_search(const aa_family *fam, const aa_pattern *start,
         } else {
             aa_rng rng;
             aa_rng_seed(&rng, 1000 + (uint64_t)i, 5);
-            rc = aa_family_seed(fam, (aa_seed_kind)(i % 2 ? AA_SEED_JITTERED : AA_SEED_UNIFORM),
+            rc = aa_family_seed(fam,
+                                (aa_seed_distribution)(i % 2 ? AA_SEED_JITTERED : AA_SEED_UNIFORM),
                                 metric->filter, &rng, &seed, err);
         }
         if (rc)

@@ -32,7 +32,7 @@
 #define MAX_SEEDS 64
 #define DISTS 2
 #define MAX_TABLES 3
-static const aa_seed_kind dists[DISTS] = {AA_SEED_POISSON, AA_SEED_JITTERED};
+static const aa_seed_distribution dists[DISTS] = {AA_SEED_POISSON, AA_SEED_JITTERED};
 static const double wp_target[DISTS] = {0.165, 0.173};
 #define SEED_SECONDS_TARGET 120.0 /* <= 2 minutes per seed on 2 cores (version 2) */
 
@@ -54,7 +54,7 @@ static double thread_cpu_seconds(void *user)
 
 typedef struct job {
     const aa_family *family;
-    aa_seed_kind kind;
+    aa_seed_distribution distribution;
     const aa_metric_params *metric;
     const aa_table3_params *params;
     uint64_t seed;
@@ -74,11 +74,12 @@ static void run_job(void *item)
         memset(&j->cell, 0, sizeof j->cell);
         j->cell.opt_w = j->cell.opt_wp = NAN;
         j->rc = aa_random_patterns_range_radius(
-            j->family, j->kind, j->params->poisson_radius, j->metric, j->seed, 0, j->params->count,
-            NULL, NULL, NULL, &j->cell.best_random, &j->cell.best_index, &j->cell.random, &err);
+            j->family, j->distribution, j->params->poisson_radius, j->metric, j->seed, 0,
+            j->params->count, NULL, NULL, NULL, &j->cell.best_random, &j->cell.best_index,
+            &j->cell.random, &err);
     } else {
-        j->rc = aa_table3_cell_run(j->family, j->kind, j->metric, j->params, j->seed, NULL, NULL,
-                                   &j->cell, &err);
+        j->rc = aa_table3_cell_run(j->family, j->distribution, j->metric, j->params, j->seed, NULL,
+                                   NULL, &j->cell, &err);
     }
     j->cpu_seconds = thread_cpu_seconds(NULL) - t0;
     if (j->rc)
@@ -177,7 +178,7 @@ int main(int argc, char **argv)
             for (int d = 0; d < DISTS; d++, n++) {
                 memset(&jobs[n], 0, sizeof jobs[n]);
                 jobs[n] = (job){.family = &fam,
-                                .kind = dists[d],
+                                .distribution = dists[d],
                                 .metric = &metric[t],
                                 .params = &tp,
                                 .seed = (uint64_t)(first_seed + s),
@@ -200,8 +201,8 @@ int main(int argc, char **argv)
                     v[t][d][k][s] = row[k];
                 cpu[t][d][s] = jobs[i].cpu_seconds;
                 printf("%-16s %-5d %-9s %8.4f %8.4f %8.4f %8.4f %8.4f %7.1f %7.1f %7.1f %7.1f\n",
-                       acuity[t].name, first_seed + s, aa_seed_kind_name(dists[d]), row[0], row[1],
-                       row[2], row[3], row[4], jobs[i].cpu_seconds,
+                       acuity[t].name, first_seed + s, aa_seed_distribution_name(dists[d]), row[0],
+                       row[1], row[2], row[3], row[4], jobs[i].cpu_seconds,
                        jobs[i].cpu_seconds - c->opt_w_run.seconds - c->opt_wp_run.seconds,
                        c->opt_w_run.seconds, c->opt_wp_run.seconds);
                 aa_table3_cell_free(&jobs[i].cell);
@@ -210,8 +211,8 @@ int main(int argc, char **argv)
             printf("seed %d, %s: on 2 idle cores, its %d distributions side by side take %.1f s "
                    "(the larger cell CPU time: %s %.1f s, %s %.1f s)\n",
                    first_seed + s, acuity[t].name, DISTS, side_by_side(cpu[t], s),
-                   aa_seed_kind_name(dists[0]), cpu[t][0][s], aa_seed_kind_name(dists[1]),
-                   cpu[t][1][s]);
+                   aa_seed_distribution_name(dists[0]), cpu[t][0][s],
+                   aa_seed_distribution_name(dists[1]), cpu[t][1][s]);
         printf("seed %d: %.1f s wall for all %d cells (machine shared)\n", first_seed + s, wall, n);
         fflush(stdout);
     }
@@ -240,13 +241,13 @@ int main(int argc, char **argv)
                     snprintf(target, sizeof target, "<= %.3f", wp_target[d]);
                 }
                 printf("%-9s %-8s %8.4f +- %6.4f %8.3f %7.3f  %s%s%s\n",
-                       aa_seed_kind_name(dists[d]), col_names[k], mean, sd, pv, mean / pv,
+                       aa_seed_distribution_name(dists[d]), col_names[k], mean, sd, pv, mean / pv,
                        v2 ? target : "", v2 ? ": " : "", v2 ? (ok ? "met" : "MISSED") : "");
             }
             double cm, cs;
             aa_mean_sd(cpu[t][d], (size_t)seeds, &cm, &cs);
-            printf("%-9s CPU seconds per seed: %.1f +- %.1f\n", aa_seed_kind_name(dists[d]), cm,
-                   cs);
+            printf("%-9s CPU seconds per seed: %.1f +- %.1f\n", aa_seed_distribution_name(dists[d]),
+                   cm, cs);
         }
         /* The issue-17 time target: a seed on 2 cores, its two distributions side by side (as
          * a table3 job's shard runs them), takes the larger of their CPU times. */

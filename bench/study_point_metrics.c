@@ -22,14 +22,14 @@ static const char *const figure_names[FIGURES] = {
     "CD",        "WD",    "MD", "L2-star", "Linf-star", "min d/d_hex", "mean nn/d_hex",
     "low power", "nu_eff"};
 #define DISTS 5
-static const aa_seed_kind dists[DISTS] = {AA_SEED_UNIFORM, AA_SEED_JITTERED, AA_SEED_NROOKS,
-                                          AA_SEED_POISSON, AA_SEED_LLOYD};
+static const aa_seed_distribution dists[DISTS] = {AA_SEED_UNIFORM, AA_SEED_JITTERED, AA_SEED_NROOKS,
+                                                  AA_SEED_POISSON, AA_SEED_LLOYD};
 
 typedef struct work {
     const aa_family *family;
     const aa_metric_params *metric;
     const aa_filter *filter;
-    aa_seed_kind kind;
+    aa_seed_distribution distribution;
     uint64_t seed;
     size_t first, count;
     double *e2;           /* [count] */
@@ -60,7 +60,7 @@ static void *run(void *arg)
         aa_evaluation ev;
         aa_point *pts = NULL;
         size_t n = 0;
-        if (aa_family_seed(w->family, w->kind, w->filter, &rng, &p, &err) ||
+        if (aa_family_seed(w->family, w->distribution, w->filter, &rng, &p, &err) ||
             aa_evaluate(&p, w->metric, &ev, &err) || aa_pattern_unit_points(&p, &pts, &n, &err)) {
             fprintf(stderr, "study_point_metrics: %s\n", err.message);
             w->failed = 1;
@@ -169,7 +169,7 @@ int main(int argc, char **argv)
                     w[k] = (work){.family = &fam,
                                   .metric = &metric,
                                   .filter = &filter,
-                                  .kind = dists[d],
+                                  .distribution = dists[d],
                                   .seed = seed * 1000 + (uint64_t)d,
                                   .first = first,
                                   .count = c,
@@ -195,7 +195,7 @@ int main(int argc, char **argv)
             double mean = 0;
             for (size_t i = 0; i < n; i++)
                 mean += e2[i] / (double)n;
-            printf("%-10s %8.4f", d < DISTS ? aa_seed_kind_name(dists[d]) : "pooled", mean);
+            printf("%-10s %8.4f", d < DISTS ? aa_seed_distribution_name(dists[d]) : "pooled", mean);
             for (int f = 0; f < FIGURES; f++)
                 printf(" %13.3f", spearman(e2, fig[f], n));
             printf("\n");

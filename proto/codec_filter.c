@@ -232,12 +232,12 @@ json_t *proto_encode_filter(const aa_filter *f)
     json_t *o = json_pack("{s:s,s:o}", "name", f->name, "radius", proto_real(f->radius));
     if (!o)
         return NULL;
-    if (f->kind == AA_FILTER_MITCHELL || is_mitchell_family(f->name)) {
+    if (f->formula == AA_FILTER_MITCHELL || is_mitchell_family(f->name)) {
         json_object_set_new(o, "B", proto_real(f->B));
         json_object_set_new(o, "C", proto_real(f->C));
-    } else if (f->kind == AA_FILTER_GAUSSIAN) {
+    } else if (f->formula == AA_FILTER_GAUSSIAN) {
         json_object_set_new(o, "sigma", proto_real(f->sigma));
-    } else if (f->kind == AA_FILTER_LANCZOS) {
+    } else if (f->formula == AA_FILTER_LANCZOS) {
         json_object_set_new(o, "a", proto_real(f->lanczos_a));
         json_object_del(o, "radius");
     }

@@ -106,7 +106,7 @@ void proto_render_request_free(proto_render_request *r)
 
 aa_render_params proto_render_params(const proto_render_request *r)
 {
-    aa_render_params rp = aa_render_params_default(r->scene.kind);
+    aa_render_params rp = aa_render_params_default(r->scene.shape);
     rp.scene = r->scene;
     rp.reference = r->reference.params;
     rp.acuity = &r->acuity;

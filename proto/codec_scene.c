@@ -75,12 +75,12 @@ int proto_decode_scene(const json_t *j, aa_scene_params *out, const char *prefix
         return rc;
     json_t *name = json_object_get(j, "name");
     if (name) {
-        int kind = json_is_string(name) ? aa_scene_kind_from_name(json_string_value(name)) : -1;
-        if (kind < 0)
+        int shape = json_is_string(name) ? aa_scene_shape_from_name(json_string_value(name)) : -1;
+        if (shape < 0)
             return proto_fail(err, AA_EINVAL, prefix, "name",
                               "unknown scene (half-plane, checkerboard, siemens-star, rings, "
                               "sliver, spiral, rotating-triangle, translating-circle)");
-        *out = aa_scene_params_default((aa_scene_kind)kind);
+        *out = aa_scene_params_default((aa_scene_shape)shape);
     }
     if ((rc = get_int(j, prefix, "width", 1, AA_IMAGE_MAX_SIDE, &out->width, err)) ||
         (rc = get_int(j, prefix, "height", 1, AA_IMAGE_MAX_SIDE, &out->height, err)) ||
@@ -271,14 +271,14 @@ int proto_decode_pattern_or_name(const json_t *j, unsigned flags, aa_pattern *p,
 json_t *proto_encode_scene(const aa_scene_params *p)
 {
     json_t *o = json_pack("{s:s, s:I, s:I, s:f, s:f, s:I, s:b, s:b}", "name",
-                          aa_scene_kind_name(p->kind), "width", (json_int_t)p->width, "height",
+                          aa_scene_shape_name(p->shape), "width", (json_int_t)p->width, "height",
                           (json_int_t)p->height, "zoom", p->zoom, "angle", p->angle_deg, "wedges",
                           (json_int_t)p->wedges, "mirror_x", p->mirror_x, "mirror_y", p->mirror_y);
-    if (o && aa_scene_kind_is_animation(p->kind)) {
+    if (o && aa_scene_shape_is_animation(p->shape)) {
         json_object_set_new(o, "frames", json_integer(p->frames));
         json_object_set_new(o, "frame", json_integer(p->frame));
     }
-    if (o && p->kind == AA_SCENE_HALF_PLANE)
+    if (o && p->shape == AA_SCENE_HALF_PLANE)
         json_object_set_new(o, "offset", json_real(p->offset));
     return o;
 }

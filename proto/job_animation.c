@@ -20,7 +20,7 @@ int proto_decode_animation_spec(const json_t *spec, proto_animation_spec *ap, aa
                             "translating-circle)");
     int rc = proto_render_spec_decode(
         spec, kind_keys, PROTO_RENDER_SPEC_ACUITY | PROTO_RENDER_SPEC_TILES, &ap->common, err);
-    if (!rc && !aa_scene_kind_is_animation(ap->common.scene.kind))
+    if (!rc && !aa_scene_shape_is_animation(ap->common.scene.shape))
         rc = aa_error_set(err, AA_EINVAL, "scene.name",
                           "not an animation (rotating-triangle, translating-circle)");
     json_t *pj = json_object_get(spec, "pattern");

@@ -46,7 +46,7 @@ int proto_decode_family_sweep_spec(const json_t *spec, proto_family_sweep_spec *
         rc = proto_spec_integer(spec, "seeds_per_config", 1, 10000, &k, err);
     s->per_config = (size_t)k;
     if (!rc)
-        rc = proto_spec_distributions(spec, s->kinds, &s->kind_count, err);
+        rc = proto_spec_distributions(spec, s->distributions, &s->distribution_count, err);
     if (rc)
         proto_family_sweep_spec_free(s);
     return rc;

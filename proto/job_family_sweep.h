@@ -13,8 +13,8 @@ typedef struct proto_family_sweep_spec {
     double cost;
     char family[48];   /* "" when the spec gave a cost */
     size_t per_config; /* default 8 */
-    aa_seed_kind kinds[PROTO_MAX_DISTRIBUTIONS];
-    size_t kind_count;
+    aa_seed_distribution distributions[PROTO_MAX_DISTRIBUTIONS];
+    size_t distribution_count;
 } proto_family_sweep_spec;
 
 int proto_decode_family_sweep_spec(const json_t *spec, proto_family_sweep_spec *out, aa_error *err);

@@ -31,7 +31,7 @@ int proto_decode_optimize_spec(const json_t *spec, proto_optimize_spec *s, aa_er
         rc = aa_error_set(err, AA_EINVAL, "seeds", "a given pattern is one seed");
     s->seeds = (size_t)seeds;
     if (!rc)
-        rc = proto_spec_distributions(spec, s->kinds, &s->kind_count, err);
+        rc = proto_spec_distributions(spec, s->distributions, &s->distribution_count, err);
     if (!rc)
         rc = proto_decode_scene_objective(spec, &s->objective, err);
     /* The scene descent keeps positions off any grid (objective_scene.h). */
@@ -53,11 +53,11 @@ static json_t *encode_per_seed(const proto_seed_summary *s, size_t n)
 {
     json_t *a = json_array();
     for (size_t i = 0; a && i < n; i++)
-        json_array_append_new(a, json_pack("{s:I,s:s,s:o,s:o,s:I}", "seed", (json_int_t)s[i].seed,
-                                           "distribution", aa_seed_kind_name(s[i].distribution),
-                                           "initial_e2", proto_real(s[i].initial_e2), "e2",
-                                           proto_real(s[i].e2), "iterations",
-                                           (json_int_t)s[i].iterations));
+        json_array_append_new(
+            a, json_pack("{s:I,s:s,s:o,s:o,s:I}", "seed", (json_int_t)s[i].seed, "distribution",
+                         aa_seed_distribution_name(s[i].distribution), "initial_e2",
+                         proto_real(s[i].initial_e2), "e2", proto_real(s[i].e2), "iterations",
+                         (json_int_t)s[i].iterations));
     return a;
 }
 
@@ -99,8 +99,8 @@ static int decode_seed(const json_t *j, proto_seed_summary *s, aa_error *err)
     int rc = proto_check_keys(j, seed_keys, err, "");
     if (!rc)
         rc = proto_result_integer(j, "seed", &seed, err);
-    if (!rc &&
-        aa_seed_kind_parse(json_string_value(json_object_get(j, "distribution")), &s->distribution))
+    if (!rc && aa_seed_distribution_parse(json_string_value(json_object_get(j, "distribution")),
+                                          &s->distribution))
         rc = aa_error_set(err, AA_EINVAL, "distribution", "unknown distribution");
     if (!rc)
         rc = proto_result_real(j, "initial_e2", &s->initial_e2, err);

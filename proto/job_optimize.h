@@ -15,8 +15,8 @@ typedef struct proto_optimize_spec {
     aa_family family;
     aa_pattern pattern;
     size_t seeds; /* default 64 for a family, 1 (the only value) for a pattern */
-    aa_seed_kind kinds[PROTO_MAX_DISTRIBUTIONS];
-    size_t kind_count;               /* 0: every distribution in turn */
+    aa_seed_distribution distributions[PROTO_MAX_DISTRIBUTIONS];
+    size_t distribution_count;       /* 0: every distribution in turn */
     proto_scene_objective objective; /* "objective": optimise for a scene (job_scene_objective.h) */
 } proto_optimize_spec;
 
@@ -26,7 +26,7 @@ void proto_optimize_spec_free(proto_optimize_spec *s);
 /* Result of an "optimize" job. */
 typedef struct proto_seed_summary {
     size_t seed;
-    aa_seed_kind distribution;
+    aa_seed_distribution distribution;
     double initial_e2, e2;
     long iterations;
 } proto_seed_summary;

@@ -79,7 +79,8 @@ int proto_spec_family(const json_t *spec, bool required, bool *present, aa_famil
     return aa_family_parse(text, out, err);
 }
 
-int proto_spec_distributions(const json_t *spec, aa_seed_kind kinds[PROTO_MAX_DISTRIBUTIONS],
+int proto_spec_distributions(const json_t *spec,
+                             aa_seed_distribution distributions[PROTO_MAX_DISTRIBUTIONS],
                              size_t *count, aa_error *err)
 {
     json_t *d = json_object_get(spec, "distributions");
@@ -94,7 +95,8 @@ int proto_spec_distributions(const json_t *spec, aa_seed_kind kinds[PROTO_MAX_DI
         char field[40];
         snprintf(field, sizeof field, "distributions[%zu]", i);
         json_t *v = json_array_get(d, i);
-        if (!json_is_string(v) || aa_seed_kind_parse(json_string_value(v), &kinds[i]))
+        if (!json_is_string(v) ||
+            aa_seed_distribution_parse(json_string_value(v), &distributions[i]))
             return aa_error_set(err, AA_EINVAL, field,
                                 "must be uniform, jittered, n-rooks, poisson or lloyd");
         (*count)++;

@@ -72,8 +72,9 @@ int proto_spec_poisson_radius(const json_t *spec, double spp, double *out, aa_er
  * string is AA_EINVAL naming "family". */
 int proto_spec_family(const json_t *spec, bool required, bool *present, aa_family *out,
                       aa_error *err);
-/* "distributions": [names] -> kinds (count 0 when absent). */
-int proto_spec_distributions(const json_t *spec, aa_seed_kind kinds[PROTO_MAX_DISTRIBUTIONS],
+/* "distributions": [names] -> distributions (count 0 when absent). */
+int proto_spec_distributions(const json_t *spec,
+                             aa_seed_distribution distributions[PROTO_MAX_DISTRIBUTIONS],
                              size_t *count, aa_error *err);
 
 #endif

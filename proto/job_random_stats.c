@@ -32,7 +32,7 @@ int proto_decode_random_stats_spec(const json_t *spec, proto_random_stats_spec *
     const char *dist = "uniform";
     if (!rc)
         rc = proto_spec_string(spec, "distribution", &dist, err);
-    if (!rc && aa_seed_kind_parse(dist, &s->kind))
+    if (!rc && aa_seed_distribution_parse(dist, &s->distribution))
         rc = aa_error_set(err, AA_EINVAL, "distribution",
                           "must be uniform, jittered, n-rooks, poisson or lloyd");
     /* The family's samples per pixel. */
@@ -60,13 +60,13 @@ static json_t *encode_stage(const proto_stats_stage *s)
 
 json_t *proto_encode_random_stats_result(const proto_random_stats_result *r)
 {
-    json_t *o =
-        json_pack("{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:o,s:o,s:o,s:o}", "family", r->family,
-                  "distribution", aa_seed_kind_name(r->distribution), "count", (json_int_t)r->count,
-                  "random", "min", proto_real(r->min), "avg", proto_real(r->avg), "max",
-                  proto_real(r->max), "best_random", proto_encode_pattern(&r->best_random), "opt_w",
-                  encode_stage(&r->opt_w), "opt_wp", encode_stage(&r->opt_wp), "best",
-                  proto_encode_pattern(&r->opt_wp.pattern), "e2", proto_real(r->opt_wp.e2));
+    json_t *o = json_pack("{s:s,s:s,s:I,s:{s:o,s:o,s:o},s:o,s:o,s:o,s:o,s:o}", "family", r->family,
+                          "distribution", aa_seed_distribution_name(r->distribution), "count",
+                          (json_int_t)r->count, "random", "min", proto_real(r->min), "avg",
+                          proto_real(r->avg), "max", proto_real(r->max), "best_random",
+                          proto_encode_pattern(&r->best_random), "opt_w", encode_stage(&r->opt_w),
+                          "opt_wp", encode_stage(&r->opt_wp), "best",
+                          proto_encode_pattern(&r->opt_wp.pattern), "e2", proto_real(r->opt_wp.e2));
     json_t *gen = o ? json_pack("{s:s}", "name", aa_seed_generator_name(r->distribution)) : NULL;
     if (gen && r->distribution == AA_SEED_POISSON && !isnan(r->radius))
         json_object_set_new(gen, "radius", proto_real(r->radius));
@@ -114,8 +114,8 @@ int proto_decode_random_stats_result(const json_t *j, proto_random_stats_result 
     int rc = proto_check_keys(j, keys, err, "");
     if (!rc && !family)
         rc = aa_error_set(err, AA_EINVAL, "family", "must be a string");
-    if (!rc &&
-        aa_seed_kind_parse(json_string_value(json_object_get(j, "distribution")), &r->distribution))
+    if (!rc && aa_seed_distribution_parse(json_string_value(json_object_get(j, "distribution")),
+                                          &r->distribution))
         rc = aa_error_set(err, AA_EINVAL, "distribution", "unknown distribution");
     if (!rc)
         rc = proto_result_integer(j, "count", &count, err);

@@ -12,10 +12,10 @@
 typedef struct proto_random_stats_spec {
     proto_optimizer_spec common; /* max_seconds default 30: half for Opt W, half for Opt W+P */
     aa_family family;
-    size_t count;                     /* default 1000 */
-    aa_seed_kind kind;                /* default uniform */
-    double poisson_radius;            /* px; the default for the family's density when not given */
-    proto_point_metrics_spec metrics; /* point-set figures per pattern; count 0: none */
+    size_t count;                      /* default 1000 */
+    aa_seed_distribution distribution; /* default uniform */
+    double poisson_radius;             /* px; the default for the family's density when not given */
+    proto_point_metrics_spec metrics;  /* point-set figures per pattern; count 0: none */
 } proto_random_stats_spec;
 
 int proto_decode_random_stats_spec(const json_t *spec, proto_random_stats_spec *out, aa_error *err);
@@ -30,7 +30,7 @@ typedef struct proto_stats_stage {
 
 typedef struct proto_random_stats_result {
     char family[48];
-    aa_seed_kind distribution;
+    aa_seed_distribution distribution;
     double radius; /* Poisson disk radius in px ("generator"); NaN: none recorded */
     long count;
     double min, avg, max; /* E2 of the random patterns */

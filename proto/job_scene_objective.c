@@ -26,7 +26,7 @@ int proto_decode_scene_objective(const json_t *spec, proto_scene_objective *out,
         proto_prefix_error(err, "objective");
         return rc;
     }
-    if (aa_scene_kind_is_animation(out->scene.kind))
+    if (aa_scene_shape_is_animation(out->scene.shape))
         return aa_error_set(err, AA_EINVAL, "objective.scene",
                             "an animation has one histogram per frame: give a still scene");
     const json_t *b = json_object_get(o, "blend");

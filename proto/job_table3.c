@@ -34,16 +34,16 @@ int proto_decode_table3_spec(const json_t *spec, proto_table3_spec *s, aa_error 
     s->seeds = (size_t)seeds;
     s->count = (size_t)count;
     if (!rc)
-        rc = proto_spec_distributions(spec, s->kinds, &s->kind_count, err);
-    if (!rc && s->kind_count == 0) {
-        s->kinds[0] = AA_SEED_POISSON;
-        s->kinds[1] = AA_SEED_JITTERED;
-        s->kind_count = 2;
+        rc = proto_spec_distributions(spec, s->distributions, &s->distribution_count, err);
+    if (!rc && s->distribution_count == 0) {
+        s->distributions[0] = AA_SEED_POISSON;
+        s->distributions[1] = AA_SEED_JITTERED;
+        s->distribution_count = 2;
     }
     if (!rc)
         rc = proto_spec_poisson_radius(spec, s->family.cost, &s->poisson_radius, err);
     if (!rc)
-        rc = proto_spec_point_metrics(spec, &s->family, s->seeds * s->count * s->kind_count,
+        rc = proto_spec_point_metrics(spec, &s->family, s->seeds * s->count * s->distribution_count,
                                       &s->metrics, err);
     if (rc)
         proto_table3_spec_free(s);
@@ -61,7 +61,7 @@ double proto_table3_spec_seconds(const proto_table3_spec *s)
         return 0;
     aa_table3_params tp;
     aa_table3_params_default(&tp);
-    return (double)(s->seeds * s->kind_count) * (s->common.max_seconds + tp.opt_w_seconds);
+    return (double)(s->seeds * s->distribution_count) * (s->common.max_seconds + tp.opt_w_seconds);
 }
 
 static json_t *encode_row(const proto_table3_row *row, const proto_table3_result *r)
@@ -80,8 +80,9 @@ static json_t *encode_row(const proto_table3_row *row, const proto_table3_result
             json_object_set_new(o, proto_table3_columns[c], proto_real(row->values[c][s]));
         json_array_append_new(per_seed, o);
     }
-    json_t *o = json_pack("{s:s,s:o,s:o,s:o}", "distribution", aa_seed_kind_name(row->distribution),
-                          "generator", gen, "columns", cols, "per_seed", per_seed);
+    json_t *o =
+        json_pack("{s:s,s:o,s:o,s:o}", "distribution", aa_seed_distribution_name(row->distribution),
+                  "generator", gen, "columns", cols, "per_seed", per_seed);
     if (o && row->point_metrics.spec.count &&
         json_object_set_new(o, "point_metrics", proto_encode_point_metrics(&row->point_metrics))) {
         json_decref(o);
@@ -117,8 +118,8 @@ static int decode_row(const json_t *j, const char *field, proto_table3_row *row,
     if (!json_is_object(j))
         return aa_error_set(err, AA_EINVAL, field, "must be an object");
     int rc = proto_check_keys(j, keys, err, field);
-    if (!rc && aa_seed_kind_parse(json_string_value(json_object_get(j, "distribution")),
-                                  &row->distribution))
+    if (!rc && aa_seed_distribution_parse(json_string_value(json_object_get(j, "distribution")),
+                                          &row->distribution))
         rc = aa_error_set(err, AA_EINVAL, "distribution", "unknown distribution");
     const json_t *gen = json_object_get(j, "generator");
     row->radius = NAN;

@@ -21,8 +21,8 @@ typedef struct proto_table3_spec {
     aa_family family;
     size_t seeds; /* K */
     size_t count;
-    aa_seed_kind kinds[PROTO_MAX_DISTRIBUTIONS];
-    size_t kind_count;
+    aa_seed_distribution distributions[PROTO_MAX_DISTRIBUTIONS];
+    size_t distribution_count;
     double poisson_radius; /* px; the default radius for the family's density when not given */
     proto_point_metrics_spec metrics; /* point-set figures per random pattern; count 0: none */
 } proto_table3_spec;
@@ -37,7 +37,7 @@ enum { PROTO_T3_MIN, PROTO_T3_AVG, PROTO_T3_MAX, PROTO_T3_OPT_W, PROTO_T3_OPT_WP
 extern const char *const proto_table3_columns[PROTO_T3_COLS];
 
 typedef struct proto_table3_row {
-    aa_seed_kind distribution;
+    aa_seed_distribution distribution;
     double radius; /* the Poisson radius in px; NaN for other distributions */
     double mean[PROTO_T3_COLS], sd[PROTO_T3_COLS];
     double paper[PROTO_T3_COLS]; /* NaN: the paper has no value (not P(16,16,4), or the row) */

@@ -30,10 +30,10 @@ int proto_decode_temporal_render_spec(const json_t *spec, proto_temporal_render_
     memset(s, 0, sizeof *s);
     int rc = proto_render_spec_decode(
         spec, kind_keys, PROTO_RENDER_SPEC_ACUITY | PROTO_RENDER_SPEC_TILES, &s->common, err);
-    if (!rc && aa_scene_kind_is_animation(s->common.scene.kind))
+    if (!rc && aa_scene_shape_is_animation(s->common.scene.shape))
         rc = aa_error_set(err, AA_EINVAL, "scene.name",
                           "the TAA loop renders a still scene (not %s)",
-                          aa_scene_kind_name(s->common.scene.kind));
+                          aa_scene_shape_name(s->common.scene.shape));
     const json_t *pj = json_object_get(spec, "pattern");
     if (!rc && !(json_is_object(pj) && json_object_get(pj, "temporal")))
         rc = aa_error_set(err, AA_EINVAL, "pattern",

@@ -158,15 +158,15 @@ json_t *proto_export_metal(const aa_pattern *p);
 
 /* Export formats by name: "json" (aalab's pattern JSON), "utk", "xyw", "csv", "bin", "rps",
  * "points-json" (the point-set JSON), "vulkan", "d3d12", "metal". false for anything else. */
-typedef enum proto_export_kind {
+typedef enum proto_export_writer {
     PROTO_EXPORT_PATTERN,
     PROTO_EXPORT_POINTS,
     PROTO_EXPORT_VULKAN,
     PROTO_EXPORT_D3D12,
     PROTO_EXPORT_METAL
-} proto_export_kind;
+} proto_export_writer;
 
-bool proto_export_format_parse(const char *name, proto_export_kind *kind,
+bool proto_export_format_parse(const char *name, proto_export_writer *writer,
                                proto_points_format *points);
 #define PROTO_EXPORT_FORMATS "json, utk, xyw, csv, bin, rps, points-json, vulkan, d3d12 or metal"
 

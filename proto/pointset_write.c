@@ -7,28 +7,28 @@
 #include <stdlib.h>
 #include <string.h>
 
-bool proto_export_format_parse(const char *name, proto_export_kind *kind,
+bool proto_export_format_parse(const char *name, proto_export_writer *writer,
                                proto_points_format *points)
 {
     if (!name)
         return false;
     if (!strcmp(name, "json")) {
-        *kind = PROTO_EXPORT_PATTERN;
+        *writer = PROTO_EXPORT_PATTERN;
         return true;
     }
     if (!strcmp(name, "vulkan") || !strcmp(name, "d3d12") || !strcmp(name, "metal")) {
-        *kind = name[0] == 'v'   ? PROTO_EXPORT_VULKAN
-                : name[0] == 'd' ? PROTO_EXPORT_D3D12
-                                 : PROTO_EXPORT_METAL;
+        *writer = name[0] == 'v'   ? PROTO_EXPORT_VULKAN
+                  : name[0] == 'd' ? PROTO_EXPORT_D3D12
+                                   : PROTO_EXPORT_METAL;
         return true;
     }
     if (!strcmp(name, "points-json")) {
-        *kind = PROTO_EXPORT_POINTS;
+        *writer = PROTO_EXPORT_POINTS;
         *points = PROTO_POINTS_JSON;
         return true;
     }
     if (strcmp(name, "json") && proto_points_format_parse(name, points)) {
-        *kind = PROTO_EXPORT_POINTS;
+        *writer = PROTO_EXPORT_POINTS;
         return true;
     }
     return false;

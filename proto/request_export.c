@@ -13,8 +13,8 @@ int proto_decode_export_query(const char *format, const char *phase, proto_expor
 {
     bool hlsl;
     *out = (proto_export_query){
-        .format = format, .kind = PROTO_EXPORT_PATTERN, .points = PROTO_POINTS_UTK};
-    if (format && !proto_export_format_parse(format, &out->kind, &out->points) &&
+        .format = format, .writer = PROTO_EXPORT_PATTERN, .points = PROTO_POINTS_UTK};
+    if (format && !proto_export_format_parse(format, &out->writer, &out->points) &&
         !proto_jitter_format_parse(format, &hlsl))
         return aa_error_set(err, AA_EINVAL, "format", "format must be %s, %s", PROTO_EXPORT_FORMATS,
                             PROTO_JITTER_FORMATS);
@@ -36,7 +36,7 @@ int proto_decode_export_request(const json_t *body, const aa_error *refs, proto_
                                 aa_error *err)
 {
     memset(out, 0, sizeof *out);
-    out->kind = PROTO_EXPORT_PATTERN;
+    out->writer = PROTO_EXPORT_PATTERN;
     out->points = PROTO_POINTS_UTK;
     int rc = proto_check_keys(body, export_keys, err, "");
     if (rc)
@@ -60,7 +60,7 @@ int proto_decode_export_request(const json_t *body, const aa_error *refs, proto_
                     proto_jitter_format_parse(out->format, &hlsl) || out->phase;
     if (out->temporal)
         return AA_OK;
-    if (!proto_export_format_parse(out->format, &out->kind, &out->points))
+    if (!proto_export_format_parse(out->format, &out->writer, &out->points))
         return aa_error_set(err, AA_EINVAL, "format", "must be %s, %s", PROTO_EXPORT_FORMATS,
                             PROTO_JITTER_FORMATS);
     rc = proto_decode_filter(json_object_get(body, "filter"), &out->filter, "filter", err);

@@ -20,7 +20,7 @@ typedef struct proto_export_request {
     const json_t *pattern; /* borrowed: the pattern as posted */
     const json_t *phase;   /* borrowed, or NULL */
     bool temporal;         /* the temporal half's: the fields below are not decoded */
-    proto_export_kind kind;
+    proto_export_writer writer;
     proto_points_format points;
     aa_filter filter;
     aa_pattern decoded; /* the pattern, decoded with the filter's weights */
@@ -29,7 +29,7 @@ typedef struct proto_export_request {
 /* GET's query, its values as given (NULL: absent). */
 typedef struct proto_export_query {
     const char *format; /* borrowed; NULL: json */
-    proto_export_kind kind;
+    proto_export_writer writer;
     proto_points_format points;
     json_t *phase; /* owned: an integer when the text is one, else the text; NULL: none */
 } proto_export_query;

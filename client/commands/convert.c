@@ -16,10 +16,10 @@
 int convert_text(const json_t *pattern, const char *format, char **text, size_t *len, char *err,
                  size_t errcap)
 {
-    proto_export_kind kind;
+    proto_export_writer writer;
     proto_points_format points = PROTO_POINTS_UTK;
     *text = NULL;
-    if (!proto_export_format_parse(format, &kind, &points)) {
+    if (!proto_export_format_parse(format, &writer, &points)) {
         snprintf(err, errcap, "--format wants %s", PROTO_EXPORT_FORMATS);
         return -1;
     }
@@ -30,12 +30,12 @@ int convert_text(const json_t *pattern, const char *format, char **text, size_t 
         return -1;
     }
     json_t *doc = NULL;
-    if (kind == PROTO_EXPORT_PATTERN)
+    if (writer == PROTO_EXPORT_PATTERN)
         doc = json_pack("{s:o}", "pattern", proto_encode_pattern(&p));
-    else if (kind == PROTO_EXPORT_METAL)
+    else if (writer == PROTO_EXPORT_METAL)
         doc = proto_export_metal(&p);
-    else if (kind != PROTO_EXPORT_POINTS)
-        doc = proto_export_gpu(&p, kind == PROTO_EXPORT_D3D12);
+    else if (writer != PROTO_EXPORT_POINTS)
+        doc = proto_export_gpu(&p, writer == PROTO_EXPORT_D3D12);
     else
         *text = proto_export_points(&p, points, len, &e);
     aa_pattern_free(&p);

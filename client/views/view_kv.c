@@ -85,13 +85,13 @@ void view_images_heading(FILE *out)
 
 void view_images_line(FILE *out, const char *label, const json_t *tiles)
 {
-    static const char *const KINDS[] = {"pattern", "reference", "difference"};
+    static const char *const IMAGES[] = {"pattern", "reference", "difference"};
     fprintf(out, "  %-18s", label);
-    for (size_t i = 0; i < sizeof KINDS / sizeof KINDS[0]; i++) {
+    for (size_t i = 0; i < sizeof IMAGES / sizeof IMAGES[0]; i++) {
         const char *url =
-            json_string_value(json_object_get(json_object_get(tiles, KINDS[i]), "url"));
+            json_string_value(json_object_get(json_object_get(tiles, IMAGES[i]), "url"));
         if (url)
-            fprintf(out, "  %s %s", KINDS[i], url);
+            fprintf(out, "  %s %s", IMAGES[i], url);
     }
     fputc('\n', out);
 }

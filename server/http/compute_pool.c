@@ -14,7 +14,7 @@ struct compute_pool {
     bool stopping, joined;
     int nthreads;
     pthread_t *threads;
-    key_counts *load[2]; /* per kind: admitted tasks per user */
+    key_counts *load[2]; /* per class: admitted tasks per user */
     int share[2];
 };
 
@@ -36,7 +36,7 @@ static void *worker(void *arg)
         cp->queued--;
         pthread_mutex_unlock(&cp->lock);
         /* Copy what we need: done() may free the task. */
-        key_counts *kc = cp->load[t->kind];
+        key_counts *kc = cp->load[t->compute];
         uint64_t user = t->user;
         void (*done)(void *) = t->done;
         void *targ = t->arg;
@@ -77,7 +77,7 @@ compute_pool *compute_pool_create(int threads, int user_evaluates, int user_rend
 
 compute_admit compute_pool_submit(compute_pool *cp, compute_task *t)
 {
-    if (!key_counts_acquire(cp->load[t->kind], t->user, cp->share[t->kind]))
+    if (!key_counts_acquire(cp->load[t->compute], t->user, cp->share[t->compute]))
         return COMPUTE_OVER_SHARE;
     compute_admit a = COMPUTE_QUEUED;
     pthread_mutex_lock(&cp->lock);
@@ -99,28 +99,28 @@ compute_admit compute_pool_submit(compute_pool *cp, compute_task *t)
     if (a == COMPUTE_QUEUED)
         pthread_cond_signal(&cp->work);
     if (a != COMPUTE_QUEUED)
-        key_counts_release(cp->load[t->kind], t->user);
+        key_counts_release(cp->load[t->compute], t->user);
     return a;
 }
 
-bool compute_pool_acquire_share(compute_pool *cp, compute_kind kind, uint64_t user)
+bool compute_pool_acquire_share(compute_pool *cp, compute_class compute, uint64_t user)
 {
-    return key_counts_acquire(cp->load[kind], user, cp->share[kind]);
+    return key_counts_acquire(cp->load[compute], user, cp->share[compute]);
 }
 
-void compute_pool_release_share(compute_pool *cp, compute_kind kind, uint64_t user)
+void compute_pool_release_share(compute_pool *cp, compute_class compute, uint64_t user)
 {
-    key_counts_release(cp->load[kind], user);
+    key_counts_release(cp->load[compute], user);
 }
 
-int compute_pool_share(const compute_pool *cp, compute_kind kind)
+int compute_pool_share(const compute_pool *cp, compute_class compute)
 {
-    return cp->share[kind];
+    return cp->share[compute];
 }
 
-int compute_pool_user_load(compute_pool *cp, compute_kind kind, uint64_t user)
+int compute_pool_user_load(compute_pool *cp, compute_class compute, uint64_t user)
 {
-    return key_counts_get(cp->load[kind], user);
+    return key_counts_get(cp->load[compute], user);
 }
 
 void compute_pool_stop(compute_pool *cp)

@@ -23,22 +23,22 @@
 #include "request_export.h"
 
 /* Answers p in format (already validated); job > 0 is named in the json answer. */
-static void reply_export(api_response *resp, const aa_pattern *p, proto_export_kind kind,
+static void reply_export(api_response *resp, const aa_pattern *p, proto_export_writer writer,
                          proto_points_format points, long long job)
 {
-    if (kind == PROTO_EXPORT_PATTERN) {
+    if (writer == PROTO_EXPORT_PATTERN) {
         json_t *o = job > 0 ? json_pack("{s:I}", "job", (json_int_t)job) : json_object();
         if (o)
             json_object_set_new(o, "pattern", proto_encode_pattern(p));
         api_reply_json(resp, 200, o);
         return;
     }
-    if (kind == PROTO_EXPORT_METAL) {
+    if (writer == PROTO_EXPORT_METAL) {
         api_reply_json(resp, 200, proto_export_metal(p));
         return;
     }
-    if (kind != PROTO_EXPORT_POINTS) {
-        api_reply_json(resp, 200, proto_export_gpu(p, kind == PROTO_EXPORT_D3D12));
+    if (writer != PROTO_EXPORT_POINTS) {
+        api_reply_json(resp, 200, proto_export_gpu(p, writer == PROTO_EXPORT_D3D12));
         return;
     }
     size_t len = 0;
@@ -97,7 +97,7 @@ void handle_export(api_context *ctx, const api_request *req, api_response *resp,
                        err.message);
         return;
     }
-    reply_export(resp, &p, q.kind, q.points, id);
+    reply_export(resp, &p, q.writer, q.points, id);
     aa_pattern_free(&p);
 }
 
@@ -121,6 +121,6 @@ void handle_export_post(api_context *ctx, const api_request *req, api_response *
         api_reply_aa_error(resp, &err);
         return;
     }
-    reply_export(resp, &rq.decoded, rq.kind, rq.points, 0);
+    reply_export(resp, &rq.decoded, rq.writer, rq.points, 0);
     aa_pattern_free(&rq.decoded);
 }

@@ -39,15 +39,15 @@ static void reply_temporal(api_response *resp, const proto_temporal *t, const ch
                            const json_t *phase, long long job)
 {
     bool hlsl = false;
-    proto_export_kind kind = PROTO_EXPORT_PATTERN;
+    proto_export_writer writer = PROTO_EXPORT_PATTERN;
     proto_points_format points = PROTO_POINTS_UTK;
     bool jitter = proto_jitter_format_parse(format, &hlsl);
-    if (!jitter && format && !proto_export_format_parse(format, &kind, &points)) {
+    if (!jitter && format && !proto_export_format_parse(format, &writer, &points)) {
         api_reply_wire(resp, WIRE_INVALID_FIELD, "format", "format must be %s, %s",
                        PROTO_EXPORT_FORMATS, PROTO_JITTER_FORMATS);
         return;
     }
-    if (!jitter && (kind == PROTO_EXPORT_VULKAN || kind == PROTO_EXPORT_D3D12)) {
+    if (!jitter && (writer == PROTO_EXPORT_VULKAN || writer == PROTO_EXPORT_D3D12)) {
         api_reply_wire(resp, WIRE_INVALID_FIELD, "format",
                        "a temporal pattern's jitter offsets the projection, it is not a set of "
                        "programmable sample positions: export it as %s (or its frame pattern on "
@@ -55,7 +55,7 @@ static void reply_temporal(api_response *resp, const proto_temporal *t, const ch
                        PROTO_JITTER_FORMATS, format);
         return;
     }
-    if (!jitter && kind == PROTO_EXPORT_POINTS) {
+    if (!jitter && writer == PROTO_EXPORT_POINTS) {
         reply_phase(resp, t, phase, points);
         return;
     }

@@ -405,7 +405,7 @@ static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_s
         cls = API_CLASS_PREDICT; /* the evaluate share, never the evaluate cache */
     if (!l->pool || cls == API_CLASS_OTHER)
         return false;
-    compute_kind kind = cls == API_CLASS_RENDER ? COMPUTE_RENDER : COMPUTE_EVALUATE;
+    compute_class compute = cls == API_CLASS_RENDER ? COMPUTE_RENDER : COMPUTE_EVALUATE;
     bool known = l->is_unix ? req->peer_known : req->tcp_peer_known;
     uid_t uid = l->is_unix ? req->peer_uid : req->tcp_peer_uid;
     uint64_t user = known ? (uint64_t)uid : COMPUTE_USER_UNKNOWN;
@@ -415,8 +415,8 @@ static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_s
     st->l = l;
     st->conn = conn;
     st->req = *req;
-    st->task =
-        (compute_task){.run = pool_run, .done = pool_done, .arg = st, .kind = kind, .user = user};
+    st->task = (compute_task){
+        .run = pool_run, .done = pool_done, .arg = st, .compute = compute, .user = user};
     /* Suspend before submitting: the pool may resume the connection at once. */
     st->offloaded = true;
     MHD_suspend_connection(conn);
@@ -431,9 +431,9 @@ static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_s
     if (a == COMPUTE_OVER_SHARE)
         api_reply_wire(r, WIRE_TOO_MANY_REQUESTS, "",
                        "you already have %d %s running (%s); retry when one has finished",
-                       compute_pool_share(l->pool, kind),
-                       kind == COMPUTE_RENDER ? "render(s)" : "evaluate(s)",
-                       kind == COMPUTE_RENDER ? "--user-renders" : "--user-evaluates");
+                       compute_pool_share(l->pool, compute),
+                       compute == COMPUTE_RENDER ? "render(s)" : "evaluate(s)",
+                       compute == COMPUTE_RENDER ? "--user-renders" : "--user-evaluates");
     else
         api_reply_wire(r, WIRE_BUSY, "",
                        a == COMPUTE_FULL ? "the compute queue is full; retry shortly"

@@ -23,7 +23,7 @@ static int animation_run(void *params, job_ctx *ctx, proto_animation_result *out
     tile_store *ts = job_ctx_tiles(ctx);
     /* The tiles belong to the job's owner and are private when the job is. */
     const tile_access access = {job_ctx_owner(ctx), job_ctx_private(ctx)};
-    aa_render_params rp = aa_render_params_default(ap->common.scene.kind);
+    aa_render_params rp = aa_render_params_default(ap->common.scene.shape);
     rp.scene = ap->common.scene;
     rp.scene.frame = 0;
     rp.reference = ap->common.ref.params;

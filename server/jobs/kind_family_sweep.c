@@ -85,9 +85,11 @@ static int run_config(const proto_family_sweep_spec *sp, const aa_mirrored_confi
     int rc = AA_OK;
     size_t made = 0;
     for (; made < sp->per_config && !rc; made++) {
-        aa_seed_kind kind =
-            sp->kind_count ? sp->kinds[made % sp->kind_count] : (aa_seed_kind)(made % 5);
-        rc = aa_mirrored_config_seed(config, kind, &sp->common.filter, &rng, &seeds[made], err);
+        aa_seed_distribution distribution = sp->distribution_count
+                                                ? sp->distributions[made % sp->distribution_count]
+                                                : (aa_seed_distribution)(made % 5);
+        rc = aa_mirrored_config_seed(config, distribution, &sp->common.filter, &rng, &seeds[made],
+                                     err);
     }
     aa_multistart_params mp;
     aa_multistart_params_default(&mp);

@@ -57,8 +57,8 @@ static proto_seed_summary *seed_summaries(const aa_multistart_result *r, size_t 
     for (size_t i = 0; s && i < r->seed_count; i++) {
         const aa_multistart_seed *m = &r->per_seed[i];
         if (!isnan(m->e2))
-            s[(*count)++] =
-                (proto_seed_summary){first + i, m->kind, m->initial_e2, m->e2, m->iterations};
+            s[(*count)++] = (proto_seed_summary){first + i, m->distribution, m->initial_e2, m->e2,
+                                                 m->iterations};
     }
     return s;
 }
@@ -113,8 +113,8 @@ static int run_seeds(const proto_optimize_spec *op, size_t first, size_t count,
          * optimum by iterated local search (it resets weights, so only in mode both). */
         if (aa_family_perturbable(&op->family) && op->common.mode == AA_OPTIMIZE_BOTH)
             mp.perturb.rounds = AA_PERTURB_UNTIL_STALL;
-        mp.kinds = op->kind_count ? op->kinds : NULL;
-        mp.kind_count = op->kind_count;
+        mp.distributions = op->distribution_count ? op->distributions : NULL;
+        mp.distribution_count = op->distribution_count;
     } else {
         mp.seeds = &op->pattern;
     }

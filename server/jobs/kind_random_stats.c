@@ -140,7 +140,7 @@ static int run_patterns(const proto_random_stats_spec *sp, const json_t *shard,
         free(e2);
         return rc;
     }
-    rc = aa_random_patterns_range_visit(&sp->family, sp->kind, sp->poisson_radius, &metric,
+    rc = aa_random_patterns_range_visit(&sp->family, sp->distribution, sp->poisson_radius, &metric,
                                         sp->common.rng_seed, first, count, random_patterns_progress,
                                         &rp, figures ? proto_point_metrics_visit : NULL, &pm, e2,
                                         &best, &best_index, &rs, err);
@@ -350,8 +350,9 @@ static int finish(const void *params, const json_t *merged, const char *executor
         free(r);
         return rc;
     }
-    r->distribution = sp->kind;
-    r->radius = sp->kind == AA_SEED_POISSON && !sp->family.mirrored ? sp->poisson_radius : NAN;
+    r->distribution = sp->distribution;
+    r->radius =
+        sp->distribution == AA_SEED_POISSON && !sp->family.mirrored ? sp->poisson_radius : NAN;
     r->count = (long)count;
     snprintf(r->family, sizeof r->family, "%s", sp->family.label);
     r->run = proto_run_info_make(executor, shards, sp->common.reproducible, &sp->common.acuity);

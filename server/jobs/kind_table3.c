@@ -180,7 +180,7 @@ static void run_cell(void *item)
 {
     cell_slot *c = item;
     const proto_table3_spec *sp = c->sp;
-    c->rc = aa_table3_cell_run(&sp->family, sp->kinds[c->index], c->metric, c->tp, c->seed,
+    c->rc = aa_table3_cell_run(&sp->family, sp->distributions[c->index], c->metric, c->tp, c->seed,
                                cell_progress, &c->bridge, &c->cell, &c->err);
     if (!c->rc) {
         opt_bridge_add(&c->bridge, c->cell.opt_wp_run.iterations, c->cell.opt_wp_run.evaluations,
@@ -193,13 +193,14 @@ static void run_cell(void *item)
     }
 }
 
-static json_t *cell_json(aa_seed_kind kind, const aa_table3_cell *c,
+static json_t *cell_json(aa_seed_distribution distribution, const aa_table3_cell *c,
                          const proto_point_metrics *figures)
 {
-    json_t *o = json_pack("{s:s,s:o,s:o,s:o,s:o,s:o,s:I}", "distribution", aa_seed_kind_name(kind),
-                          "min", proto_real(c->random.min), "avg", proto_real(c->random.avg), "max",
-                          proto_real(c->random.max), "opt_w", proto_real(c->opt_w), "opt_wp",
-                          proto_real(c->opt_wp), "best_index", (json_int_t)c->best_index);
+    json_t *o = json_pack("{s:s,s:o,s:o,s:o,s:o,s:o,s:I}", "distribution",
+                          aa_seed_distribution_name(distribution), "min", proto_real(c->random.min),
+                          "avg", proto_real(c->random.avg), "max", proto_real(c->random.max),
+                          "opt_w", proto_real(c->opt_w), "opt_wp", proto_real(c->opt_wp),
+                          "best_index", (json_int_t)c->best_index);
     if (o && figures->spec.count &&
         json_object_set_new(o, "patterns", proto_point_metrics_columns(figures))) {
         json_decref(o);
@@ -217,9 +218,9 @@ static int shard_output(const proto_table3_spec *sp, uint64_t seed, cell_slot *s
     const aa_pattern *best = NULL;
     double best_e2 = INFINITY;
     bool ok = cells != NULL;
-    for (size_t k = 0; ok && k < sp->kind_count; k++) {
-        ok = !json_array_append_new(cells,
-                                    cell_json(sp->kinds[k], &slots[k].cell, &slots[k].figures));
+    for (size_t k = 0; ok && k < sp->distribution_count; k++) {
+        ok = !json_array_append_new(
+            cells, cell_json(sp->distributions[k], &slots[k].cell, &slots[k].figures));
         if (slots[k].cell.opt_wp < best_e2) {
             best_e2 = slots[k].cell.opt_wp;
             best = &slots[k].cell.opt_wp_pattern;
@@ -259,13 +260,13 @@ static int run_shard(const void *params, int stage, const json_t *shard, const j
     if (!sp->common.method_auto)
         tp.opt_wp_method = (int)sp->common.method;
     tp.clock = ctx->clock; /* the job's clock: each cell's budget is its own run time */
-    cell_hub hub = {.outer = ctx, .count = sp->kind_count, .best_posted = INFINITY};
+    cell_hub hub = {.outer = ctx, .count = sp->distribution_count, .best_posted = INFINITY};
     cell_slot slots[PROTO_MAX_DISTRIBUTIONS];
     memset(slots, 0, sizeof slots);
     int figures_rc = AA_OK;
     if (pthread_mutex_init(&hub.lock, NULL))
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    for (size_t k = 0; k < sp->kind_count; k++) {
+    for (size_t k = 0; k < sp->distribution_count; k++) {
         hub.work[k] = (job_trace_point){0, 0, 0, INFINITY};
         cell_slot *c = &slots[k];
         *c = (cell_slot){.hub = &hub,
@@ -284,7 +285,7 @@ static int run_shard(const void *params, int stage, const json_t *shard, const j
         }
     }
     if (figures_rc) {
-        for (size_t k = 0; k < sp->kind_count; k++)
+        for (size_t k = 0; k < sp->distribution_count; k++)
             proto_point_metrics_free(&slots[k].figures);
         pthread_mutex_destroy(&hub.lock);
         return figures_rc;
@@ -292,13 +293,13 @@ static int run_shard(const void *params, int stage, const json_t *shard, const j
     /* As many cells at once as the shard has threads; every cell's streams are its own, so a
      * clock-free budget gives the same output either way. */
     size_t batch = ctx->workers > 1 ? (size_t)ctx->workers : 1;
-    for (size_t k = 0; k < sp->kind_count; k += batch) {
-        size_t n = sp->kind_count - k < batch ? sp->kind_count - k : batch;
+    for (size_t k = 0; k < sp->distribution_count; k += batch) {
+        size_t n = sp->distribution_count - k < batch ? sp->distribution_count - k : batch;
         aa_fork_join(&slots[k], sizeof slots[0], (int)n, run_cell);
     }
     /* A cell's own failure before the cancel it caused in the others. */
     int rc = AA_OK;
-    for (size_t k = 0; k < sp->kind_count && (!rc || rc == AA_ECANCELED); k++)
+    for (size_t k = 0; k < sp->distribution_count && (!rc || rc == AA_ECANCELED); k++)
         if (slots[k].rc && (!rc || slots[k].rc != AA_ECANCELED)) {
             rc = slots[k].rc;
             *err = slots[k].err;
@@ -312,7 +313,7 @@ static int run_shard(const void *params, int stage, const json_t *shard, const j
             ctx->trace(ctx->user, &total); /* the shard's last point: its whole work */
         rc = shard_output(sp, seed, slots, output, err);
     }
-    for (size_t k = 0; k < sp->kind_count; k++) {
+    for (size_t k = 0; k < sp->distribution_count; k++) {
         aa_table3_cell_free(&slots[k].cell);
         proto_point_metrics_free(&slots[k].figures);
     }
@@ -352,7 +353,7 @@ static int finish(const void *params, const json_t *merged, const char *executor
     snprintf(r->family, sizeof r->family, "%s", sp->family.label);
     r->count = (long)sp->count;
     r->seed_count = sp->seeds;
-    r->row_count = sp->kind_count;
+    r->row_count = sp->distribution_count;
     r->e2 = INFINITY;
     bool paper = !strcmp(sp->family.label, "P(16,16,4)");
     int rc = AA_OK;
@@ -362,10 +363,10 @@ static int finish(const void *params, const json_t *merged, const char *executor
         long long rs = 0;
         rc = proto_result_integer(out, "rng_seed", &rs, err);
         r->seeds[s] = (uint64_t)rs;
-        if (!rc && json_array_size(cells) != sp->kind_count)
+        if (!rc && json_array_size(cells) != sp->distribution_count)
             rc = aa_error_set(err, AA_EINVAL, "output", "seed %zu: expected %zu cells", s,
-                              sp->kind_count);
-        for (size_t k = 0; !rc && k < sp->kind_count; k++)
+                              sp->distribution_count);
+        for (size_t k = 0; !rc && k < sp->distribution_count; k++)
             for (int c = 0; !rc && c < PROTO_T3_COLS; c++)
                 rc = proto_result_real(json_array_get(cells, k), proto_table3_columns[c],
                                        &r->rows[k].values[c][s], err);
@@ -381,7 +382,7 @@ static int finish(const void *params, const json_t *merged, const char *executor
         rc = proto_result_pattern(json_array_get(seeds, best_seed), "best", false, &r->best, NULL,
                                   err);
     /* Each distribution's figures over every seed's patterns, in seed order, then ranked. */
-    for (size_t k = 0; !rc && sp->metrics.count && k < sp->kind_count; k++) {
+    for (size_t k = 0; !rc && sp->metrics.count && k < sp->distribution_count; k++) {
         proto_point_metrics *pm = &r->rows[k].point_metrics;
         rc = proto_point_metrics_init(pm, &sp->metrics, sp->seeds * sp->count, err);
         for (size_t s = 0; !rc && s < sp->seeds; s++) {
@@ -395,11 +396,11 @@ static int finish(const void *params, const json_t *merged, const char *executor
         if (!rc)
             rc = proto_point_metrics_rank(pm, err);
     }
-    for (size_t k = 0; !rc && k < sp->kind_count; k++) {
+    for (size_t k = 0; !rc && k < sp->distribution_count; k++) {
         proto_table3_row *row = &r->rows[k];
-        row->distribution = sp->kinds[k];
-        row->radius = sp->kinds[k] == AA_SEED_POISSON ? sp->poisson_radius : NAN;
-        const aa_table3_paper *p = paper ? aa_table3_paper_row(sp->kinds[k]) : NULL;
+        row->distribution = sp->distributions[k];
+        row->radius = sp->distributions[k] == AA_SEED_POISSON ? sp->poisson_radius : NAN;
+        const aa_table3_paper *p = paper ? aa_table3_paper_row(sp->distributions[k]) : NULL;
         const double pv[PROTO_T3_COLS] = {p ? p->min : NAN, p ? p->avg : NAN, p ? p->max : NAN,
                                           p ? p->opt_w : NAN, p ? p->opt_wp : NAN};
         for (int c = 0; c < PROTO_T3_COLS; c++) {

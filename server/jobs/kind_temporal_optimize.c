@@ -146,7 +146,7 @@ static int add_row(proto_temporal_optimize_result *r, size_t *cap, const seed_ta
         *cap = n;
     }
     r->per_seed[r->per_seed_count++] = (proto_temporal_seed){t->seed,
-                                                             t->end.start_kind == 0 ? 0 : 1,
+                                                             t->end.start_from == 0 ? 0 : 1,
                                                              t->end.start_initial_score,
                                                              t->end.start_score,
                                                              t->end.start_e2,

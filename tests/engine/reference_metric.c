@@ -62,7 +62,7 @@ void ref_gauss_legendre(int m, long double *node, long double *weight)
 void ref_filter_mitchell(ref_filter *f, long double B, long double C, long double radius)
 {
     memset(f, 0, sizeof *f);
-    f->kind = REF_MITCHELL;
+    f->formula = REF_MITCHELL;
     f->B = B;
     f->C = C;
     f->radius = radius;
@@ -72,7 +72,7 @@ void ref_filter_mitchell(ref_filter *f, long double B, long double C, long doubl
 void ref_filter_box(ref_filter *f, long double radius)
 {
     memset(f, 0, sizeof *f);
-    f->kind = REF_BOX;
+    f->formula = REF_BOX;
     f->radius = radius;
     f->norm = 1.0L;
 }
@@ -80,7 +80,7 @@ void ref_filter_box(ref_filter *f, long double radius)
 void ref_filter_tent(ref_filter *f, long double radius)
 {
     memset(f, 0, sizeof *f);
-    f->kind = REF_TENT;
+    f->formula = REF_TENT;
     f->radius = radius;
     f->norm = 1.0L;
 }
@@ -88,7 +88,7 @@ void ref_filter_tent(ref_filter *f, long double radius)
 void ref_filter_gaussian(ref_filter *f, long double sigma, long double radius)
 {
     memset(f, 0, sizeof *f);
-    f->kind = REF_GAUSSIAN;
+    f->formula = REF_GAUSSIAN;
     f->sigma = sigma;
     f->radius = radius;
     f->norm = 1.0L / (sigma * sqrtl(2.0L * REF_PI) * erfl(radius / (sigma * sqrtl(2.0L))));
@@ -119,7 +119,7 @@ static long double gl20_lanczos(const ref_filter *f, long double u, long double 
 void ref_filter_lanczos(ref_filter *f, long double a)
 {
     memset(f, 0, sizeof *f);
-    f->kind = REF_LANCZOS;
+    f->formula = REF_LANCZOS;
     f->a = a;
     f->radius = a;
     int cells = (int)ceill(2.0L * a / REF_LANCZOS_STEP);
@@ -188,7 +188,7 @@ long double ref_filter_h(const ref_filter *f, long double x)
     long double r = f->radius;
     if (fabsl(x) >= r)
         return 0.0L;
-    switch (f->kind) {
+    switch (f->formula) {
     case REF_MITCHELL: {
         long double s = 2.0L / r;
         return s * mitchell_k(f->B, f->C, s * x);
@@ -212,7 +212,7 @@ long double ref_filter_cdf(const ref_filter *f, long double a)
         return 0.0L;
     if (a >= r)
         return 1.0L;
-    switch (f->kind) {
+    switch (f->formula) {
     case REF_MITCHELL:
         return mitchell_cdf_standard(f->B, f->C, a * 2.0L / r);
     case REF_BOX:
@@ -239,7 +239,7 @@ long double ref_filter_cdf(const ref_filter *f, long double a)
 size_t ref_filter_knots(const ref_filter *f, long double *out)
 {
     long double r = f->radius;
-    switch (f->kind) {
+    switch (f->formula) {
     case REF_MITCHELL:
         out[0] = -r, out[1] = -0.5L * r, out[2] = 0.0L, out[3] = 0.5L * r, out[4] = r;
         return 5;

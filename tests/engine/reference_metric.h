@@ -12,10 +12,10 @@
 #define REF_LANCZOS_STEP 0.25L
 #define REF_LANCZOS_MAX_CELLS 64
 
-typedef enum ref_kind { REF_MITCHELL, REF_BOX, REF_TENT, REF_GAUSSIAN, REF_LANCZOS } ref_kind;
+typedef enum ref_formula { REF_MITCHELL, REF_BOX, REF_TENT, REF_GAUSSIAN, REF_LANCZOS } ref_formula;
 
 typedef struct ref_filter {
-    ref_kind kind;
+    ref_formula formula;
     long double B, C;  /* Mitchell-Netravali */
     long double sigma; /* Gaussian */
     long double a;     /* Lanczos */

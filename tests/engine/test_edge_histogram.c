@@ -230,9 +230,9 @@ static void test_checkerboard(void **state)
 static void test_zoom_extremes(void **state)
 {
     (void)state;
-    for (int k = 0; k < AA_SCENE_KIND_COUNT; k++)
+    for (int k = 0; k < AA_SCENE_SHAPE_COUNT; k++)
         for (int z = 0; z < 2; z++) {
-            aa_scene_params p = aa_scene_params_default((aa_scene_kind)k);
+            aa_scene_params p = aa_scene_params_default((aa_scene_shape)k);
             p.width = p.height = 512;
             p.zoom = z ? 1000 : 0.001;
             aa_scene s;
@@ -280,11 +280,12 @@ static void test_gradients_agree(void **state)
     p.angle_deg = 30;
     p.offset = 0.4;
     /* Not the sliver: near its tip the two long sides cancel within the filter. */
-    const aa_scene_kind kinds[] = {AA_SCENE_HALF_PLANE, AA_SCENE_RINGS, AA_SCENE_ROTATING_TRIANGLE};
+    const aa_scene_shape shapes[] = {AA_SCENE_HALF_PLANE, AA_SCENE_RINGS,
+                                     AA_SCENE_ROTATING_TRIANGLE};
     for (size_t k = 0; k < 3; k++) {
         aa_scene_params q = p;
-        q.kind = kinds[k];
-        if (kinds[k] != AA_SCENE_HALF_PLANE) {
+        q.shape = shapes[k];
+        if (shapes[k] != AA_SCENE_HALF_PLANE) {
             q.angle_deg = 0;
             q.offset = 0;
         }
@@ -299,9 +300,9 @@ static void test_gradients_agree(void **state)
         /* The border rows and columns are not measured: up to 2 px per crossing of the edge. */
         double ratio = g.total / h.total;
         if (!(ratio > 0.9 && ratio < 1.1))
-            fail_msg("%s: gradient total %.1f, analytic %.1f", aa_scene_kind_name(kinds[k]),
+            fail_msg("%s: gradient total %.1f, analytic %.1f", aa_scene_shape_name(shapes[k]),
                      g.total, h.total);
-        if (kinds[k] == AA_SCENE_HALF_PLANE) {
+        if (shapes[k] == AA_SCENE_HALF_PLANE) {
             double near = 0;
             for (int d = 27; d <= 33; d++)
                 near += g.length[d];

@@ -65,7 +65,8 @@ static void seeds_have_the_family_and_unit_weights(void **state)
             aa_rng rng;
             aa_rng_seed(&rng, 1234, (uint64_t)k);
             aa_pattern p;
-            assert_int_equal(aa_family_seed(&f, (aa_seed_kind)k, &filter, &rng, &p, NULL), AA_OK);
+            assert_int_equal(aa_family_seed(&f, (aa_seed_distribution)k, &filter, &rng, &p, NULL),
+                             AA_OK);
             assert_true(fabs(p.cost_spp - f.cost) < 1e-12);
             assert_int_equal(p.kernel_count, (size_t)(f.tile * f.tile));
             if (!f.border)
@@ -85,12 +86,14 @@ static void seed_kind_names_round_trip(void **state)
 {
     (void)state;
     for (int k = 0; k < 5; k++) {
-        aa_seed_kind back;
-        assert_int_equal(aa_seed_kind_parse(aa_seed_kind_name((aa_seed_kind)k), &back), AA_OK);
+        aa_seed_distribution back;
+        assert_int_equal(
+            aa_seed_distribution_parse(aa_seed_distribution_name((aa_seed_distribution)k), &back),
+            AA_OK);
         assert_int_equal(back, k);
     }
-    aa_seed_kind x;
-    assert_int_equal(aa_seed_kind_parse("sobol", &x), AA_EINVAL);
+    aa_seed_distribution x;
+    assert_int_equal(aa_seed_distribution_parse("sobol", &x), AA_EINVAL);
 }
 
 static double min_torus_distance(const aa_point *p, size_t n, double T)
@@ -153,8 +156,8 @@ static void seeds_are_deterministic(void **state)
         aa_rng r1, r2;
         aa_rng_seed(&r1, 99, 7);
         aa_rng_seed(&r2, 99, 7);
-        assert_int_equal(aa_seed_points((aa_seed_kind)k, 20, 3, &r1, a), AA_OK);
-        assert_int_equal(aa_seed_points((aa_seed_kind)k, 20, 3, &r2, b), AA_OK);
+        assert_int_equal(aa_seed_points((aa_seed_distribution)k, 20, 3, &r1, a), AA_OK);
+        assert_int_equal(aa_seed_points((aa_seed_distribution)k, 20, 3, &r2, b), AA_OK);
         assert_memory_equal(a, b, sizeof a);
     }
 }

@@ -89,7 +89,7 @@ static void test_names_and_defaults(void **state)
     }
     aa_filter d;
     aa_filter_default(&d);
-    assert_int_equal(d.kind, AA_FILTER_MITCHELL);
+    assert_int_equal(d.formula, AA_FILTER_MITCHELL);
     assert_true(fabs(d.B - 1.0 / 3) < 1e-15 && fabs(d.C - 1.0 / 3) < 1e-15);
     assert_true(d.radius == 2.0);
     assert_string_equal(d.name, "mitchell");

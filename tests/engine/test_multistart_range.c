@@ -72,7 +72,7 @@ static void pattern_equal(const aa_pattern *a, const aa_pattern *b)
 
 static void seed_equal(const aa_multistart_seed *a, const aa_multistart_seed *b)
 {
-    assert_int_equal(a->kind, b->kind);
+    assert_int_equal(a->distribution, b->distribution);
     assert_int_equal(a->status, b->status);
     assert_memory_equal(&a->initial_e2, &b->initial_e2, sizeof a->initial_e2);
     assert_memory_equal(&a->e2, &b->e2, sizeof a->e2);

@@ -38,7 +38,7 @@ static double predicted(const aa_pattern *p, const aa_scene_params *sp, aa_predi
 
 static double measured(const aa_pattern *p, const aa_scene_params *sp)
 {
-    aa_render_params rp = aa_render_params_default(sp->kind);
+    aa_render_params rp = aa_render_params_default(sp->shape);
     rp.scene = *sp;
     rp.reference.spp = 256;
     aa_render_result r;

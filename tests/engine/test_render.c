@@ -192,12 +192,12 @@ static void test_mirrored_patterns_render_mirror_images(void **state)
 {
     (void)state;
     const char *names[] = {"flipquad", "fliptri"};
-    const aa_scene_kind kinds[] = {AA_SCENE_SIEMENS_STAR, AA_SCENE_SLIVER, AA_SCENE_RINGS};
+    const aa_scene_shape shapes[] = {AA_SCENE_SIEMENS_STAR, AA_SCENE_SLIVER, AA_SCENE_RINGS};
     for (size_t n = 0; n < 2; n++) {
         aa_pattern p = preset(names[n]);
         assert_int_equal(p.form, AA_FORM_MIRRORED);
         for (size_t k = 0; k < 3; k++) {
-            aa_scene_params sp = aa_scene_params_default(kinds[k]);
+            aa_scene_params sp = aa_scene_params_default(shapes[k]);
             sp.width = 40;
             sp.height = 36;
             sp.angle_deg = 7.3; /* no sample exactly on an edge */
@@ -227,8 +227,8 @@ static void test_sparse_equals_dense(void **state)
 {
     (void)state;
     aa_pattern p = preset("rgss");
-    for (int kind = 0; kind < AA_SCENE_KIND_COUNT; kind++) {
-        aa_scene_params sp = aa_scene_params_default((aa_scene_kind)kind);
+    for (int shape = 0; shape < AA_SCENE_SHAPE_COUNT; shape++) {
+        aa_scene_params sp = aa_scene_params_default((aa_scene_shape)shape);
         sp.width = 40;
         sp.height = 32;
         aa_scene s = make_scene(sp);
@@ -257,9 +257,9 @@ static void test_animation_recomputes_only_changes(void **state)
 {
     (void)state;
     aa_pattern p = preset("flipquad");
-    const aa_scene_kind kinds[] = {AA_SCENE_TRANSLATING_CIRCLE, AA_SCENE_ROTATING_TRIANGLE};
+    const aa_scene_shape shapes[] = {AA_SCENE_TRANSLATING_CIRCLE, AA_SCENE_ROTATING_TRIANGLE};
     for (size_t k = 0; k < 2; k++) {
-        aa_render_params rp = aa_render_params_default(kinds[k]);
+        aa_render_params rp = aa_render_params_default(shapes[k]);
         rp.scene.width = 64;
         rp.scene.height = 48;
         rp.scene.zoom = 0.6;
@@ -295,8 +295,8 @@ static void test_every_scene_with_every_preset(void **state)
     for (size_t pi = 0; pi < aa_preset_count(); pi++) {
         aa_pattern p;
         assert_int_equal(aa_pattern_from_preset(&p, aa_preset_at(pi), NULL), AA_OK);
-        for (int kind = 0; kind < AA_SCENE_KIND_COUNT; kind++) {
-            aa_render_params rp = aa_render_params_default((aa_scene_kind)kind);
+        for (int shape = 0; shape < AA_SCENE_SHAPE_COUNT; shape++) {
+            aa_render_params rp = aa_render_params_default((aa_scene_shape)shape);
             rp.scene.width = 20;
             rp.scene.height = 18;
             rp.reference.spp = 4;

@@ -42,15 +42,15 @@ static void test_box_uniform_is_conservative(void **state)
 {
     (void)state;
     uint64_t rng = 7;
-    for (int pass = 0; pass < 2 * AA_SCENE_KIND_COUNT; pass++) {
-        int kind = pass % AA_SCENE_KIND_COUNT;
-        aa_scene_params p = aa_scene_params_default((aa_scene_kind)kind);
+    for (int pass = 0; pass < 2 * AA_SCENE_SHAPE_COUNT; pass++) {
+        int shape = pass % AA_SCENE_SHAPE_COUNT;
+        aa_scene_params p = aa_scene_params_default((aa_scene_shape)shape);
         p.width = 64;
         p.height = 48;
         p.angle_deg = 13;
         p.frame = 3;
-        p.mirror_x = pass >= AA_SCENE_KIND_COUNT; /* mirrored boxes too */
-        p.mirror_y = pass >= AA_SCENE_KIND_COUNT && kind % 2;
+        p.mirror_x = pass >= AA_SCENE_SHAPE_COUNT; /* mirrored boxes too */
+        p.mirror_y = pass >= AA_SCENE_SHAPE_COUNT && shape % 2;
         aa_scene s;
         assert_int_equal(aa_scene_init(&s, &p, NULL), AA_OK);
         int uniform = 0;
@@ -74,9 +74,9 @@ static void test_box_uniform_is_conservative(void **state)
 static void test_scene_names_and_validation(void **state)
 {
     (void)state;
-    for (int k = 0; k < AA_SCENE_KIND_COUNT; k++)
-        assert_int_equal(aa_scene_kind_from_name(aa_scene_kind_name((aa_scene_kind)k)), k);
-    assert_int_equal(aa_scene_kind_from_name("teapot"), -1);
+    for (int k = 0; k < AA_SCENE_SHAPE_COUNT; k++)
+        assert_int_equal(aa_scene_shape_from_name(aa_scene_shape_name((aa_scene_shape)k)), k);
+    assert_int_equal(aa_scene_shape_from_name("teapot"), -1);
     aa_scene s;
     aa_error err = {0};
     aa_scene_params p = aa_scene_params_default(AA_SCENE_SIEMENS_STAR);
@@ -97,8 +97,8 @@ static void test_scene_names_and_validation(void **state)
 static void test_scene_is_resolution_independent(void **state)
 {
     (void)state;
-    for (int kind = 0; kind < AA_SCENE_KIND_COUNT; kind++) {
-        aa_scene_params p = aa_scene_params_default((aa_scene_kind)kind);
+    for (int shape = 0; shape < AA_SCENE_SHAPE_COUNT; shape++) {
+        aa_scene_params p = aa_scene_params_default((aa_scene_shape)shape);
         aa_scene a, b;
         p.width = p.height = 100;
         assert_int_equal(aa_scene_init(&a, &p, NULL), AA_OK);

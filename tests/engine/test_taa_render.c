@@ -30,11 +30,11 @@
 
 enum { W = 48 };
 
-static aa_scene make_scene(aa_scene_kind kind)
+static aa_scene make_scene(aa_scene_shape shape)
 {
-    aa_scene_params sp = aa_scene_params_default(kind);
+    aa_scene_params sp = aa_scene_params_default(shape);
     sp.width = sp.height = W;
-    if (kind == AA_SCENE_HALF_PLANE) {
+    if (shape == AA_SCENE_HALF_PLANE) {
         sp.angle_deg = 27;
         sp.offset = 0.37;
     }
@@ -108,9 +108,9 @@ static void run_loop(const aa_taa *r, const aa_image *frames, size_t periods, si
             h[k] = a * frames[step % N].px[k] + (1 - a) * h[k];
 }
 
-static void check_case(aa_scene_kind kind, const case_spec *c)
+static void check_case(aa_scene_shape shape, const case_spec *c)
 {
-    aa_scene s = make_scene(kind);
+    aa_scene s = make_scene(shape);
     aa_point jitter[16];
     aa_temporal t;
     build(&t, c, jitter);
@@ -216,10 +216,10 @@ static void test_loop_equals_phase_kernels(void **state)
         {3, {AA_BLEND_EXPONENTIAL, 0.2}, false, "quincunx"},
         {3, {AA_BLEND_EXPONENTIAL, 0.5}, true, "flipquad"},
     };
-    const aa_scene_kind kinds[] = {AA_SCENE_RINGS, AA_SCENE_HALF_PLANE, AA_SCENE_SIEMENS_STAR};
+    const aa_scene_shape shapes[] = {AA_SCENE_RINGS, AA_SCENE_HALF_PLANE, AA_SCENE_SIEMENS_STAR};
     for (size_t k = 0; k < 3; k++)
         for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++)
-            check_case(kinds[k], &cases[c]);
+            check_case(shapes[k], &cases[c]);
 }
 
 static void test_repeated_offset_has_no_flicker(void **state)

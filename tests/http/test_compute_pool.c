@@ -1,5 +1,5 @@
 /* compute_pool and key_counts: a user's evaluates and renders are admitted up to their shares
- * (429 territory beyond), shares are per user and per kind, a finished task gives its share
+ * (429 territory beyond), shares are per user and per class, a finished task gives its share
  * back before done() runs, the queue bound holds, and stop runs every admitted task. */
 #define _GNU_SOURCE
 #include <pthread.h>
@@ -21,7 +21,7 @@ typedef struct gate {
     pthread_cond_t cond;
     bool open;
     int started, ran, done;
-    int load_seen_in_done; /* the user's load of the kind when done() ran */
+    int load_seen_in_done; /* the user's load of the class when done() ran */
     compute_pool *pool;
 } gate;
 
@@ -45,7 +45,7 @@ static void run_blocked(void *arg)
 static void note_done(void *arg)
 {
     item *it = arg;
-    int load = compute_pool_user_load(it->g->pool, it->task.kind, it->task.user);
+    int load = compute_pool_user_load(it->g->pool, it->task.compute, it->task.user);
     pthread_mutex_lock(&it->g->lock);
     it->g->done++;
     if (load > it->g->load_seen_in_done)
@@ -78,11 +78,12 @@ static void gate_wait_done(gate *g, int n)
     pthread_mutex_unlock(&g->lock);
 }
 
-static compute_admit submit(compute_pool *cp, item *it, gate *g, compute_kind kind, uint64_t user)
+static compute_admit submit(compute_pool *cp, item *it, gate *g, compute_class compute,
+                            uint64_t user)
 {
     it->g = g;
     it->task = (compute_task){
-        .run = run_blocked, .done = note_done, .arg = it, .kind = kind, .user = user};
+        .run = run_blocked, .done = note_done, .arg = it, .compute = compute, .user = user};
     return compute_pool_submit(cp, &it->task);
 }
 

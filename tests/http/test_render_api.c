@@ -238,7 +238,7 @@ static double engine_prediction(unsigned model)
     aa_error err = {0};
     aa_pattern p;
     assert_int_equal(aa_pattern_from_preset(&p, aa_preset_find("rgss"), &err), 0);
-    aa_scene_params sp = aa_scene_params_default(aa_scene_kind_from_name("half-plane"));
+    aa_scene_params sp = aa_scene_params_default(aa_scene_shape_from_name("half-plane"));
     sp.width = 96;
     sp.height = 64;
     sp.angle_deg = 27;

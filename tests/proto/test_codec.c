@@ -73,7 +73,7 @@ static void test_filter_acuity_errors(void **state)
     json_decref(j);
     j = parse("{\"name\":\"lanczos\",\"a\":3}");
     assert_int_equal(proto_decode_filter(j, &f, "filter", &err), AA_OK);
-    assert_int_equal(f.kind, AA_FILTER_LANCZOS);
+    assert_int_equal(f.formula, AA_FILTER_LANCZOS);
     json_decref(j);
     assert_int_equal(proto_decode_filter(NULL, &f, "filter", &err), AA_OK);
     assert_string_equal(f.name, "mitchell");

@@ -89,11 +89,11 @@ static void test_scene_fields(void **state)
     expect_bad(scene, "{\"wedges\":0}", "scene.wedges");
     aa_scene_params sp;
     assert_int_equal(proto_decode_scene(NULL, &sp, "scene", NULL), AA_OK);
-    assert_int_equal(sp.kind, AA_SCENE_SIEMENS_STAR);
+    assert_int_equal(sp.shape, AA_SCENE_SIEMENS_STAR);
 
     json_t *j = parse("{\"scene\":\"spiral\",\"size\":[64,48]}");
     assert_int_equal(proto_decode_scene_request(j, &sp, NULL), AA_OK);
-    assert_int_equal(sp.kind, AA_SCENE_SPIRAL);
+    assert_int_equal(sp.shape, AA_SCENE_SPIRAL);
     assert_int_equal(sp.width, 64);
     assert_int_equal(sp.height, 48);
     json_decref(j);
@@ -171,7 +171,7 @@ static void test_scene_encoding_decodes_back(void **state)
         aa_error err = {0};
         if (proto_decode_scene(enc, &b, "scene", &err))
             fail_msg("%s: %s (%s)", specs[i], err.message, err.field);
-        assert_int_equal(a.kind, b.kind);
+        assert_int_equal(a.shape, b.shape);
         assert_int_equal(a.width, b.width);
         assert_int_equal(a.height, b.height);
         assert_float_equal(a.zoom, b.zoom, 0);
@@ -234,7 +234,7 @@ static void test_render_request(void **state)
     if (proto_decode_render_request(j, &rq, &err))
         fail_msg("%s (%s)", err.message, err.field);
     json_decref(j);
-    assert_int_equal(rq.scene.kind, AA_SCENE_RINGS);
+    assert_int_equal(rq.scene.shape, AA_SCENE_RINGS);
     assert_int_equal(rq.scene.width, 24);
     assert_true(rq.private_tiles);
     assert_true(rq.crop.enabled);

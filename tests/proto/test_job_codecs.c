@@ -53,7 +53,7 @@ static void test_optimize_spec(void **state)
     assert_int_equal(s.common.mode, AA_OPTIMIZE_BOTH);
     assert_true(s.common.method_auto);
     assert_int_equal(s.common.grid_bits, 0);
-    assert_int_equal(s.kind_count, 0);
+    assert_int_equal(s.distribution_count, 0);
     proto_optimize_spec_free(&s);
     json_decref(j);
 
@@ -160,7 +160,7 @@ static void test_sweep_and_stats_spec(void **state)
     j = parse("{\"family\":\"P(1,4,2)\",\"distribution\":\"poisson\"}");
     assert_int_equal(proto_decode_random_stats_spec(j, &r, &err), AA_OK);
     assert_int_equal(r.count, 1000);
-    assert_int_equal(r.kind, AA_SEED_POISSON);
+    assert_int_equal(r.distribution, AA_SEED_POISSON);
     proto_random_stats_spec_free(&r);
     json_decref(j);
     /* Random patterns of P(4,1,2) can leave a pixel without samples: refused at submit. */
@@ -252,7 +252,7 @@ static void test_optimize_scene_objective(void **state)
     aa_error err = {0};
     assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
     assert_true(s.objective.enabled);
-    assert_int_equal(s.objective.scene.kind, AA_SCENE_HALF_PLANE);
+    assert_int_equal(s.objective.scene.shape, AA_SCENE_HALF_PLANE);
     assert_int_equal(s.objective.scene.width, 64);
     assert_int_equal(s.objective.scene.height, 32);
     assert_true(s.objective.scene.angle_deg == 2 && s.objective.scene.offset == 0.37);
@@ -262,7 +262,7 @@ static void test_optimize_scene_objective(void **state)
     j = parse("{\"family\":\"P(1,1,4)\",\"objective\":{\"scene\":\"siemens-star\"}}");
     assert_int_equal(proto_decode_optimize_spec(j, &s, &err), AA_OK);
     assert_true(s.objective.enabled && s.objective.blend == 0);
-    assert_int_equal(s.objective.scene.kind, AA_SCENE_SIEMENS_STAR);
+    assert_int_equal(s.objective.scene.shape, AA_SCENE_SIEMENS_STAR);
     proto_optimize_spec_free(&s);
     json_decref(j);
     j = parse("{\"family\":\"P(1,1,4)\"}");
@@ -448,9 +448,9 @@ static void test_table3_codecs(void **state)
     assert_string_equal(s.family.label, "P(16,16,4)");
     assert_int_equal(s.seeds, 8);
     assert_int_equal(s.count, 1000);
-    assert_int_equal(s.kind_count, 2);
-    assert_int_equal(s.kinds[0], AA_SEED_POISSON);
-    assert_int_equal(s.kinds[1], AA_SEED_JITTERED);
+    assert_int_equal(s.distribution_count, 2);
+    assert_int_equal(s.distributions[0], AA_SEED_POISSON);
+    assert_int_equal(s.distributions[1], AA_SEED_JITTERED);
     assert_true(fabs(s.poisson_radius - 0.365) < 1e-12);
     assert_true(s.common.max_seconds == 60);
     assert_true(proto_table3_spec_seconds(&s) == 8 * 2 * 120);

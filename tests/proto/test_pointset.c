@@ -463,7 +463,7 @@ static void test_without_header(void **state)
 static void test_export_formats(void **state)
 {
     (void)state;
-    proto_export_kind k;
+    proto_export_writer k;
     proto_points_format f = PROTO_POINTS_UTK;
     assert_true(proto_export_format_parse("json", &k, &f) && k == PROTO_EXPORT_PATTERN);
     assert_true(proto_export_format_parse("points-json", &k, &f) && k == PROTO_EXPORT_POINTS &&

@@ -465,7 +465,7 @@ static json_t *metal_of(const char *pattern_json)
 static void test_metal_export(void **state)
 {
     (void)state;
-    proto_export_kind k;
+    proto_export_writer k;
     proto_points_format f = PROTO_POINTS_UTK;
     assert_true(proto_export_format_parse("metal", &k, &f) && k == PROTO_EXPORT_METAL);
     assert_true(proto_export_format_parse("bin", &k, &f) && k == PROTO_EXPORT_POINTS &&

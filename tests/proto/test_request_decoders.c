@@ -137,11 +137,11 @@ static void export_request(void **state)
     assert_string_equal(e.field, "format");
     proto_export_query_free(&q);
     assert_int_equal(proto_decode_export_query(NULL, "3", &q, &e), AA_OK);
-    assert_int_equal(q.kind, PROTO_EXPORT_PATTERN);
+    assert_int_equal(q.writer, PROTO_EXPORT_PATTERN);
     assert_int_equal(json_integer_value(q.phase), 3);
     proto_export_query_free(&q);
     assert_int_equal(proto_decode_export_query("csv", "x1", &q, &e), AA_OK);
-    assert_int_equal(q.kind, PROTO_EXPORT_POINTS);
+    assert_int_equal(q.writer, PROTO_EXPORT_POINTS);
     assert_string_equal(json_string_value(q.phase), "x1");
     proto_export_query_free(&q);
     json_t *j = parse("{\"pattern\":\"rgss\",\"format\":\"jitter-c\"}");
@@ -152,7 +152,7 @@ static void export_request(void **state)
     j = parse("{\"pattern\":{\"preset\":\"rgss\"},\"format\":\"csv\"}");
     assert_int_equal(proto_decode_export_request(j, NULL, &r, &e), AA_OK);
     assert_false(r.temporal);
-    assert_int_equal(r.kind, PROTO_EXPORT_POINTS);
+    assert_int_equal(r.writer, PROTO_EXPORT_POINTS);
     aa_pattern_free(&r.decoded);
     json_decref(j);
 }

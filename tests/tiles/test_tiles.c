@@ -208,7 +208,7 @@ static void test_decoding_names_fields(void **state)
     aa_error err = {0};
     json_t *j = parse("{\"name\":\"spiral\",\"width\":64,\"height\":48,\"zoom\":2}");
     assert_int_equal(proto_decode_scene(j, &sp, "scene", &err), AA_OK);
-    assert_int_equal(sp.kind, AA_SCENE_SPIRAL);
+    assert_int_equal(sp.shape, AA_SCENE_SPIRAL);
     assert_int_equal(sp.width, 64);
     json_decref(j);
     const struct {

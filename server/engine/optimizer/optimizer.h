@@ -194,8 +194,8 @@ typedef struct aa_multistart_params {
     const aa_family *family; /* random seeds of this family, or NULL to use seeds[] */
     /* Distributions used in turn; NULL: Poisson disks for the tiled families without border
      * samples (aa_family_perturbable), all five otherwise. */
-    const aa_seed_kind *kinds;
-    size_t kind_count;
+    const aa_seed_distribution *distributions;
+    size_t distribution_count;
     const aa_pattern *seeds; /* given seeds (family == NULL): seed_count of them */
     /* Mirrored families: seed i takes configs[i % config_count]; NULL: all configurations of
      * the family's cost (aa_enumerate_mirrored). */
@@ -228,9 +228,9 @@ typedef struct aa_multistart_params {
 void aa_multistart_params_default(aa_multistart_params *p);
 
 typedef struct aa_multistart_seed {
-    aa_seed_kind kind; /* distribution of a family seed */
-    int status;        /* AA_OK, or why this seed did not run to completion */
-    double initial_e2; /* NaN if the seed did not run */
+    aa_seed_distribution distribution; /* distribution of a family seed */
+    int status;                        /* AA_OK, or why this seed did not run to completion */
+    double initial_e2;                 /* NaN if the seed did not run */
     double e2;
     long iterations;
 } aa_multistart_seed;

@@ -137,7 +137,8 @@ static bool run_should_stop(shared_run *sh)
 
 /* The lowest-E2 of seed_pool draws of seed i (global index gi) of a family; stops early (with
  * the best so far) when the call's budget ends or it is cancelled. */
-static int pool_seed(shared_run *sh, size_t gi, aa_seed_kind kind, aa_pattern *out, aa_error *err)
+static int pool_seed(shared_run *sh, size_t gi, aa_seed_distribution distribution, aa_pattern *out,
+                     aa_error *err)
 {
     const aa_multistart_params *p = sh->params;
     memset(out, 0, sizeof *out);
@@ -148,7 +149,7 @@ static int pool_seed(shared_run *sh, size_t gi, aa_seed_kind kind, aa_pattern *o
         aa_rng rng;
         aa_rng_seed(&rng, p->rng_seed, POOL_STREAM + (uint64_t)gi * p->seed_pool + j);
         aa_pattern cand;
-        int rc = aa_family_seed(p->family, kind, sh->metric->filter, &rng, &cand, err);
+        int rc = aa_family_seed(p->family, distribution, sh->metric->filter, &rng, &cand, err);
         aa_evaluation ev;
         if (!rc && (rc = aa_evaluate(&cand, sh->metric, &ev, err)))
             aa_pattern_free(&cand);
@@ -168,7 +169,8 @@ static int pool_seed(shared_run *sh, size_t gi, aa_seed_kind kind, aa_pattern *o
     return AA_OK;
 }
 
-static int make_seed(shared_run *sh, size_t i, aa_seed_kind *kind, aa_pattern *out, aa_error *err)
+static int make_seed(shared_run *sh, size_t i, aa_seed_distribution *distribution, aa_pattern *out,
+                     aa_error *err)
 {
     const aa_multistart_params *p = sh->params;
     const aa_metric_params *metric = sh->metric;
@@ -176,28 +178,30 @@ static int make_seed(shared_run *sh, size_t i, aa_seed_kind *kind, aa_pattern *o
         return aa_pattern_copy(out, &p->seeds[i])
                    ? aa_error_set(err, AA_ENOMEM, "", "out of memory")
                    : AA_OK;
-    static const aa_seed_kind all[5] = {AA_SEED_UNIFORM, AA_SEED_JITTERED, AA_SEED_NROOKS,
-                                        AA_SEED_POISSON, AA_SEED_LLOYD};
+    static const aa_seed_distribution all[5] = {AA_SEED_UNIFORM, AA_SEED_JITTERED, AA_SEED_NROOKS,
+                                                AA_SEED_POISSON, AA_SEED_LLOYD};
     /* The large tiled families: uniform and N-rooks seeds end far worse (P(16,16,4), smooth
      * rule, two seeds each: uniform 0.187 / 0.227, N-rooks 0.183 / 0.191, jittered 0.180 /
      * 0.181, Poisson 0.176 / 0.181), and a run of them has time for few seeds. Poisson alone:
      * with the iterated local search, seed 1 of P(16,16,4) ends at 0.1679 jittered and 0.1659
      * Poisson (60 CPU s, acuity version 2), as L&A Table 3's Opt W+P ranks them, and with two
      * workers the alternation gave every seed of the second worker the jittered grid. */
-    static const aa_seed_kind tiled[1] = {AA_SEED_POISSON};
+    static const aa_seed_distribution tiled[1] = {AA_SEED_POISSON};
     bool use_tiled = aa_family_perturbable(p->family);
-    const aa_seed_kind *kinds = p->kinds ? p->kinds : use_tiled ? tiled : all;
-    size_t kc = p->kinds ? p->kind_count : use_tiled ? 1 : 5;
+    const aa_seed_distribution *distributions = p->distributions ? p->distributions
+                                                : use_tiled      ? tiled
+                                                                 : all;
+    size_t n_distributions = p->distributions ? p->distribution_count : use_tiled ? 1 : 5;
     i += p->first_seed; /* everything below follows the global index */
-    *kind = kinds[i % kc];
+    *distribution = distributions[i % n_distributions];
     aa_rng rng;
     aa_rng_seed(&rng, p->rng_seed, (uint64_t)i);
     if (p->family->mirrored) {
         /* The placement configuration matters more than the positions: seed i takes
          * configuration i mod count, so every configuration is tried in turn. */
         if (p->configs && p->config_count)
-            return aa_mirrored_config_seed(&p->configs[i % p->config_count], *kind, metric->filter,
-                                           &rng, out, err);
+            return aa_mirrored_config_seed(&p->configs[i % p->config_count], *distribution,
+                                           metric->filter, &rng, out, err);
         aa_mirrored_config *configs;
         size_t count;
         int rc = aa_enumerate_mirrored(p->family->cost, &configs, &count, err);
@@ -207,13 +211,14 @@ static int make_seed(shared_run *sh, size_t i, aa_seed_kind *kind, aa_pattern *o
             free(configs);
             return aa_error_set(err, AA_EINVAL, "family", "no configuration of this cost");
         }
-        rc = aa_mirrored_config_seed(&configs[i % count], *kind, metric->filter, &rng, out, err);
+        rc = aa_mirrored_config_seed(&configs[i % count], *distribution, metric->filter, &rng, out,
+                                     err);
         free(configs);
         return rc;
     }
     if (p->seed_pool > 1)
-        return pool_seed(sh, i, *kind, out, err);
-    return aa_family_seed(p->family, *kind, metric->filter, &rng, out, err);
+        return pool_seed(sh, i, *distribution, out, err);
+    return aa_family_seed(p->family, *distribution, metric->filter, &rng, out, err);
 }
 
 static void worker_main(void *arg)
@@ -229,9 +234,9 @@ static void worker_main(void *arg)
         if (stop)
             break;
         aa_pattern seed, out;
-        aa_seed_kind kind = AA_SEED_UNIFORM;
+        aa_seed_distribution distribution = AA_SEED_UNIFORM;
         aa_error e = {0};
-        int rc = make_seed(sh, i, &kind, &seed, &e);
+        int rc = make_seed(sh, i, &distribution, &seed, &e);
         aa_optimize_result r;
         memset(&r, 0, sizeof r);
         if (!rc) {
@@ -263,7 +268,7 @@ static void worker_main(void *arg)
             }
         }
         pthread_mutex_lock(&sh->lock);
-        sh->per_seed[i].kind = kind;
+        sh->per_seed[i].distribution = distribution;
         sh->per_seed[i].status = rc;
         sh->per_seed[i].initial_e2 = rc && rc != AA_ECANCELED ? NAN : r.initial_e2;
         sh->per_seed[i].e2 = rc && rc != AA_ECANCELED ? NAN : r.e2;
@@ -469,7 +474,7 @@ static int multistart_once(const aa_multistart_params *p, const aa_metric_params
         return aa_error_set(err, AA_EINVAL, "workers", "workers must be 1..%d", MAX_WORKERS);
     if (!p->family && !p->seeds)
         return aa_error_set(err, AA_EINVAL, "family", "a family or seed patterns are required");
-    if (p->kinds && p->kind_count == 0)
+    if (p->distributions && p->distribution_count == 0)
         return aa_error_set(err, AA_EINVAL, "distributions", "at least one distribution");
     shared_run sh;
     memset(&sh, 0, sizeof sh);

@@ -4,29 +4,29 @@
 #include <stdint.h>
 #include <string.h>
 
-int aa_random_patterns_range(const aa_family *family, aa_seed_kind kind,
+int aa_random_patterns_range(const aa_family *family, aa_seed_distribution distribution,
                              const aa_metric_params *metric, uint64_t rng_seed, size_t first,
                              size_t count, aa_random_progress_fn progress, void *user, double *e2,
                              aa_pattern *best, size_t *best_index, aa_random_stats *stats,
                              aa_error *err)
 {
-    return aa_random_patterns_range_radius(family, kind, 0, metric, rng_seed, first, count,
+    return aa_random_patterns_range_radius(family, distribution, 0, metric, rng_seed, first, count,
                                            progress, user, e2, best, best_index, stats, err);
 }
 
-int aa_random_patterns_range_radius(const aa_family *family, aa_seed_kind kind,
+int aa_random_patterns_range_radius(const aa_family *family, aa_seed_distribution distribution,
                                     double poisson_radius, const aa_metric_params *metric,
                                     uint64_t rng_seed, size_t first, size_t count,
                                     aa_random_progress_fn progress, void *user, double *e2,
                                     aa_pattern *best, size_t *best_index, aa_random_stats *stats,
                                     aa_error *err)
 {
-    return aa_random_patterns_range_visit(family, kind, poisson_radius, metric, rng_seed, first,
-                                          count, progress, user, NULL, NULL, e2, best, best_index,
-                                          stats, err);
+    return aa_random_patterns_range_visit(family, distribution, poisson_radius, metric, rng_seed,
+                                          first, count, progress, user, NULL, NULL, e2, best,
+                                          best_index, stats, err);
 }
 
-int aa_random_patterns_range_visit(const aa_family *family, aa_seed_kind kind,
+int aa_random_patterns_range_visit(const aa_family *family, aa_seed_distribution distribution,
                                    double poisson_radius, const aa_metric_params *metric,
                                    uint64_t rng_seed, size_t first, size_t count,
                                    aa_random_progress_fn progress, void *user,
@@ -45,7 +45,8 @@ int aa_random_patterns_range_visit(const aa_family *family, aa_seed_kind kind,
         aa_rng rng;
         aa_rng_seed(&rng, rng_seed, (uint64_t)(first + i));
         aa_pattern p;
-        rc = aa_family_seed_radius(family, kind, poisson_radius, metric->filter, &rng, &p, err);
+        rc = aa_family_seed_radius(family, distribution, poisson_radius, metric->filter, &rng, &p,
+                                   err);
         aa_evaluation ev;
         if (!rc)
             rc = aa_evaluate(&p, metric, &ev, err);

@@ -18,21 +18,21 @@ typedef struct aa_random_stats {
 /* Called after pattern i (0-based) when i % 64 == 0; nonzero cancels. */
 typedef int (*aa_random_progress_fn)(void *user, size_t i);
 
-/* Draws count (>= 1) seed patterns of the family (aa_family_seed: positions from kind, weights
- * from metric->filter) and evaluates each: patterns first .. first + count - 1 of a numbered
- * sequence, where pattern i draws from its own PCG32 stream (rng_seed, i), so contiguous ranges
- * evaluated apart (shards of a job) give the patterns and E2 values of one run over the whole
- * sequence. e2 (optional, count entries) receives each pattern's E2 in order (to merge ranges
+/* Draws count (>= 1) seed patterns of the family (aa_family_seed: positions from distribution,
+ * weights from metric->filter) and evaluates each: patterns first .. first + count - 1 of a
+ * numbered sequence, where pattern i draws from its own PCG32 stream (rng_seed, i), so contiguous
+ * ranges evaluated apart (shards of a job) give the patterns and E2 values of one run over the
+ * whole sequence. e2 (optional, count entries) receives each pattern's E2 in order (to merge ranges
  * exactly: min / avg / max recomputed over the concatenated lists equal one run's); *best_index the
  * global index of *best (the first of equals). progress as above, with the local index. On error or
  * cancel (AA_ECANCELED) *stats and *best hold the patterns done so far. */
-int aa_random_patterns_range(const aa_family *family, aa_seed_kind kind,
+int aa_random_patterns_range(const aa_family *family, aa_seed_distribution distribution,
                              const aa_metric_params *metric, uint64_t rng_seed, size_t first,
                              size_t count, aa_random_progress_fn progress, void *user, double *e2,
                              aa_pattern *best, size_t *best_index, aa_random_stats *stats,
                              aa_error *err);
 /* The same with a stated Poisson-disk radius in pixels (aa_family_seed_radius; 0: default). */
-int aa_random_patterns_range_radius(const aa_family *family, aa_seed_kind kind,
+int aa_random_patterns_range_radius(const aa_family *family, aa_seed_distribution distribution,
                                     double poisson_radius, const aa_metric_params *metric,
                                     uint64_t rng_seed, size_t first, size_t count,
                                     aa_random_progress_fn progress, void *user, double *e2,
@@ -43,7 +43,7 @@ int aa_random_patterns_range_radius(const aa_family *family, aa_seed_kind kind,
 typedef int (*aa_random_visit_fn)(void *user, size_t i, const aa_pattern *p, double e2,
                                   aa_error *err);
 /* The same, visiting every pattern (visit may be NULL). */
-int aa_random_patterns_range_visit(const aa_family *family, aa_seed_kind kind,
+int aa_random_patterns_range_visit(const aa_family *family, aa_seed_distribution distribution,
                                    double poisson_radius, const aa_metric_params *metric,
                                    uint64_t rng_seed, size_t first, size_t count,
                                    aa_random_progress_fn progress, void *user,

@@ -8,10 +8,10 @@ static const aa_table3_paper paper_rows[] = {
     {AA_SEED_POISSON, 0.346, 0.473, 0.782, 0.221, 0.161},
 };
 
-const aa_table3_paper *aa_table3_paper_row(aa_seed_kind kind)
+const aa_table3_paper *aa_table3_paper_row(aa_seed_distribution distribution)
 {
     for (size_t i = 0; i < sizeof paper_rows / sizeof paper_rows[0]; i++)
-        if (paper_rows[i].kind == kind)
+        if (paper_rows[i].distribution == distribution)
             return &paper_rows[i];
     return NULL;
 }
@@ -93,18 +93,18 @@ static int opt_stage(const aa_pattern *start, const aa_metric_params *metric, aa
                                err);
 }
 
-int aa_table3_cell_run(const aa_family *family, aa_seed_kind kind, const aa_metric_params *metric,
-                       const aa_table3_params *params, uint64_t rng_seed,
-                       aa_table3_progress_fn progress, void *user, aa_table3_cell *out,
-                       aa_error *err)
+int aa_table3_cell_run(const aa_family *family, aa_seed_distribution distribution,
+                       const aa_metric_params *metric, const aa_table3_params *params,
+                       uint64_t rng_seed, aa_table3_progress_fn progress, void *user,
+                       aa_table3_cell *out, aa_error *err)
 {
     memset(out, 0, sizeof *out);
     out->opt_w = out->opt_wp = NAN;
     relay rl = {progress, user, 0, params->count};
-    int rc = aa_random_patterns_range_visit(family, kind, params->poisson_radius, metric, rng_seed,
-                                            0, params->count, relay_random, &rl, params->visit,
-                                            params->visit_user, NULL, &out->best_random,
-                                            &out->best_index, &out->random, err);
+    int rc = aa_random_patterns_range_visit(family, distribution, params->poisson_radius, metric,
+                                            rng_seed, 0, params->count, relay_random, &rl,
+                                            params->visit, params->visit_user, NULL,
+                                            &out->best_random, &out->best_index, &out->random, err);
     if (rc)
         return rc;
     aa_pattern w;

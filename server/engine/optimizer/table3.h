@@ -17,11 +17,11 @@
 
 /* L&A Table 3 (P(16,16,4)), the rows this protocol reproduces. */
 typedef struct aa_table3_paper {
-    aa_seed_kind kind;
+    aa_seed_distribution distribution;
     double min, avg, max, opt_w, opt_wp;
 } aa_table3_paper;
 /* The paper's value for a distribution (Poisson, jittered); NULL for any other. */
-const aa_table3_paper *aa_table3_paper_row(aa_seed_kind kind);
+const aa_table3_paper *aa_table3_paper_row(aa_seed_distribution distribution);
 
 typedef struct aa_table3_params {
     size_t count;          /* random patterns, default 1000 */
@@ -60,10 +60,10 @@ typedef int (*aa_table3_progress_fn)(void *user, const aa_table3_progress *p);
 /* Runs the protocol for one distribution and rng_seed: pattern i from stream (rng_seed, i), Opt
  * W+P's search from stream (rng_seed, 2^32) (as random-stats). On error or cancel *out holds
  * what was done (free it with aa_table3_cell_free either way). */
-int aa_table3_cell_run(const aa_family *family, aa_seed_kind kind, const aa_metric_params *metric,
-                       const aa_table3_params *params, uint64_t rng_seed,
-                       aa_table3_progress_fn progress, void *user, aa_table3_cell *out,
-                       aa_error *err);
+int aa_table3_cell_run(const aa_family *family, aa_seed_distribution distribution,
+                       const aa_metric_params *metric, const aa_table3_params *params,
+                       uint64_t rng_seed, aa_table3_progress_fn progress, void *user,
+                       aa_table3_cell *out, aa_error *err);
 
 /* Mean and sample standard deviation (n - 1; 0 for one value) of n values. */
 void aa_mean_sd(const double *v, size_t n, double *mean, double *sd);

@@ -128,8 +128,8 @@ int aa_enumerate_mirrored(double cost, aa_mirrored_config **out, size_t *count, 
 /* Interior positions stay this far from the pixel border so their site is unambiguous. */
 #define INTERIOR_MARGIN 1e-3
 
-int aa_mirrored_config_seed(const aa_mirrored_config *c, aa_seed_kind kind, const aa_filter *filter,
-                            aa_rng *rng, aa_pattern *out, aa_error *err)
+int aa_mirrored_config_seed(const aa_mirrored_config *c, aa_seed_distribution distribution,
+                            const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err)
 {
     memset(out, 0, sizeof *out);
     int total = c->interior;
@@ -166,7 +166,7 @@ int aa_mirrored_config_seed(const aa_mirrored_config *c, aa_seed_kind kind, cons
     }
     int rc = AA_OK;
     if (c->interior) {
-        rc = aa_seed_points(kind, (size_t)c->interior, 1, rng, pts);
+        rc = aa_seed_points(distribution, (size_t)c->interior, 1, rng, pts);
         for (int k = 0; k < c->interior && !rc; k++) {
             double x = pts[k].x - 0.5, y = pts[k].y - 0.5;
             double lim = 0.5 - INTERIOR_MARGIN;

@@ -42,7 +42,7 @@ int aa_enumerate_mirrored(double cost, aa_mirrored_config **out, size_t *count, 
 /* A seed pattern of the configuration: corners fixed, edge samples spread along their edge at
  * random (stratified when an edge holds several), interior samples from the seed distribution,
  * weights from the filter's impulse response h(x) h(y), normalised. */
-int aa_mirrored_config_seed(const aa_mirrored_config *c, aa_seed_kind kind, const aa_filter *filter,
-                            aa_rng *rng, aa_pattern *out, aa_error *err);
+int aa_mirrored_config_seed(const aa_mirrored_config *c, aa_seed_distribution distribution,
+                            const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err);
 
 #endif

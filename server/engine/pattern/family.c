@@ -91,18 +91,18 @@ int aa_family_parse(const char *text, aa_family *out, aa_error *err)
 
 static const char *const seed_names[] = {"uniform", "jittered", "n-rooks", "poisson", "lloyd"};
 
-int aa_seed_kind_parse(const char *name, aa_seed_kind *out)
+int aa_seed_distribution_parse(const char *name, aa_seed_distribution *out)
 {
     for (int k = 0; k < 5; k++) {
         if (name && !strcmp(name, seed_names[k])) {
-            *out = (aa_seed_kind)k;
+            *out = (aa_seed_distribution)k;
             return AA_OK;
         }
     }
     return AA_EINVAL;
 }
 
-const char *aa_seed_kind_name(aa_seed_kind k)
+const char *aa_seed_distribution_name(aa_seed_distribution k)
 {
     return (unsigned)k < 5 ? seed_names[k] : "unknown";
 }
@@ -127,14 +127,15 @@ static void snap_some_to_edges(aa_point *pts, size_t n, aa_rng *rng)
     }
 }
 
-int aa_family_seed(const aa_family *family, aa_seed_kind kind, const aa_filter *filter, aa_rng *rng,
-                   aa_pattern *out, aa_error *err)
+int aa_family_seed(const aa_family *family, aa_seed_distribution distribution,
+                   const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err)
 {
-    return aa_family_seed_radius(family, kind, 0, filter, rng, out, err);
+    return aa_family_seed_radius(family, distribution, 0, filter, rng, out, err);
 }
 
-int aa_family_seed_radius(const aa_family *family, aa_seed_kind kind, double poisson_radius,
-                          const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err)
+int aa_family_seed_radius(const aa_family *family, aa_seed_distribution distribution,
+                          double poisson_radius, const aa_filter *filter, aa_rng *rng,
+                          aa_pattern *out, aa_error *err)
 {
     memset(out, 0, sizeof *out);
     if (family->mirrored) {
@@ -149,14 +150,14 @@ int aa_family_seed_radius(const aa_family *family, aa_seed_kind kind, double poi
         }
         aa_mirrored_config c = configs[aa_rng_below(rng, (uint32_t)count)];
         free(configs);
-        return aa_mirrored_config_seed(&c, kind, filter, rng, out, err);
+        return aa_mirrored_config_seed(&c, distribution, filter, rng, out, err);
     }
     int T = family->tile;
     size_t n = (size_t)llround(family->cost * T * T);
     aa_point *pts = malloc(n * sizeof *pts);
     if (!pts)
         return aa_error_set(err, AA_ENOMEM, "", "out of memory");
-    int rc = aa_seed_points_radius(kind, n, T, poisson_radius, rng, pts);
+    int rc = aa_seed_points_radius(distribution, n, T, poisson_radius, rng, pts);
     if (rc) {
         free(pts);
         if (rc == AA_ERANGE)

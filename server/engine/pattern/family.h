@@ -24,26 +24,27 @@ typedef struct aa_family {
  * {1, 4, 16} (K^2). P(4,1+,n) means the mirrored family. Errors name field "family". */
 int aa_family_parse(const char *text, aa_family *out, aa_error *err);
 
-typedef enum aa_seed_kind {
+typedef enum aa_seed_distribution {
     AA_SEED_UNIFORM,  /* uniform random in each pixel */
     AA_SEED_JITTERED, /* one sample per stratum of a jittered grid */
     AA_SEED_NROOKS,   /* N-rooks within each pixel */
     AA_SEED_POISSON,  /* Poisson disk (dart throwing on the torus) */
     AA_SEED_LLOYD     /* Lloyd relaxation on the torus */
-} aa_seed_kind;
+} aa_seed_distribution;
 
-int aa_seed_kind_parse(const char *name, aa_seed_kind *out);
-const char *aa_seed_kind_name(aa_seed_kind k);
+int aa_seed_distribution_parse(const char *name, aa_seed_distribution *out);
+const char *aa_seed_distribution_name(aa_seed_distribution k);
 
 /* A random seed pattern of the family: positions from the distribution, weights from the
  * filter's impulse response (normalised). For the mirrored family a random placement
  * configuration of the right cost is drawn (corner 0.25, edge 0.5, interior 1). */
-int aa_family_seed(const aa_family *family, aa_seed_kind kind, const aa_filter *filter, aa_rng *rng,
-                   aa_pattern *out, aa_error *err);
+int aa_family_seed(const aa_family *family, aa_seed_distribution distribution,
+                   const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err);
 /* The same with a stated Poisson-disk radius in pixels for tiled families (0: the default,
  * aa_poisson_default_radius; the mirrored family always uses the default). A radius with no
  * room for the family's samples is AA_ERANGE naming "poisson_radius". */
-int aa_family_seed_radius(const aa_family *family, aa_seed_kind kind, double poisson_radius,
-                          const aa_filter *filter, aa_rng *rng, aa_pattern *out, aa_error *err);
+int aa_family_seed_radius(const aa_family *family, aa_seed_distribution distribution,
+                          double poisson_radius, const aa_filter *filter, aa_rng *rng,
+                          aa_pattern *out, aa_error *err);
 
 #endif

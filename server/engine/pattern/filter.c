@@ -20,7 +20,7 @@
 const char *const aa_filter_names[] = {"mitchell", "catmull-rom", "bspline", "notch", "box",
                                        "tent",     "gaussian",    "lanczos", NULL};
 
-/* Raw (unnormalised) impulse response of each kind. */
+/* Raw (unnormalised) impulse response of each formula. */
 static double mitchell_raw(const aa_filter *f, double x)
 {
     double B = f->B, C = f->C;
@@ -48,7 +48,7 @@ static double raw_eval(const aa_filter *f, double x)
 {
     if (!(fabs(x) < f->radius))
         return 0;
-    switch (f->kind) {
+    switch (f->formula) {
     case AA_FILTER_MITCHELL:
         return mitchell_raw(f, x);
     case AA_FILTER_BOX:
@@ -69,7 +69,7 @@ static long double raw_eval_long(const aa_filter *f, long double x)
     if (!(fabsl(x) < f->radius))
         return 0;
     const long double pi = 3.141592653589793238462643383279502884L;
-    switch (f->kind) {
+    switch (f->formula) {
     case AA_FILTER_MITCHELL: {
         long double B = f->B, C = f->C, t = fabsl(x) * 2 / f->radius, v;
         if (t < 1)
@@ -170,7 +170,7 @@ double aa_filter_cdf(const aa_filter *f, double a)
     return aa_filter_cdf_in_piece(f, j, a);
 }
 
-/* Builds knots and Chebyshev tables once the kind and parameters are set. The raw response
+/* Builds knots and Chebyshev tables once the formula and parameters are set. The raw response
  * is integrated to a total which normalises it. */
 static void build_table(aa_filter *f, const double *knots, int pieces, int degree)
 {
@@ -185,11 +185,11 @@ static void build_table(aa_filter *f, const double *knots, int pieces, int degre
     start[0] = 0;
     for (int j = 0; j < pieces; j++)
         start[j + 1] =
-            f->kind == AA_FILTER_GAUSSIAN
+            f->formula == AA_FILTER_GAUSSIAN
                 ? gaussian_cdf_raw(f, knots[j + 1])
                 : start[j] + raw_integral(f, knots[j], knots[j + 1], gn, gw, AA_GL_MAX_POINTS);
     total = start[pieces];
-    if (f->kind == AA_FILTER_GAUSSIAN)
+    if (f->formula == AA_FILTER_GAUSSIAN)
         f->scale = (double)(1.0L / (f->sigma * sqrtl(2 * 3.141592653589793238462643383279502884L) *
                                     erfl(f->radius / (f->sigma * sqrtl(2.0L)))));
     else
@@ -203,7 +203,7 @@ static void build_table(aa_filter *f, const double *knots, int pieces, int degre
         for (int i = 0; i < n; i++) {
             double t = cos(PI * (i + 0.5) / n);
             double a = 0.5 * (lo + hi) + 0.5 * (hi - lo) * t;
-            long double raw = f->kind == AA_FILTER_GAUSSIAN
+            long double raw = f->formula == AA_FILTER_GAUSSIAN
                                   ? gaussian_cdf_raw(f, a)
                                   : start[j] + raw_integral(f, lo, a, gn, gw, AA_GL_MAX_POINTS);
             exact[i] = raw / total;
@@ -219,7 +219,7 @@ static void build_table(aa_filter *f, const double *knots, int pieces, int degre
         /* Measured table error against the long-double CDF at off-node points. */
         for (int i = 1; i < 16; i++) {
             double a = lo + (hi - lo) * i / 16.0;
-            long double raw = f->kind == AA_FILTER_GAUSSIAN
+            long double raw = f->formula == AA_FILTER_GAUSSIAN
                                   ? gaussian_cdf_raw(f, a)
                                   : start[j] + raw_integral(f, lo, a, gn, gw, AA_GL_MAX_POINTS);
             double e = (double)fabsl(raw / total - aa_filter_cdf_in_piece(f, j, a));
@@ -238,10 +238,10 @@ static int check_positive(double v, const char *field, aa_error *err)
     return AA_OK;
 }
 
-static void reset(aa_filter *f, aa_filter_kind kind, const char *name)
+static void reset(aa_filter *f, aa_filter_formula formula, const char *name)
 {
     memset(f, 0, sizeof *f);
-    f->kind = kind;
+    f->formula = formula;
     snprintf(f->name, sizeof f->name, "%s", name);
     f->B = f->C = f->sigma = f->lanczos_a = NAN;
 }

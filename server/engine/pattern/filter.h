@@ -20,16 +20,16 @@
 #define AA_FILTER_CLOSED_MAX_PIECES 4
 #define AA_FILTER_CLOSED_DEGREE 5
 
-typedef enum aa_filter_kind {
+typedef enum aa_filter_formula {
     AA_FILTER_MITCHELL, /* Mitchell-Netravali (B, C), support [-radius, radius], default radius 2 */
     AA_FILTER_BOX,
     AA_FILTER_TENT,
     AA_FILTER_GAUSSIAN, /* truncated at radius, renormalised */
     AA_FILTER_LANCZOS   /* sinc(x) sinc(x/a) on [-a, a], renormalised */
-} aa_filter_kind;
+} aa_filter_formula;
 
 typedef struct aa_filter {
-    aa_filter_kind kind;
+    aa_filter_formula formula;
     char name[24]; /* canonical name: "mitchell", "catmull-rom", "bspline", "notch", "box", ... */
     double B, C;   /* Mitchell-Netravali parameters (also set for catmull-rom/bspline/notch) */
     double sigma;  /* Gaussian */

@@ -75,9 +75,9 @@ static int nrooks(size_t n, int T, aa_rng *rng, aa_point *out)
     return AA_OK;
 }
 
-const char *aa_seed_generator_name(aa_seed_kind kind)
+const char *aa_seed_generator_name(aa_seed_distribution distribution)
 {
-    switch (kind) {
+    switch (distribution) {
     case AA_SEED_POISSON:
         return AA_POISSON_GENERATOR;
     case AA_SEED_JITTERED:
@@ -214,18 +214,18 @@ int aa_lloyd_torus(aa_point *pts, size_t n, int T, int iterations, int oversampl
     return AA_OK;
 }
 
-int aa_seed_points(aa_seed_kind kind, size_t n, int T, aa_rng *rng, aa_point *out)
+int aa_seed_points(aa_seed_distribution distribution, size_t n, int T, aa_rng *rng, aa_point *out)
 {
-    return aa_seed_points_radius(kind, n, T, 0, rng, out);
+    return aa_seed_points_radius(distribution, n, T, 0, rng, out);
 }
 
-int aa_seed_points_radius(aa_seed_kind kind, size_t n, int T, double poisson_radius, aa_rng *rng,
-                          aa_point *out)
+int aa_seed_points_radius(aa_seed_distribution distribution, size_t n, int T, double poisson_radius,
+                          aa_rng *rng, aa_point *out)
 {
     if (n == 0 || T < 1)
         return AA_EINVAL;
     int rc = AA_OK;
-    switch (kind) {
+    switch (distribution) {
     case AA_SEED_JITTERED:
         rc = jittered(n, T, rng, out);
         break;

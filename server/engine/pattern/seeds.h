@@ -22,15 +22,16 @@
 double aa_poisson_default_radius(double spp);
 /* The generator behind a distribution, as results record it: "dart-throwing-torus" (poisson),
  * "jittered-grid", "n-rooks", "lloyd-torus", "uniform". */
-const char *aa_seed_generator_name(aa_seed_kind kind);
+const char *aa_seed_generator_name(aa_seed_distribution distribution);
 
 /* Writes count points in [0, tile)^2 to out. Returns AA_OK, AA_EINVAL (count 0, tile < 1) or
  * AA_ENOMEM (Lloyd's scratch). Deterministic for the rng state. Poisson uses the default radius. */
-int aa_seed_points(aa_seed_kind kind, size_t count, int tile, aa_rng *rng, aa_point *out);
+int aa_seed_points(aa_seed_distribution distribution, size_t count, int tile, aa_rng *rng,
+                   aa_point *out);
 /* The same with a stated Poisson-disk radius in pixels (0: the default); AA_ERANGE when the
  * radius leaves no room for count points. */
-int aa_seed_points_radius(aa_seed_kind kind, size_t count, int tile, double poisson_radius,
-                          aa_rng *rng, aa_point *out);
+int aa_seed_points_radius(aa_seed_distribution distribution, size_t count, int tile,
+                          double poisson_radius, aa_rng *rng, aa_point *out);
 
 /* Lloyd relaxation on the torus in place: iterations steps, each estimating the Voronoi cells
  * from oversample * count uniform points (K&H use M = 10000 for N = 100; a few dozen suffice for

@@ -367,7 +367,7 @@ int aa_edge_histogram_of_scene(const aa_scene *s, aa_edge_histogram *h, aa_error
     memset(h, 0, sizeof *h);
     h->width = s->p.width;
     h->height = s->p.height;
-    switch (s->p.kind) {
+    switch (s->p.shape) {
     case AA_SCENE_HALF_PLANE:
         add_line(h, &s->edge[0], 1.0);
         break;
@@ -470,9 +470,9 @@ bool aa_scene_below_pixel(const aa_scene *s, double x, double y)
         x = s->p.width - x;
     if (s->p.mirror_y)
         y = s->p.height - y;
-    if (s->p.kind == AA_SCENE_SIEMENS_STAR)
+    if (s->p.shape == AA_SCENE_SIEMENS_STAR)
         return hypot(x - s->cx, y - s->cy) < fmin(AA_EDGE_SUBPIXEL_SPACING / s->sector, s->radius);
-    if (s->p.kind == AA_SCENE_CHECKERBOARD && y > s->horizon_y) {
+    if (s->p.shape == AA_SCENE_CHECKERBOARD && y > s->horizon_y) {
         double s1, s2;
         board_spacings(s, x, y, &s1, &s2);
         return fmin(s1, s2) < AA_EDGE_SUBPIXEL_SPACING;

@@ -98,7 +98,7 @@ bool aa_scene_below_pixel(const aa_scene *s, double x, double y);
 double aa_subpixel_error_share(const aa_scene *s, const aa_image *approx, const aa_image *ref);
 
 /* The histogram of a prepared scene. Errors: AA_EINVAL (an animation scene's parameters are
- * per frame: the current frame is used, so none here beyond a bad scene kind). */
+ * per frame: the current frame is used, so none here beyond a bad scene shape). */
 int aa_edge_histogram_of_scene(const aa_scene *s, aa_edge_histogram *h, aa_error *err);
 
 /* length[] with the locked edges added to their bins: the histogram as the scene objective

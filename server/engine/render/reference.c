@@ -186,9 +186,9 @@ int aa_render_reference(const aa_scene *s, const aa_reference_params *rp, double
     if (!(R > 0 && R <= 8))
         return aa_error_set(err, AA_EINVAL, "filter", "reference filter radius must be in (0, 8]");
     filter_1d h = {f, 0, 0, 0, 1};
-    if (f->kind != AA_FILTER_MITCHELL)
+    if (f->formula != AA_FILTER_MITCHELL)
         h.norm = impulse_norm(f);
-    if (f->kind == AA_FILTER_MITCHELL) {
+    if (f->formula == AA_FILTER_MITCHELL) {
         /* The classic cubic has support 2 and unit integral; scale it to the radius. */
         h.f = NULL;
         h.B = f->B;

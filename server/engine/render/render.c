@@ -7,11 +7,11 @@
 
 #include "aa_metric.h"
 
-aa_render_params aa_render_params_default(aa_scene_kind kind)
+aa_render_params aa_render_params_default(aa_scene_shape shape)
 {
     aa_render_params p;
     memset(&p, 0, sizeof p);
-    p.scene = aa_scene_params_default(kind);
+    p.scene = aa_scene_params_default(shape);
     p.reference = aa_reference_params_default();
     p.acuity = NULL;
     p.skip = true;

@@ -23,7 +23,7 @@ typedef struct aa_render_params {
     bool skip;                     /* leave out constant pixels in the pattern render */
 } aa_render_params;
 
-aa_render_params aa_render_params_default(aa_scene_kind kind);
+aa_render_params aa_render_params_default(aa_scene_shape shape);
 
 typedef struct aa_render_result {
     aa_image pattern, reference;

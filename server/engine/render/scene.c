@@ -9,32 +9,32 @@
 
 #define PI 3.14159265358979323846
 
-static const char *const scene_names[AA_SCENE_KIND_COUNT] = {
+static const char *const scene_names[AA_SCENE_SHAPE_COUNT] = {
     "half-plane", "checkerboard", "siemens-star",      "rings",
     "sliver",     "spiral",       "rotating-triangle", "translating-circle"};
 
-int aa_scene_kind_from_name(const char *name)
+int aa_scene_shape_from_name(const char *name)
 {
-    for (int k = 0; k < AA_SCENE_KIND_COUNT; k++)
+    for (int k = 0; k < AA_SCENE_SHAPE_COUNT; k++)
         if (name && strcmp(name, scene_names[k]) == 0)
             return k;
     return -1;
 }
 
-const char *aa_scene_kind_name(aa_scene_kind kind)
+const char *aa_scene_shape_name(aa_scene_shape shape)
 {
-    return (unsigned)kind < AA_SCENE_KIND_COUNT ? scene_names[kind] : "unknown";
+    return (unsigned)shape < AA_SCENE_SHAPE_COUNT ? scene_names[shape] : "unknown";
 }
 
-bool aa_scene_kind_is_animation(aa_scene_kind kind)
+bool aa_scene_shape_is_animation(aa_scene_shape shape)
 {
-    return kind == AA_SCENE_ROTATING_TRIANGLE || kind == AA_SCENE_TRANSLATING_CIRCLE;
+    return shape == AA_SCENE_ROTATING_TRIANGLE || shape == AA_SCENE_TRANSLATING_CIRCLE;
 }
 
-aa_scene_params aa_scene_params_default(aa_scene_kind kind)
+aa_scene_params aa_scene_params_default(aa_scene_shape shape)
 {
-    aa_scene_params p = {kind, 256, 256, 1.0, 0.0, 16, 16, 0, 0.0, false, false};
-    if (kind == AA_SCENE_CHECKERBOARD)
+    aa_scene_params p = {shape, 256, 256, 1.0, 0.0, 16, 16, 0, 0.0, false, false};
+    if (shape == AA_SCENE_CHECKERBOARD)
         p.angle_deg = 20;
     return p;
 }
@@ -87,7 +87,7 @@ static void to_pixels(const aa_scene *s, double ux, double uy, double angle, dou
 
 static int check_params(const aa_scene_params *p, aa_error *err)
 {
-    if ((unsigned)p->kind >= AA_SCENE_KIND_COUNT)
+    if ((unsigned)p->shape >= AA_SCENE_SHAPE_COUNT)
         return aa_error_set(err, AA_EINVAL, "name", "unknown scene");
     if (p->width < 1 || p->width > AA_IMAGE_MAX_SIDE)
         return aa_error_set(err, AA_EINVAL, "width", "width must be 1..%d", AA_IMAGE_MAX_SIDE);
@@ -120,7 +120,7 @@ int aa_scene_init(aa_scene *s, const aa_scene_params *p, aa_error *err)
     s->unit = p->zoom * (p->width < p->height ? p->width : p->height) / 2.0;
     s->background = 1.0;
     double a = p->angle_deg * PI / 180.0;
-    switch (p->kind) {
+    switch (p->shape) {
     case AA_SCENE_HALF_PLANE: {
         /* Value 1 on the side the normal (cos a, sin a) points away from. */
         double nx = cos(a), ny = sin(a);
@@ -191,7 +191,7 @@ int aa_scene_init(aa_scene *s, const aa_scene_params *p, aa_error *err)
 
 static bool bounds(const aa_scene *s, double box[4])
 {
-    switch (s->p.kind) {
+    switch (s->p.shape) {
     case AA_SCENE_SIEMENS_STAR:
     case AA_SCENE_SPIRAL:
         box[0] = s->cx - s->radius;

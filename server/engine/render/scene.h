@@ -24,7 +24,9 @@
 
 #include "aa_core.h"
 
-typedef enum aa_scene_kind {
+/* What a test scene draws, as pbrt calls its geometry a shape; the animations are shapes that
+ * move. */
+typedef enum aa_scene_shape {
     AA_SCENE_HALF_PLANE,
     /* Checkerboard: a ground plane seen from a pinhole camera at height 1 looking along the
      * ground. The horizon is the image row y_h = cy - 0.6 u (above it the sky, value 1); a
@@ -41,14 +43,14 @@ typedef enum aa_scene_kind {
     AA_SCENE_SPIRAL,
     AA_SCENE_ROTATING_TRIANGLE,  /* animation */
     AA_SCENE_TRANSLATING_CIRCLE, /* animation */
-    AA_SCENE_KIND_COUNT
-} aa_scene_kind;
+    AA_SCENE_SHAPE_COUNT
+} aa_scene_shape;
 
 #define AA_SCENE_MAX_WEDGES 360
 #define AA_SCENE_MAX_FRAMES 1000
 
 typedef struct aa_scene_params {
-    aa_scene_kind kind;
+    aa_scene_shape shape;
     int width, height; /* pixels */
     double zoom;       /* > 0; 1 frames the scene in the image */
     double angle_deg;  /* rotation: half-plane normal, board, star, sliver, triangle start */
@@ -63,13 +65,13 @@ typedef struct aa_scene_params {
 /* Defaults: 256 x 256, zoom 1, angle 0 (checkerboard 20; every other scene 0, the sliver
  * included: at 0 its short side is vertical, at x = cx + 0.9 u), 16 wedges, 16 frames, frame 0,
  * offset 0. */
-aa_scene_params aa_scene_params_default(aa_scene_kind kind);
+aa_scene_params aa_scene_params_default(aa_scene_shape shape);
 
-/* Name <-> kind: "half-plane", "checkerboard", "siemens-star", "rings", "sliver", "spiral",
+/* Name <-> shape: "half-plane", "checkerboard", "siemens-star", "rings", "sliver", "spiral",
  * "rotating-triangle", "translating-circle". Returns -1 for an unknown name. */
-int aa_scene_kind_from_name(const char *name);
-const char *aa_scene_kind_name(aa_scene_kind kind);
-bool aa_scene_kind_is_animation(aa_scene_kind kind);
+int aa_scene_shape_from_name(const char *name);
+const char *aa_scene_shape_name(aa_scene_shape shape);
+bool aa_scene_shape_is_animation(aa_scene_shape shape);
 
 typedef struct aa_edge {
     double a, b, c; /* inside where a x + b y + c > 0 (tie rule above) */

@@ -36,7 +36,7 @@ static double polygon_value(const aa_scene *s, double x, double y, double inside
 
 static double scene_value(const aa_scene *s, double x, double y)
 {
-    switch (s->p.kind) {
+    switch (s->p.shape) {
     case AA_SCENE_HALF_PLANE:
         return polygon_value(s, x, y, 1.0, 0.0);
     case AA_SCENE_SLIVER:
@@ -141,7 +141,7 @@ static bool radial_box(const aa_scene *s, double dmax, long long k_lo, long long
 static bool box_uniform(const aa_scene *s, double x0, double y0, double x1, double y1,
                         double *value)
 {
-    switch (s->p.kind) {
+    switch (s->p.shape) {
     case AA_SCENE_HALF_PLANE:
         return polygon_box(s, x0, y0, x1, y1, 1.0, 0.0, value);
     case AA_SCENE_SLIVER:
@@ -182,7 +182,7 @@ static bool box_uniform(const aa_scene *s, double x0, double y0, double x1, doub
         if (dmin == 0)
             return false;
         box_angles(s->cx, s->cy, x0, y0, x1, y1, &amin, &amax);
-        if (s->p.kind == AA_SCENE_SIEMENS_STAR) {
+        if (s->p.shape == AA_SCENE_SIEMENS_STAR) {
             long long lo = floor_ll((amin - s->angle0) / s->sector);
             long long hi = floor_ll((amax - s->angle0) / s->sector);
             return radial_box(s, dmax, lo, hi, 1.0 - parity_value(lo), value);

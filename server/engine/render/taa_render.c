@@ -93,14 +93,14 @@ static uint8_t *footprint_mask(const aa_taa *r, aa_image *out, size_t *marked, a
     return mask;
 }
 
-typedef enum image_kind { IMAGE_FRAME, IMAGE_PHASE } image_kind;
+typedef enum image_series { IMAGE_FRAME, IMAGE_PHASE } image_series;
 
-static int render_image(const aa_taa *r, image_kind kind, size_t index, aa_image *out,
+static int render_image(const aa_taa *r, image_series series, size_t index, aa_image *out,
                         aa_error *err)
 {
     size_t N = r->t->phase_count, marked;
     if (index >= N)
-        return aa_error_set(err, AA_EINVAL, kind == IMAGE_FRAME ? "frame" : "phase",
+        return aa_error_set(err, AA_EINVAL, series == IMAGE_FRAME ? "frame" : "phase",
                             "must be below %zu", N);
     double *frames = malloc(2 * N * sizeof *frames);
     if (!frames)
@@ -117,7 +117,7 @@ static int render_image(const aa_taa *r, image_kind kind, size_t index, aa_image
             if (!mask[k])
                 continue;
             pixel_frames(r, i, j, frames);
-            if (kind == IMAGE_FRAME) {
+            if (series == IMAGE_FRAME) {
                 out->px[k] = (float)frames[index];
             } else {
                 steady_states(r->t, frames, frames + N);

@@ -643,7 +643,7 @@ int aa_temporal_optimize(const aa_temporal_opt_params *p, aa_point *best,
             double t = run_seconds(&c);
             aa_temporal_opt_progress pr = {.fraction = run_fraction(&c, t),
                                            .start = s,
-                                           .start_kind = s == 0 && p->start ? 0
+                                           .start_from = s == 0 && p->start ? 0
                                                          : hop              ? 2
                                                                             : 1,
                                            .start_initial_score = initial,

@@ -36,7 +36,7 @@
 typedef struct aa_temporal_opt_progress {
     double fraction; /* of the budget: starts or seconds, whichever is further */
     long start;      /* the start that just ended, or -1 */
-    int start_kind;  /* 0 the given sequence, 1 uniform random, 2 a hop from the best */
+    int start_from;  /* 0 the given sequence, 1 uniform random, 2 a hop from the best */
     double start_initial_score, start_score, start_e2, start_f2; /* the start's, when start >= 0 */
     double best_score, best_e2;                                  /* so far (INFINITY: none yet) */
     const aa_point *best;                                        /* [N], so far (NULL: none) */
