@@ -145,9 +145,9 @@ typedef void (*job_store_visit_fn)(void *user, long long id, const char *kind, j
                                    double created);
 int job_store_unfinished(job_store *st, job_store_visit_fn fn, void *user);
 
-/* The Slurm executor state of a job (cluster column, JSON; job_manager.c and cluster_driver.h):
- * set replaces it (NULL or JSON null clears it; AA_OK, JOB_STORE_ENOENT); get returns a new
- * reference or NULL (a local job, or no such job). */
+/* The Slurm executor state of a job (cluster column, JSON; job_slurm.c, job_recovery.c and
+ * cluster_driver.h): set replaces it (NULL or JSON null clears it; AA_OK, JOB_STORE_ENOENT); get
+ * returns a new reference or NULL (a local job, or no such job). */
 int job_store_set_cluster(job_store *st, long long id, const json_t *cluster);
 json_t *job_store_get_cluster(job_store *st, long long id);
 

@@ -109,10 +109,11 @@ def check(method, path, status, headers, body):
     errors = schemas().errors(name, doc)
     # A job's result against its kind's result schema, for every kind (job.json's per-kind
     # branches need not list a new kind for its results to be checked).
-    result_schema = "kinds/%s.result.json" % doc.get("kind") if name == "job.json" else None
-    if not errors and isinstance(doc.get("result"), dict) and result_schema in schemas().raw:
-        errors = ["result: " + e for e in schemas().errors(result_schema, doc["result"])]
-        name = "%s (%s)" % (name, result_schema)
+    if not errors and name == "job.json" and isinstance(doc.get("result"), dict):
+        result_schema = "kinds/%s.result.json" % doc.get("kind")
+        if result_schema in schemas().raw:
+            errors = ["result (%s): %s" % (result_schema, e)
+                      for e in schemas().errors(result_schema, doc["result"])]
     if errors:
         raise AssertionError("%s %s answered %d not matching %s:\n  %s\nbody: %s"
                              % (method, path, status, name, "\n  ".join(errors[:5]), body[:600]))
