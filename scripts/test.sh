@@ -60,8 +60,28 @@ suite() { # suite DIR [CTEST-ARGS...]
   (cd "$dir" && ctest -j"$jobs" --output-on-failure --timeout 600 "$@")
 }
 
+# Tests that mostly wait (sleeping jobs, a client trickling 1 byte/s, timeouts between users)
+# and use little CPU: e2e_users_share waits out the 60 s slice with 8 s of CPU, load_slowloris
+# 12 s with 0.2 s, e2e_users_net 33 s with 8 s. They run one after the other from
+# DIR/tests's own ctest (its own Testing/ directory) beside the suite, instead of holding one of
+# its $jobs slots while CPU-bound tests wait for it.
+waiting='e2e_users_share|load_slowloris|e2e_users_net'
+suite_beside() { # suite_beside DIR WAITING EXCLUDE [CTEST-ARGS...]: like suite, WAITING beside
+  local dir=$1 names=$2 wait_re="^($2)\$" exclude=${3:-'^$'} rc pid
+  shift 3
+  (cd "$dir/tests" && ctest --no-tests=error --output-on-failure --timeout 600 "$@" \
+     -R "$wait_re" -E "$exclude" >"$repo/$dir/beside.log" 2>&1) &
+  pid=$!
+  suite "$dir" "$@" -E "$exclude|$wait_re"
+  rc=$?
+  wait $pid || rc=1
+  echo "--- beside the suite, one at a time: $names"
+  cat "$repo/$dir/beside.log"
+  return $rc
+}
+
 normal() {
-  build build/ci -DCMAKE_BUILD_TYPE=Release && suite build/ci -LE slurm
+  build build/ci -DCMAKE_BUILD_TYPE=Release && suite_beside build/ci "$waiting" '' -LE slurm
 }
 
 slurm() {
@@ -104,8 +124,10 @@ sanitize() {
      # issuing and revoking tokens, listing jobs and their patterns. The other suites add browser
      # checks of pages over endpoints the e2e tests already drive under ASan (3 minutes of CPU);
      # web_unit needs no daemon.
-     suite build/ci-sanitize -LE slurm \
-       -E '^web_(unit|evaluate|families|optimize|tiles|kinds|recovery|layout|temporal|analysis|plots)$')
+     # e2e_users_net is CPU-bound under ASan (55 s): it keeps its slot here.
+     suite_beside build/ci-sanitize 'e2e_users_share|load_slowloris' \
+       '^web_(unit|evaluate|families|optimize|tiles|kinds|recovery|layout|temporal|analysis|plots)$' \
+       -LE slurm)
 }
 
 tsan() {
