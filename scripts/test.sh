@@ -120,6 +120,9 @@ sanitize() {
      # The fair-share figure (60 s slice) is measured in the normal stage; here the same check
      # runs with a 5 s slice.
      export AALAB_SHARE_SLICE=${AALAB_SHARE_SLICE:-5}
+     # Slow tests run smaller under ASan, same code and checks (each test says what it shrinks);
+     # the normal stage runs them at full size.
+     export AALAB_TEST_SMALL=${AALAB_TEST_SMALL:-1}
      # Of the dashboard suites, web_jobs runs here: the daemon under ASan serving web/ over TCP,
      # issuing and revoking tokens, listing jobs and their patterns. The other suites add browser
      # checks of pages over endpoints the e2e tests already drive under ASan (3 minutes of CPU);
