@@ -144,8 +144,9 @@ tsan() {
   # Those that check one request's decoding or computation (documentation examples, formats,
   # temporal jobs and renders, analysis, predict, the client) run the same code under ASan in
   # the sanitize stage; under TSan they cost 3 minutes and exercise no other thread interplay.
-  suite $dir -R e2e -LE slurm \
-    -E '^(client_e2e|e2e_api_doc|e2e_temporal.*|e2e_points|e2e_formats|e2e_analysis|e2e_predict|e2e_schemas|e2e_optimize_scene|e2e_point_metrics|e2e_users_diskfull|e2e_users_fs|e2e_systemd)$'
+  suite_beside $dir e2e_users_share \
+    '^(client_e2e|e2e_api_doc|e2e_temporal.*|e2e_points|e2e_formats|e2e_analysis|e2e_predict|e2e_schemas|e2e_optimize_scene|e2e_point_metrics|e2e_users_diskfull|e2e_users_fs|e2e_systemd)$' \
+    -R e2e -LE slurm
 }
 
 fuzz() {
