@@ -37,15 +37,22 @@ static int decode_temporal(const json_t *body, proto_evaluate_request *out, aa_e
         rc = proto_decode_filter(json_object_get(body, "filter"), &out->filter, "filter", err);
     if (!rc)
         rc = decode_acuity_angles(body, out, err);
+    if (!rc && !(out->spec = calloc(1, sizeof *out->spec)))
+        rc = aa_error_set(err, AA_ENOMEM, "", "out of memory");
     if (!rc)
-        rc = proto_decode_temporal(json_object_get(body, "pattern"), &out->spec, "pattern", err);
+        rc = proto_decode_temporal(json_object_get(body, "pattern"), out->spec, "pattern", err);
     return rc;
 }
 
 int proto_decode_evaluate_request(const json_t *body, const aa_error *refs,
                                   proto_evaluate_request *out, aa_error *err)
 {
-    memset(out, 0, sizeof *out);
+    out->detail = out->temporal = false;
+    out->lp = 0;
+    out->angles = NULL;
+    out->angle_count = 0;
+    out->pattern = (aa_pattern){0};
+    out->spec = NULL;
     int rc = proto_check_keys(body, evaluate_keys, err, "");
     if (rc)
         return rc;
@@ -81,7 +88,11 @@ int proto_decode_evaluate_request(const json_t *body, const aa_error *refs,
 void proto_evaluate_request_free(proto_evaluate_request *r)
 {
     aa_pattern_free(&r->pattern);
-    proto_temporal_free(&r->spec);
+    if (r->spec) {
+        proto_temporal_free(r->spec);
+        free(r->spec);
+        r->spec = NULL;
+    }
     free(r->angles);
     r->angles = NULL;
 }

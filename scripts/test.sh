@@ -60,8 +60,28 @@ suite() { # suite DIR [CTEST-ARGS...]
   (cd "$dir" && ctest -j"$jobs" --output-on-failure --timeout 600 "$@")
 }
 
+# Tests that mostly wait (sleeping jobs, a client trickling 1 byte/s, timeouts between users)
+# and use little CPU: e2e_users_share waits out the 60 s slice with 8 s of CPU, load_slowloris
+# 12 s with 0.2 s, e2e_users_net 33 s with 8 s. They run one after the other from
+# DIR/tests's own ctest (its own Testing/ directory) beside the suite, instead of holding one of
+# its $jobs slots while CPU-bound tests wait for it.
+waiting='e2e_users_share|load_slowloris|e2e_users_net'
+suite_beside() { # suite_beside DIR WAITING EXCLUDE [CTEST-ARGS...]: like suite, WAITING beside
+  local dir=$1 names=$2 wait_re="^($2)\$" exclude=${3:-'^$'} rc pid
+  shift 3
+  (cd "$dir/tests" && ctest --no-tests=error --output-on-failure --timeout 600 "$@" \
+     -R "$wait_re" -E "$exclude" >"$repo/$dir/beside.log" 2>&1) &
+  pid=$!
+  suite "$dir" "$@" -E "$exclude|$wait_re"
+  rc=$?
+  wait $pid || rc=1
+  echo "--- beside the suite, one at a time: $names"
+  cat "$repo/$dir/beside.log"
+  return $rc
+}
+
 normal() {
-  build build/ci -DCMAKE_BUILD_TYPE=Release && suite build/ci -LE slurm
+  build build/ci -DCMAKE_BUILD_TYPE=Release && suite_beside build/ci "$waiting" '' -LE slurm
 }
 
 slurm() {
@@ -100,12 +120,17 @@ sanitize() {
      # The fair-share figure (60 s slice) is measured in the normal stage; here the same check
      # runs with a 5 s slice.
      export AALAB_SHARE_SLICE=${AALAB_SHARE_SLICE:-5}
+     # Slow tests run smaller under ASan, same code and checks (each test says what it shrinks);
+     # the normal stage runs them at full size.
+     export AALAB_TEST_SMALL=${AALAB_TEST_SMALL:-1}
      # Of the dashboard suites, web_jobs runs here: the daemon under ASan serving web/ over TCP,
      # issuing and revoking tokens, listing jobs and their patterns. The other suites add browser
      # checks of pages over endpoints the e2e tests already drive under ASan (3 minutes of CPU);
      # web_unit needs no daemon.
-     suite build/ci-sanitize -LE slurm \
-       -E '^web_(unit|evaluate|families|optimize|tiles|kinds|recovery|layout|temporal|analysis|plots)$')
+     # e2e_users_net is CPU-bound under ASan (55 s): it keeps its slot here.
+     suite_beside build/ci-sanitize 'e2e_users_share|load_slowloris' \
+       '^web_(unit|evaluate|families|optimize|tiles|kinds|recovery|layout|temporal|analysis|plots)$' \
+       -LE slurm)
 }
 
 tsan() {
@@ -119,8 +144,9 @@ tsan() {
   # Those that check one request's decoding or computation (documentation examples, formats,
   # temporal jobs and renders, analysis, predict, the client) run the same code under ASan in
   # the sanitize stage; under TSan they cost 3 minutes and exercise no other thread interplay.
-  suite $dir -R e2e -LE slurm \
-    -E '^(client_e2e|e2e_api_doc|e2e_temporal.*|e2e_points|e2e_formats|e2e_analysis|e2e_predict|e2e_schemas|e2e_optimize_scene|e2e_point_metrics|e2e_users_diskfull|e2e_users_fs|e2e_systemd)$'
+  suite_beside $dir e2e_users_share \
+    '^(client_e2e|e2e_api_doc|e2e_temporal.*|e2e_points|e2e_formats|e2e_analysis|e2e_predict|e2e_schemas|e2e_optimize_scene|e2e_point_metrics|e2e_users_diskfull|e2e_users_fs|e2e_systemd)$' \
+    -R e2e -LE slurm
 }
 
 fuzz() {

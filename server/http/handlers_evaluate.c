@@ -83,7 +83,7 @@ static int evaluate_temporal(proto_evaluate_request *rq, json_t **answer, aa_err
     aa_temporal t = {0};
     aa_temporal_evaluation ev = {0};
     bool have_ev = false;
-    aa_temporal_spec ts = proto_temporal_spec(&rq->spec);
+    aa_temporal_spec ts = proto_temporal_spec(rq->spec);
     int rc = aa_temporal_build(&t, &ts, err);
     if (rc) {
         char f[sizeof err->field];
@@ -96,7 +96,7 @@ static int evaluate_temporal(proto_evaluate_request *rq, json_t **answer, aa_err
             static _Thread_local double buf[AA_MAX_ANGLES];
             na = aa_acuity_default_angles(&rq->acuity, buf, AA_MAX_ANGLES);
         }
-        size_t K = rq->spec.cut_frames ? rq->spec.cut_frames : 4 * t.phase_count;
+        size_t K = rq->spec->cut_frames ? rq->spec->cut_frames : 4 * t.phase_count;
         double samples = 0;
         for (size_t g = 0; g < t.group_count; g++)
             samples += (double)t.groups[g].count;
@@ -112,7 +112,7 @@ static int evaluate_temporal(proto_evaluate_request *rq, json_t **answer, aa_err
                                .acuity = &rq->acuity,
                                .angles_deg = rq->angles,
                                .angle_count = rq->angle_count};
-        rc = aa_temporal_evaluate(&t, &mp, rq->spec.cut_frames, &ev, err);
+        rc = aa_temporal_evaluate(&t, &mp, rq->spec->cut_frames, &ev, err);
         have_ev = rc == AA_OK;
         if (rc && strncmp(err->field, "angles", 6)) {
             char f[sizeof err->field];
@@ -121,7 +121,7 @@ static int evaluate_temporal(proto_evaluate_request *rq, json_t **answer, aa_err
         }
     }
     if (!rc) {
-        *answer = proto_encode_temporal_evaluation(&ev, &t, &rq->spec);
+        *answer = proto_encode_temporal_evaluation(&ev, &t, rq->spec);
         if (*answer)
             json_object_set_new(*answer, "acuity", proto_encode_acuity_ref(&rq->acuity));
     }

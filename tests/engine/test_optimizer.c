@@ -14,6 +14,7 @@
 #include "aa_core.h"
 #include "aa_pattern.h"
 #include "aa_optimizer.h"
+#include "test_small.h"
 
 static aa_filter filter;
 static aa_acuity acuity;
@@ -255,7 +256,7 @@ static void check_perturbed_search(int redraw, bool keep_pixels)
     assert_true(aa_perturbable(&local));
     aa_perturb_params pp;
     aa_perturb_params_default(&pp);
-    pp.rounds = 8;
+    pp.rounds = test_small() ? 4 : 8; /* small: half the rounds, every move still made */
     pp.sigma = 0.02;
     pp.redraw = redraw;
     pp.keep_pixels = keep_pixels;
@@ -631,7 +632,8 @@ static void trace_is_monotone(void **state)
             mp.workers = 2;
             mp.max_seconds = 0;
             mp.local.method = methods[m];
-            mp.local.max_iterations = m == 0 ? 3000 : 300;
+            /* small: a fifth of the steps, still many reports from both workers */
+            mp.local.max_iterations = (m == 0 ? 3000 : 300) / (test_small() ? 5 : 1);
             if (f) { /* P(4,4,1): refined by a few perturbation rounds */
                 mp.local.max_iterations = 100;
                 mp.perturb.rounds = 3;
