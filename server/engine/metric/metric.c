@@ -586,8 +586,9 @@ static inline __attribute__((always_inline)) void rank_sort(const double *q, con
     }
 }
 
-/* The stable insertion sort: the order for projections that include NaN (the general path's
- * insertion and merge sorts leave a NaN where this one does). */
+/* The stable insertion sort, for projections that include NaN: the general path's first sort
+ * (an insertion sort at these sizes, order.c) leaves a NaN where this one does. Without NaN it
+ * gives rank_sort's order. */
 static void insertion_sort(const double *q, const double *qw, size_t n, double *p, double *w)
 {
     for (size_t i = 0; i < n; i++) {
@@ -611,13 +612,13 @@ static int e1_small(const aa_filter *f, const aa_sample *s, size_t n, double ct,
 {
     assert(n >= 1 && n <= AA_E1_SMALL_MAX && f->closed_pieces > 0);
     double q[AA_E1_SMALL_MAX], qw[AA_E1_SMALL_MAX], p[AA_E1_SMALL_MAX], w[AA_E1_SMALL_MAX];
-    bool nan = false;
+    double any_nan = 0; /* NaN when a projection is (or two infinities of opposite signs) */
     for (size_t i = 0; i < n; i++) {
         q[i] = s[i].x * ct + s[i].y * st;
         qw[i] = s[i].w;
-        nan |= isnan(q[i]);
+        any_nan += q[i];
     }
-    if (nan)
+    if (isnan(any_nan))
         insertion_sort(q, qw, n, p, w);
     else if (n == 4)
         rank_sort(q, qw, 4, p, w);
