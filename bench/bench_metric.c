@@ -171,15 +171,18 @@ static double e1_plain(const aa_filter *f, const aa_sample *s, size_t n, double 
 
 /* ns per call of aa_e1_at_angle (the public single-angle entry: each call a new angle, as a
  * caller evaluating one kernel-angle at a time makes it) beside e1_plain on the same calls, and
- * the largest relative difference between the two. The two alternate in rounds of 256 calls
- * (about 20-100 us each), so that both see the same load from other processes; the ratio is the
- * median of the rounds' ratios, the times the medians of their rounds. */
+ * the largest relative difference between the two. The two alternate in rounds of 8192 calls
+ * (1-5 ms each), so that both see the same load from other processes; the ratio is the median of
+ * the rounds' ratios, the times the medians of their rounds. Every call of a round has its own
+ * kernel and angle: with a few hundred repeated ones the branch predictor learns the insertion
+ * sorts' branches (measured: the plain form at 4 samples took 50-85 ns with 256 kernels, 109-116
+ * ns with 8192), which a caller meeting new kernels does not get. */
 static void bench_single_calls(const aa_filter *f, size_t n)
 {
-    enum { CALL_KERNELS = 256, ROUNDS = 2001 };
+    enum { CALL_KERNELS = 8192, ROUNDS = 61 };
     uint64_t saved_state = rng_state; /* the later sections draw the same patterns as before */
     aa_sample *ks = malloc(CALL_KERNELS * n * sizeof *ks);
-    double theta[CALL_KERNELS];
+    static double theta[CALL_KERNELS];
     for (size_t k = 0; k < CALL_KERNELS; k++) {
         random_kernel(ks + k * n, n);
         theta[k] = rng_uniform(0.0, PI_D);

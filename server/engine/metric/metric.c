@@ -586,9 +586,10 @@ static inline __attribute__((always_inline)) void rank_sort(const double *q, con
     }
 }
 
-/* The stable insertion sort, for projections that include NaN: the general path's first sort
- * (an insertion sort at these sizes, order.c) leaves a NaN where this one does. Without NaN it
- * gives rank_sort's order. */
+/* The stable insertion sort: beyond 8 samples (where the n(n-1)/2 comparisons of rank_sort cost
+ * more than its saved mispredicts: bench_metric at 16 samples), and for projections that include
+ * NaN: the general path's first sort (an insertion sort at these sizes, order.c) leaves a NaN
+ * where this one does. Without NaN it gives rank_sort's order. */
 static void insertion_sort(const double *q, const double *qw, size_t n, double *p, double *w)
 {
     for (size_t i = 0; i < n; i++) {
@@ -624,8 +625,10 @@ static int e1_small(const aa_filter *f, const aa_sample *s, size_t n, double ct,
         rank_sort(q, qw, 4, p, w);
     else if (n == 8)
         rank_sort(q, qw, 8, p, w);
-    else
+    else if (n < 8)
         rank_sort(q, qw, n, p, w);
+    else
+        insertion_sort(q, qw, n, p, w);
     ws->order_of = NULL; /* ws's arrays no longer hold this kernel's order */
     ws->cdf_valid = false;
     closed_sums cs = closed_form_impl(f, p, w, n, ws, false, true);
