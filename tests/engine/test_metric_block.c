@@ -4,7 +4,8 @@
  * each (a first sort from the input order every time). Same E1 and gradients to 1e-13 relative
  * on every preset, random kernels (negative weights included), axis-aligned grids whose
  * projections tie at 0, 45 and 90 degrees, and a jittered P(16,16,4) tile; for both methods,
- * with the quadrature as the independent check of the block's AUTO values. */
+ * with the quadrature as the independent check of the block's AUTO values. Single calls of
+ * small kernels (their own sort and stack arrays) equal the general path bit for bit. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -311,6 +312,136 @@ static void test_order_handover_and_errors(void **state)
     aa_metric_workspace_free(&ws);
 }
 
+/* Single calls of small kernels (metric.c's e1_small: a branch-free sort on the stack, the
+ * closed form over stack arrays) give the general path's value bit for bit: against
+ * aa_e1_sorted_at_direction (the workspace's sort) and the block, every method, on random
+ * kernels of 1 to 20 samples (negative weights, far outside the support, stacked samples), grids
+ * whose projections tie at 0, 45 and 90 degrees, filters so narrow that the closed form falls
+ * back to the quadrature, and non-finite samples (where both must give NaN or the same value). */
+static bool same_value(double a, double b)
+{
+    return a == b ? signbit(a) == signbit(b) : (isnan(a) && isnan(b));
+}
+
+static void check_small_path(const aa_filter *f, const aa_sample *s, size_t n, double theta,
+                             aa_metric_workspace *ws, long *fallbacks)
+{
+    double c, sn, e = -1, d = -2;
+    aa_metric_direction(theta, &c, &sn);
+    for (int m = 0; m < 3; m++) {
+        double general = -2, block = -3;
+        long before = ws->fallback_calls;
+        assert_int_equal(aa_e1_at_direction(f, s, n, c, sn, (aa_e1_method)m, ws, &e), AA_OK);
+        *fallbacks += ws->fallback_calls - before;
+        assert_int_equal(aa_e1_sorted_at_direction(f, s, n, c, sn, (aa_e1_method)m, ws, &general),
+                         AA_OK);
+        assert_int_equal(aa_e1_kernel_block(f, s, n, &c, &sn, 1, (aa_e1_method)m, ws, &block),
+                         AA_OK);
+        if (!same_value(e, general) || !same_value(e, block))
+            fail_msg("n=%zu theta %.17g method %d: single %a, general %a, block %a", n, theta, m, e,
+                     general, block);
+    }
+    assert_int_equal(aa_e1_at_angle(f, s, n, theta, ws, &e), AA_OK);
+    assert_int_equal(aa_e1_at_direction(f, s, n, c, sn, AA_E1_AUTO, ws, &d), AA_OK);
+    assert_true(same_value(e, d));
+}
+
+static void test_small_kernels_bit_for_bit(void **state)
+{
+    (void)state;
+    aa_filter f[5];
+    aa_error err;
+    filters(f);
+    /* radius 1e-9 and 1e-12: nearly perfect kernels, where the closed form cancels and falls back
+     */
+    assert_int_equal(aa_filter_mitchell(&f[3], 1.0 / 3, 1.0 / 3, 1e-9, &err), AA_OK);
+    assert_int_equal(aa_filter_mitchell(&f[4], 0, 0.5, 1e-12, &err), AA_OK);
+    aa_metric_workspace ws;
+    aa_metric_workspace_init(&ws);
+    aa_sample s[20];
+    long fallbacks = 0;
+    rng_state = 33;
+    for (int fi = 0; fi < 5; fi++)
+        for (size_t n = 1; n <= 20; n++)
+            for (int rep = 0; rep < (n <= 8 ? 240 : 24); rep++) {
+                double span = rep % 4 == 1 ? 4.0 : 1.5, sum = 0;
+                if (fi >= 3 && rep % 4 == 3)
+                    span = 1e-9 * f[fi].radius; /* inside the narrow support */
+                for (size_t i = 0; i < n; i++) {
+                    s[i] = (aa_sample){uniform(-span, span), uniform(-span, span),
+                                       rep % 4 == 2 ? uniform(-0.5, 1.0) : uniform(0.1, 1.0)};
+                    sum += s[i].w;
+                }
+                if (fabs(sum) < 0.05)
+                    sum = 0.05;
+                for (size_t i = 0; i < n; i++)
+                    s[i].w /= sum;
+                if (rep % 6 == 5 && n > 2) {
+                    s[1].x = s[n - 1].x = s[0].x;
+                    s[1].y = s[n - 1].y = s[0].y;
+                }
+                check_small_path(&f[fi], s, n, uniform(0, PI_D), &ws, &fallbacks);
+            }
+    /* grids: ties at every multiple of 45 degrees; the narrow filters see them scaled down */
+    for (int fi = 0; fi < 5; fi++)
+        for (int m = 1; m <= 4; m++) {
+            size_t n = 0;
+            double scale = fi >= 3 ? f[fi].radius : 1.0;
+            double sum = 0;
+            for (int j = 0; j < m; j++)
+                for (int i = 0; i < m; i++) {
+                    /* unequal weights: the order of tied entries shows in the sums */
+                    s[n] = (aa_sample){scale * (-1.5 + 3.0 * (i + 0.5) / m),
+                                       scale * (-1.5 + 3.0 * (j + 0.5) / m), uniform(0.1, 1.0)};
+                    sum += s[n++].w;
+                }
+            for (size_t i = 0; i < n; i++)
+                s[i].w /= sum;
+            if (n > 2) {
+                s[n - 1].x = s[0].x;
+                s[n - 1].y = s[0].y;
+            }
+            for (int a = 0; a < 36; a++)
+                check_small_path(&f[fi], s, n, a * 5 * (PI_D / 180), &ws, &fallbacks);
+        }
+    /* Large cancelling weights far outside, and samples at the narrow filter's quantiles: the
+     * closed form's terms cancel, so it falls back to the quadrature. */
+    for (int k = 0; k < 6; k++) {
+        s[0] = (aa_sample){-1e6, 0.0, 1e3};
+        s[1] = (aa_sample){1e6, 0.0, -1e3};
+        s[2] = (aa_sample){0.1 * k, 0.0, 1.0};
+        check_small_path(&f[0], s, 3, 0.0, &ws, &fallbacks);
+        check_small_path(&f[0], s, 3, uniform(0, PI_D), &ws, &fallbacks);
+    }
+    for (size_t n = 2; n <= 16; n++) {
+        for (size_t i = 0; i < n; i++) {
+            double lo = -f[4].radius, hi = f[4].radius, q = ((double)i + 0.5) / (double)n;
+            for (int it = 0; it < 80; it++) {
+                double mid = 0.5 * (lo + hi);
+                *(aa_filter_cdf(&f[4], mid) < q ? &lo : &hi) = mid;
+            }
+            s[i] = (aa_sample){0.5 * (lo + hi), 0.0, 1.0 / (double)n};
+        }
+        check_small_path(&f[4], s, n, 0.0, &ws, &fallbacks);
+    }
+    assert_true(fallbacks > 0); /* the quadrature branch of the small path ran */
+    /* non-finite coordinates and weights, at every position */
+    const double bad[4] = {NAN, INFINITY, -INFINITY, 1e300};
+    for (int b = 0; b < 4; b++)
+        for (size_t n = 1; n <= 9; n++)
+            for (size_t at = 0; at < n; at++) {
+                for (size_t i = 0; i < n; i++)
+                    s[i] = (aa_sample){uniform(-1, 1), uniform(-1, 1), 1.0 / (double)n};
+                s[at].x = bad[b];
+                check_small_path(&f[0], s, n, 0.3, &ws, &fallbacks);
+                check_small_path(&f[0], s, n, 0, &ws, &fallbacks);
+                s[at].x = 0;
+                s[at].w = bad[b];
+                check_small_path(&f[0], s, n, 0.7, &ws, &fallbacks);
+            }
+    aa_metric_workspace_free(&ws);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -319,6 +450,7 @@ int main(void)
         cmocka_unit_test(test_coincident_grids),
         cmocka_unit_test(test_p16),
         cmocka_unit_test(test_order_handover_and_errors),
+        cmocka_unit_test(test_small_kernels_bit_for_bit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

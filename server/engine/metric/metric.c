@@ -3,6 +3,7 @@
 #include "metric.h"
 #include "order.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -403,9 +404,9 @@ static inline void piece_ends(const double *pp, size_t k, size_t end, double r, 
 
 /* want_prefix is a constant at each call site (closed_form_e1, closed_form_prefix): the E1-only
  * copy skips the prefix integrals. */
-static inline closed_sums closed_form_impl(const aa_filter *f, const double *pp, const double *pw,
-                                           size_t n, aa_metric_workspace *ws,
-                                           const bool want_prefix)
+static inline __attribute__((always_inline)) closed_sums
+closed_form_impl(const aa_filter *f, const double *pp, const double *pw, size_t n,
+                 aa_metric_workspace *ws, const bool want_prefix, const bool small)
 {
     double *prefix = ws->tail, r = f->radius, c = 0, lo = 0, lin = 0;
     compensated acc = {f->closed_var, 0, f->closed_var * f->closed_var};
@@ -438,12 +439,14 @@ static inline closed_sums closed_form_impl(const aa_filter *f, const double *pp,
         lin += cc * len;
         a = -r;
     }
-    bool two_lanes = i1 - i0 > AA_CLOSED_ONE_LANE_MAX;
+    bool two_lanes = !small && i1 - i0 > AA_CLOSED_ONE_LANE_MAX;
     if (!two_lanes) {
-        /* few samples inside: one pass, one lane (the two-lane setup would cost more) */
+        /* few samples inside: one pass over the samples (the two-lane setup would cost more).
+         * The two sums run side by side in the lanes of one vector, acc in lane 0, gam in lane 1
+         * (gam is still zero here): each lane does add_term's operations on its own term. */
+        compensated2 both = {{acc.sum, 0}, {acc.comp, 0}, {acc.sq, 0}};
         for (size_t k = i0; k < i1; k++) {
             double p = pp[k], u = (c - 0.5) + lo, len = p - a;
-            add_term(&acc, u * u * len);
             lin += u * len;
             double big;
             if (want_prefix) {
@@ -454,10 +457,13 @@ static inline closed_sums closed_form_impl(const aa_filter *f, const double *pp,
             } else {
                 big = closed_gamma_value(f, p);
             }
-            add_term(&gam, 2 * pw[k] * big);
+            /* (u * u) * len and (2 * w) * big, as add_term's callers compute them */
+            add_term2(&both, (v2d){u, 2} * (v2d){u, pw[k]} * (v2d){len, big});
             add_weight(&c, &lo, pw[k]);
             a = p;
         }
+        acc = (compensated){both.sum[0], both.comp[0], both.sq[0]};
+        gam = (compensated){both.sum[1], both.comp[1], both.sq[1]};
     } else {
         /* First the serial part: the prefix sums (u_k = c_k - 1/2 before sample k) and the
          * lengths, then per table piece the independent per-sample work in two lanes. The piece
@@ -516,12 +522,12 @@ static inline closed_sums closed_form_impl(const aa_filter *f, const double *pp,
 
 static closed_sums closed_form_e1(const aa_filter *f, size_t n, aa_metric_workspace *ws)
 {
-    return closed_form_impl(f, ws->p, ws->w, n, ws, false);
+    return closed_form_impl(f, ws->p, ws->w, n, ws, false, false);
 }
 
 static closed_sums closed_form_prefix(const aa_filter *f, size_t n, aa_metric_workspace *ws)
 {
-    return closed_form_impl(f, ws->p, ws->w, n, ws, true);
+    return closed_form_impl(f, ws->p, ws->w, n, ws, true, false);
 }
 
 /* Whether the closed form's error estimate is within AA_E1_CLOSED_REL_ERROR (metric.h). */
@@ -559,29 +565,73 @@ static double e1_squared(const aa_filter *f, const aa_sample *s, size_t n, doubl
 /* Kernels of at most this many samples take e1_small on single calls (issue 33, point 7). */
 #define AA_E1_SMALL_MAX 16
 
-/* E1^2 of a small kernel by the closed form (filters with tables, method not QUADRATURE), with the
- * workspace's projection machinery (index arrays, the order kept between calls, the gathers)
- * replaced by a stable insertion sort on the stack. Bit for bit the general path's value: the
- * same products, the same (p, index) order (ties keep input order), the same closed_form_impl
- * arithmetic. Only a badly conditioned closed form (rare) copies into ws for the sweep. On a
- * single call of 4 samples that set-up was half the time (bench_metric "single calls"). */
-static int e1_small(const aa_filter *f, const aa_sample *s, size_t n, double ct, double st,
-                    aa_e1_method method, aa_metric_workspace *ws, double *e1sq)
+/* The n projections q (weights qw) into p, w in (p, index) order, the order of the general path's
+ * sorts (ties keep input order), without a branch on the data: entry i goes to the number of
+ * entries before it in that order, counted over all pairs (each pair adds one to exactly one of
+ * its two counts). With n a constant at the call site the loops unroll into straight-line
+ * comparisons (a counting network). The projections must not be NaN (no order: ranks collide). */
+static inline __attribute__((always_inline)) void rank_sort(const double *q, const double *qw,
+                                                            size_t n, double *p, double *w)
 {
-    double p[AA_E1_SMALL_MAX], w[AA_E1_SMALL_MAX];
+    unsigned place[AA_E1_SMALL_MAX] = {0};
+    for (size_t i = 0; i < n; i++)
+        for (size_t j = i + 1; j < n; j++) {
+            unsigned after = q[j] < q[i]; /* j sorts before i */
+            place[i] += after;
+            place[j] += after ^ 1;
+        }
     for (size_t i = 0; i < n; i++) {
-        double q = s[i].x * ct + s[i].y * st, qw = s[i].w;
+        p[place[i]] = q[i];
+        w[place[i]] = qw[i];
+    }
+}
+
+/* The stable insertion sort: beyond 8 samples (where the n(n-1)/2 comparisons of rank_sort cost
+ * more than its saved mispredicts: bench_metric at 16 samples), and for projections that include
+ * NaN: the general path's first sort (an insertion sort at these sizes, order.c) leaves a NaN
+ * where this one does. Without NaN it gives rank_sort's order. */
+static void insertion_sort(const double *q, const double *qw, size_t n, double *p, double *w)
+{
+    for (size_t i = 0; i < n; i++) {
         size_t k = i;
-        for (; k > 0 && p[k - 1] > q; k--) {
+        for (; k > 0 && p[k - 1] > q[i]; k--) {
             p[k] = p[k - 1];
             w[k] = w[k - 1];
         }
-        p[k] = q;
-        w[k] = qw;
+        p[k] = q[i];
+        w[k] = qw[i];
     }
+}
+
+/* E1^2 of a small kernel by the closed form (filters with tables, method not QUADRATURE), with the
+ * workspace's projection machinery (index arrays, the order kept between calls, the gathers)
+ * replaced by a branch-free sort on the stack. Bit for bit the general path's value: the same
+ * products, the same (p, index) order, the same closed_form_impl arithmetic. Only a badly
+ * conditioned closed form (rare) copies into ws for the sweep. */
+static int e1_small(const aa_filter *f, const aa_sample *s, size_t n, double ct, double st,
+                    aa_e1_method method, aa_metric_workspace *ws, double *e1sq)
+{
+    assert(n >= 1 && n <= AA_E1_SMALL_MAX && f->closed_pieces > 0);
+    double q[AA_E1_SMALL_MAX], qw[AA_E1_SMALL_MAX], p[AA_E1_SMALL_MAX], w[AA_E1_SMALL_MAX];
+    double any_nan = 0; /* NaN when a projection is (or two infinities of opposite signs) */
+    for (size_t i = 0; i < n; i++) {
+        q[i] = s[i].x * ct + s[i].y * st;
+        qw[i] = s[i].w;
+        any_nan += q[i];
+    }
+    if (isnan(any_nan))
+        insertion_sort(q, qw, n, p, w);
+    else if (n == 4)
+        rank_sort(q, qw, 4, p, w);
+    else if (n == 8)
+        rank_sort(q, qw, 8, p, w);
+    else if (n < 8)
+        rank_sort(q, qw, n, p, w);
+    else
+        insertion_sort(q, qw, n, p, w);
     ws->order_of = NULL; /* ws's arrays no longer hold this kernel's order */
     ws->cdf_valid = false;
-    closed_sums cs = closed_form_impl(f, p, w, n, ws, false);
+    closed_sums cs = closed_form_impl(f, p, w, n, ws, false, true);
     ws->closed_condition = cs.spread / cs.e1sq;
     if (method == AA_E1_CLOSED || closed_acceptable(&cs)) {
         ws->closed_calls++;
