@@ -82,14 +82,19 @@ struct api_response {
 
 /* Requests the HTTP layer runs on the compute pool rather than on an HTTP thread: a column of
  * the route table, which api_classify reads. API_CLASS_PREDICT runs in the evaluate share but
- * is never answered from the evaluate cache. */
+ * is never answered from the evaluate cache. A job spec (the table's API_CLASS_SPEC, which
+ * api_classify never returns) is parsed on the HTTP thread up to API_SPEC_INLINE_BYTES and in
+ * the evaluate share above: parsing 2 MiB of JSON would hold an HTTP thread for milliseconds,
+ * 64 KiB parse in well under one. */
 typedef enum {
     API_CLASS_OTHER,
     API_CLASS_EVALUATE,
     API_CLASS_RENDER,
-    API_CLASS_PREDICT
+    API_CLASS_PREDICT,
+    API_CLASS_SPEC
 } api_request_class;
-api_request_class api_classify(const char *method, const char *path);
+#define API_SPEC_INLINE_BYTES (64u << 10)
+api_request_class api_classify(const char *method, const char *path, size_t body_len);
 
 /* The body a route may have: --max-body (max_body) for the routes that take patterns, job
  * specs or scenes, API_SMALL_BODY for the rest (tokens, PATCH of a job, enumerate, and routes

@@ -358,9 +358,6 @@ static void pool_done(void *arg)
  * such bodies decoded here made the first user's p50 2.2 ms instead of 0.5 ms (bench_http_pool,
  * with a 16 KiB limit). */
 #define INLINE_MAX_BODY (2u << 10)
-/* Job specs above this go to the compute pool (parsed there): 64 KiB parse in well under a
- * millisecond. */
-#define JOB_SPEC_INLINE_BYTES (64u << 10)
 
 /* An uncached evaluate small enough to cost less than the hand-off to the compute pool runs
  * here, in the user's evaluate share (docs/http.md: the threshold and its measurement). True if
@@ -397,12 +394,8 @@ static bool try_inline(http_listener *l, struct MHD_Connection *conn, request_st
 static bool run_on_pool(http_listener *l, struct MHD_Connection *conn, request_state *st,
                         const api_request *req, enum MHD_Result *ret)
 {
-    api_request_class cls = api_classify(req->method, req->path);
-    /* A large job spec (up to --max-spec-bytes) is parsed and stored on the pool too, in the
-     * user's evaluate share: parsing 2 MiB of JSON would hold an HTTP thread for milliseconds. */
-    if (cls == API_CLASS_OTHER && req->body_len > JOB_SPEC_INLINE_BYTES &&
-        !strcmp(req->method, "POST") && !strcmp(req->path, "/v1/jobs"))
-        cls = API_CLASS_PREDICT; /* the evaluate share, never the evaluate cache */
+    /* A large job spec is API_CLASS_PREDICT: the evaluate share, never the evaluate cache. */
+    api_request_class cls = api_classify(req->method, req->path, req->body_len);
     if (!l->pool || cls == API_CLASS_OTHER)
         return false;
     compute_class compute = cls == API_CLASS_RENDER ? COMPUTE_RENDER : COMPUTE_EVALUATE;

@@ -113,6 +113,7 @@ typedef struct route {
 #define EVALUATE API_CLASS_EVALUATE
 #define PREDICT API_CLASS_PREDICT
 #define RENDER API_CLASS_RENDER
+#define SPEC API_CLASS_SPEC
 #define NO_REFS API_REFS_NONE
 #define REFS API_REFS_ANYWHERE
 #define PATTERN_REF API_REFS_IF_PATTERN
@@ -126,7 +127,7 @@ static const route routes[] = {
     {"GET", "/v1/acuity", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_acuity, NULL},
     {"POST", "/v1/evaluate", ARG_NONE, BODY_LARGE, EVALUATE, PATTERN_REF, handle_evaluate, NULL},
     {"POST", "/v1/analyze", ARG_NONE, BODY_LARGE, EVALUATE, PATTERN_REF, handle_analyze, NULL},
-    {"POST", "/v1/jobs", ARG_NONE, BODY_LARGE, OTHER, REFS, handle_jobs_post, NULL},
+    {"POST", "/v1/jobs", ARG_NONE, BODY_LARGE, SPEC, REFS, handle_jobs_post, NULL},
     {"GET", "/v1/jobs", ARG_NONE, BODY_SMALL, OTHER, NO_REFS, handle_jobs_list, NULL},
     {"GET", "/v1/jobs/", ARG_TAIL, BODY_SMALL, OTHER, NO_REFS, NULL, handle_job_get},
     {"DELETE", "/v1/jobs/", ARG_TAIL, BODY_SMALL, OTHER, NO_REFS, NULL, handle_job_delete},
@@ -187,9 +188,11 @@ size_t api_body_limit(const char *method, const char *path, size_t max_body)
     return API_SMALL_BODY < max_body ? API_SMALL_BODY : max_body;
 }
 
-api_request_class api_classify(const char *method, const char *path)
+api_request_class api_classify(const char *method, const char *path, size_t body_len)
 {
     const route *r = find_route(method, path);
+    if (r && r->compute == API_CLASS_SPEC)
+        return body_len > API_SPEC_INLINE_BYTES ? API_CLASS_PREDICT : API_CLASS_OTHER;
     return r ? r->compute : API_CLASS_OTHER;
 }
 

@@ -143,17 +143,21 @@ static void test_post_errors(void **state)
     expect_error(f, "GET", P, NULL, 405, "");
     /* An export decodes and writes up to --max-body: the compute pool's work, not an HTTP
      * thread's. */
-    assert_int_equal(api_classify("POST", "/v1/patterns/export"), API_CLASS_EVALUATE);
-    assert_int_equal(api_classify("GET", "/v1/patterns/3/export"), API_CLASS_OTHER);
+    assert_int_equal(api_classify("POST", "/v1/patterns/export", 0), API_CLASS_EVALUATE);
+    assert_int_equal(api_classify("GET", "/v1/patterns/3/export", 0), API_CLASS_OTHER);
     /* The route table's compute column, for every class. */
-    assert_int_equal(api_classify("POST", "/v1/evaluate"), API_CLASS_EVALUATE);
-    assert_int_equal(api_classify("POST", "/v1/analyze"), API_CLASS_EVALUATE);
-    assert_int_equal(api_classify("POST", "/v1/predict"), API_CLASS_PREDICT);
-    assert_int_equal(api_classify("POST", "/v1/render"), API_CLASS_RENDER);
-    assert_int_equal(api_classify("POST", "/v1/jobs"), API_CLASS_OTHER);
-    assert_int_equal(api_classify("GET", "/v1/evaluate"), API_CLASS_OTHER);
-    assert_int_equal(api_classify("POST", "/v1/evaluate/x"), API_CLASS_OTHER);
-    assert_int_equal(api_classify(NULL, "/v1/evaluate"), API_CLASS_OTHER);
+    assert_int_equal(api_classify("POST", "/v1/evaluate", 0), API_CLASS_EVALUATE);
+    assert_int_equal(api_classify("POST", "/v1/analyze", 0), API_CLASS_EVALUATE);
+    assert_int_equal(api_classify("POST", "/v1/predict", 0), API_CLASS_PREDICT);
+    assert_int_equal(api_classify("POST", "/v1/render", 0), API_CLASS_RENDER);
+    assert_int_equal(api_classify("POST", "/v1/jobs", 0), API_CLASS_OTHER);
+    assert_int_equal(api_classify("POST", "/v1/jobs", API_SPEC_INLINE_BYTES), API_CLASS_OTHER);
+    assert_int_equal(api_classify("POST", "/v1/jobs", API_SPEC_INLINE_BYTES + 1),
+                     API_CLASS_PREDICT);
+    assert_int_equal(api_classify("GET", "/v1/jobs", API_SPEC_INLINE_BYTES + 1), API_CLASS_OTHER);
+    assert_int_equal(api_classify("GET", "/v1/evaluate", 0), API_CLASS_OTHER);
+    assert_int_equal(api_classify("POST", "/v1/evaluate/x", 0), API_CLASS_OTHER);
+    assert_int_equal(api_classify(NULL, "/v1/evaluate", 0), API_CLASS_OTHER);
 }
 
 static json_t *wait_done(fixture *f, long long id)
