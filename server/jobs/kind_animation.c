@@ -93,12 +93,7 @@ JOB_KIND_RESULT(kind_animation, proto_animation_result, animation_run,
                 proto_encode_animation_result, proto_animation_result_free)
 
 /* The kind's row of the table of kinds (kind_list.h). */
-const job_kind job_kind_animation = {
-    .name = "animation",
-    .summary = "Renders a moving scene frame by frame with a pattern beside the reference and "
-               "reports the error of each frame and of the whole animation.",
-    .decode = kind_animation_decode,
-    .free_params = kind_animation_free,
-    .run = kind_animation_run,
-    .encode_result = kind_animation_encode_result,
-    .free_result = kind_animation_free_result};
+JOB_KIND_ROW(animation, .name = "animation",
+             .summary =
+                 "Renders a moving scene frame by frame with a pattern beside the reference and "
+                 "reports the error of each frame and of the whole animation.");

@@ -157,12 +157,7 @@ JOB_KIND_RESULT(kind_compare, proto_compare_result, compare_run, proto_encode_co
                 proto_compare_result_free)
 
 /* The kind's row of the table of kinds (kind_list.h). */
-const job_kind job_kind_compare = {
-    .name = "compare",
-    .summary = "Renders one scene with several patterns and tabulates samples per pixel, E2, "
-               "RMSE and max deviation against a supersampled reference.",
-    .decode = kind_compare_decode,
-    .free_params = kind_compare_free,
-    .run = kind_compare_run,
-    .encode_result = kind_compare_encode_result,
-    .free_result = kind_compare_free_result};
+JOB_KIND_ROW(compare, .name = "compare",
+             .summary =
+                 "Renders one scene with several patterns and tabulates samples per pixel, E2, "
+                 "RMSE and max deviation against a supersampled reference.");

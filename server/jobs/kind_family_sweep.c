@@ -300,16 +300,8 @@ JOB_KIND_SPLIT_RESULT(kind_family_sweep, kind_family_sweep_split, proto_encode_f
                       proto_family_sweep_result_free)
 
 /* The kind's row of the table of kinds (kind_list.h). */
-const job_kind job_kind_family_sweep = {
-    .name = "family-sweep",
-    .summary = "Optimises every mirrored P(4,1+,n) placement configuration of one cost and "
-               "ranks them by E2.",
-    .decode = kind_family_sweep_decode,
-    .free_params = kind_family_sweep_free,
-    .spec_family = kind_family_sweep_family,
-    .max_seconds = kind_family_sweep_max_seconds,
-    .run = kind_family_sweep_run,
-    .encode_result = kind_family_sweep_encode_result,
-    .free_result = kind_family_sweep_free_result,
-    .best_of = kind_family_sweep_best_of,
-    .split = &kind_family_sweep_split};
+JOB_KIND_ROW(family_sweep, .name = "family-sweep",
+             .summary =
+                 "Optimises every mirrored P(4,1+,n) placement configuration of one cost and "
+                 "ranks them by E2.",
+             .split = &kind_family_sweep_split, JOB_KIND_FAMILY_MEMBERS(family_sweep));

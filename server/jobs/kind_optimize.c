@@ -308,16 +308,8 @@ JOB_KIND_SPLIT_RESULT(kind_optimize, kind_optimize_split, proto_encode_optimize_
                       proto_optimize_result_free)
 
 /* The kind's row of the table of kinds (kind_list.h). */
-const job_kind job_kind_optimize = {
-    .name = "optimize",
-    .summary = "Multi-start optimisation of a sample pattern (a family, or a given pattern) "
-               "for the smallest worst-case error E2.",
-    .decode = kind_optimize_decode,
-    .free_params = kind_optimize_free,
-    .spec_family = kind_optimize_family,
-    .max_seconds = kind_optimize_max_seconds,
-    .run = kind_optimize_run,
-    .encode_result = kind_optimize_encode_result,
-    .free_result = kind_optimize_free_result,
-    .best_of = kind_optimize_best_of,
-    .split = &kind_optimize_split};
+JOB_KIND_ROW(optimize, .name = "optimize",
+             .summary =
+                 "Multi-start optimisation of a sample pattern (a family, or a given pattern) "
+                 "for the smallest worst-case error E2.",
+             .split = &kind_optimize_split, JOB_KIND_FAMILY_MEMBERS(optimize));

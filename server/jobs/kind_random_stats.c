@@ -383,16 +383,8 @@ JOB_KIND_SPLIT_RESULT(kind_random_stats, kind_random_stats_split, proto_encode_r
                       proto_random_stats_result_free)
 
 /* The kind's row of the table of kinds (kind_list.h). */
-const job_kind job_kind_random_stats = {
-    .name = "random-stats",
-    .summary = "Min, average and max E2 of random patterns of a family, and the best of them "
-               "optimised for weights (Opt W) and for weights and positions (Opt W+P).",
-    .decode = kind_random_stats_decode,
-    .free_params = kind_random_stats_free,
-    .spec_family = kind_random_stats_family,
-    .max_seconds = kind_random_stats_max_seconds,
-    .run = kind_random_stats_run,
-    .encode_result = kind_random_stats_encode_result,
-    .free_result = kind_random_stats_free_result,
-    .best_of = kind_random_stats_best_of,
-    .split = &kind_random_stats_split};
+JOB_KIND_ROW(random_stats, .name = "random-stats",
+             .summary =
+                 "Min, average and max E2 of random patterns of a family, and the best of them "
+                 "optimised for weights (Opt W) and for weights and positions (Opt W+P).",
+             .split = &kind_random_stats_split, JOB_KIND_FAMILY_MEMBERS(random_stats));

@@ -88,12 +88,7 @@ JOB_KIND_RESULT(kind_reference_convergence, proto_reference_convergence_result, 
                 proto_encode_reference_convergence_result, proto_reference_convergence_result_free)
 
 /* The kind's row of the table of kinds (kind_list.h). */
-const job_kind job_kind_reference_convergence = {
-    .name = "reference-convergence",
-    .summary = "Measures how the reference render's error falls with its samples per pixel, "
-               "against a high-sample baseline.",
-    .decode = kind_reference_convergence_decode,
-    .free_params = kind_reference_convergence_free,
-    .run = kind_reference_convergence_run,
-    .encode_result = kind_reference_convergence_encode_result,
-    .free_result = kind_reference_convergence_free_result};
+JOB_KIND_ROW(reference_convergence, .name = "reference-convergence",
+             .summary =
+                 "Measures how the reference render's error falls with its samples per pixel, "
+                 "against a high-sample baseline.");

@@ -78,15 +78,8 @@ json_t *kind_sleep_best_of(const json_t *result, double *e2)
 }
 
 /* The kind's row of the table of kinds (kind_list.h). */
-const job_kind job_kind_sleep = {
-    .name = "sleep",
-    .summary = "Test kind: waits a given time, reporting progress, and returns an optional "
-               "pattern.",
-    .test_only = true,
-    .decode = kind_sleep_decode,
-    .free_params = kind_sleep_free,
-    .run = kind_sleep_run,
-    .encode_result = kind_sleep_encode_result,
-    .free_result = kind_sleep_free_result,
-    .best_of = kind_sleep_best_of,
-    .split = &kind_sleep_split};
+JOB_KIND_ROW(sleep, .name = "sleep",
+             .summary =
+                 "Test kind: waits a given time, reporting progress, and returns an optional "
+                 "pattern.",
+             .test_only = true, .best_of = kind_sleep_best_of, .split = &kind_sleep_split);

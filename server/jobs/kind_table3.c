@@ -439,17 +439,9 @@ JOB_KIND_SPLIT_RESULT(kind_table3, kind_table3_split, proto_encode_table3_result
                       proto_table3_result_free)
 
 /* The kind's row of the table of kinds (kind_list.h). */
-const job_kind job_kind_table3 = {
-    .name = "table3",
-    .summary = "Laine & Aila's Table 3 over K rng_seeds: per distribution, Min, Avg and Max E2 "
-               "of random patterns, exact Opt W and Opt W+P of the best, as mean +- sd beside "
-               "the paper's values.",
-    .decode = kind_table3_decode,
-    .free_params = kind_table3_free,
-    .spec_family = kind_table3_family,
-    .max_seconds = kind_table3_max_seconds,
-    .run = kind_table3_run,
-    .encode_result = kind_table3_encode_result,
-    .free_result = kind_table3_free_result,
-    .best_of = kind_table3_best_of,
-    .split = &kind_table3_split};
+JOB_KIND_ROW(table3, .name = "table3",
+             .summary =
+                 "Laine & Aila's Table 3 over K rng_seeds: per distribution, Min, Avg and Max E2 "
+                 "of random patterns, exact Opt W and Opt W+P of the best, as mean +- sd beside "
+                 "the paper's values.",
+             .split = &kind_table3_split, JOB_KIND_FAMILY_MEMBERS(table3));

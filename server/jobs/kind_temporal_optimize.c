@@ -285,15 +285,8 @@ JOB_KIND_RESULT(kind_temporal_optimize, proto_temporal_optimize_result, temporal
                 proto_encode_temporal_optimize_result, proto_temporal_optimize_result_free)
 
 /* The kind's row of the table of kinds (kind_list.h). */
-const job_kind job_kind_temporal_optimize = {
-    .name = "temporal-optimize",
-    .summary = "Multi-start optimisation of a TAA jitter sequence (a family T(N), or a given "
-               "temporal pattern) for the smallest worst-phase E2, optionally plus lambda F2.",
-    .decode = kind_temporal_optimize_decode,
-    .free_params = kind_temporal_optimize_free,
-    .spec_family = kind_temporal_optimize_family,
-    .max_seconds = kind_temporal_optimize_max_seconds,
-    .run = kind_temporal_optimize_run,
-    .encode_result = kind_temporal_optimize_encode_result,
-    .free_result = kind_temporal_optimize_free_result,
-    .best_of = kind_temporal_optimize_best_of};
+JOB_KIND_ROW(temporal_optimize, .name = "temporal-optimize",
+             .summary =
+                 "Multi-start optimisation of a TAA jitter sequence (a family T(N), or a given "
+                 "temporal pattern) for the smallest worst-phase E2, optionally plus lambda F2.",
+             JOB_KIND_FAMILY_MEMBERS(temporal_optimize));

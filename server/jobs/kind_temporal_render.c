@@ -202,13 +202,8 @@ JOB_KIND_RESULT(kind_temporal_render, proto_temporal_render_result, temporal_ren
                 proto_encode_temporal_render_result, proto_temporal_render_result_free)
 
 /* The kind's row of the table of kinds (kind_list.h). */
-const job_kind job_kind_temporal_render = {
-    .name = "temporal-render",
-    .summary = "Renders a still scene through the TAA loop of a temporal pattern and reports "
-               "the steady-state RMSE per phase, the RMSE per frame after a cut and the flicker, "
-               "with the edge model's prediction per phase.",
-    .decode = kind_temporal_render_decode,
-    .free_params = kind_temporal_render_free,
-    .run = kind_temporal_render_run,
-    .encode_result = kind_temporal_render_encode_result,
-    .free_result = kind_temporal_render_free_result};
+JOB_KIND_ROW(temporal_render, .name = "temporal-render",
+             .summary =
+                 "Renders a still scene through the TAA loop of a temporal pattern and reports "
+                 "the steady-state RMSE per phase, the RMSE per frame after a cut and the flicker, "
+                 "with the edge model's prediction per phase.");

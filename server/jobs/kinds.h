@@ -102,6 +102,23 @@ JOB_KIND_FUNCTIONS(kind_temporal_optimize);
     }                                                                                              \
     JOB_KIND_RESULT_CODEC(prefix, encode_fn, free_fn)
 
+/* A kind's row of the table (kind_list.h), from the names every kind file gives its functions
+ * (prefix##_decode, _free, _run, _encode_result, _free_result); the rest of the row (at least
+ * .name and .summary) follows as designated initializers. */
+#define JOB_KIND_ROW(id, ...)                                                                      \
+    const job_kind job_kind_##id = {.decode = kind_##id##_decode,                                  \
+                                    .free_params = kind_##id##_free,                               \
+                                    .run = kind_##id##_run,                                        \
+                                    .encode_result = kind_##id##_encode_result,                    \
+                                    .free_result = kind_##id##_free_result,                        \
+                                    __VA_ARGS__}
+
+/* The members of a row whose kind optimises a family's patterns: the family its spec names, its
+ * time limit and its best pattern. */
+#define JOB_KIND_FAMILY_MEMBERS(id)                                                                \
+    .spec_family = kind_##id##_family, .max_seconds = kind_##id##_max_seconds,                     \
+    .best_of = kind_##id##_best_of
+
 /* How the optimizer kinds split into shards (job_split.h). */
 struct job_split;
 extern const struct job_split kind_optimize_split;
