@@ -1,6 +1,7 @@
 /* Pattern forms -> tile samples, kernels, cost and family label (pattern.h). */
 #include "pattern.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -56,6 +57,7 @@ void aa_family_label(char *out, size_t cap, size_t s, int kernel_size, bool bord
  * sharing are decided exactly. */
 static double wrap(double v, int T)
 {
+    assert(T >= 1); /* the tile size every constructor has settled (2 for mirrored) */
     if (near_integer(v))
         v = round(v);
     v = fmod(v, (double)T);

@@ -1,5 +1,6 @@
 #include "seeds.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -7,6 +8,7 @@
 static double torus_delta(double d, double T)
 {
     /* Shortest signed difference on a circle of length T. */
+    assert(T > 0);
     d = fmod(d, T);
     if (d > T / 2)
         d -= T;
@@ -17,6 +19,7 @@ static double torus_delta(double d, double T)
 
 static double wrap_coord(double v, double T)
 {
+    assert(T > 0);
     v = fmod(v, T);
     if (v < 0)
         v += T;

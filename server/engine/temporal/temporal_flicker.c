@@ -1,4 +1,5 @@
 /* Flicker F1 and its gradient (temporal_flicker.h). */
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -23,6 +24,7 @@ static void sort_order(const double *key, size_t *order, size_t n)
 
 int aa_flicker_scratch_init(aa_flicker_scratch *sc, const aa_temporal *t, size_t m)
 {
+    assert(t->phase_count >= 1); /* the mean age weight below */
     size_t cap = m ? m : 1;
     sc->p = malloc(cap * sizeof *sc->p);
     sc->order = malloc(cap * sizeof *sc->order);
@@ -60,6 +62,7 @@ void aa_flicker_scratch_reset(aa_flicker_scratch *sc, size_t m)
 double aa_flicker_sorted(const aa_temporal *t, size_t g, double ct, double st,
                          aa_flicker_scratch *sc, double *dp)
 {
+    assert(g < t->group_count && t->phase_count >= 1);
     const aa_temporal_group *grp = &t->groups[g];
     size_t m = grp->count, N = t->phase_count;
     for (size_t i = 0; i < m; i++)
@@ -72,6 +75,7 @@ double aa_flicker_sorted(const aa_temporal *t, size_t g, double ct, double st,
         double D = 0, sum = 0;
         for (size_t k = 0; k + 1 < m; k++) {
             size_t s = sc->order[k];
+            assert(s < m && grp->frame[s] < N); /* a sample's frame is a phase */
             D += grp->in_frame[s] * sc->dev[(ph + N - grp->frame[s]) % N];
             double len = sc->p[sc->order[k + 1]] - sc->p[s];
             sum += len * D * D;
@@ -92,6 +96,7 @@ double aa_flicker_sorted(const aa_temporal *t, size_t g, double ct, double st,
 int aa_temporal_flicker_at_direction(const aa_temporal *t, size_t g, double ct, double st,
                                      double *f1, double *dp)
 {
+    assert(g < t->group_count);
     aa_flicker_scratch sc = {0};
     int rc = aa_flicker_scratch_init(&sc, t, t->groups[g].count);
     if (!rc)
@@ -103,6 +108,7 @@ int aa_temporal_flicker_at_direction(const aa_temporal *t, size_t g, double ct, 
 int aa_temporal_flicker_step_at_direction(const aa_temporal *t, size_t g, double ct, double st,
                                           double *f1)
 {
+    assert(g < t->group_count);
     aa_flicker_scratch sc = {0};
     int rc = aa_flicker_scratch_init(&sc, t, t->groups[g].count);
     if (!rc) {
