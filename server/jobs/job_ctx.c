@@ -54,7 +54,7 @@ void job_live_flush_pending(job_live *l)
 
 void job_ctx_flush_locked(job_ctx *ctx)
 {
-    JM_ASSERT_LOCKED(ctx->jm);
+    ASSERT_LOCK_HELD(&ctx->jm->lock);
     job_live *l = ctx->live;
     l->last_flush = jm_now();
     double progress = l->progress;
@@ -166,7 +166,7 @@ double jm_now(void)
 bool jm_job_stop_locked(const job_ctx *ctx)
 {
     const job *j = ctx->job;
-    JM_ASSERT_LOCKED((job_manager *)ctx->jm);
+    ASSERT_LOCK_HELD(&((job_manager *)ctx->jm)->lock);
     return j->cancel_requested || j->over_time || ((job_manager *)ctx->jm)->stopping;
 }
 

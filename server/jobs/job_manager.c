@@ -41,7 +41,7 @@ void jm_job_free(job *j)
 
 static int owner_load(job_manager *jm, long long owner)
 {
-    JM_ASSERT_LOCKED(jm);
+    ASSERT_LOCK_HELD(&jm->lock);
     int n = 0;
     for (job *j = jm->active; j; j = j->next)
         n += j->owner == owner;
@@ -273,7 +273,7 @@ int job_manager_submit(job_manager *jm, const json_t *spec, long long owner, lon
 /* Overlays the live state of an active job on its stored record. Caller holds the lock. */
 static void overlay_live(json_t *o, const job *j)
 {
-    JM_ASSERT_LOCKED(j->jm);
+    ASSERT_LOCK_HELD(&j->jm->lock);
     json_object_set_new(o, "state", json_string(job_state_name(j->state)));
     json_object_set_new(o, "progress", json_real(j->live.progress));
     /* Copies, never shared references: jansson's reference counts are not meant to be

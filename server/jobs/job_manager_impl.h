@@ -5,7 +5,8 @@
  *   job_recovery.c unfinished jobs at start-up, the shared-directory sweep
  *   job_ctx.c      what a running kind sees of its job (job_ctx_impl.h)
  * One mutex (job_manager.lock) guards every field below unless a comment says otherwise; a
- * function named *_locked is called with it held and says so with JM_ASSERT_LOCKED. */
+ * function named *_locked is called with it held and says so with ASSERT_LOCK_HELD(&jm->lock)
+ * (lock_held.h). */
 #ifndef AALAB_JOB_MANAGER_IMPL_H
 #define AALAB_JOB_MANAGER_IMPL_H
 
@@ -20,6 +21,7 @@
 #include "fair_share.h"
 #include "job_ctx_impl.h"
 #include "job_manager.h"
+#include "lock_held.h"
 
 #define COUNTS_MAX_AGE 0.25 /* seconds */
 
@@ -51,10 +53,6 @@ typedef struct job {
     job_live live;         /* progress, best, trace: guarded by jm->lock */
     struct job *next;      /* active list */
 } job;
-
-/* Documents a _locked function's precondition: jm->lock is held (by some thread; a default
- * mutex cannot tell by whom). Debug and sanitizer builds only (NDEBUG compiles it out). */
-#define JM_ASSERT_LOCKED(jm) assert(pthread_mutex_trylock(&(jm)->lock) == EBUSY)
 
 struct job_manager {
     job_manager_config cfg;

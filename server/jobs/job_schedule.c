@@ -52,7 +52,7 @@ int jm_queue_push(job_manager *jm, job *j)
 
 void jm_queue_remove(job_manager *jm, job *j)
 {
-    JM_ASSERT_LOCKED(jm);
+    ASSERT_LOCK_HELD(&jm->lock);
     for (size_t i = 0; i < jm->q_len; i++) {
         if (jm->queue[i] == j) {
             memmove(jm->queue + i, jm->queue + i + 1, (jm->q_len - i - 1) * sizeof *jm->queue);
@@ -64,7 +64,7 @@ void jm_queue_remove(job_manager *jm, job *j)
 
 void jm_active_remove(job_manager *jm, job *j)
 {
-    JM_ASSERT_LOCKED(jm);
+    ASSERT_LOCK_HELD(&jm->lock);
     for (job **p = &jm->active; *p; p = &(*p)->next) {
         if (*p == j) {
             *p = j->next;
@@ -75,7 +75,7 @@ void jm_active_remove(job_manager *jm, job *j)
 
 job *jm_active_find(job_manager *jm, long long id)
 {
-    JM_ASSERT_LOCKED(jm);
+    ASSERT_LOCK_HELD(&jm->lock);
     for (job *j = jm->active; j; j = j->next)
         if (j->id == id)
             return j;
@@ -85,7 +85,7 @@ job *jm_active_find(job_manager *jm, long long id)
 /* The fair-share view of the active jobs (fair_share.h); NULL when out of memory. */
 static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
 {
-    JM_ASSERT_LOCKED(jm);
+    ASSERT_LOCK_HELD(&jm->lock);
     size_t count = 0;
     /* Admitted jobs not yet in the store are not schedulable, nor are Slurm jobs (their
      * threads need no worker). */
@@ -123,7 +123,7 @@ static fs_job *snapshot_locked(job_manager *jm, size_t *n, job ***order)
  * waiting job. */
 void jm_schedule_locked(job_manager *jm)
 {
-    JM_ASSERT_LOCKED(jm);
+    ASSERT_LOCK_HELD(&jm->lock);
     while (!jm->stopping && jm->busy < jm->cfg.workers) {
         size_t n;
         job **jobs;
@@ -168,7 +168,7 @@ void jm_yield_point_locked(job_ctx *ctx)
 {
     job_manager *jm = ctx->jm;
     job *j = ctx->job;
-    JM_ASSERT_LOCKED(jm);
+    ASSERT_LOCK_HELD(&jm->lock);
     double now = aa_monotonic_seconds();
     double ran = now - ctx->started_mono - (double)atomic_load(&j->paused_ns) * 1e-9;
     if (!j->over_time && ran > jm->cfg.max_job_seconds) {
@@ -236,7 +236,7 @@ static int final_write(job_manager *jm, long long id, job_state st, double progr
  * next start runs the job again). Lock held; released while writing. */
 static void store_unavailable_end_locked(job_manager *jm, job *j)
 {
-    JM_ASSERT_LOCKED(jm);
+    ASSERT_LOCK_HELD(&jm->lock);
     char msg[sizeof j->reason];
     snprintf(msg, sizeof msg, "%s", j->reason);
     json_t *error =

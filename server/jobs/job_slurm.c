@@ -89,7 +89,7 @@ static void *slurm_thread(void *arg)
 /* Starts a Slurm job's thread (lock held). false when no thread could start. */
 bool jm_slurm_start_locked(job_manager *jm, job *j)
 {
-    JM_ASSERT_LOCKED(jm);
+    ASSERT_LOCK_HELD(&jm->lock);
     assert(j->slurm && j->state == JOB_QUEUED); /* edge queued -> running (a Slurm thread) */
     j->state = JOB_RUNNING;
     j->started = jm_now();
