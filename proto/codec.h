@@ -66,6 +66,9 @@ int proto_acuity_ref_decode(const json_t *obj, char *name, size_t cap, int *vers
 const char *proto_utf8_prefix(char *buf, size_t cap, const char *s, size_t max);
 /* "prefix.sub" (or "prefix[..]" when sub starts with '['), written to out. */
 void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub);
+/* Prepends prefix to err->field (engine errors are relative to the engine object); returns
+ * err's code. */
+int proto_prefix_error(aa_error *err, const char *prefix);
 /* Rejects keys of obj not in the NULL-terminated allowed list, naming the first one
  * ("prefix.key", "unknown field"). */
 int proto_check_keys(const json_t *obj, const char *const *allowed, aa_error *err,

@@ -12,8 +12,6 @@
 void proto_utf8_trim(char *s);
 /* Sets err with field prefix+sub and a fixed message; returns code. */
 int proto_fail(aa_error *err, int code, const char *prefix, const char *sub, const char *msg);
-/* Prepends prefix to err->field (engine errors are relative to the engine object). */
-int proto_prefix_error(aa_error *err, const char *prefix);
 /* A finite JSON number (integer or real). */
 int proto_number(const json_t *j, double *out, aa_error *err, const char *prefix, const char *sub);
 

@@ -115,13 +115,7 @@ static int decode_temporal(const json_t *pj, size_t index, const char *field,
                             *samples, PROTO_PREDICT_MAX_PHASE_SAMPLES);
     }
     aa_temporal t = {0};
-    aa_temporal_spec ts = proto_temporal_spec(&spec);
-    rc = aa_temporal_build(&t, &ts, err);
-    if (rc) {
-        char f[sizeof err->field];
-        proto_join_field(f, sizeof f, tf, err->field);
-        memcpy(err->field, f, sizeof f);
-    }
+    rc = proto_temporal_build(&spec, tf, &t, err);
     if (!rc)
         rc = grow(out, cap, t.phase_count, err);
     for (size_t p = 0; !rc && p < t.phase_count; p++) {

@@ -36,15 +36,8 @@ static int decode_temporal_phase(const json_t *body, const json_t *pj, proto_ren
         rc = aa_error_set(err, AA_ERANGE, "pattern.temporal",
                           "more than %d samples per output pixel over the frames",
                           AA_MAX_KERNEL_SAMPLES);
-    if (!rc) {
-        aa_temporal_spec ts = proto_temporal_spec(&spec);
-        rc = aa_temporal_build(&t, &ts, err);
-        if (rc) {
-            char f[sizeof err->field];
-            proto_join_field(f, sizeof f, "pattern.temporal", err->field);
-            memcpy(err->field, f, sizeof f);
-        }
-    }
+    if (!rc)
+        rc = proto_temporal_build(&spec, "pattern.temporal", &t, err);
     const json_t *ph = json_object_get(body, "phase");
     if (!rc && ph &&
         (!json_is_integer(ph) || json_integer_value(ph) < 0 ||

@@ -25,6 +25,16 @@ aa_temporal_spec proto_temporal_spec(const proto_temporal *t)
                               .blend = t->blend};
 }
 
+int proto_temporal_build(const proto_temporal *t, const char *field_prefix, aa_temporal *out,
+                         aa_error *err)
+{
+    aa_temporal_spec ts = proto_temporal_spec(t);
+    int rc = aa_temporal_build(out, &ts, err);
+    if (rc)
+        proto_prefix_error(err, field_prefix);
+    return rc;
+}
+
 /* An integer in [lo, hi] at prefix.sub. */
 static int decode_count(const json_t *j, long lo, long hi, long *out, const char *prefix,
                         const char *sub, aa_error *err)

@@ -35,6 +35,10 @@ int proto_decode_temporal(const json_t *j, proto_temporal *out, const char *fiel
 int proto_decode_temporal_object(const json_t *v, proto_temporal *out, const char *field_prefix,
                                  aa_error *err);
 aa_temporal_spec proto_temporal_spec(const proto_temporal *t);
+/* Builds the engine's sequence of t into out; an error's field is named under field_prefix
+ * ("pattern.temporal" + "jitter[3]"). */
+int proto_temporal_build(const proto_temporal *t, const char *field_prefix, aa_temporal *out,
+                         aa_error *err);
 void proto_temporal_free(proto_temporal *t);
 /* A deep copy (out owns its jitter and frame pattern). */
 int proto_temporal_copy(const proto_temporal *t, proto_temporal *out, aa_error *err);

@@ -70,15 +70,8 @@ static int decode_temporal_rows(const json_t *pj, const char *field, proto_compa
                           "than a compare renders",
                           PROTO_COMPARE_MAX_ROWS, PROTO_COMPARE_MAX_PHASE_SAMPLES);
     aa_temporal t = {0};
-    if (!rc) {
-        aa_temporal_spec ts = proto_temporal_spec(&spec);
-        rc = aa_temporal_build(&t, &ts, err);
-        if (rc) {
-            char f[sizeof err->field];
-            proto_join_field(f, sizeof f, tf, err->field);
-            memcpy(err->field, f, sizeof f);
-        }
-    }
+    if (!rc)
+        rc = proto_temporal_build(&spec, tf, &t, err);
     if (!rc)
         rc = grow(cp, cap, t.phase_count, err);
     for (size_t p = 0; !rc && p < t.phase_count; p++) {

@@ -73,15 +73,9 @@ static int decode_grid_bits(const json_t *grid, int *bits, aa_error *err)
 static int check_builds(const proto_temporal *t, const char *prefix, aa_error *err)
 {
     aa_temporal built;
-    aa_temporal_spec ts = proto_temporal_spec(t);
-    int rc = aa_temporal_build(&built, &ts, err);
-    if (!rc) {
+    int rc = proto_temporal_build(t, prefix, &built, err);
+    if (!rc)
         aa_temporal_free(&built);
-        return AA_OK;
-    }
-    char f[sizeof err->field];
-    proto_join_field(f, sizeof f, prefix, err->field);
-    memcpy(err->field, f, sizeof f);
     return rc;
 }
 

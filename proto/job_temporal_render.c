@@ -49,15 +49,8 @@ int proto_decode_temporal_render_spec(const json_t *spec, proto_temporal_render_
                           "job evaluates (group samples x (2 N + 1) x 36 angles <= %ld)",
                           proto_temporal_planned_samples(&s->temporal), s->temporal.count,
                           PROTO_TEMPORAL_RENDER_MAX_EVAL_WORK);
-    if (!rc) {
-        aa_temporal_spec ts = proto_temporal_spec(&s->temporal);
-        rc = aa_temporal_build(&s->built, &ts, err);
-        if (rc) {
-            char f[sizeof err->field];
-            proto_join_field(f, sizeof f, "pattern.temporal", err->field);
-            memcpy(err->field, f, sizeof f);
-        }
-    }
+    if (!rc)
+        rc = proto_temporal_build(&s->temporal, "pattern.temporal", &s->built, err);
     if (!rc) {
         s->cut_frames = s->temporal.cut_frames ? s->temporal.cut_frames : 4 * s->built.phase_count;
         if (s->cut_frames > AA_TEMPORAL_MAX_CUT_FRAMES)

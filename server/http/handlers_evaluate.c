@@ -83,13 +83,7 @@ static int evaluate_temporal(proto_evaluate_request *rq, json_t **answer, aa_err
     aa_temporal t = {0};
     aa_temporal_evaluation ev = {0};
     bool have_ev = false;
-    aa_temporal_spec ts = proto_temporal_spec(rq->spec);
-    int rc = aa_temporal_build(&t, &ts, err);
-    if (rc) {
-        char f[sizeof err->field];
-        proto_join_field(f, sizeof f, "pattern.temporal", err->field);
-        memcpy(err->field, f, sizeof f);
-    }
+    int rc = proto_temporal_build(rq->spec, "pattern.temporal", &t, err);
     if (!rc) {
         size_t na = rq->angle_count;
         if (!na) {
@@ -114,11 +108,8 @@ static int evaluate_temporal(proto_evaluate_request *rq, json_t **answer, aa_err
                                .angle_count = rq->angle_count};
         rc = aa_temporal_evaluate(&t, &mp, rq->spec->cut_frames, &ev, err);
         have_ev = rc == AA_OK;
-        if (rc && strncmp(err->field, "angles", 6)) {
-            char f[sizeof err->field];
-            proto_join_field(f, sizeof f, "pattern", err->field);
-            memcpy(err->field, f, sizeof f);
-        }
+        if (rc && strncmp(err->field, "angles", 6))
+            proto_prefix_error(err, "pattern");
     }
     if (!rc) {
         *answer = proto_encode_temporal_evaluation(&ev, &t, rq->spec);
@@ -169,9 +160,7 @@ static void evaluate_call_run(api_deferred *d, api_response *resp)
         rc = check_finite(&rq->pattern, &ev, &err);
     } else if (err.field[0] && strncmp(err.field, "angles", 6) && strcmp(err.field, "lp") &&
                strncmp(err.field, "pattern", 7)) {
-        char f[sizeof err.field];
-        proto_join_field(f, sizeof f, "pattern", err.field);
-        memcpy(err.field, f, sizeof f);
+        proto_prefix_error(&err, "pattern");
     }
     if (rc) {
         api_reply_aa_error(resp, &err);
