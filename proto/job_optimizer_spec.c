@@ -164,6 +164,32 @@ static int check_keys(const json_t *spec, const char *const *kind_keys, unsigned
     return proto_check_keys_in(spec, lists, err, "");
 }
 
+int proto_spec_metric(const json_t *spec, aa_filter *filter, aa_acuity *acuity, double **angles,
+                      size_t *angle_count, aa_error *err)
+{
+    int rc = proto_decode_filter(json_object_get(spec, "filter"), filter, "filter", err);
+    if (!rc)
+        rc = proto_decode_acuity(json_object_get(spec, "acuity"), acuity, "acuity", err);
+    if (!rc)
+        rc = proto_decode_angles(json_object_get(spec, "angles"), angles, angle_count, "angles",
+                                 err);
+    return rc;
+}
+
+int proto_spec_budget(const json_t *spec, json_int_t iterations_max, double *max_seconds,
+                      long *max_iterations, bool *reproducible, aa_error *err)
+{
+    json_int_t iterations = 0;
+    int rc = proto_spec_number(spec, "max_seconds", 0.01, 86400, max_seconds, err);
+    if (!rc)
+        rc = proto_spec_integer(spec, "max_iterations", 1, iterations_max, &iterations, err);
+    *max_iterations = (long)iterations;
+    *reproducible = iterations > 0 && !json_object_get(spec, "max_seconds");
+    if (*reproducible)
+        *max_seconds = 0;
+    return rc;
+}
+
 int proto_optimizer_spec_decode(const json_t *spec, const char *const *kind_keys, unsigned fields,
                                 double def_seconds, proto_optimizer_spec *s, aa_error *err)
 {
@@ -173,23 +199,10 @@ int proto_optimizer_spec_decode(const json_t *spec, const char *const *kind_keys
     s->rng_seed = 1;
     int rc = check_keys(spec, kind_keys, fields, err);
     if (!rc)
-        rc = proto_decode_filter(json_object_get(spec, "filter"), &s->filter, "filter", err);
+        rc = proto_spec_metric(spec, &s->filter, &s->acuity, &s->angles, &s->angle_count, err);
     if (!rc)
-        rc = proto_decode_acuity(json_object_get(spec, "acuity"), &s->acuity, "acuity", err);
-    if (!rc)
-        rc = proto_decode_angles(json_object_get(spec, "angles"), &s->angles, &s->angle_count,
-                                 "angles", err);
-    if (!rc)
-        rc = proto_spec_number(spec, "max_seconds", 0.01, 86400, &s->max_seconds, err);
-    json_int_t iterations = 0;
-    if (!rc)
-        rc = proto_spec_integer(spec, "max_iterations", 1, 10000000, &iterations, err);
-    s->max_iterations = (long)iterations;
-    /* An iteration budget alone does not depend on the clock: no time budget at all, and the
-     * result is reproducible. Any time budget stops seeds at clock-dependent points. */
-    s->reproducible = iterations > 0 && !json_object_get(spec, "max_seconds");
-    if (s->reproducible)
-        s->max_seconds = 0;
+        rc = proto_spec_budget(spec, 10000000, &s->max_seconds, &s->max_iterations,
+                               &s->reproducible, err);
     json_int_t seed = 1;
     if (!rc)
         rc = proto_spec_integer(spec, "rng_seed", 0, (json_int_t)1 << 53, &seed, err);

@@ -64,6 +64,14 @@ int proto_spec_number(const json_t *spec, const char *key, double lo, double hi,
 int proto_spec_integer(const json_t *spec, const char *key, json_int_t lo, json_int_t hi,
                        json_int_t *out, aa_error *err);
 int proto_spec_string(const json_t *spec, const char *key, const char **out, aa_error *err);
+/* "filter", "acuity" and "angles", in that order: what the metric of every optimizer kind takes. */
+int proto_spec_metric(const json_t *spec, aa_filter *filter, aa_acuity *acuity, double **angles,
+                      size_t *angle_count, aa_error *err);
+/* "max_seconds" (*max_seconds holds the default) and "max_iterations" (1..iterations_max, 0 when
+ * absent). An iteration budget alone does not depend on the clock: *reproducible, no time budget
+ * at all (*max_seconds 0). Any time budget stops seeds at clock-dependent points. */
+int proto_spec_budget(const json_t *spec, json_int_t iterations_max, double *max_seconds,
+                      long *max_iterations, bool *reproducible, aa_error *err);
 /* "poisson_radius" in pixels for patterns of spp samples per pixel: the engine's default
  * (aa_poisson_default_radius) when absent; at most 0.8/sqrt(spp), since above ~0.83/sqrt(spp)
  * dart throwing jams before it places every sample. */

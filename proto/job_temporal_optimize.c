@@ -115,7 +115,7 @@ static int decode_spec(const json_t *spec, proto_temporal_optimize_spec *s, aa_e
             rc = check_builds(&s->temporal, "pattern.temporal", err);
     }
     snprintf(s->family, sizeof s->family, "T(%zu)", s->temporal.count);
-    json_int_t seeds = 16, iterations = 0, seed = 1;
+    json_int_t seeds = 16, seed = 1;
     if (!rc)
         rc = proto_spec_integer(spec, "seeds", 1, 100000, &seeds, err);
     s->seeds = (long)seeds;
@@ -141,22 +141,11 @@ static int decode_spec(const json_t *spec, proto_temporal_optimize_spec *s, aa_e
         rc = aa_error_set(err, AA_EINVAL, "order", "must be auto or none");
     s->order_search = !strcmp(order, "auto");
     if (!rc)
-        rc = proto_decode_filter(json_object_get(spec, "filter"), &s->filter, "filter", err);
-    if (!rc)
-        rc = proto_decode_acuity(json_object_get(spec, "acuity"), &s->acuity, "acuity", err);
-    if (!rc)
-        rc = proto_decode_angles(json_object_get(spec, "angles"), &s->angles, &s->angle_count,
-                                 "angles", err);
+        rc = proto_spec_metric(spec, &s->filter, &s->acuity, &s->angles, &s->angle_count, err);
     s->max_seconds = 30;
     if (!rc)
-        rc = proto_spec_number(spec, "max_seconds", 0.01, 86400, &s->max_seconds, err);
-    if (!rc)
-        rc = proto_spec_integer(spec, "max_iterations", 1, 100000, &iterations, err);
-    s->max_iterations = (long)iterations;
-    /* As every optimizer kind: an iteration budget alone is reproducible (no clock). */
-    s->reproducible = iterations > 0 && !json_object_get(spec, "max_seconds");
-    if (s->reproducible)
-        s->max_seconds = 0;
+        rc = proto_spec_budget(spec, 100000, &s->max_seconds, &s->max_iterations, &s->reproducible,
+                               err);
     if (!rc)
         rc = proto_spec_integer(spec, "rng_seed", 0, (json_int_t)1 << 53, &seed, err);
     s->rng_seed = (uint64_t)seed;
