@@ -25,9 +25,15 @@ int pattern_check(const json_t *pattern, char *err, size_t errcap)
         aa_pattern_free(&p);
         return 0;
     }
-    if (e.field[0])
-        snprintf(err, errcap, "field %s: %s", e.field, e.message[0] ? e.message : aa_strerror(rc));
+    return pattern_check_refusal(rc, &e, err, errcap);
+}
+
+int pattern_check_refusal(int rc, const struct aa_error *e, char *err, size_t errcap)
+{
+    if (e->field[0])
+        snprintf(err, errcap, "field %s: %s", e->field,
+                 e->message[0] ? e->message : aa_strerror(rc));
     else
-        snprintf(err, errcap, "%s", e.message[0] ? e.message : aa_strerror(rc));
+        snprintf(err, errcap, "%s", e->message[0] ? e->message : aa_strerror(rc));
     return -1;
 }

@@ -181,6 +181,17 @@ static int check_loaded(const char *arg, json_t **pattern, json_t **extras, char
     return -1;
 }
 
+json_t *pattern_json_file(const char *path, char *err, size_t errcap)
+{
+    json_error_t jerr;
+    json_t *doc = json_load_file(path, JSON_REJECT_DUPLICATES, &jerr);
+    if (!doc && jerr.line > 0)
+        snprintf(err, errcap, "%s:%d:%d: %s", path, jerr.line, jerr.column, jerr.text);
+    else if (!doc)
+        snprintf(err, errcap, "%s: %s", path, jerr.text);
+    return doc;
+}
+
 int pattern_argument_load(const char *arg, const cli_args *opts, json_t **pattern, json_t **extras,
                           char *err, size_t errcap)
 {
@@ -213,15 +224,9 @@ int pattern_argument_load(const char *arg, const cli_args *opts, json_t **patter
             return -1;
         return check_loaded(arg, pattern, extras, err, errcap);
     }
-    json_error_t jerr;
-    json_t *doc = json_load_file(arg, JSON_REJECT_DUPLICATES, &jerr);
-    if (!doc) {
-        if (jerr.line > 0)
-            snprintf(err, errcap, "%s:%d:%d: %s", arg, jerr.line, jerr.column, jerr.text);
-        else
-            snprintf(err, errcap, "%s: %s", arg, jerr.text);
+    json_t *doc = pattern_json_file(arg, err, errcap);
+    if (!doc)
         return -1;
-    }
     if (is_point_set(doc) || format) {
         *pattern = points_pattern("json", doc, opts);
         if (!*pattern)

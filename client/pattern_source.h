@@ -14,6 +14,8 @@
 
 #include "args.h"
 
+struct aa_error;
+
 /* True if arg names a file rather than a preset (contains '/', ends in ".json", or exists). */
 bool pattern_argument_is_file(const char *arg);
 
@@ -32,5 +34,10 @@ int pattern_argument_load(const char *arg, const cli_args *opts, json_t **patter
 
 /* Local check with the shared codec; err names the field ("pattern.kernels[0][1][2]: ..."). */
 int pattern_check(const json_t *pattern, char *err, size_t errcap);
+/* The codec's refusal (rc, e) as the client prints it: "field F: message"; returns -1. */
+int pattern_check_refusal(int rc, const struct aa_error *e, char *err, size_t errcap);
+
+/* A JSON file read strictly (duplicate keys refused); NULL with err "FILE:LINE:COL: why". */
+json_t *pattern_json_file(const char *path, char *err, size_t errcap);
 
 #endif

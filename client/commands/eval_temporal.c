@@ -126,14 +126,9 @@ int temporal_argument(const char *arg, json_t **temporal, json_t **extras, char 
         return temporal_from_document("--temporal", doc, temporal, extras, err, errcap);
     }
     if (pattern_argument_is_file(arg)) {
-        json_t *doc = json_load_file(arg, JSON_REJECT_DUPLICATES, &jerr);
-        if (!doc) {
-            if (jerr.line > 0)
-                snprintf(err, errcap, "%s:%d:%d: %s", arg, jerr.line, jerr.column, jerr.text);
-            else
-                snprintf(err, errcap, "%s: %s", arg, jerr.text);
+        json_t *doc = pattern_json_file(arg, err, errcap);
+        if (!doc)
             return -1;
-        }
         return temporal_from_document(arg, doc, temporal, extras, err, errcap);
     }
     int g = generator_argument(arg, temporal, err, errcap);
@@ -170,13 +165,7 @@ static int temporal_check(const json_t *temporal, char *err, size_t errcap)
     int rc = wrapped ? proto_decode_temporal(wrapped, &spec, "pattern", &e) : AA_ENOMEM;
     proto_temporal_free(&spec);
     json_decref(wrapped);
-    if (rc == AA_OK)
-        return 0;
-    if (e.field[0])
-        snprintf(err, errcap, "field %s: %s", e.field, e.message[0] ? e.message : aa_strerror(rc));
-    else
-        snprintf(err, errcap, "%s", e.message[0] ? e.message : aa_strerror(rc));
-    return -1;
+    return rc == AA_OK ? 0 : pattern_check_refusal(rc, &e, err, errcap);
 }
 
 /* --alpha and --blend over the temporal object's blend. */
