@@ -79,5 +79,7 @@ int proto_check_keys_in(const json_t *obj, const char *const *const *lists, aa_e
                         const char *prefix);
 /* A JSON number for a double; null for non-finite values (JSON has no NaN). */
 json_t *proto_real(double v);
+/* [proto_real(v[0]), ...]; NULL when out of memory. */
+json_t *proto_real_array(const double *v, size_t n);
 
 #endif

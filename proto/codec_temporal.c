@@ -380,15 +380,6 @@ int proto_decode_temporal(const json_t *j, proto_temporal *out, const char *fiel
     return rc;
 }
 
-static json_t *real_array(const double *v, size_t n)
-{
-    assert(v || !n);
-    json_t *a = json_array();
-    for (size_t i = 0; a && i < n; i++)
-        json_array_append_new(a, proto_real(v[i]));
-    return a;
-}
-
 json_t *proto_encode_temporal_evaluation(const aa_temporal_evaluation *e, const aa_temporal *t,
                                          const proto_temporal *spec)
 {
@@ -408,13 +399,13 @@ json_t *proto_encode_temporal_evaluation(const aa_temporal_evaluation *e, const 
     json_object_set_new(o, "f2_argmax",
                         json_pack("{s:I,s:o}", "group", (json_int_t)e->f2_group, "angle_deg",
                                   proto_real(e->f2_angle_deg)));
-    json_object_set_new(o, "angles_deg", real_array(e->angles_deg, A));
-    json_object_set_new(o, "weights", real_array(e->weight, A));
+    json_object_set_new(o, "angles_deg", proto_real_array(e->angles_deg, A));
+    json_object_set_new(o, "weights", proto_real_array(e->weight, A));
     json_t *phases = json_array();
     for (size_t p = 0; phases && p < N; p++) {
         json_t *e1 = json_array();
         for (size_t g = 0; e1 && g < G; g++)
-            json_array_append_new(e1, real_array(e->e1 + (p * G + g) * A, A));
+            json_array_append_new(e1, proto_real_array(e->e1 + (p * G + g) * A, A));
         json_array_append_new(phases, json_pack("{s:I,s:o,s:o,s:o}", "phase", (json_int_t)p, "e2",
                                                 proto_real(e->phase_e2[p]), "age_weight",
                                                 proto_real(t->age_weight[p]), "e1", e1));
@@ -422,9 +413,9 @@ json_t *proto_encode_temporal_evaluation(const aa_temporal_evaluation *e, const 
     json_object_set_new(o, "phases", phases);
     json_t *f1 = json_array();
     for (size_t g = 0; f1 && g < G; g++)
-        json_array_append_new(f1, real_array(e->f1 + g * A, A));
+        json_array_append_new(f1, proto_real_array(e->f1 + g * A, A));
     json_object_set_new(o, "f1", f1);
-    json_object_set_new(o, "after_cut", real_array(e->after_cut, e->cut_count));
+    json_object_set_new(o, "after_cut", proto_real_array(e->after_cut, e->cut_count));
     json_object_set_new(o, "frames_to_5pct",
                         e->frames_to_settle > 0 ? json_integer(e->frames_to_settle) : json_null());
     json_t *jit = json_array();

@@ -1,6 +1,7 @@
 /* Small helpers shared by the codec files: field paths and numbers. */
 #include "codec_internal.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -97,6 +98,18 @@ void proto_join_field(char *out, size_t cap, const char *prefix, const char *sub
 json_t *proto_real(double v)
 {
     return isfinite(v) ? json_real(v) : json_null();
+}
+
+json_t *proto_real_array(const double *v, size_t n)
+{
+    assert(v || !n);
+    json_t *a = json_array();
+    for (size_t i = 0; a && i < n; i++)
+        if (json_array_append_new(a, proto_real(v[i]))) {
+            json_decref(a);
+            return NULL;
+        }
+    return a;
 }
 
 int proto_fail(aa_error *err, int code, const char *prefix, const char *sub, const char *msg)

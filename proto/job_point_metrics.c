@@ -79,27 +79,16 @@ void proto_point_metrics_free(proto_point_metrics *pm)
     pm->n = pm->capacity = 0;
 }
 
-static json_t *column(const double *v, size_t n)
-{
-    json_t *a = json_array();
-    for (size_t i = 0; a && i < n; i++)
-        if (json_array_append_new(a, proto_real(v[i]))) {
-            json_decref(a);
-            return NULL;
-        }
-    return a;
-}
-
 json_t *proto_point_metrics_columns(const proto_point_metrics *pm)
 {
     json_t *o = json_object();
-    if (!o || json_object_set_new(o, "e2", column(pm->e2, pm->n))) {
+    if (!o || json_object_set_new(o, "e2", proto_real_array(pm->e2, pm->n))) {
         json_decref(o);
         return NULL;
     }
     for (size_t k = 0; k < pm->spec.count; k++)
         if (json_object_set_new(o, aa_point_metric_name(pm->spec.which[k]),
-                                column(pm->values + k * pm->capacity, pm->n))) {
+                                proto_real_array(pm->values + k * pm->capacity, pm->n))) {
             json_decref(o);
             return NULL;
         }

@@ -79,17 +79,6 @@ void proto_temporal_render_result_free(proto_temporal_render_result *r)
     memset(r, 0, sizeof *r);
 }
 
-static json_t *real_array(const double *v, size_t n)
-{
-    json_t *a = json_array();
-    for (size_t i = 0; a && i < n; i++)
-        if (json_array_append_new(a, proto_real(v[i]))) {
-            json_decref(a);
-            return NULL;
-        }
-    return a;
-}
-
 /* predicted / rendered, or nothing when either is missing or the render is exact. */
 static void set_prediction(json_t *o, double predicted, double rendered)
 {
@@ -144,7 +133,7 @@ json_t *proto_encode_temporal_render_result(const proto_temporal_render_result *
         "seed", (json_int_t)r->reference_seed, "filter", r->filter, "output_offset",
         proto_real(r->output_offset), "pattern", pattern, "e2", proto_real(r->e2), "mean_phase_e2",
         proto_real(r->mean_phase_e2), "f2", proto_real(r->f2), "phases", phases, "steady", steady,
-        "after_cut", real_array(r->cut_rmse, r->cut_count), "frames_to_5pct",
+        "after_cut", proto_real_array(r->cut_rmse, r->cut_count), "frames_to_5pct",
         r->frames_to_5pct > 0 ? json_integer(r->frames_to_5pct) : json_null(), "flicker",
         "step_rmse", proto_real(r->flicker_step_rmse), "mean_rmse",
         proto_real(r->flicker_mean_rmse), "times", "reference_seconds",
