@@ -23,10 +23,10 @@ void handle_health(api_context *ctx, const api_request *req, api_response *resp)
     eval_cache_stats_get(api_context_eval_cache(ctx), &cs);
     json_t *kinds = json_array();
     size_t kind_count;
-    const job_kind *table = job_kinds_table(&kind_count);
+    const job_kind *const *table = job_kinds_table(&kind_count);
     for (size_t k = 0; k < kind_count; k++)
-        if (job_manager_kind(api_context_jobs(ctx), table[k].name))
-            json_array_append_new(kinds, json_string(table[k].name));
+        if (job_manager_kind(api_context_jobs(ctx), table[k]->name))
+            json_array_append_new(kinds, json_string(table[k]->name));
     json_t *o = json_pack(
         "{s:s,s:s,s:f,s:{s:i,s:i},s:{s:i,s:i,s:i},s:o,s:o,s:{s:I,s:I,s:I,s:I,s:I},s:b,s:b}",
         "status", "ok", "version", aalab_version, "uptime_seconds", api_context_uptime(ctx),

@@ -46,14 +46,14 @@ int kind_schemas_check(aa_error *err)
 {
     int rc = check_one("job_envelope.json", err);
     size_t count;
-    const job_kind *table = job_kinds_table(&count);
+    const job_kind *const *table = job_kinds_table(&count);
     for (size_t k = 0; k < count && !rc; k++) {
-        if (table[k].test_only)
+        if (table[k]->test_only)
             continue;
         char path[128];
-        kind_schema_path(path, sizeof path, &table[k], "spec");
+        kind_schema_path(path, sizeof path, table[k], "spec");
         rc = check_one(path, err);
-        kind_schema_path(path, sizeof path, &table[k], "result");
+        kind_schema_path(path, sizeof path, table[k], "result");
         if (!rc)
             rc = check_one(path, err);
     }
@@ -78,10 +78,10 @@ char *kind_schemas_document(struct job_manager *jobs)
 {
     json_t *kinds = json_array();
     size_t count;
-    const job_kind *table = job_kinds_table(&count);
+    const job_kind *const *table = job_kinds_table(&count);
     for (size_t k = 0; k < count; k++)
-        if (job_manager_kind(jobs, table[k].name))
-            json_array_append_new(kinds, kind_schemas_describe(&table[k]));
+        if (job_manager_kind(jobs, table[k]->name))
+            json_array_append_new(kinds, kind_schemas_describe(table[k]));
     json_t *envelope = kind_schema_load("job_envelope.json");
     json_t *doc = json_pack("{s:o,s:o}", "envelope_schema", envelope ? envelope : json_null(),
                             "kinds", kinds);

@@ -14,16 +14,16 @@ void job_kind_names_join(char *buf, size_t cap, bool test_kinds, bool split_only
                          const char *last_join)
 {
     size_t count, total = 0, seen = 0, n = 0;
-    const job_kind *table = job_kinds_table(&count);
+    const job_kind *const *table = job_kinds_table(&count);
     for (size_t k = 0; k < count; k++)
-        total += listed(&table[k], test_kinds, split_only);
+        total += listed(table[k], test_kinds, split_only);
     buf[0] = 0;
     for (size_t k = 0; k < count && n < cap; k++) {
-        if (!listed(&table[k], test_kinds, split_only))
+        if (!listed(table[k], test_kinds, split_only))
             continue;
         seen++;
         const char *sep = seen == 1 ? "" : seen == total ? last_join : ", ";
-        int w = snprintf(buf + n, cap - n, "%s%s", sep, table[k].name);
+        int w = snprintf(buf + n, cap - n, "%s%s", sep, table[k]->name);
         if (w < 0)
             break;
         n += (size_t)w;

@@ -90,7 +90,7 @@ typedef struct job_kind {
 } job_kind;
 
 const job_kind *job_kind_find(const char *name);
-/* The table, and its length. */
-const job_kind *job_kinds_table(size_t *count);
+/* The table (the rows in kind_list.h's order), and its length. */
+const job_kind *const *job_kinds_table(size_t *count);
 
 #endif
