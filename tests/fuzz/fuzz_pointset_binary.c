@@ -8,6 +8,7 @@
  * float32 points within float32 rounding. Errors must name the field given. Any crash, leak or
  * sanitizer report is a bug. */
 #include "fuzz_check.h"
+#include "fuzz_pointset_checks.h"
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -23,37 +24,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static const char FIELD[] = "pattern.points.base64";
 static const char SET_FIELD[] = "pattern.points.set";
-
-static double small_e2(const aa_pattern *p)
-{
-    if (aa_pattern_total_kernel_samples(p) > 256)
-        return NAN;
-    aa_filter f;
-    aa_acuity a;
-    aa_filter_default(&f);
-    aa_acuity_naiman(&a);
-    const double angles[] = {0, 22.5, 45, 135};
-    aa_metric_params mp = {&f, &a, angles, 4, 0};
-    aa_evaluation ev;
-    aa_error err = {0};
-    if (aa_evaluate(p, &mp, &ev, &err) != AA_OK)
-        return NAN;
-    double e2 = ev.e2;
-    aa_evaluation_free(&ev);
-    return e2;
-}
-
-static void check_error(int rc, const aa_error *err)
-{
-    FUZZ_CHECK(rc < 0);
-    FUZZ_CHECK(memchr(err->field, '\0', sizeof err->field));
-    FUZZ_CHECK(memchr(err->message, '\0', sizeof err->message));
-    FUZZ_CHECK(err->message[0] != '\0');
-    FUZZ_CHECK(strncmp(err->field, "pattern.points", 14) == 0);
-    json_t *s = json_string(err->message); /* messages go into JSON answers: UTF-8 */
-    FUZZ_CHECK(s != NULL);
-    json_decref(s);
-}
 
 /* bin: the same pattern back (its header rides as a trailer); rps: the same points to float32
  * rounding. */
@@ -75,7 +45,7 @@ static void check_round_trips(const aa_pattern *p)
     rc = proto_pattern_from_pointset(&ps, &o, &q, "pattern.points", FIELD, &err);
     FUZZ_CHECK(rc == AA_OK);
     FUZZ_CHECK(q.kernel_count == p->kernel_count && q.tile_count == p->tile_count);
-    double a = small_e2(p), e = small_e2(&q);
+    double a = fuzz_small_e2(p), e = fuzz_small_e2(&q);
     FUZZ_CHECK((isnan(a) && isnan(e)) || fabs(a - e) <= 1e-12 || (isinf(a) && a == e));
     aa_pattern_free(&q);
     proto_pointset_free(&ps);
@@ -102,8 +72,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size < 1)
         return 0;
     uint8_t sel = data[0];
-    static const proto_points_format fmts[] = {PROTO_POINTS_BIN, PROTO_POINTS_RPS,
-                                               PROTO_POINTS_UTK, PROTO_POINTS_XYW};
+    static const proto_points_format fmts[] = {PROTO_POINTS_BIN, PROTO_POINTS_RPS, PROTO_POINTS_UTK,
+                                               PROTO_POINTS_XYW};
     proto_points_format fmt = fmts[sel & 3];
     size_t set = (sel >> 2) & 3 ? (size_t)((sel >> 2) & 3) - 1 : PROTO_POINTS_WHOLE;
     proto_points_options o = proto_points_options_default();
@@ -118,7 +88,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     size_t count = 0, counted = 0;
     int rc = proto_pointset_parse_set(bytes, len, fmt, set, &ps, &count, field, SET_FIELD, &err);
     if (rc) {
-        check_error(rc, &err);
+        fuzz_check_pointset_error(rc, &err);
         return 0;
     }
     if (set != PROTO_POINTS_WHOLE) {
@@ -134,7 +104,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     aa_pattern p;
     rc = proto_pattern_from_pointset(&ps, &o, &p, "pattern.points", field, &err);
     if (rc) {
-        check_error(rc, &err);
+        fuzz_check_pointset_error(rc, &err);
     } else {
         FUZZ_CHECK(p.kernel_count >= 1 && p.kernel_count <= AA_MAX_KERNELS);
         check_round_trips(&p);

@@ -5,6 +5,7 @@
  * -> import in the same format back to the same E2 (1e-12) when small. Errors must name the
  * field given. Any crash, leak or sanitizer report is a bug. */
 #include "fuzz_check.h"
+#include "fuzz_pointset_checks.h"
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -19,38 +20,6 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static const char FIELD[] = "pattern.points.text";
-
-static double small_e2(const aa_pattern *p)
-{
-    if (aa_pattern_total_kernel_samples(p) > 256)
-        return NAN;
-    aa_filter f;
-    aa_acuity a;
-    aa_filter_default(&f);
-    aa_acuity_naiman(&a);
-    const double angles[] = {0, 22.5, 45, 135};
-    aa_metric_params mp = {&f, &a, angles, 4, 0};
-    aa_evaluation ev;
-    aa_error err = {0};
-    if (aa_evaluate(p, &mp, &ev, &err) != AA_OK)
-        return NAN;
-    double e2 = ev.e2;
-    aa_evaluation_free(&ev);
-    return e2;
-}
-
-static void check_error(int rc, const aa_error *err)
-{
-    FUZZ_CHECK(rc < 0);
-    FUZZ_CHECK(memchr(err->field, '\0', sizeof err->field));
-    FUZZ_CHECK(memchr(err->message, '\0', sizeof err->message));
-    FUZZ_CHECK(err->message[0] != '\0');
-    FUZZ_CHECK(strncmp(err->field, "pattern.points", 14) == 0);
-    /* Messages go into JSON answers: they must be valid UTF-8. */
-    json_t *s = json_string(err->message);
-    FUZZ_CHECK(s != NULL);
-    json_decref(s);
-}
 
 /* Export p in fmt and read it back: the same pattern (header), so the same E2. */
 static void check_round_trip(const aa_pattern *p, proto_points_format fmt)
@@ -71,7 +40,7 @@ static void check_round_trip(const aa_pattern *p, proto_points_format fmt)
     rc = proto_pattern_from_pointset(&ps, &o, &q, "pattern.points", FIELD, &err);
     FUZZ_CHECK(rc == AA_OK);
     FUZZ_CHECK(q.kernel_count == p->kernel_count && q.tile_count == p->tile_count);
-    double a = small_e2(p), b = small_e2(&q);
+    double a = fuzz_small_e2(p), b = fuzz_small_e2(&q);
     FUZZ_CHECK((isnan(a) && isnan(b)) || fabs(a - b) <= 1e-12 || (isinf(a) && a == b));
     aa_pattern_free(&q);
     proto_pointset_free(&ps);
@@ -96,7 +65,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     aa_error err = {0};
     int rc = proto_pointset_parse(text, len, fmt, &ps, FIELD, &err);
     if (rc) {
-        check_error(rc, &err);
+        fuzz_check_pointset_error(rc, &err);
         return 0;
     }
     FUZZ_CHECK(ps.count >= 1 && ps.count <= PROTO_POINTS_MAX);
@@ -108,7 +77,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     aa_pattern p;
     rc = proto_pattern_from_pointset(&ps, &o, &p, "pattern.points", FIELD, &err);
     if (rc) {
-        check_error(rc, &err);
+        fuzz_check_pointset_error(rc, &err);
     } else {
         FUZZ_CHECK(p.kernel_count >= 1 && p.kernel_count <= AA_MAX_KERNELS);
         FUZZ_CHECK(isfinite(p.cost_spp) && p.cost_spp > 0);
