@@ -233,46 +233,28 @@ void proto_analysis_free(proto_analysis *a)
     a->per_set = NULL;
 }
 
-/* JSON has no NaN or infinity: null. */
-static json_t *real_or_null(double x)
-{
-    return isfinite(x) ? json_real(x) : json_null();
-}
-
-static json_t *real_array(const double *v, size_t n)
-{
-    assert(v || !n);
-    json_t *a = json_array();
-    for (size_t i = 0; a && i < n; i++)
-        if (json_array_append_new(a, real_or_null(v[i]))) {
-            json_decref(a);
-            return NULL;
-        }
-    return a;
-}
-
 /* arrays false: the figures alone (a set of several). */
 static json_t *encode_spectrum(const aa_spectrum *s, size_t points, bool arrays)
 {
     double unit = sqrt((double)points);
     json_t *o =
         json_pack("{s:I, s:o, s:o, s:o, s:o}", "radius", (json_int_t)s->radius, "effective_nyquist",
-                  real_or_null(s->effective_nyquist), "effective_nyquist_normalized",
-                  real_or_null(s->effective_nyquist / unit), "oscillation",
-                  real_or_null(s->oscillation), "frequency_unit", json_real(unit));
+                  proto_real(s->effective_nyquist), "effective_nyquist_normalized",
+                  proto_real(s->effective_nyquist / unit), "oscillation",
+                  proto_real(s->oscillation), "frequency_unit", json_real(unit));
     if (!o || !arrays)
         return o;
     json_t *rows = json_array();
     for (size_t r = 0; rows && r < s->side; r++)
-        if (json_array_append_new(rows, real_array(s->power + r * s->side, s->side))) {
+        if (json_array_append_new(rows, proto_real_array(s->power + r * s->side, s->side))) {
             json_decref(rows);
             rows = NULL;
         }
     json_t *counts = json_array();
     for (int b = 0; counts && b <= s->radius; b++)
         json_array_append_new(counts, json_integer((json_int_t)s->annulus_count[b]));
-    json_t *radial = real_array(s->radial, (size_t)s->radius + 1);
-    json_t *aniso = real_array(s->anisotropy_db, (size_t)s->radius + 1);
+    json_t *radial = proto_real_array(s->radial, (size_t)s->radius + 1);
+    json_t *aniso = proto_real_array(s->anisotropy_db, (size_t)s->radius + 1);
     if (!rows || !counts || !radial || !aniso) {
         json_decref(rows);
         json_decref(counts);
@@ -300,28 +282,28 @@ static json_t *encode_figures(const proto_analyze_request *r, const aa_pattern *
         const aa_discrepancy *d = &a->discrepancy;
         json_t *dj = json_object();
         if (r->metrics & PROTO_ANALYZE_DISCREPANCY) {
-            json_object_set_new(dj, "l2_star", real_or_null(d->l2_star));
-            json_object_set_new(dj, "l2_star_squared", real_or_null(d->l2_star_sq));
-            json_object_set_new(dj, "centered", real_or_null(d->centered));
-            json_object_set_new(dj, "centered_squared", real_or_null(d->centered_sq));
-            json_object_set_new(dj, "wrap_around", real_or_null(d->wrap_around));
-            json_object_set_new(dj, "wrap_around_squared", real_or_null(d->wrap_around_sq));
-            json_object_set_new(dj, "mixture", real_or_null(d->mixture));
-            json_object_set_new(dj, "mixture_squared", real_or_null(d->mixture_sq));
+            json_object_set_new(dj, "l2_star", proto_real(d->l2_star));
+            json_object_set_new(dj, "l2_star_squared", proto_real(d->l2_star_sq));
+            json_object_set_new(dj, "centered", proto_real(d->centered));
+            json_object_set_new(dj, "centered_squared", proto_real(d->centered_sq));
+            json_object_set_new(dj, "wrap_around", proto_real(d->wrap_around));
+            json_object_set_new(dj, "wrap_around_squared", proto_real(d->wrap_around_sq));
+            json_object_set_new(dj, "mixture", proto_real(d->mixture));
+            json_object_set_new(dj, "mixture_squared", proto_real(d->mixture_sq));
         }
         if (r->metrics & PROTO_ANALYZE_STAR)
-            json_object_set_new(dj, "star_linf", real_or_null(a->star_discrepancy));
+            json_object_set_new(dj, "star_linf", proto_real(a->star_discrepancy));
         json_object_set_new(o, "discrepancy", dj);
     }
     if (r->metrics & PROTO_ANALYZE_SPACING) {
         const aa_spacing *s = &a->spacing;
         json_object_set_new(
             o, "spacing",
-            json_pack("{s:o, s:o, s:o, s:o, s:o}", "min_distance", real_or_null(s->min_distance),
-                      "mean_nn_distance", real_or_null(s->mean_nn_distance), "packing_distance",
-                      real_or_null(s->packing_distance), "min_distance_normalized",
-                      real_or_null(s->min_distance_normalized), "mean_nn_distance_normalized",
-                      real_or_null(s->mean_nn_distance_normalized)));
+            json_pack("{s:o, s:o, s:o, s:o, s:o}", "min_distance", proto_real(s->min_distance),
+                      "mean_nn_distance", proto_real(s->mean_nn_distance), "packing_distance",
+                      proto_real(s->packing_distance), "min_distance_normalized",
+                      proto_real(s->min_distance_normalized), "mean_nn_distance_normalized",
+                      proto_real(s->mean_nn_distance_normalized)));
     }
     if (r->metrics & PROTO_ANALYZE_SPECTRUM)
         json_object_set_new(o, "spectrum", encode_spectrum(&a->spectrum, a->points, arrays));
@@ -331,8 +313,8 @@ static json_t *encode_figures(const proto_analyze_request *r, const aa_pattern *
             rr[b] = ((double)b + 0.5) * a->r_max / (double)r->bins;
         json_object_set_new(o, "pcf",
                             json_pack("{s:f, s:f, s:o*, s:o*}", "r_max", a->r_max, "sigma",
-                                      a->sigma, "r", rr ? real_array(rr, r->bins) : NULL, "g",
-                                      real_array(a->pcf, r->bins)));
+                                      a->sigma, "r", rr ? proto_real_array(rr, r->bins) : NULL, "g",
+                                      proto_real_array(a->pcf, r->bins)));
         free(rr);
     }
     return o;
